@@ -1,0 +1,277 @@
+"""The thesis catalogue: every number the thesis states, with provenance, and its status.
+
+The catalogue lives in human-editable TOML files in ``reference/catalogue/`` (one per
+chapter plus ``literature.toml``). Each ``[[entry]]`` has
+
+========================  ==============================================================
+``id``                    stable identifier, ``ch3.pullin.voltage_lamP_1p25``; users script
+                          against it, never rename
+``kind``                  ``claim`` | ``erratum`` | ``assumption`` | ``literature``
+``quantity``              the quantity in words
+``value``                 the thesis' (or the source's) value: number, string or bool
+``printed``               the value exactly as printed (its digits set the tolerance)
+``unit``                  UDUNITS string; ``"1"`` dimensionless, ``"%"`` percent
+``source``                table: ``chapter``, ``section``, ``equation``, ``figure``,
+                          ``table``, ``page`` (thesis page number as printed)
+``parameters``            table of the model parameters that produce the value
+``producer``              ``"module:function"`` computing our value (absent: pending)
+``expected_status``       the status the code is known to produce; ``debench verify``
+                          fails when the computed status differs (a regression)
+``tolerance``             optional explicit absolute tolerance, *only* with
+                          ``tolerance_reason`` (e.g. value read off a figure)
+``diagnosis``             why a value does not reproduce (errata, missing parameter ...)
+``evidence``              test node id that shows the status (errata: required)
+``as_printed``            errata: the printed form;  ``corrected``: the consistent form
+``reference``             literature: the citation
+========================  ==============================================================
+
+A producer is a function ``f(entry) -> Outcome``. It must be quick (seconds) so that
+``debench verify`` can run every producer; producers of finite-element claims read the
+stored datasets instead of recomputing.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+import re
+import tomllib
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from decimal import Decimal, InvalidOperation
+from pathlib import Path
+from typing import Any
+
+CATALOGUE_DIR = Path(__file__).resolve().parent / "catalogue"
+KINDS = ("claim", "erratum", "assumption", "literature")
+STATUSES = (
+    "reproduced",        # our value agrees within the tolerance the printed digits imply
+    "not_reproduced",    # our value differs; diagnosis says why
+    "not_reproducible",  # the thesis lacks information needed to compute it (named)
+    "pending",           # no model yet
+    "confirmed",         # erratum: the printed form is wrong, evidence shows it
+    "refuted",           # erratum: on checking, the printed form is right after all
+    "assumed",           # assumption: the value we use where the thesis is silent
+    "error",             # the producer raised: always a regression
+)
+_ID = re.compile(r"^(ch[2-5]|app|lit)\.[a-z0-9_]+(\.[a-zA-Z0-9_]+)*$")
+
+
+class CatalogueError(ValueError):
+    """The catalogue files are malformed (bad id, kind, duplicate, missing field)."""
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """What a producer returns.
+
+    ``value`` is our number (or bool for a qualitative claim: does the statement hold?).
+    ``status`` may be set explicitly (``not_reproducible``, ``confirmed``, ...); otherwise
+    it is computed from ``value`` against the entry's tolerance.
+    """
+
+    value: float | bool | str | None
+    status: str | None = None
+    diagnosis: str = ""
+    evidence: str = ""
+    details: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Entry:
+    id: str
+    kind: str
+    quantity: str
+    value: Any = None
+    printed: str = ""
+    unit: str = "1"
+    source: dict[str, Any] = field(default_factory=dict)
+    parameters: dict[str, Any] = field(default_factory=dict)
+    producer: str = ""
+    expected_status: str = "pending"
+    tolerance: float | None = None
+    tolerance_reason: str = ""
+    diagnosis: str = ""
+    evidence: str = ""
+    as_printed: str = ""
+    corrected: str = ""
+    reference: str = ""
+    notes: str = ""
+    file: str = ""
+
+    @property
+    def thesis_value(self) -> Any:
+        """The printed value (for an erratum: the printed equation number)."""
+        if self.kind == "erratum":
+            return self.source.get("equation", "")
+        return self.value
+
+    def implied_tolerance(self) -> float | None:
+        """Absolute tolerance: explicit, or half a unit in the last printed digit."""
+        if self.tolerance is not None:
+            return float(self.tolerance)
+        return printed_half_ulp(self.printed or self.value)
+
+    def load_producer(self):
+        module, _, func = self.producer.partition(":")
+        if not module or not func:
+            raise CatalogueError(f"{self.id}: producer {self.producer!r} is not 'module:function'")
+        return getattr(importlib.import_module(module), func)
+
+
+def printed_half_ulp(printed: Any) -> float | None:
+    """Half a unit in the last printed decimal place: ``"0.518"`` -> ``5e-4``.
+
+    Returns ``None`` for non-numeric values.
+    """
+    if isinstance(printed, bool) or printed is None:
+        return None
+    text = str(printed).strip().replace("−", "-").rstrip("%").strip()
+    try:
+        dec = Decimal(text)
+    except InvalidOperation:
+        return None
+    exponent = dec.as_tuple().exponent
+    if not isinstance(exponent, int):
+        return None
+    return 0.5 * 10.0**exponent
+
+
+# --------------------------------------------------------------------------- loading
+_ENTRY_FIELDS = set(Entry.__dataclass_fields__) - {"file"}
+
+
+def load(directory: Path = CATALOGUE_DIR) -> list[Entry]:
+    """All catalogue entries, validated, in file then file order."""
+    entries: list[Entry] = []
+    seen: dict[str, str] = {}
+    for path in sorted(Path(directory).glob("*.toml")):
+        with open(path, "rb") as fh:
+            try:
+                doc = tomllib.load(fh)
+            except tomllib.TOMLDecodeError as exc:
+                raise CatalogueError(f"{path.name}: {exc}") from exc
+        for raw in doc.get("entry", []):
+            unknown = set(raw) - _ENTRY_FIELDS
+            if unknown:
+                raise CatalogueError(f"{path.name}: {raw.get('id')}: unknown fields {sorted(unknown)}")
+            try:
+                entry = Entry(**raw, file=path.name)
+            except TypeError as exc:
+                raise CatalogueError(f"{path.name}: {raw.get('id')}: {exc}") from exc
+            _validate(entry)
+            if entry.id in seen:
+                raise CatalogueError(f"duplicate id {entry.id!r} in {path.name} and {seen[entry.id]}")
+            seen[entry.id] = path.name
+            entries.append(entry)
+    return entries
+
+
+def _validate(e: Entry) -> None:
+    where = f"{e.file}: {e.id}"
+    if not _ID.match(e.id):
+        raise CatalogueError(f"{where}: id must match {_ID.pattern}")
+    if e.kind not in KINDS:
+        raise CatalogueError(f"{where}: kind {e.kind!r} not in {KINDS}")
+    if not e.quantity:
+        raise CatalogueError(f"{where}: 'quantity' (in words) is required")
+    if e.expected_status not in STATUSES:
+        raise CatalogueError(f"{where}: expected_status {e.expected_status!r} not in {STATUSES}")
+    if e.tolerance is not None and not e.tolerance_reason:
+        raise CatalogueError(f"{where}: an explicit tolerance needs a tolerance_reason")
+    if e.kind in ("claim", "erratum") and not e.source:
+        raise CatalogueError(f"{where}: thesis entries need a source (section/equation/page)")
+    if e.kind == "erratum" and not (e.as_printed and e.corrected and e.evidence):
+        raise CatalogueError(f"{where}: an erratum needs as_printed, corrected and evidence")
+    if e.kind == "literature" and not e.reference:
+        raise CatalogueError(f"{where}: a literature value needs a reference")
+    if e.kind == "assumption" and not e.diagnosis and not e.notes:
+        raise CatalogueError(f"{where}: an assumption must say why (diagnosis or notes)")
+
+
+def by_id(entries: Iterable[Entry] | None = None) -> dict[str, Entry]:
+    return {e.id: e for e in (entries if entries is not None else load())}
+
+
+# --------------------------------------------------------------------------- status
+@dataclass(frozen=True)
+class Result:
+    """An entry beside our value: one row of ``debench verify``."""
+
+    entry: Entry
+    value: Any
+    status: str
+    diagnosis: str
+    evidence: str = ""
+    details: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def regressed(self) -> bool:
+        return self.status == "error" or self.status != self.entry.expected_status
+
+    def as_json(self) -> dict[str, Any]:
+        e = self.entry
+        return {
+            "kind": e.kind, "id": e.id, "quantity": e.quantity,
+            "thesis_value": _jsonable(e.thesis_value), "value": _jsonable(self.value),
+            "unit": e.unit, "status": self.status, "expected_status": e.expected_status,
+            "diagnosis": self.diagnosis, "tolerance": e.implied_tolerance(),
+            "evidence": self.evidence or e.evidence, "source": e.source,
+            "parameters": e.parameters,
+        }
+
+
+def _jsonable(v: Any) -> Any:
+    if isinstance(v, float) and not math.isfinite(v):
+        return None
+    if hasattr(v, "item"):
+        return v.item()
+    return v
+
+
+def judge(entry: Entry, outcome: Outcome) -> Result:
+    """Status of an entry given a producer's outcome (see :data:`STATUSES`)."""
+    diagnosis = outcome.diagnosis or entry.diagnosis
+    if outcome.status is not None:
+        if outcome.status not in STATUSES:
+            raise CatalogueError(f"{entry.id}: producer returned unknown status {outcome.status!r}")
+        return Result(entry, outcome.value, outcome.status, diagnosis, outcome.evidence,
+                      outcome.details)
+    value = outcome.value
+    if isinstance(value, bool):
+        status = "reproduced" if value else "not_reproduced"
+        return Result(entry, value, status, "" if value else diagnosis, outcome.evidence,
+                      outcome.details)
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return Result(entry, None, "pending", diagnosis, outcome.evidence, outcome.details)
+    tol = entry.implied_tolerance()
+    thesis = entry.value
+    if tol is None or not isinstance(thesis, int | float):
+        raise CatalogueError(f"{entry.id}: numeric outcome for a non-numeric thesis value")
+    diff = float(value) - float(thesis)
+    if abs(diff) <= tol * (1 + 1e-12):
+        return Result(entry, float(value), "reproduced", "", outcome.evidence, outcome.details)
+    auto = f"ours {float(value):.6g} vs thesis {thesis} {entry.unit} (diff {diff:+.3g}, tol {tol:.2g})"
+    return Result(entry, float(value), "not_reproduced",
+                  f"{auto}; {diagnosis}" if diagnosis else auto, outcome.evidence, outcome.details)
+
+
+def evaluate(entry: Entry) -> Result:
+    """Run the entry's producer (if any) and judge the outcome. Never raises."""
+    if entry.kind == "assumption" and not entry.producer:
+        return Result(entry, entry.value, "assumed", entry.diagnosis or entry.notes)
+    if not entry.producer:
+        return Result(entry, None, "pending", entry.diagnosis)
+    try:
+        outcome = entry.load_producer()(entry)
+        if not isinstance(outcome, Outcome):
+            raise TypeError(f"producer returned {type(outcome).__name__}, not Outcome")
+        return judge(entry, outcome)
+    except Exception as exc:  # noqa: BLE001 - reported as status "error", never hidden
+        return Result(entry, None, "error", f"{type(exc).__name__}: {exc}")
+
+
+def evaluate_all(entries: Iterable[Entry] | None = None, progress=None) -> list[Result]:
+    entries = list(entries if entries is not None else load())
+    it = progress(entries) if progress is not None else entries
+    return [evaluate(e) for e in it]

@@ -1,0 +1,62 @@
+"""Provenance of computed artefacts: git commit, package versions, command line.
+
+Every dataset and report records where it came from (DESIGN.md, "Data carries
+provenance"). These helpers never raise: a missing git checkout is recorded as
+``"unknown"`` rather than failing a reproduction on a machine without git.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from functools import cache
+from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
+
+#: Packages whose versions are recorded in every dataset.
+TRACKED_PACKAGES = (
+    "debench", "numpy", "scipy", "sympy", "xarray", "netCDF4", "ngsolve", "matplotlib",
+)
+
+REPO_ROOT = Path(__file__).resolve().parents[1]
+
+
+def git_commit(root: Path = REPO_ROOT) -> str:
+    """The commit of the source tree, with ``-dirty`` when it has uncommitted changes."""
+    try:
+        sha = subprocess.run(
+            ["git", "rev-parse", "HEAD"], cwd=root, capture_output=True, text=True,
+            check=True, timeout=10,
+        ).stdout.strip()
+        dirty = subprocess.run(
+            ["git", "status", "--porcelain", "--untracked-files=no"], cwd=root,
+            capture_output=True, text=True, check=True, timeout=10,
+        ).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+    return sha + ("-dirty" if dirty else "")
+
+
+@cache
+def package_versions() -> dict[str, str]:
+    """Installed versions of :data:`TRACKED_PACKAGES` (``"not installed"`` if absent)."""
+    out = {"python": sys.version.split()[0]}
+    for name in TRACKED_PACKAGES:
+        try:
+            out[name] = version(name)
+        except PackageNotFoundError:
+            out[name] = "not installed"
+    return out
+
+
+def package_versions_json() -> str:
+    return json.dumps(package_versions(), sort_keys=True)
+
+
+def command_line() -> str:
+    """The command that is running, as a user would type it."""
+    argv = list(sys.argv)
+    if argv and argv[0].endswith(("debench", "cli.py")):
+        argv[0] = "debench"
+    return " ".join(argv) if argv else "python"

@@ -1,0 +1,41 @@
+"""Shared pytest configuration for the verification suite.
+
+* ``--full`` opts in to tests marked ``slow`` (converged finite-element meshes, full
+  sweeps). Without it they are skipped, and a fast but real version of every check runs.
+* Hypothesis is deterministic by default (profile ``debench``: derandomized, no example
+  database, no deadline) so that CI is reproducible; ``--hypothesis-profile=explore``
+  searches with fresh randomness. Counterexamples found while exploring are frozen as
+  named regular tests.
+"""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import HealthCheck, settings
+
+settings.register_profile(
+    "debench",
+    derandomize=True,
+    database=None,
+    deadline=None,
+    max_examples=50,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+settings.register_profile("explore", deadline=None, max_examples=1000)
+settings.load_profile("debench")
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    parser.addoption(
+        "--full", action="store_true", default=False,
+        help="run tests marked slow (converged FE meshes, full sweeps)",
+    )
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    if config.getoption("--full"):
+        return
+    skip_slow = pytest.mark.skip(reason="slow: opt in with --full")
+    for item in items:
+        if "slow" in item.keywords:
+            item.add_marker(skip_slow)
