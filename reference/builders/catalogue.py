@@ -1,0 +1,95 @@
+"""Builder of ``data/thesis_values.nc``: the thesis catalogue as a citable dataset.
+
+One row (dimension ``entry``) per catalogue entry: its id, kind, the value as printed,
+the numeric value (NaN when not numeric), unit, implied tolerance and where it stands in
+the thesis. Statuses are *not* stored: they are computed by ``debench verify`` from the
+code and change as the models improve; this file holds what the thesis (or the cited
+literature) states.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from reference import catalogue
+from reference.datasets import write_dataset
+
+NAME = "thesis_values"
+
+
+def _num(value) -> float:
+    if isinstance(value, bool):
+        return float(value)
+    if isinstance(value, int | float):
+        return float(value)
+    return np.nan
+
+
+def catalogue_dataset(entries: list[catalogue.Entry] | None = None) -> xr.Dataset:
+    """The catalogue as an :class:`xarray.Dataset` (no global provenance attributes)."""
+    entries = entries if entries is not None else catalogue.load()
+
+    def text(name: str, values: list[str], long_name: str) -> tuple:
+        return ("entry", np.array(values, dtype=object), {"long_name": long_name})
+
+    src = [e.source for e in entries]
+    tol = [e.implied_tolerance() for e in entries]
+    data = {
+        "kind": text("kind", [e.kind for e in entries],
+                     "kind of entry: claim, erratum, assumption or literature"),
+        "quantity": text("quantity", [e.quantity for e in entries], "the quantity in words"),
+        "value": ("entry", np.array([_num(e.value) for e in entries]),
+                  {"long_name": "numeric value as stated (NaN when not numeric)",
+                   "units": "1",
+                   "comment": "units differ per entry: see variable 'unit'"}),
+        "value_text": text("value_text", [str(e.value) for e in entries],
+                           "value as stated, as text (qualitative claims, errata)"),
+        "printed": text("printed", [e.printed or "" for e in entries],
+                        "value exactly as printed in the thesis"),
+        "unit": text("unit", [e.unit for e in entries], "UDUNITS unit of the value"),
+        "tolerance": ("entry", np.array([np.nan if t is None else t for t in tol]),
+                      {"long_name": "absolute tolerance implied by the printed digits "
+                                    "(or explicit, with reason)", "units": "1",
+                       "comment": "in the unit of each entry"}),
+        "section": text("section", [str(s.get("section", "")) for s in src], "thesis section"),
+        "equation": text("equation", [str(s.get("equation", "")) for s in src],
+                         "thesis equation number(s)"),
+        "figure": text("figure", [str(s.get("figure", "")) for s in src], "thesis figure"),
+        "table": text("table", [str(s.get("table", "")) for s in src], "thesis table"),
+        "page": text("page", [str(s.get("page", "")) for s in src],
+                     "thesis page number as printed"),
+        "parameters": text("parameters",
+                           [json.dumps(e.parameters, sort_keys=True) for e in entries],
+                           "model parameters producing the value (JSON)"),
+        "reference": text("reference", [e.reference for e in entries],
+                          "literature reference (kind literature)"),
+        "as_printed": text("as_printed", [e.as_printed for e in entries],
+                           "erratum: the printed form"),
+        "corrected": text("corrected", [e.corrected for e in entries],
+                          "erratum: the corrected form"),
+    }
+    coords = {"entry": ("entry", np.array([e.id for e in entries], dtype=object),
+                        {"long_name": "stable catalogue identifier"})}
+    return xr.Dataset(data, coords=coords)
+
+
+def build(out_dir: Path, *, full: bool = False) -> list[Path]:
+    """Write ``thesis_values.nc`` into ``out_dir`` (``full`` has no effect)."""
+    entries = catalogue.load()
+    ds = catalogue_dataset(entries)
+    path = write_dataset(
+        ds, NAME, out_dir=out_dir, overwrite=True,
+        title="Values stated in Zeng (2020), with provenance",
+        summary=("Every number and checkable statement of the dissertation 'Deformation and "
+                 "stability of dielectric elastomer films used in actuators' (Chapters 2-5, "
+                 "Appendix A), the errata found, the assumptions debench makes where the "
+                 "thesis is silent, and independent literature reference values, each with "
+                 "section, equation, figure, table and page."),
+        parameters={"n_entries": len(entries),
+                    "catalogue_files": ",".join(sorted({e.file for e in entries}))},
+    )
+    return [path]

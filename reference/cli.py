@@ -1,0 +1,235 @@
+"""``debench`` command line: list, reproduce, verify, report.
+
+Errors are one clear line (``debench: error: ...``) unless ``--debug`` is given.
+
+Examples
+--------
+    debench list claims
+    debench reproduce              # fast default: every chapter, coarse FE meshes
+    debench reproduce ch5 --full   # converged finite-element meshes (long)
+    debench verify --json          # one JSON object per catalogue entry
+    debench report --readme        # regenerate the README results table
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import json
+import pkgutil
+import sys
+from pathlib import Path
+
+import numpy as np
+
+CHAPTERS = ("catalogue", "ch3", "ch4", "ch5")
+DEFAULT_OUT = Path("results")
+
+
+def _progress(iterable, desc: str, **kw):
+    from tqdm.auto import tqdm
+
+    return tqdm(iterable, desc=desc, file=sys.stderr, leave=False, **kw)
+
+
+# --------------------------------------------------------------------------- list
+def cmd_list(args) -> int:
+    what = args.what
+    if what in ("models", "all"):
+        import models
+
+        print("models:")
+        for mod in pkgutil.iter_modules(models.__path__):
+            if not mod.name.startswith("_"):
+                print(f"  models.{mod.name}")
+    if what in ("datasets", "all"):
+        from reference.datasets import data_dir, read_manifest
+
+        files = read_manifest(data_dir())
+        print(f"datasets in {data_dir()}:")
+        for name, meta in files.items():
+            print(f"  {name:40s} {meta['sha256'][:12]}  {meta.get('title', '')}")
+        if not files:
+            print("  (none: run `debench reproduce --write-data`)")
+    if what in ("claims", "all"):
+        from reference import catalogue
+
+        entries = catalogue.load()
+        print(f"catalogue ({len(entries)} entries):")
+        for e in entries:
+            print(f"  {e.kind:11s} {e.id:55s} {e.printed or e.value!s:>10} {e.unit}")
+    return 0
+
+
+# --------------------------------------------------------------------------- reproduce
+def _builder(chapter: str):
+    try:
+        return importlib.import_module(f"reference.builders.{chapter}")
+    except ModuleNotFoundError as exc:
+        if exc.name == f"reference.builders.{chapter}":
+            return None
+        raise
+
+
+def compare_with_curated(path: Path, curated_dir: Path) -> str:
+    """One line saying whether a regenerated dataset matches the curated one."""
+    from reference.datasets import DatasetError, read_dataset
+
+    curated = curated_dir / path.name
+    if not curated.exists():
+        return f"{path.name}: no curated counterpart in {curated_dir}"
+    try:
+        new, old = read_dataset(path), read_dataset(curated)
+    except DatasetError as exc:
+        return f"{path.name}: cannot compare ({exc})"
+    if new.attrs.get("parameters") != old.attrs.get("parameters"):
+        return f"{path.name}: not comparable (different parameters, e.g. mesh resolution)"
+    bad = []
+    for var in old.data_vars:
+        if var not in new:
+            bad.append(f"{var} missing")
+        elif np.issubdtype(old[var].dtype, np.number):
+            if old[var].shape != new[var].shape or not np.allclose(
+                    new[var].values, old[var].values, rtol=1e-6, atol=1e-12, equal_nan=True):
+                bad.append(var)
+        elif not np.array_equal(new[var].values, old[var].values):
+            bad.append(var)
+    return f"{path.name}: {'matches curated' if not bad else 'DIFFERS in ' + ', '.join(bad)}"
+
+
+def cmd_reproduce(args) -> int:
+    from reference import catalogue, report
+    from reference.datasets import data_dir
+
+    chapters = args.chapters or list(CHAPTERS)
+    unknown = sorted(set(chapters) - set(CHAPTERS))
+    if unknown:
+        raise ValueError(f"unknown chapter(s) {unknown}; choose from {CHAPTERS}")
+    out = data_dir() if args.write_data else Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    if args.write_data:
+        print(f"--write-data: replacing curated datasets in {out}", file=sys.stderr)
+    written: list[Path] = []
+    for chapter in chapters:
+        mod = _builder(chapter)
+        if mod is None:
+            print(f"{chapter}: no builder yet (pending)", file=sys.stderr)
+            continue
+        print(f"{chapter}: building{' (full)' if args.full else ''} into {out} ...",
+              file=sys.stderr)
+        paths = mod.build(out, full=args.full)
+        written += list(paths)
+        for p in paths:
+            print(f"  wrote {p}", file=sys.stderr)
+    regeneration = []
+    if not args.write_data:
+        regeneration = [compare_with_curated(p, data_dir())
+                        for p in written if p.suffix == ".nc"]
+        for line in regeneration:
+            print(f"  {line}", file=sys.stderr)
+    results = catalogue.evaluate_all(progress=lambda xs: _progress(xs, "verifying claims"))
+    path = report.write_report(Path(args.out), results, regeneration=regeneration,
+                               figures_dir=out / "figures")
+    print(f"report: {path}  ({report.summary_line(results)})")
+    return 0
+
+
+# --------------------------------------------------------------------------- verify
+def cmd_verify(args) -> int:
+    from reference import catalogue
+    from reference.datasets import verify_directory
+
+    results = catalogue.evaluate_all(progress=None if args.json else
+                                     (lambda xs: _progress(xs, "verifying claims")))
+    problems = [] if args.no_data else verify_directory()
+    regressed = [r for r in results if r.regressed]
+    if args.json:
+        print(json.dumps([r.as_json() for r in results], indent=1, ensure_ascii=False))
+    else:
+        from reference.report import summary_line
+
+        for r in results:
+            if r.status in ("not_reproduced", "not_reproducible", "error") or r.regressed:
+                flag = "REGRESSION " if r.regressed else ""
+                print(f"{flag}{r.status:17s} {r.entry.id}: {r.diagnosis}")
+        print(f"{len(results)} entries: {summary_line(results)}")
+        for p in problems:
+            print(f"DATA {p}")
+        if regressed:
+            print(f"{len(regressed)} regression(s): computed status differs from "
+                  "expected_status in the catalogue")
+    return 1 if (regressed or problems) else 0
+
+
+# --------------------------------------------------------------------------- report
+def cmd_report(args) -> int:
+    from reference import catalogue, report
+
+    results = catalogue.evaluate_all(progress=lambda xs: _progress(xs, "verifying claims"))
+    if args.readme:
+        readme = Path(__file__).resolve().parents[1] / "README.md"
+        changed = report.update_readme(readme, results)
+        print(f"{readme}: {'updated' if changed else 'already current'}")
+    out = Path(args.out)
+    figures = out / "figures"
+    if not figures.exists():
+        from reference.datasets import data_dir
+
+        figures = data_dir() / "figures"
+    path = report.write_report(out, results, figures_dir=figures)
+    print(f"report: {path}  ({report.summary_line(results)})")
+    return 0
+
+
+# --------------------------------------------------------------------------- main
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="debench",
+        description="Verification and reproducibility benchmark for dielectric elastomer "
+                    "actuators (Zeng 2020).")
+    p.add_argument("--debug", action="store_true", help="show tracebacks")
+    sub = p.add_subparsers(dest="command", required=True)
+
+    s = sub.add_parser("list", help="list models, datasets and catalogue entries")
+    s.add_argument("what", nargs="?", default="all",
+                   choices=["all", "models", "datasets", "claims"])
+    s.set_defaults(func=cmd_list)
+
+    s = sub.add_parser("reproduce", help="regenerate datasets, figures and the report")
+    s.add_argument("chapters", nargs="*", help=f"subset of {', '.join(CHAPTERS)} (default: all)")
+    s.add_argument("--full", action="store_true",
+                   help="converged finite-element meshes and full sweeps (slow)")
+    s.add_argument("--out", default=str(DEFAULT_OUT), help="output directory (default results/)")
+    s.add_argument("--write-data", action="store_true",
+                   help="overwrite the curated datasets in data/ (explicit by design)")
+    s.set_defaults(func=cmd_reproduce)
+
+    s = sub.add_parser("verify", help="check stored data and computed claims against the catalogue")
+    s.add_argument("--json", action="store_true", help="JSON array, one object per entry")
+    s.add_argument("--no-data", action="store_true", help="skip checksum verification of data/")
+    s.set_defaults(func=cmd_verify)
+
+    s = sub.add_parser("report", help="write the markdown report (and README table)")
+    s.add_argument("--out", default=str(DEFAULT_OUT), help="directory of REPORT.md")
+    s.add_argument("--readme", action="store_true", help="also regenerate the README table")
+    s.set_defaults(func=cmd_report)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return int(args.func(args) or 0)
+    except KeyboardInterrupt:
+        print("debench: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # noqa: BLE001 - one clear line unless --debug
+        if args.debug:
+            raise
+        print(f"debench: error: {type(exc).__name__}: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

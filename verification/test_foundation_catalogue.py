@@ -1,0 +1,178 @@
+"""The thesis catalogue: completeness, provenance, status mechanism, citable dataset."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from reference import catalogue
+from reference.catalogue import Entry, Outcome, judge, printed_half_ulp
+
+ROOT = Path(__file__).resolve().parents[1]
+
+#: Ids the foundation issue (#2) requires, so that results can be tracked across sessions.
+REQUIRED_IDS = {
+    "ch3.annulus.thickness_A_increase": 25.3,
+    "ch3.annulus.lam1_interface_increase": 15.6,
+    "ch3.annulus.lam2_interface_decrease": 10.7,
+    "ch3.annulus.lam3_interface_decrease": 3.2,
+    "ch3.pullin.suppression_prestretch": 2.53,
+    "ch3.pullin.voltage_lamP_1p25": 0.518,
+    "ch3.pullin.c_threshold_lamP_1p25": -0.085,
+    "ch3.loss_of_tension.stretch_lamP_3": 6.73,
+    "ch3.voltage_increase.lamP_3_stretch_4p5": 40.1,
+    "ch3.max_stretch_gain.lamP_2": 28.4,
+    "ch3.max_stretch_reduction.lamP_4": 19.12,
+    "ch3.voltage_increase.lamP_4_stretch_5": 50.16,
+    "ch5.critical_voltage.t0p5_ogden": 0.012,
+    "ch5.critical_voltage.t1_ogden": 0.050,
+    "ch5.critical_voltage.t1_nh": 0.078,
+    "ch5.pullin_voltage.t1_nh": 0.268,
+    "ch5.pullin_voltage.t1_ogden": 0.179,
+    "ch5.pullin_displacement.t1": 5.98,
+    "ch5.wrinkling_displacement.t0p5": 3.64,
+    "ch5.field_at_instability.t0p5": 29.3,
+    "ch5.field_at_instability.t1_ogden": 47.6,
+    "ch5.field_at_instability.t1_nh": 41.6,
+}
+
+
+@pytest.fixture(scope="module")
+def entries() -> list[Entry]:
+    return catalogue.load()
+
+
+@pytest.fixture(scope="module")
+def results(entries):
+    return catalogue.evaluate_all(entries)
+
+
+def test_catalogue_holds_every_required_thesis_value(entries):
+    ids = catalogue.by_id(entries)
+    missing = sorted(set(REQUIRED_IDS) - set(ids))
+    assert not missing, f"catalogue lacks required ids: {missing}"
+    for key, value in REQUIRED_IDS.items():
+        assert ids[key].value == pytest.approx(value), key
+        assert ids[key].kind == "claim"
+
+
+def test_thesis_entries_carry_provenance(entries):
+    for e in entries:
+        if e.kind == "claim":
+            assert e.source.get("section") or e.source.get("equation"), e.id
+            assert "page" in e.source, f"{e.id}: page missing"
+            if isinstance(e.value, int | float) and not isinstance(e.value, bool):
+                assert e.printed, f"{e.id}: numeric claim needs the printed digits"
+                assert e.unit, e.id
+
+
+def test_computed_statuses_match_expected_statuses(results):
+    """`debench verify` regression rule: every producer runs and yields its expected status."""
+    bad = [(r.entry.id, r.status, r.entry.expected_status, r.diagnosis)
+           for r in results if r.regressed]
+    assert not bad, bad
+
+
+def test_status_is_computed_not_declared(results):
+    """Only assumptions and pending entries may lack a producer."""
+    for r in results:
+        if r.status not in ("pending", "assumed"):
+            assert r.entry.producer, r.entry.id
+
+
+def _test_functions(path: Path) -> set[str]:
+    tree = ast.parse(path.read_text())
+    names = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef):
+            names.add(node.name)
+    return names
+
+
+def test_errata_evidence_names_an_existing_test(entries):
+    for e in entries:
+        if e.kind != "erratum":
+            continue
+        for node in e.evidence.split():
+            file, _, rest = node.partition("::")
+            path = ROOT / file
+            assert path.is_file(), f"{e.id}: evidence file {file} does not exist"
+            func = rest.split("::")[-1].split("[")[0]
+            assert func in _test_functions(path), f"{e.id}: {func} not in {file}"
+
+
+@pytest.mark.parametrize(("printed", "half_ulp"), [
+    ("0.518", 5e-4), ("25.3", 0.05), ("19.12", 5e-3), ("-0.085", 5e-4), ("6.73", 5e-3),
+    ("14.68", 5e-3), ("50", 0.5), ("7748003.92", 5e-3), ("hello", None),
+])
+def test_tolerance_is_half_a_unit_in_the_last_printed_digit(printed, half_ulp):
+    got = printed_half_ulp(printed)
+    assert got == (None if half_ulp is None else pytest.approx(half_ulp))
+
+
+def _entry(**kw) -> Entry:
+    base = dict(id="ch3.test.value", kind="claim", quantity="q", value=0.518, printed="0.518",
+                source={"section": "3.5.2", "page": 42})
+    return Entry(**{**base, **kw})
+
+
+def test_judge_reproduced_within_printed_precision():
+    assert judge(_entry(), Outcome(0.5184)).status == "reproduced"
+    assert judge(_entry(), Outcome(0.5176)).status == "reproduced"
+    assert judge(_entry(), Outcome(0.5186)).status == "not_reproduced"
+
+
+def test_judge_not_reproduced_states_both_values():
+    r = judge(_entry(), Outcome(0.6, diagnosis="model issue"))
+    assert r.status == "not_reproduced"
+    assert "0.6" in r.diagnosis and "0.518" in r.diagnosis and "model issue" in r.diagnosis
+
+
+def test_judge_qualitative_and_explicit_statuses():
+    assert judge(_entry(value="trend"), Outcome(True)).status == "reproduced"
+    assert judge(_entry(value="trend"), Outcome(False)).status == "not_reproduced"
+    r = judge(_entry(), Outcome(None, status="not_reproducible", diagnosis="eps_r missing"))
+    assert r.status == "not_reproducible" and r.diagnosis == "eps_r missing"
+
+
+def test_producer_exception_is_an_error_not_a_value():
+    e = _entry(producer="reference.nonexistent_module:f")
+    r = catalogue.evaluate(e)
+    assert r.status == "error" and r.regressed
+
+
+def test_malformed_entries_are_rejected(tmp_path):
+    (tmp_path / "x.toml").write_text('[[entry]]\nid = "ch3.a"\nkind = "rumour"\nquantity = "q"\n')
+    with pytest.raises(catalogue.CatalogueError, match="kind"):
+        catalogue.load(tmp_path)
+    (tmp_path / "x.toml").write_text(
+        '[[entry]]\nid = "ch3.a"\nkind = "claim"\nquantity = "q"\nvalue = 1.0\n'
+        'source = {section = "3"}\ntolerance = 0.5\n')
+    with pytest.raises(catalogue.CatalogueError, match="tolerance_reason"):
+        catalogue.load(tmp_path)
+
+
+def test_thesis_values_dataset_regenerates_from_catalogue(entries):
+    """data/thesis_values.nc is the catalogue as a citable dataset, and up to date."""
+    from reference.builders.catalogue import catalogue_dataset
+    from reference.datasets import read_dataset
+
+    curated = read_dataset("thesis_values")
+    fresh = catalogue_dataset(entries)
+    assert list(curated["entry"].values) == list(fresh["entry"].values)
+    for var in fresh.data_vars:
+        if np.issubdtype(fresh[var].dtype, np.number):
+            np.testing.assert_array_equal(curated[var].values, fresh[var].values, err_msg=var)
+        else:
+            assert list(curated[var].values) == list(fresh[var].values), var
+
+
+def test_readme_results_table_is_current(results):
+    from reference.report import END, START, readme_block
+
+    text = (ROOT / "README.md").read_text()
+    block = START + text.split(START, 1)[1].split(END, 1)[0] + END
+    assert block == readme_block(results), "run `debench report --readme`"

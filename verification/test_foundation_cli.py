@@ -1,0 +1,57 @@
+"""The `debench` command line and the citation metadata."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import jsonschema
+import yaml
+
+from reference.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+STABLE_KEYS = {"kind", "id", "thesis_value", "value", "unit", "status", "diagnosis"}
+
+
+def test_verify_json_lists_every_entry_with_stable_keys(capsys):
+    from reference import catalogue
+
+    code = main(["verify", "--json", "--no-data"])
+    rows = json.loads(capsys.readouterr().out)
+    assert {r["id"] for r in rows} == {e.id for e in catalogue.load()}
+    for row in rows:
+        assert STABLE_KEYS <= set(row), row["id"]
+        assert row["kind"] in catalogue.KINDS
+        assert row["status"] in catalogue.STATUSES
+        if row["status"] == "pending":
+            assert row["value"] is None
+    assert code == 0
+
+
+def test_list_claims_prints_ids(capsys):
+    assert main(["list", "claims"]) == 0
+    assert "lit.membrane.pullin_voltage_nh" in capsys.readouterr().out
+
+
+def test_errors_are_one_line_without_debug(capsys, tmp_path):
+    code = main(["reproduce", "nonexistent_chapter", "--out", str(tmp_path)])
+    err = capsys.readouterr().err.strip()
+    assert code == 2
+    assert err.startswith("debench: error:") and "unknown chapter" in err
+    assert len(err.splitlines()) == 1
+
+
+def test_reproduce_catalogue_writes_dataset_and_report(tmp_path, capsys):
+    assert main(["reproduce", "catalogue", "--out", str(tmp_path)]) == 0
+    assert (tmp_path / "thesis_values.nc").exists()
+    assert (tmp_path / "REPORT.md").read_text().startswith("# debench report")
+
+
+def test_citation_cff_is_valid():
+    schema = json.loads((ROOT / "verification/schemas/citation-cff-1.2.0.schema.json").read_text())
+    cff = yaml.safe_load((ROOT / "CITATION.cff").read_text())
+    cff["date-released"] = str(cff["date-released"])  # YAML parses dates; CFF wants strings
+    jsonschema.validate(cff, schema)
+    assert cff["cff-version"] == "1.2.0"
+    assert any(r["type"] == "thesis" for r in cff["references"])
