@@ -122,7 +122,11 @@ def cmd_reproduce(args) -> int:
         for p in paths:
             print(f"  wrote {p}", file=sys.stderr)
     regeneration = []
-    if not args.write_data:
+    if args.write_data:
+        from reference import datacard
+
+        print(f"  data card: {datacard.write(out)}", file=sys.stderr)
+    else:
         regeneration = [compare_with_curated(p, data_dir())
                         for p in written if p.suffix == ".nc"]
         for line in regeneration:
@@ -166,6 +170,10 @@ def cmd_report(args) -> int:
     from reference import catalogue, report
 
     results = catalogue.evaluate_all(progress=lambda xs: _progress(xs, "verifying claims"))
+    if args.datacard:
+        from reference import datacard
+
+        print(f"data card: {datacard.write()}")
     if args.readme:
         readme = Path(__file__).resolve().parents[1] / "README.md"
         changed = report.update_readme(readme, results)
@@ -212,6 +220,7 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("report", help="write the markdown report (and README table)")
     s.add_argument("--out", default=str(DEFAULT_OUT), help="directory of REPORT.md")
     s.add_argument("--readme", action="store_true", help="also regenerate the README table")
+    s.add_argument("--datacard", action="store_true", help="also regenerate data/README.md")
     s.set_defaults(func=cmd_report)
     return p
 

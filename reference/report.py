@@ -37,7 +37,7 @@ def _fmt(value, unit: str = "") -> str:
     if isinstance(value, bool):
         return "holds" if value else "does not hold"
     if isinstance(value, float):
-        text = f"{value:.4g}"
+        text = f"{value:.5g}"
     else:
         text = str(value)
     if len(text) > 60:
@@ -63,7 +63,7 @@ def results_table(results: Iterable[Result], kinds=("claim", "literature")) -> s
         e = r.entry
         if e.kind not in kinds:
             continue
-        rows.append(f"| `{e.id}` | {_cell(e.quantity, 70)} | {_fmt(e.value, e.unit)} | "
+        rows.append(f"| `{e.id}` | {_cell(e.quantity, 70)} | {_fmt(e.printed or e.value, e.unit)} | "
                     f"{_fmt(r.value, e.unit)} | {STATUS_MARK.get(r.status, r.status)} |")
     return "\n".join(rows)
 

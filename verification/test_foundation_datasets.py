@@ -123,3 +123,11 @@ def test_bad_dataset_name_is_rejected(tmp_path):
 def test_curated_directory_verifies():
     """Every curated file in data/ matches its manifest checksum and carries provenance."""
     assert datasets.verify_directory() == []
+
+
+def test_data_card_is_current():
+    """data/README.md is generated from the curated files; regenerate with
+    `debench report --datacard`."""
+    from reference import datacard
+
+    assert (datasets.data_dir() / "README.md").read_text() == datacard.render()
