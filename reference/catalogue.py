@@ -154,14 +154,16 @@ def load(directory: Path = CATALOGUE_DIR) -> list[Entry]:
         for raw in doc.get("entry", []):
             unknown = set(raw) - _ENTRY_FIELDS
             if unknown:
-                raise CatalogueError(f"{path.name}: {raw.get('id')}: unknown fields {sorted(unknown)}")
+                raise CatalogueError(
+                    f"{path.name}: {raw.get('id')}: unknown fields {sorted(unknown)}")
             try:
                 entry = Entry(**raw, file=path.name)
             except TypeError as exc:
                 raise CatalogueError(f"{path.name}: {raw.get('id')}: {exc}") from exc
             _validate(entry)
             if entry.id in seen:
-                raise CatalogueError(f"duplicate id {entry.id!r} in {path.name} and {seen[entry.id]}")
+                raise CatalogueError(
+                    f"duplicate id {entry.id!r} in {path.name} and {seen[entry.id]}")
             seen[entry.id] = path.name
             entries.append(entry)
     return entries
@@ -251,7 +253,8 @@ def judge(entry: Entry, outcome: Outcome) -> Result:
     diff = float(value) - float(thesis)
     if abs(diff) <= tol * (1 + 1e-12):
         return Result(entry, float(value), "reproduced", "", outcome.evidence, outcome.details)
-    auto = f"ours {float(value):.6g} vs thesis {thesis} {entry.unit} (diff {diff:+.3g}, tol {tol:.2g})"
+    auto = (f"ours {float(value):.6g} vs thesis {thesis} {entry.unit} "
+            f"(diff {diff:+.3g}, tol {tol:.2g})")
     return Result(entry, float(value), "not_reproduced",
                   f"{auto}; {diagnosis}" if diagnosis else auto, outcome.evidence, outcome.details)
 

@@ -63,7 +63,8 @@ def results_table(results: Iterable[Result], kinds=("claim", "literature")) -> s
         e = r.entry
         if e.kind not in kinds:
             continue
-        rows.append(f"| `{e.id}` | {_cell(e.quantity, 70)} | {_fmt(e.printed or e.value, e.unit)} | "
+        thesis = _fmt(e.printed or e.value, e.unit)
+        rows.append(f"| `{e.id}` | {_cell(e.quantity, 70)} | {thesis} | "
                     f"{_fmt(r.value, e.unit)} | {STATUS_MARK.get(r.status, r.status)} |")
     return "\n".join(rows)
 
@@ -77,7 +78,8 @@ def errata_table(results: Iterable[Result]) -> str:
             continue
         rows.append(f"| `{e.id}` | {_cell(e.source.get('equation', ''), 20)} | "
                     f"{_cell(e.as_printed, 50)} | {_cell(e.corrected, 50)} | "
-                    f"{STATUS_MARK.get(r.status, r.status)} | `{_cell(r.evidence or e.evidence, 60)}` |")
+                    f"{STATUS_MARK.get(r.status, r.status)} | "
+                    f"`{_cell(r.evidence or e.evidence, 60)}` |")
     return "\n".join(rows)
 
 
