@@ -1,0 +1,329 @@
+"""The constitutive library: frozen parameter dataclasses that are also the energies.
+
+Every material has ``energy(F, D_L)`` and ``response(F, D_L, second=True) -> Response``
+(energy, dW/dF, dW/dD_L and the moduli (2.65)-(2.67)); invariant-based ones also expose
+``invariant_derivatives(I) -> (W, W_n, W_mn)``. ``incompressible`` materials are meant
+for det F = 1 with a Lagrange multiplier p (eqs (2.29)-(2.34)); their energy is still
+evaluated off the constraint (needed for derivatives), as printed in the thesis.
+
+Units: SI (Pa, F/m, C/m^2) or any consistent non-dimensional set.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+import numpy as np
+
+from models.invariants import invariants, validate_state
+from models.materials.kernel import (
+    Response,
+    divided_difference_power,
+    invariant_chain_rule,
+    spectral_response,
+)
+
+VACUUM_PERMITTIVITY = 8.85e-12
+"""F/m, the value printed with eq. (3.27) (thesis p. 34)."""
+
+
+def _positive(name: str, value: float) -> None:
+    if not (isinstance(value, int | float) and math.isfinite(value)):
+        raise ValueError(f"{name} must be a finite number, got {value!r}")
+    if not value > 0:
+        raise ValueError(f"{name} must be > 0, got {value!r}")
+
+
+def _finite(name: str, value: float) -> None:
+    if not (isinstance(value, int | float) and math.isfinite(value)):
+        raise ValueError(f"{name} must be a finite number, got {value!r}")
+
+
+class _InvariantMaterial:
+    """Mixin: energy and response of an invariant-based energy via the chain rule."""
+
+    numbering: ClassVar[str] = "iso"
+    incompressible: ClassVar[bool] = False
+
+    def _fibre(self):
+        return None
+
+    def energy(self, F, D_L) -> float:
+        F, D_L, A = validate_state(F, D_L, self._fibre(), numbering=self.numbering)
+        return self.invariant_derivatives(invariants(F, D_L, A, numbering=self.numbering))[0]
+
+    def response(self, F, D_L, *, second: bool = True) -> Response:
+        F, D_L, A = validate_state(F, D_L, self._fibre(), numbering=self.numbering)
+        I = invariants(F, D_L, A, numbering=self.numbering)
+        W, Wn, Wmn = self.invariant_derivatives(I)
+        return invariant_chain_rule(W, Wn, Wmn, F, D_L, A, numbering=self.numbering,
+                                    second=second)
+
+
+# ----------------------------------------------------------------------------- Gent
+@dataclass(frozen=True)
+class GentIdealDielectric(_InvariantMaterial):
+    """Incompressible Gent elastomer with an ideal dielectric (Ch. 3).
+
+    ``W = -mu Jm/2 ln(1 - (I1 - 3)/Jm) + I5/(2 eps)`` (eq. (3.23) plus the ideal dielectric,
+    the D_L form of (3.20) with constant permittivity, c = 0 in (3.27)); iso numbering.
+    Thesis values: mu = 51 kPa, Jm = 120 (Sec. 3.3.3).
+
+    Raises ``ValueError`` when ``I1 - 3 >= Jm`` (past the locking stretch).
+    """
+
+    mu: float = 51e3
+    Jm: float = 120.0
+    eps: float = field(default=4.7 * VACUUM_PERMITTIVITY)  # assumption ch2.assumption.eps_r
+    numbering: ClassVar[str] = "iso"
+    incompressible: ClassVar[bool] = True
+
+    def __post_init__(self):
+        _positive("mu", self.mu)
+        _positive("Jm", self.Jm)
+        _positive("eps", self.eps)
+
+    def invariant_derivatives(self, I):
+        x = (I[0] - 3.0) / self.Jm
+        if not x < 1.0:
+            raise ValueError(f"I1 - 3 must be < Jm = {self.Jm} (Gent lock), got {I[0] - 3.0:.6g}")
+        W = -0.5 * self.mu * self.Jm * math.log1p(-x) + I[4] / (2 * self.eps)
+        Wn = np.zeros(6)
+        Wmn = np.zeros((6, 6))
+        Wn[0] = 0.5 * self.mu / (1 - x)
+        Wn[4] = 1 / (2 * self.eps)
+        Wmn[0, 0] = 0.5 * self.mu / (self.Jm * (1 - x) ** 2)
+        return W, Wn, Wmn
+
+    @property
+    def shear_modulus(self) -> float:
+        """Initial shear modulus: mu."""
+        return self.mu
+
+
+# ---------------------------------------------------------------- neo-Hookean (Ch. 5)
+@dataclass(frozen=True)
+class NeoHookeanIdealDielectric(_InvariantMaterial):
+    """Compressible neo-Hookean (5.15) + ideal dielectric (5.9), Ch. 5.
+
+    ``W = C10 (J^{-2/3} I1 - 3) + (J - 1)^2/D1 + J^{-1} I5/(2 eps)`` with ``C10 = mu/2``
+    (5.16), ``D1 = 2/k`` (5.17), ``J = sqrt(I3)``; iso numbering.
+    Table 5.1: mu = 156000 Pa, k = 7748003.92 Pa.
+    """
+
+    mu: float = 156000.0
+    k: float = 7748003.92
+    eps: float = field(default=4.7 * VACUUM_PERMITTIVITY)  # assumption ch2.assumption.eps_r
+    numbering: ClassVar[str] = "iso"
+    incompressible: ClassVar[bool] = False
+
+    def __post_init__(self):
+        _positive("mu", self.mu)
+        _positive("k", self.k)
+        _positive("eps", self.eps)
+
+    @property
+    def C10(self) -> float:
+        return self.mu / 2
+
+    @property
+    def D1(self) -> float:
+        return 2 / self.k
+
+    @property
+    def shear_modulus(self) -> float:
+        return self.mu
+
+    def invariant_derivatives(self, I):
+        I1, I3, I5 = I[0], I[2], I[4]
+        C10, D1, eps = self.C10, self.D1, self.eps
+        J = math.sqrt(I3)
+        W = C10 * (I1 * I3 ** (-1 / 3) - 3) + (J - 1) ** 2 / D1 + I5 / (2 * eps * J)
+        Wn = np.zeros(6)
+        Wmn = np.zeros((6, 6))
+        Wn[0] = C10 * I3 ** (-1 / 3)
+        Wn[2] = (-C10 / 3 * I1 * I3 ** (-4 / 3) + (1 - I3**-0.5) / D1
+                 - I5 * I3**-1.5 / (4 * eps))
+        Wn[4] = I3**-0.5 / (2 * eps)
+        Wmn[0, 2] = Wmn[2, 0] = -C10 / 3 * I3 ** (-4 / 3)
+        Wmn[2, 2] = (4 * C10 / 9 * I1 * I3 ** (-7 / 3) + I3**-1.5 / (2 * D1)
+                     + 3 * I5 * I3**-2.5 / (8 * eps))
+        Wmn[2, 4] = Wmn[4, 2] = -(I3**-1.5) / (4 * eps)
+        return W, Wn, Wmn
+
+
+@dataclass(frozen=True)
+class IdealDielectric(_InvariantMaterial):
+    """The electrical part alone, ``W_ele = J^{-1} I5/(2 eps)`` (eq. (5.9)); iso numbering.
+
+    Not a solid on its own (zero shear modulus); included so the battery checks (5.9).
+    """
+
+    eps: float = field(default=4.7 * VACUUM_PERMITTIVITY)
+    numbering: ClassVar[str] = "iso"
+    incompressible: ClassVar[bool] = False
+
+    def __post_init__(self):
+        _positive("eps", self.eps)
+
+    @property
+    def shear_modulus(self) -> float:
+        return 0.0
+
+    def invariant_derivatives(self, I):
+        I3, I5, eps = I[2], I[4], self.eps
+        Wn = np.zeros(6)
+        Wmn = np.zeros((6, 6))
+        W = I5 * I3**-0.5 / (2 * eps)
+        Wn[2] = -I5 * I3**-1.5 / (4 * eps)
+        Wn[4] = I3**-0.5 / (2 * eps)
+        Wmn[2, 2] = 3 * I5 * I3**-2.5 / (8 * eps)
+        Wmn[2, 4] = Wmn[4, 2] = -(I3**-1.5) / (4 * eps)
+        return W, Wn, Wmn
+
+
+# ------------------------------------------------------------- Ogden (Ch. 5, 5.26)
+@dataclass(frozen=True)
+class OgdenIdealDielectric:
+    """Compressible three-term Ogden (5.26) + volumetric (J-1)^2/D1 + ideal dielectric (5.9).
+
+    ``W = sum_p 2 mu_p/alpha_p^2 (lb1^a_p + lb2^a_p + lb3^a_p - 3) + k/2 (J - 1)^2
+    + J^{-1} I5/(2 eps)`` with deviatoric stretches ``lb_k = J^{-1/3} lambda_k``.
+
+    Convention: (5.26) prints ``2 mu_i/alpha_i^2`` (the Abaqus/Ogden "mu_i" convention),
+    consistent with the Kirchhoff stress (5.27) ``2 mu_p/alpha_p (...)``. The initial
+    shear modulus is then ``sum_p mu_p`` = 69580 Pa for Table 5.1 (the other common
+    convention ``mu_p/alpha_p`` would give ``sum mu_p alpha_p / 2`` = 73718 Pa).
+    Table 5.1 states no bulk modulus for Ogden; the neo-Hookean k is used (assumption
+    ``ch2.assumption.ogden_bulk_modulus``).
+    """
+
+    alphas: tuple[float, ...] = (1.293, 2.3252, 2.561)
+    mus: tuple[float, ...] = (8580.0, 84300.0, -23300.0)
+    k: float = 7748003.92
+    eps: float = field(default=4.7 * VACUUM_PERMITTIVITY)
+    numbering: ClassVar[str] = "iso"
+    incompressible: ClassVar[bool] = False
+
+    def __post_init__(self):
+        if len(self.alphas) != len(self.mus) or not self.alphas:
+            raise ValueError(f"alphas and mus must have equal non-zero length, got "
+                             f"{len(self.alphas)} and {len(self.mus)}")
+        for a in self.alphas:
+            _finite("alpha", a)
+            if a == 0:
+                raise ValueError("alpha_p must be != 0, got 0")
+        for m in self.mus:
+            _finite("mu_p", m)
+        _positive("k", self.k)
+        _positive("eps", self.eps)
+        if not self.shear_modulus > 0:
+            raise ValueError(f"initial shear modulus sum(mu_p) must be > 0, got "
+                             f"{self.shear_modulus}")
+
+    @property
+    def shear_modulus(self) -> float:
+        """Initial shear modulus ``sum_p mu_p`` (convention 2 mu_p/alpha_p^2 of (5.26))."""
+        return float(sum(self.mus))
+
+    def _phi(self, c):
+        """Energy of the eigenvalues c_k of C and its derivatives (see spectral_response)."""
+        c = np.asarray(c, dtype=float)
+        Pc = float(np.prod(c))
+        J = math.sqrt(Pc)
+        W = 0.0
+        phik = np.zeros(3)
+        phikl = np.zeros((3, 3))
+        A_common = 0.0
+        theta = np.zeros((3, 3))
+        inv_c = 1 / c
+        for a, m in zip(self.alphas, self.mus, strict=True):
+            ap = 2 * m / a**2
+            e = -a / 6            # J^{-a/3} = Pc^e
+            q = a / 2
+            Pe = Pc**e
+            s = float(np.sum(c**q))
+            W += ap * (Pe * s - 3)
+            A_common += ap * e * Pe * s
+            B = ap * Pe * q
+            phik += B * c ** (q - 1)
+            phikl += ap * (e * e * Pe * s * np.outer(inv_c, inv_c)
+                           - np.diag(e * Pe * s * inv_c**2)
+                           + e * Pe * q * np.outer(inv_c, c ** (q - 1))
+                           + e * Pe * q * np.outer(c ** (q - 1), inv_c)
+                           + np.diag(Pe * q * (q - 1) * c ** (q - 2)))
+            theta += B * divided_difference_power(c[:, None], c[None, :], q - 1)
+        # volumetric k/2 (J-1)^2
+        W += 0.5 * self.k * (J - 1) ** 2
+        U1, U2 = self.k * (J - 1), self.k
+        A_common += U1 * J / 2
+        phikl += (U2 * J**2 / 4 * np.outer(inv_c, inv_c)
+                  + U1 * (J / 4 * np.outer(inv_c, inv_c) - np.diag(J / 2 * inv_c**2)))
+        phik += A_common * inv_c
+        theta += -A_common * np.outer(inv_c, inv_c)
+        return W, phik, phikl, theta
+
+    def energy(self, F, D_L) -> float:
+        return self.response(F, D_L, second=False).W
+
+    def response(self, F, D_L, *, second: bool = True) -> Response:
+        F, D_L, _ = validate_state(F, D_L)
+        mech = spectral_response(self._phi, F, second=second)
+        return mech + IdealDielectric(eps=self.eps).response(F, D_L, second=second)
+
+
+# -------------------------------------------- transversely isotropic (Ch. 4, 4.22)
+@dataclass(frozen=True)
+class TransverselyIsotropicNeoHookean(_InvariantMaterial):
+    """Incompressible transversely isotropic neo-Hookean dielectric, eq. (4.22).
+
+    ``W = mu/2 (I1 - 3) + mu/2 xi (I4 - 1)^2 + (alpha I6 + beta I5)/(2 eps)`` in the ``ti``
+    numbering (I4 = A.CA, I5 = D_L.C D_L, I6 = D_L.D_L). The electric part is the
+    Dorfmann-Ogden form (4.20); ``eps`` is the vacuum permittivity there. ``xi = 0`` gives
+    the isotropic neo-Hookean dielectric of Dorfmann & Ogden. Thesis uses A = (0, 1, 0),
+    xi in {0, 3, 5, 10}.
+    """
+
+    mu: float = 1.0
+    xi: float = 5.0
+    alpha: float = 1.0
+    beta: float = 1.0
+    eps: float = 1.0
+    A: tuple[float, float, float] = (0.0, 1.0, 0.0)
+    numbering: ClassVar[str] = "ti"
+    incompressible: ClassVar[bool] = True
+
+    def __post_init__(self):
+        _positive("mu", self.mu)
+        _finite("xi", self.xi)
+        if self.xi < 0:
+            raise ValueError(f"xi must be >= 0, got {self.xi}")
+        _finite("alpha", self.alpha)
+        _finite("beta", self.beta)
+        _positive("eps", self.eps)
+        a = np.asarray(self.A, dtype=float)
+        if a.shape != (3,) or abs(np.linalg.norm(a) - 1) > 1e-12:
+            raise ValueError(f"A must be a unit 3-vector, got {self.A!r}")
+
+    def _fibre(self):
+        return np.asarray(self.A, dtype=float)
+
+    @property
+    def shear_modulus(self) -> float:
+        """Shear modulus for shear in the plane transverse to A: mu."""
+        return self.mu
+
+    def invariant_derivatives(self, I):
+        mu, xi = self.mu, self.xi
+        W = (0.5 * mu * (I[0] - 3) + 0.5 * mu * xi * (I[3] - 1) ** 2
+             + (self.alpha * I[5] + self.beta * I[4]) / (2 * self.eps))
+        Wn = np.zeros(6)
+        Wmn = np.zeros((6, 6))
+        Wn[0] = mu / 2
+        Wn[3] = mu * xi * (I[3] - 1)
+        Wn[4] = self.beta / (2 * self.eps)
+        Wn[5] = self.alpha / (2 * self.eps)
+        Wmn[3, 3] = mu * xi
+        return W, Wn, Wmn

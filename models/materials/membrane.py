@@ -1,0 +1,182 @@
+"""Membrane free energy (3.20), equations of state (3.14)-(3.16), (3.21)-(3.22), and the
+deformation-dependent permittivities of Zhao-Suo (3.27) and Jimenez-McMeeking (3.24)-(3.26).
+
+The thesis (Sec. 3.3.2) writes the free energy of an incompressible membrane with the
+field through the thickness as a function of the in-plane stretches and
+``I4 = E_L^2`` (Lagrangian field, ``E_L = lambda3 E``)::
+
+    W(l1, l2, I4) = Ws(l1, l2) - 1/2 eps(l1, l2) l1^2 l2^2 I4                (3.20)
+    sigma1 - sigma3 = l1 dW/dl1,  sigma2 - sigma3 = l2 dW/dl2                (3.14, 3.15)
+    D = -2 l1^-2 l2^-2 dW/dI4 E                                              (3.16)
+
+(``l1^2 l2^2 I4 = E^2``). Substituting (3.20) gives (3.21)-(3.22)::
+
+    sigma1 - sigma3 = l1 dWs/dl1 - eps E^2 - l1/2 deps/dl1 E^2
+
+:meth:`GentMembrane.equations_of_state` evaluates the closed forms (3.21)-(3.22);
+:meth:`GentMembrane.equations_of_state_from_energy` differentiates (3.20) by complex step
+- two independent paths that the tests compare.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from models.materials.library import VACUUM_PERMITTIVITY
+
+_H = 1e-30  # complex step: no subtractive cancellation, any tiny step is exact to rounding
+
+
+def _check_stretches(l1, l2):
+    for name, v in (("lambda1", l1), ("lambda2", l2)):
+        if not np.all(np.isfinite(np.real(v))):
+            raise ValueError(f"{name} must be finite, got {v!r}")
+        if not np.all(np.real(v) > 0):
+            raise ValueError(f"{name} must be > 0, got {v!r}")
+
+
+@dataclass(frozen=True)
+class ZhaoSuoPermittivity:
+    """``eps = eps_bar [1 + c (l1 + l2 - 2)]`` (eq. (3.27)); ``eps_bar = eps_r eps_0``.
+
+    Table 3.1 lists fitted c in [-0.0892, -0.0073]; c = 0 is the ideal dielectric.
+    """
+
+    eps_bar: float = 4.7 * VACUUM_PERMITTIVITY
+    c: float = 0.0
+
+    def __post_init__(self):
+        if not (math.isfinite(self.eps_bar) and self.eps_bar > 0):
+            raise ValueError(f"eps_bar must be > 0, got {self.eps_bar!r}")
+        if not math.isfinite(self.c):
+            raise ValueError(f"c must be finite, got {self.c!r}")
+
+    def __call__(self, l1, l2):
+        _check_stretches(l1, l2)
+        eps = self.eps_bar * (1 + self.c * (l1 + l2 - 2))
+        if not np.all(np.real(eps) > 0):
+            raise ValueError(f"permittivity must stay > 0: 1 + c (l1 + l2 - 2) > 0 violated "
+                             f"at l1={l1!r}, l2={l2!r}, c={self.c}")
+        return eps
+
+    def derivative(self, l1, l2):
+        """``(deps/dl1, deps/dl2)`` with l3 = 1/(l1 l2) eliminated."""
+        self(l1, l2)
+        v = self.eps_bar * self.c
+        return v + 0 * l1, v + 0 * l2
+
+
+@dataclass(frozen=True)
+class JimenezMcMeekingPermittivity:
+    """Deformation-dependent permittivity of Jimenez & McMeeking, eqs (3.24)-(3.26).
+
+    ``eps_i = eps0_bar + c0 (2 l_i^2 - l_j^2 - l_k^2)``; the membrane uses the thickness
+    component ``eps_3`` (3.26) with ``l3 = 1/(l1 l2)``. Linearised about l1 = l2 = 1 it is
+    the Zhao-Suo form (3.27) with ``eps_bar = eps0_bar`` and ``c = -6 c0/eps0_bar``.
+    """
+
+    eps0_bar: float = 4.7 * VACUUM_PERMITTIVITY
+    c0: float = 0.0
+
+    def __post_init__(self):
+        if not (math.isfinite(self.eps0_bar) and self.eps0_bar > 0):
+            raise ValueError(f"eps0_bar must be > 0, got {self.eps0_bar!r}")
+        if not math.isfinite(self.c0):
+            raise ValueError(f"c0 must be finite, got {self.c0!r}")
+
+    def components(self, l1, l2, l3):
+        """``(eps1, eps2, eps3)`` of eqs (3.24)-(3.26) for arbitrary principal stretches."""
+        a, b, c = l1 * l1, l2 * l2, l3 * l3
+        return (self.eps0_bar + self.c0 * (2 * a - b - c),
+                self.eps0_bar + self.c0 * (2 * b - a - c),
+                self.eps0_bar + self.c0 * (2 * c - a - b))
+
+    def __call__(self, l1, l2):
+        _check_stretches(l1, l2)
+        eps = self.components(l1, l2, 1 / (l1 * l2))[2]
+        if not np.all(np.real(eps) > 0):
+            raise ValueError(f"permittivity eps3 must stay > 0, violated at l1={l1!r}, "
+                             f"l2={l2!r}, c0={self.c0}")
+        return eps
+
+    def derivative(self, l1, l2):
+        """``(deps3/dl1, deps3/dl2)`` with l3 = 1/(l1 l2): ``c0 (-4 l3^2/l1 - 2 l1)``."""
+        self(l1, l2)
+        l3sq = 1 / (l1 * l2) ** 2
+        return self.c0 * (-4 * l3sq / l1 - 2 * l1), self.c0 * (-4 * l3sq / l2 - 2 * l2)
+
+    def zhao_suo_linearisation(self) -> ZhaoSuoPermittivity:
+        """The first-order Taylor expansion about l1 = l2 = 1, in the form (3.27)."""
+        return ZhaoSuoPermittivity(eps_bar=self.eps0_bar, c=-6 * self.c0 / self.eps0_bar)
+
+
+@dataclass(frozen=True)
+class GentMembrane:
+    """Incompressible Gent membrane (3.23) with a deformation-dependent permittivity.
+
+    Thesis Ch. 3: mu = 51 kPa, Jm = 120, Zhao-Suo permittivity with c from Table 3.1.
+    """
+
+    mu: float = 51e3
+    Jm: float = 120.0
+    permittivity: ZhaoSuoPermittivity | JimenezMcMeekingPermittivity = ZhaoSuoPermittivity()
+
+    def __post_init__(self):
+        for name in ("mu", "Jm"):
+            v = getattr(self, name)
+            if not (math.isfinite(v) and v > 0):
+                raise ValueError(f"{name} must be > 0, got {v!r}")
+
+    # ---- energy
+    def stretching_energy(self, l1, l2):
+        """``Ws = -mu Jm/2 ln(1 - (I1 - 3)/Jm)``, ``I1 = l1^2 + l2^2 + l1^-2 l2^-2`` (3.23)."""
+        _check_stretches(l1, l2)
+        x = (l1 * l1 + l2 * l2 + 1 / (l1 * l2) ** 2 - 3) / self.Jm
+        if not np.all(np.real(x) < 1):
+            raise ValueError(f"I1 - 3 must be < Jm = {self.Jm} (Gent lock), got "
+                             f"{np.real(x) * self.Jm!r}")
+        return -0.5 * self.mu * self.Jm * np.log1p(-x)
+
+    def stretching_energy_derivative(self, l1, l2):
+        """``(dWs/dl1, dWs/dl2)`` in closed form."""
+        self.stretching_energy(l1, l2)
+        l3sq = 1 / (l1 * l2) ** 2
+        x = (l1 * l1 + l2 * l2 + l3sq - 3) / self.Jm
+        g = self.mu / (1 - x)
+        return g * (l1 - l3sq / l1), g * (l2 - l3sq / l2)
+
+    def free_energy(self, l1, l2, I4):
+        """``W(l1, l2, I4) = Ws - eps l1^2 l2^2 I4/2`` (3.20), ``I4 = E_L^2``."""
+        if not np.all(np.real(I4) >= 0):
+            raise ValueError(f"I4 = E_L^2 must be >= 0, got {I4!r}")
+        return (self.stretching_energy(l1, l2)
+                - 0.5 * self.permittivity(l1, l2) * (l1 * l2) ** 2 * I4)
+
+    # ---- equations of state
+    def equations_of_state(self, l1, l2, E):
+        """``(sigma1 - sigma3, sigma2 - sigma3, D)`` by the closed forms (3.21), (3.22), D = eps E.
+
+        ``E`` is the true field through the thickness.
+        """
+        dW1, dW2 = self.stretching_energy_derivative(l1, l2)
+        eps = self.permittivity(l1, l2)
+        de1, de2 = self.permittivity.derivative(l1, l2)
+        E2 = E * E
+        s13 = l1 * dW1 - eps * E2 - 0.5 * l1 * de1 * E2
+        s23 = l2 * dW2 - eps * E2 - 0.5 * l2 * de2 * E2
+        return s13, s23, eps * E
+
+    def equations_of_state_from_energy(self, l1, l2, E):
+        """The same from (3.14)-(3.16) by complex-step differentiation of (3.20)."""
+        l1 = float(l1)
+        l2 = float(l2)
+        E = float(E)
+        I4 = E * E / (l1 * l2) ** 2  # E_L = l3 E = E/(l1 l2)
+        h = _H
+        dW1 = self.free_energy(l1 + 1j * h, l2, I4).imag / h
+        dW2 = self.free_energy(l1, l2 + 1j * h, I4).imag / h
+        dW4 = self.free_energy(l1, l2, I4 + 1j * h).imag / h
+        return l1 * dW1, l2 * dW2, -2 * dW4 * E / (l1 * l2) ** 2
