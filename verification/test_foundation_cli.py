@@ -55,3 +55,29 @@ def test_citation_cff_is_valid():
     jsonschema.validate(cff, schema)
     assert cff["cff-version"] == "1.2.0"
     assert any(r["type"] == "thesis" for r in cff["references"])
+
+
+def _junit(tmp_path, tests: int, skipped: int) -> str:
+    path = tmp_path / "junit.xml"
+    path.write_text(f'<testsuites><testsuite name="pytest" tests="{tests}" skipped="{skipped}" '
+                    'failures="0" errors="0"/></testsuites>')
+    return str(path)
+
+
+def test_ci_fails_when_no_test_ran(tmp_path):
+    """.ci/run must fail when every test was skipped or none was collected."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("count_tests", ROOT / ".ci/count_tests.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    assert mod.main(["x", _junit(tmp_path, 0, 0)]) == 1
+    assert mod.main(["x", _junit(tmp_path, 5, 5)]) == 1
+    assert mod.main(["x", _junit(tmp_path, 5, 4)]) == 0
+
+
+def test_ci_runs_the_readme_test_command_verbatim():
+    readme = (ROOT / "README.md").read_text()
+    block = readme.split("<!-- test-command -->", 1)[1].split("```bash\n", 1)[1].split("```")[0]
+    assert "pip install" in block and "pytest" in block
+    assert "<!-- test-command -->" in (ROOT / ".ci/run").read_text()
