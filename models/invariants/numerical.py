@@ -1,0 +1,62 @@
+"""Numerical derivatives of the invariants: complex step and central differences.
+
+First derivatives by the complex step ``Im f(x + i h e)/h`` (no subtractive cancellation,
+exact to rounding for h = 1e-30); second derivatives by central differences (step
+``h2``) of the complex-step gradient, error ``O(h2^2)`` - the invariants are polynomials of
+degree <= 6 in F, so the truncation term is ``h2^2/6`` times a bounded third derivative.
+Independent of the closed forms and of sympy: only :func:`~models.invariants.invariants`
+is used.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from models.invariants.closed_form import invariants
+
+CS_STEP = 1e-30
+FD_STEP = 1e-4
+
+
+def _grad_cs(F, D_L, A, numbering):
+    """``(dI/dF (6,3,3), dI/dD (6,3))`` by complex step."""
+    F = np.asarray(F, dtype=complex)
+    D_L = np.asarray(D_L, dtype=complex)
+    dF = np.zeros((6, 3, 3))
+    dD = np.zeros((6, 3))
+    for i in range(3):
+        for a in range(3):
+            Fp = F.copy()
+            Fp[i, a] += 1j * CS_STEP
+            dF[:, i, a] = invariants(Fp, D_L, A, numbering=numbering).imag / CS_STEP
+    for a in range(3):
+        Dp = D_L.copy()
+        Dp[a] += 1j * CS_STEP
+        dD[:, a] = invariants(F, Dp, A, numbering=numbering).imag / CS_STEP
+    return dF, dD
+
+
+def derivatives(F, D_L, A=None, *, numbering: str = "iso", h2: float = FD_STEP) -> dict:
+    """Dict ``I, dF, dD, dFF, dFD, dDD`` (layout of :mod:`models.invariants`)."""
+    F = np.asarray(F, dtype=float)
+    D_L = np.asarray(D_L, dtype=float)
+    I = invariants(F, D_L, A, numbering=numbering)
+    dF, dD = _grad_cs(F, D_L, A, numbering)
+    dFF = np.zeros((6, 3, 3, 3, 3))
+    dFD = np.zeros((6, 3, 3, 3))
+    dDD = np.zeros((6, 3, 3))
+    for j in range(3):
+        for b in range(3):
+            e = np.zeros((3, 3))
+            e[j, b] = h2
+            gp, _ = _grad_cs(F + e, D_L, A, numbering)
+            gm, _ = _grad_cs(F - e, D_L, A, numbering)
+            dFF[:, :, :, j, b] = (gp - gm) / (2 * h2)
+    for b in range(3):
+        e = np.zeros(3)
+        e[b] = h2
+        gpF, gpD = _grad_cs(F, D_L + e, A, numbering)
+        gmF, gmD = _grad_cs(F, D_L - e, A, numbering)
+        dFD[:, :, :, b] = (gpF - gmF) / (2 * h2)
+        dDD[:, :, b] = (gpD - gmD) / (2 * h2)
+    return {"I": I, "dF": dF, "dD": dD, "dFF": dFF, "dFD": dFD, "dDD": dDD}
