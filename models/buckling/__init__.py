@@ -1,0 +1,1 @@
+"""Chapter 5: the clamped dielectric-elastomer buckling membrane (NGSolve)."""

@@ -1,0 +1,145 @@
+"""Closed-form references for the Chapter 5 model (numpy only, no ngsolve).
+
+* Mechanical energies (5.15) and (5.26) in numpy (principal stretches via ``eigvalsh``),
+  their Kirchhoff stresses in principal form (Eq. 5.27 and its neo-Hookean analogue).
+* The ideal dielectric (5.9) ``W_ele = D_L.C D_L/(2 eps J)`` and its partial Legendre
+  transform ``Omega = W_mech - eps/2 J C^-1:(E_L x E_L)``.
+* The homogeneous pre-buckled state of the clamped film: in-plane stretches 1, thickness
+  stretch ``s`` from the traction-free faces (sigma_33 = 0); in-plane total Cauchy stress
+  ``sigma_11 = tau_1/J - eps E^2/2`` which tends to ``-eps E^2`` (the Maxwell stress) as
+  k -> infinity.
+* Plate theory: clamped circular plate under uniform in-plane compression N,
+  ``N_K = j_{1,1}^2 D / a^2`` (Timoshenko & Gere 1961, §9.1: 14.68), and the Mindlin
+  (thick-plate) correction ``N_M = N_K / (1 + N_K/(kappa G h))`` (exact relation for the
+  axisymmetric clamped circular plate, Wang, Reddy & Lee 2000, *Shear deformable beams and
+  plates*, Ch. 9), kappa = 5/6.
+* Membrane limit of pull-in: a stress-free (zero-tension) equibiaxially stretched
+  incompressible neo-Hookean membrane, ``v^2 = lam^-2 - lam^-8``, maximal at
+  ``lam = 4^(1/6)``, ``v = 0.687``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.optimize import brentq
+from scipy.special import jn_zeros
+
+from models.buckling.parameters import MU_REF, NeoHookean, Ogden
+
+J11_SQ = float(jn_zeros(1, 1)[0] ** 2)   # 14.6820, clamped circular plate coefficient
+KAPPA_MINDLIN = 5.0 / 6.0
+
+
+def _check_F(F):
+    J = float(np.linalg.det(F))
+    if not J > 0:
+        raise ValueError(f"det F must be > 0, got {J}")
+    return J
+
+
+def mechanical_energy_numpy(F: np.ndarray, mat: NeoHookean | Ogden) -> float:
+    """W_mech(F) [Pa], Eq. (5.15) or (5.26) + k/2 (J-1)^2, principal stretches by eigvalsh."""
+    J = _check_F(F)
+    C = F.T @ F
+    vol = mat.k / 2 * (J - 1) ** 2
+    if isinstance(mat, NeoHookean):
+        return mat.mu / 2 * (J ** (-2 / 3) * np.trace(C) - 3) + vol
+    lb2 = np.linalg.eigvalsh(J ** (-2 / 3) * C)
+    return sum(2 * m / a**2 * (np.sum(lb2 ** (a / 2)) - 3) for a, m in zip(mat.alphas, mat.mus)) + vol
+
+
+def kirchhoff_principal(stretches, mat: NeoHookean | Ogden) -> np.ndarray:
+    """Principal Kirchhoff stresses, Eq. (5.27) (Ogden) and its neo-Hookean analogue."""
+    lam = np.asarray(stretches, dtype=float)
+    if np.any(lam <= 0):
+        raise ValueError(f"stretches must be > 0, got {lam}")
+    J = float(np.prod(lam))
+    lb = lam * J ** (-1 / 3)
+    tau = np.full(3, mat.k * J * (J - 1))
+    if isinstance(mat, NeoHookean):
+        return tau + mat.mu * (lb**2 - np.sum(lb**2) / 3)
+    for a, m in zip(mat.alphas, mat.mus):
+        tau = tau + 2 * m / a * (lb**a - np.sum(lb**a) / 3)
+    return tau
+
+
+def cauchy_mech_numpy(F: np.ndarray, mat) -> np.ndarray:
+    """Mechanical Cauchy stress [Pa] from principal Kirchhoff stresses and eigenvectors of B."""
+    J = _check_F(F)
+    b, n = np.linalg.eigh(F @ F.T)
+    tau = kirchhoff_principal(np.sqrt(b), mat)
+    return (n * tau) @ n.T / J
+
+
+def ideal_dielectric_energy(F, DL, eps) -> float:
+    """W_ele = I5/(2 eps J) = D_L . C D_L / (2 eps J), Eq. (5.9) with (5.6)."""
+    J = _check_F(F)
+    return float(DL @ (F.T @ F) @ DL) / (2 * eps * J)
+
+
+def enthalpy_numpy(F, EL, mat, eps) -> float:
+    """Omega(F, E_L) = W_mech - eps/2 J C^-1 : (E_L x E_L), the Legendre transform of (5.9)."""
+    J = _check_F(F)
+    C = F.T @ F
+    return mechanical_energy_numpy(F, mat) - 0.5 * eps * J * float(EL @ np.linalg.solve(C, EL))
+
+
+# --------------------------------------------------------------------------- flat film
+def homogeneous_film(v: float, mat: NeoHookean | Ogden, mu_ref: float = MU_REF) -> dict:
+    """Clamped homogeneous film at normalised voltage ``v = Phi/t0 sqrt(eps/mu_ref)``.
+
+    F = diag(1, 1, s); the thickness stretch ``s`` solves sigma_33 = 0:
+    ``tau_3(1,1,s)/s + (eps/2) E^2 = 0`` with true field ``E = Phi/(s t0)``.
+    Returns s, the scaled true field e = v/s and the total in-plane Cauchy stress / mu_ref.
+    """
+    if not (v >= 0 and math.isfinite(v)):
+        raise ValueError(f"v must be finite and >= 0, got {v}")
+
+    def g(s):
+        return kirchhoff_principal([1, 1, s], mat)[2] / s / mu_ref + 0.5 * (v / s) ** 2
+
+    s = brentq(g, 0.3, 1.0 + 1e-12, xtol=1e-15, rtol=1e-15) if v > 0 else 1.0
+    e = v / s
+    tau = kirchhoff_principal([1, 1, s], mat)
+    sig11 = tau[0] / s / mu_ref - 0.5 * e**2
+    return {"s": s, "e": e, "sigma11": sig11, "maxwell": -e**2}
+
+
+# --------------------------------------------------------------------------- plates
+def plate_constants(mat: NeoHookean | Ogden):
+    """Small-strain E, nu, G of the material (G = initial shear modulus)."""
+    G, k = mat.mu0, mat.k
+    E = 9 * k * G / (3 * k + G)
+    nu = (3 * k - 2 * G) / (2 * (3 * k + G))
+    return E, nu, G
+
+
+def clamped_plate_critical_stress(mat, aspect: float, *, mindlin: bool = True) -> float:
+    """Critical uniform in-plane compressive stress [Pa] of the clamped circular plate.
+
+    Kirchhoff: ``sigma_K = j11^2 D/(a^2 h)``, ``D = E h^3 / (12 (1 - nu^2))``,
+    i.e. ``sigma_K = j11^2 E / (12 (1 - nu^2) aspect^2)``; Mindlin correction
+    ``sigma_M = sigma_K / (1 + sigma_K / (kappa G))``.
+    """
+    if aspect <= 0:
+        raise ValueError(f"aspect must be > 0, got {aspect}")
+    E, nu, G = plate_constants(mat)
+    sk = J11_SQ * E / (12 * (1 - nu**2) * aspect**2)
+    return sk / (1 + sk / (KAPPA_MINDLIN * G)) if mindlin else sk
+
+
+def critical_voltage_plate(mat, aspect: float, *, mindlin: bool = True,
+                           mu_ref: float = MU_REF) -> float:
+    """Normalised voltage at which the homogeneous film's in-plane compression reaches
+    the clamped-plate critical stress (plate theory estimate of the FE eigen-analysis)."""
+    target = -clamped_plate_critical_stress(mat, aspect, mindlin=mindlin) / mu_ref
+    return brentq(lambda v: homogeneous_film(v, mat, mu_ref)["sigma11"] - target, 1e-6, 1.5,
+                  xtol=1e-14)
+
+
+def membrane_pullin_nh() -> tuple[float, float]:
+    """(v, lam) of the zero-tension equibiaxial incompressible neo-Hookean membrane."""
+    lam = 4 ** (1 / 6)
+    return math.sqrt(lam**-2 - lam**-8), lam

@@ -1,0 +1,194 @@
+"""Solvers of the Chapter 5 model: critical voltage, voltage ramp, Southwell, pull-in.
+
+All voltages are normalised, ``v = Phi/t0 sqrt(eps/mu_ref)`` (mu_ref = 156 kPa, the
+Table 5.1 shear modulus; catalogued assumption ``ch5.assumption.normalisation``);
+deflections are in units of t0.  Results are small frozen dataclasses.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from models.buckling.analytic import critical_voltage_plate
+from models.buckling.fem import MembraneModel
+from models.buckling.parameters import Discretisation, NeoHookean, Ogden, Plate
+from models.errors import ConvergenceError, require
+
+CRITICAL_VTOL = 1e-6     # secant on lambda_1(v^2) = 0 stops when |dv| < this
+PULLIN_VTOL = 1e-3       # relative width of the bracket of the pull-in limit point
+
+
+@dataclass(frozen=True)
+class CriticalResult:
+    """Bifurcation of the perfect flat film: lambda_1(S(v_cr)) = 0."""
+
+    v: float                      # normalised critical voltage
+    e: float                      # normalised true field at v (flat film)
+    thickness: float              # thickness stretch of the flat film at v
+    ndof: int
+    nelements: int
+    iterations: int
+    history: tuple = field(default=())
+
+
+def critical_voltage(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation,
+                     *, inverse: str = "umfpack", maxit: int = 20) -> CriticalResult:
+    """Critical normalised voltage of the perfect clamped film by linearised eigen-analysis.
+
+    The flat pre-buckled state is equilibrated at each trial voltage (Newton); the
+    smallest eigenvalue of the condensed tangent stiffness at fixed voltage is driven to
+    zero by the secant method in ``v^2`` (the prestress is proportional to v^2).  Raises
+    ConvergenceError if the secant does not converge in ``maxit`` steps.
+    """
+    model = MembraneModel(plate, mat, disc, with_imperfection=False, inverse=inverse)
+    v_est = critical_voltage_plate(mat, plate.aspect)
+
+    def lam_at(v):
+        model.set_voltage(v)
+        model.newton()
+        w, _ = model.lowest_eigenvalues(nev=1)
+        return float(w[0])
+
+    xs = [(0.8 * v_est) ** 2, (0.95 * v_est) ** 2]
+    ls = [lam_at(math.sqrt(x)) for x in xs]
+    hist = [(math.sqrt(x), lv) for x, lv in zip(xs, ls)]
+    for it in range(maxit):
+        x_new = xs[-1] - ls[-1] * (xs[-1] - xs[-2]) / (ls[-1] - ls[-2])
+        if not (x_new > 0 and math.isfinite(x_new)):
+            raise ConvergenceError(f"critical_voltage: secant left the domain (v^2={x_new})")
+        l_new = lam_at(math.sqrt(x_new))
+        hist.append((math.sqrt(x_new), l_new))
+        dv = abs(math.sqrt(x_new) - math.sqrt(xs[-1]))
+        xs.append(x_new)
+        ls.append(l_new)
+        if dv < CRITICAL_VTOL or l_new == 0.0:
+            v = math.sqrt(x_new)
+            return CriticalResult(v=v, e=v / model.centre_thickness(),
+                                  thickness=model.centre_thickness(), ndof=model.ndof,
+                                  nelements=model.nelements, iterations=it + 3,
+                                  history=tuple(hist))
+    raise ConvergenceError(f"critical_voltage: secant did not converge in {maxit} steps: {hist}")
+
+
+@dataclass(frozen=True)
+class RampResult:
+    """Voltage-controlled ramp of the imperfect film.
+
+    Arrays along the converged path: ``v`` normalised voltage, ``w`` centre deflection of
+    the top surface / t0, ``thickness`` centre thickness / t0, ``e_centre`` normalised
+    true field at the centre, ``e_max`` largest sampled true field.  ``v_pullin`` is the
+    limit voltage bracketed to ``PULLIN_VTOL`` (None if ``v_max`` was reached first).
+    """
+
+    v: np.ndarray
+    w: np.ndarray
+    thickness: np.ndarray
+    e_centre: np.ndarray
+    e_max: np.ndarray
+    newton_its: np.ndarray
+    v_pullin: float | None
+    pullin_bracket: tuple[float, float] | None
+    ndof: int
+    nelements: int
+    stats: dict
+
+
+def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
+                 v_max: float = 1.5, dv0: float = 0.02, dv_max: float = 0.02,
+                 dw_max: float = 0.5, inverse: str = "umfpack", progress=None,
+                 max_steps: int = 2000) -> RampResult:
+    """Newton continuation in voltage with step control and pull-in bracketing.
+
+    Step control: a step is rejected (and halved) when Newton fails, when the centre
+    deflection *decreases* (sliding back towards the unstable flat branch) or when it
+    jumps by more than ``dw_max`` t0.  When the step falls below ``PULLIN_VTOL * v`` the
+    path has reached the voltage limit point: the pull-in voltage is bracketed between the
+    last converged voltage and that voltage plus the failed step.  Predictor: secant
+    extrapolation of the last two converged states.
+    """
+    require(v_max > 0, f"v_max must be > 0, got {v_max}")
+    require(0 < dv0 <= dv_max, f"need 0 < dv0 <= dv_max, got {dv0}, {dv_max}")
+    model = MembraneModel(plate, mat, disc, with_imperfection=True, inverse=inverse)
+    rec = {k: [] for k in ("v", "w", "thickness", "e_centre", "e_max", "its")}
+
+    def record(its):
+        rec["v"].append(model.v)
+        rec["w"].append(model.centre_deflection())
+        rec["thickness"].append(model.centre_thickness())
+        rec["e_centre"].append(model.v / rec["thickness"][-1])
+        rec["e_max"].append(model.max_true_field())
+        rec["its"].append(its)
+
+    record(0)
+    states = [model.state()]
+    dv = dv0
+    v = 0.0
+    bracket = None
+    for _ in range(max_steps):
+        if v >= v_max - 1e-14:
+            break
+        v_try = min(v + dv, v_max)
+        x0 = states[-1]
+        if len(states) >= 2:
+            h_prev = rec["v"][-1] - rec["v"][-2]
+            x0 = states[-1] + (v_try - v) / h_prev * (states[-1] - states[-2])
+        model.set_state(x0)
+        model.set_voltage(v_try)
+        ok = True
+        try:
+            its = model.newton()
+            w_new = model.centre_deflection()
+            if w_new < rec["w"][-1] - 1e-9 or abs(w_new - rec["w"][-1]) > dw_max:
+                ok = False
+        except ConvergenceError:
+            ok = False
+        if not ok:
+            model.set_state(states[-1])
+            model.set_voltage(v)
+            if dv < PULLIN_VTOL * max(v, 1e-3):
+                bracket = (v, v + 2 * dv)
+                break
+            dv /= 2
+            continue
+        v = v_try
+        record(its)
+        states.append(model.state())
+        if progress is not None:
+            progress(v, rec["w"][-1])
+        if its <= 4:
+            dv = min(dv * 1.5, dv_max)
+    else:
+        raise ConvergenceError(f"voltage_ramp: exceeded {max_steps} steps at v={v}")
+    arr = {k: np.array(val) for k, val in rec.items()}
+    return RampResult(v=arr["v"], w=arr["w"], thickness=arr["thickness"],
+                      e_centre=arr["e_centre"], e_max=arr["e_max"], newton_its=arr["its"],
+                      v_pullin=(bracket[0] if bracket else None), pullin_bracket=bracket,
+                      ndof=model.ndof, nelements=model.nelements, stats=dict(model.stats))
+
+
+def southwell(v: np.ndarray, w: np.ndarray, w_imp: float, *, window=(0.3, 0.85),
+              v_guess: float | None = None) -> float:
+    """Critical voltage from the pre-critical ramp by the Southwell plot.
+
+    For an imperfect plate under load P proportional to v^2 the extra deflection is
+    ``d = w_imp P/(P_cr - P)``, so ``d/P = d/P_cr + w_imp/P_cr``: the slope of d/P versus
+    d is 1/P_cr.  ``d = w - w_mid`` is measured relative to the flat-film thinning of the
+    centre (removed with the deflection of the first points, where d ~ 0); points with
+    ``window[0] < v/v_guess < window[1]`` are fitted.
+    """
+    v = np.asarray(v)
+    w = np.asarray(w)
+    require(len(v) == len(w) and len(v) > 3, "need > 3 ramp points")
+    vg = v_guess if v_guess is not None else v[np.argmax(np.gradient(w, v))]
+    sel = (v > window[0] * vg) & (v < window[1] * vg)
+    require(np.count_nonzero(sel) >= 3, f"Southwell window {window} holds < 3 points")
+    P = v[sel] ** 2
+    d = w[sel]
+    slope, _ = np.polyfit(d, d / P, 1)
+    if not slope > 0:
+        raise ConvergenceError(f"Southwell fit has non-positive slope {slope}")
+    del w_imp
+    return float(math.sqrt(1.0 / slope))
