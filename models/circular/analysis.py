@@ -1,0 +1,147 @@
+"""Derived Chapter 3 quantities: states at a given voltage, thresholds, failure sweeps.
+
+Definitions (catalogued as ch3.assumption.* entries):
+
+* *pull-in suppressed* (Sec. 3.5.2): the voltage-stretch curve Phibar(lambda) has no
+  interior local maximum on (lamP, lambda_LoT], i.e. ``min dPhibar^2/dlambda >= 0`` there
+  (``definition="before_loss_of_tension"``, the thesis' "curves terminated at loss of
+  tension", Sec. 3.5.3). The alternative ``definition="monotonic"`` asks for no local
+  maximum on the whole traced branch (the local maximum and minimum merge: a cusp).
+* the stretch at a voltage: the first (stable) solution on the rising branch.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.optimize import brentq
+
+from models.errors import ConvergenceError
+
+from . import circle_a
+from .actuator import Branch, branch, curves
+from .params import Annulus
+from .shooting import interface_state, q_for_stretch
+
+DEFINITIONS = ("before_loss_of_tension", "monotonic")
+#: absolute tolerance of the outer brentq searches over lamP or c (values printed to
+#: 2-3 significant digits; 1e-10 is far below that and above the ~1e-9 relative
+#: discretisation error of the inner solves, see test_ch3_solvers)
+OUTER_XTOL = 1e-10
+
+
+def dphibar2_dlam(br: Branch, c: float) -> np.ndarray:
+    """d(Phibar^2)/d lambda on the branch grid (exact q-derivatives, complex step)."""
+    h = 1e-30
+    p2c = circle_a.phibar_squared(br.lam + 1j * h * br.dlam, br.T1 + 1j * h * br.dT1, c,
+                                  br.annulus.kappa)
+    return (p2c.imag / h) / br.dlam
+
+
+def state_at_voltage(br: Branch, c: float, phibar: float) -> dict:
+    """Circle-A stretch and interface state at a given Phibar on the rising branch.
+
+    Returns a dict with lam (= lambda^(A) = lambda_2^(B)(R_A)), lam1B (lambda_1^(B)(R_A)),
+    lam3A = lam^-2, lam3B = 1/(lam1B lam), q.
+    """
+    kappa = br.annulus.kappa
+    p2 = circle_a.phibar_squared(br.lam, br.T1, c, kappa)
+    f = p2 - phibar**2
+    idx = np.nonzero((f[:-1] < 0) & (f[1:] >= 0))[0]
+    if idx.size == 0:
+        raise ValueError(f"Phibar = {phibar} is not reached on the traced branch "
+                         f"(max {np.sqrt(np.nanmax(p2)):.4g})")
+    j = idx[0]
+
+    def g(q):
+        st = interface_state(br.annulus, np.array([q]), steps=br.steps)
+        return float(circle_a.phibar_squared(st.lam[0], st.T1[0], c, kappa) - phibar**2)
+
+    q = brentq(g, br.q[j + 1], br.q[j], xtol=1e-15, rtol=1e-15, maxiter=200)
+    st = interface_state(br.annulus, np.array([q]), steps=br.steps)
+    lam, lam1 = float(st.lam[0]), float(st.lam1[0])
+    return {"lam": lam, "lam1B": lam1, "lam3A": lam**-2, "lam3B": 1 / (lam1 * lam), "q": q}
+
+
+def loss_of_tension_stretch(br: Branch) -> float:
+    """Stretch at which T1^(B)(R_A) = 0 (sigma1^(A) = 0); independent of c."""
+    cv = curves(br, [0.0])[0]
+    ev = cv.events["loss_of_tension"]
+    if ev is None:
+        raise ValueError(f"no loss of tension on the traced branch of {br.annulus}")
+    return ev.lam
+
+
+def _min_slope(br: Branch, c: float, definition: str, lam_lot: float | None) -> float:
+    d = dphibar2_dlam(br, c)
+    # only where the permittivity factor K of (3.30) is positive (Phibar finite)
+    mask = np.isfinite(d) & (br.lam > br.annulus.lamP) & (
+        circle_a.electrostriction_factor(br.lam, c) > 0)
+    if definition == "before_loss_of_tension":
+        mask &= br.lam <= lam_lot
+    elif definition != "monotonic":
+        raise ValueError(f"definition must be one of {DEFINITIONS}, got {definition!r}")
+    return float(np.min(d[mask]))
+
+
+def pullin_c_threshold(annulus: Annulus, *, definition: str = "before_loss_of_tension",
+                       c_range=(-0.2, 0.0), n: int = 1500) -> float:
+    """The c below which pull-in is suppressed at this pre-stretch (Sec. 3.5.2, Fig. 3.5).
+
+    Method: brentq on c of the minimum slope of Phibar^2 over the relevant stretch range
+    (dense branch, ``n`` points, refined by the branch being fixed: only circle A depends
+    on c). See :func:`pullin_c_threshold_closed_form` for the independent check.
+    """
+    lam_lot = None
+    br = branch(annulus, n=n)
+    if definition == "before_loss_of_tension":
+        lam_lot = loss_of_tension_stretch(br)
+        br = branch(annulus, lam=np.linspace(annulus.lamP, lam_lot, n))
+    f = lambda c: _min_slope(br, c, definition, lam_lot)  # noqa: E731
+    lo, hi = c_range
+    if not (f(lo) > 0 > f(hi)):
+        raise ConvergenceError(f"pull-in c threshold not bracketed in {c_range} for {annulus}")
+    return brentq(f, lo, hi, xtol=OUTER_XTOL)
+
+
+def pullin_c_threshold_closed_form(annulus: Annulus) -> float:
+    """c at which d(Phibar^2)/d lambda = 0 exactly at loss of tension (T1 = 0).
+
+    With s = s(lam), K = 1 + cA, A = 5 lam/2 - 2 (3.30) and T1(lam_L) = 0:
+    (s' - lam T1') K = s (4K/lam + 5c/2), linear in c:
+    c = (4s/lam - s' + lam T1') / ((s' - lam T1') A - 4 s A/lam - 5 s/2).
+    Valid when the slope first vanishes at the loss-of-tension end (checked in tests).
+    """
+    br = branch(annulus, n=200)
+    lam_L = loss_of_tension_stretch(br)
+    q = q_for_stretch(annulus, np.array([lam_L]),
+                      np.interp(lam_L, br.lam, br.q))
+    st = interface_state(annulus, q, steps=br.steps)
+    dT1 = float(st.dT1[0] / st.dlam[0])
+    kappa = annulus.kappa
+    h = 1e-30
+    s = float(circle_a.gent_equibiaxial_stress(lam_L, kappa))
+    ds = float(circle_a.gent_equibiaxial_stress(lam_L + 1j * h, kappa).imag / h)
+    A = 2.5 * lam_L - 2
+    num = 4 * s / lam_L - ds + lam_L * dT1
+    den = (ds - lam_L * dT1) * A - 4 * s * A / lam_L - 2.5 * s
+    return num / den
+
+
+def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
+                                  Jm: float = 120.0, equilibrium: str = "printed",
+                                  definition: str = "before_loss_of_tension",
+                                  bracket=(2.0, 3.2), n: int = 800) -> float:
+    """The pre-stretch above which pull-in is suppressed (Sec. 3.5.2: 2.53 for c = 0)."""
+
+    def f(lamP):
+        an = Annulus(lamP, radius_ratio, Jm, equilibrium)
+        br = branch(an, n=n)
+        lam_lot = None
+        if definition == "before_loss_of_tension":
+            lam_lot = loss_of_tension_stretch(br)
+        return _min_slope(br, c, definition, lam_lot)
+
+    lo, hi = bracket
+    if not (f(lo) < 0 < f(hi)):
+        raise ConvergenceError(f"suppression pre-stretch not bracketed in {bracket}")
+    return brentq(f, lo, hi, xtol=1e-8)

@@ -1,0 +1,126 @@
+"""Parameters of the Chapter 3 circular actuator and the thesis' material data.
+
+Zeng (2020), Chapter 3: a membrane of reference radius R_B, pre-stretched equibiaxially by
+``lamP`` and fixed to a rigid frame (3.38); circle A (R < R_A) carries electrodes, annulus
+B (R_A < R < R_B) is passive. VHB 4910: Gent (3.23) with mu = 51 kPa, Jm = 120; Zhao-Suo
+permittivity (3.27) eps = eps_bar [1 + c (l1 + l2 - 2)]; breakdown field
+E_B = 51 lam^1.13 MV/m (Huang et al., Sec. 3.5.5).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from models.errors import require
+
+MU_VHB = 51e3            # Pa, shear modulus, Sec. 3.3.3
+JM_VHB = 120.0           # Gent locking parameter, Sec. 3.3.3
+EPS0 = 8.85e-12          # F/m, vacuum permittivity as printed below (3.27)
+EB_COEFF = 51e6          # V/m, E_B = 51 lam^1.13 MV/m (Huang et al. [63], Sec. 3.5.5)
+EB_EXPONENT = 1.13
+EPS_R_ASSUMED = 4.7      # NOT stated in the thesis: catalogued assumption ch3.assumption.eps_r
+C_WISSLER_MAZZA = -0.053  # Sec. 3.5, Wissler & Mazza [56]
+
+#: Table 3.1: (experimental-data reference number, c)
+TABLE_3_1 = (
+    (55, -0.0073), (62, -0.0107), (59, -0.0236), (57, -0.0241), (74, -0.0275),
+    (62, -0.0317), (56, -0.053), (61, -0.0777), (53, -0.0823), (58, -0.0892),
+)
+
+EQUILIBRIUM_VARIANTS = ("printed", "membrane")
+
+
+@dataclass(frozen=True)
+class Annulus:
+    """The passive annulus B: what the annulus boundary-value problem depends on.
+
+    Parameters
+    ----------
+    lamP
+        Equibiaxial pre-stretch, imposed as lambda_2(R_B) = lamP (3.38). Must be >= 1.
+    radius_ratio
+        R_B / R_A (thesis: 5, 10, 15; 15 in all figures). Must be > 1.
+    Jm
+        Gent parameter (3.23); ``math.inf`` gives neo-Hookean. Must be > 0.
+    equilibrium
+        ``"printed"``: Eq. (3.33) d sigma1/dr = (sigma2 - sigma1)/r, hence ODE (3.34), as
+        the thesis solves it. ``"membrane"``: thin-membrane force balance
+        d(R T1)/dR = T2 (T_i = sigma_i/lambda_i), which adds the thickness-gradient term
+        -sigma1 (r/h) dh/dr that (3.33) omits (erratum ch3.erratum.eq_3_33).
+    """
+
+    lamP: float
+    radius_ratio: float = 15.0
+    Jm: float = JM_VHB
+    equilibrium: str = "printed"
+
+    def __post_init__(self):
+        for name in ("lamP", "radius_ratio", "Jm"):
+            v = getattr(self, name)
+            require(isinstance(v, int | float) and not math.isnan(v),
+                    f"{name} must be a real number, got {v!r}")
+        require(self.lamP >= 1.0, f"lamP must be >= 1, got {self.lamP}")
+        require(self.radius_ratio > 1.0,
+                f"radius_ratio RB/RA must be > 1, got {self.radius_ratio}")
+        require(math.isfinite(self.radius_ratio),
+                f"radius_ratio RB/RA must be finite, got {self.radius_ratio}")
+        require(self.Jm > 0, f"Jm must be > 0, got {self.Jm}")
+        require(self.equilibrium in EQUILIBRIUM_VARIANTS,
+                f"equilibrium must be one of {EQUILIBRIUM_VARIANTS}, got {self.equilibrium!r}")
+        require(self.lamP < locking_stretch_equibiaxial(self.Jm),
+                f"lamP must be < the Gent locking stretch "
+                f"{locking_stretch_equibiaxial(self.Jm):.6g}, got {self.lamP}")
+
+    @property
+    def kappa(self) -> float:
+        """1/Jm (0 for the neo-Hookean limit)."""
+        return 0.0 if math.isinf(self.Jm) else 1.0 / self.Jm
+
+
+@dataclass(frozen=True)
+class CircularActuator:
+    """Full Chapter 3 actuator: the annulus plus circle A's electrical data.
+
+    Parameters
+    ----------
+    annulus
+        :class:`Annulus` (pre-stretch, geometry, Jm, equilibrium variant).
+    c
+        Zhao-Suo electrostrictive factor (3.27), thesis range -0.1 <= c <= 0.
+    eps_r
+        Relative permittivity (enters only the breakdown line; assumption, thesis silent).
+    mu
+        Shear modulus in Pa (enters only the breakdown line).
+    """
+
+    annulus: Annulus
+    c: float = 0.0
+    eps_r: float = EPS_R_ASSUMED
+    mu: float = MU_VHB
+
+    def __post_init__(self):
+        require(isinstance(self.c, int | float) and math.isfinite(self.c),
+                f"c must be a finite real number, got {self.c!r}")
+        require(self.eps_r > 0, f"eps_r must be > 0, got {self.eps_r}")
+        require(self.mu > 0, f"mu must be > 0, got {self.mu}")
+        # permittivity (3.27) must be positive at the pre-stretched state
+        require(1 + self.c * (2 * self.annulus.lamP - 2) > 0,
+                f"c = {self.c} makes the permittivity (3.27) non-positive at "
+                f"lamP = {self.annulus.lamP}: need 1 + c(2 lamP - 2) > 0")
+
+
+def locking_stretch_equibiaxial(Jm: float) -> float:
+    """Equibiaxial stretch at which the Gent energy (3.23) locks: 2 l^2 + l^-4 - 3 = Jm."""
+    if math.isinf(Jm):
+        return math.inf
+    # x = l^2: 2 x^3 - (Jm + 3) x^2 + 1 = 0, largest root
+    lo, hi = 1.0, math.sqrt((Jm + 3) / 2) + 1.0
+    f = lambda x: 2 * x**3 - (Jm + 3) * x**2 + 1  # noqa: E731
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if f(mid * mid) > 0:
+            hi = mid
+        else:
+            lo = mid
+    return 0.5 * (lo + hi)
