@@ -1,0 +1,225 @@
+"""Method 1: exponential-ansatz determinant (thesis eqs 4.61-4.82), even/odd split.
+
+The incremental fields psi = A exp(-k s x2 + i k x1), phi = k B exp(...) (4.61)-(4.62)
+solve (4.52)-(4.53) iff det M(s) = 0, M(s) = [[a - 2b s^2 + c s^4, s(e - d - d s^2)],
+[s(e - d - d s^2), f s^2 - g]]. With alpha = 0 (f = g, e = 2d) this is (4.63):
+(s^2 - 1)[qc s^4 - qb s^2 + qa] = 0 (re-derived; see ``reduced_quartic``).
+
+Modes (re-derived, cf. (4.81)-(4.82)):
+
+* s = +-1: M(1) = diag(a - 2b + c, 0). a - 2b + c = -4 xi lam^-8 for both the derived and
+  the printed coefficients, so for xi > 0 the only mode is the *electric* one
+  (A, B) = (0, 1); the printed (4.81) "B = 0" is a solution only when xi = 0
+  (erratum ``ch4.erratum.eq4_81_amplitude``).
+* quartic roots s2, s3: B = (d/f) s A, i.e. B_hat = s Dhat A for beta-scaled rows (4.82).
+
+Well-posedness at repeated roots: the two quartic roots enter through the symmetric
+combinations (col(s2) + col(s3))/2 and (col(s2) - col(s3))/(s2 - s3), which span the same
+space as col(s2), col(s3) while they are distinct and tend to col(s0), col'(s0) (the
+x2 exp(-k s0 x2) solution) when they coincide (xi = 0, lam = 1). The same formulas are
+real for a complex-conjugate pair. The electric mode stays independent of the quartic
+modes even when a quartic root equals 1 (isotropic case). Hence results are continuous
+in xi -> 0+ and there is no spurious root at lam = 1.
+
+Even/odd split: with x2 measured from the mid-plane, the problem is invariant under
+x2 -> -x2 combined with D -> -D, so modes with (psi even, phi odd) ["E", flexural:
+u2 even] and (psi odd, phi even) ["O", extensional] decouple and the 6x6 determinant of
+(4.75)-(4.80) factorises into two 3x3 determinants. Columns are divided by
+cosh(k s h / 2) so nothing overflows for thick plates. h = H lam^-2, so k h = kH lam^-2.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+
+from models.errors import ConvergenceError, require
+from models.plate.coefficients import (
+    PlateParams,
+    coefficients,
+    reduced_quartic,
+    strongly_elliptic,
+)
+
+PARITIES = ("E", "O")
+#: below this separation of the quartic roots the divided difference is replaced by a
+#: central difference of step _DS (truncation ~ |s2 - s3|^2 / 24, rounding ~ eps / _DS).
+_CLOSE = 1e-3
+_DS = 1e-4
+
+
+def _row_coefficients(lam, p: PlateParams):
+    """Coefficients (c, 2b, d, e, f) entering the boundary rows (4.69)-(4.71)."""
+    if p.variant == "literal":
+        # (4.75)-(4.77) literally: beta absent, 6 xi lam^-8 in (4.76).
+        C1 = lam**-4 + p.Dhat**2 + 2 * p.xi * lam**-8
+        K2 = lam**2 + 2 * lam**-4 + 2 * p.Dhat**2 + 6 * p.xi * lam**-8
+        one = np.ones_like(lam)
+        return C1, K2 - C1, p.Dhat * one, 2 * p.Dhat * one, one
+    a, b2, c, d, e, f, g = coefficients(lam, p)
+    return c, b2, d, e, f
+
+
+def _rows(s, A, B, rc):
+    """Boundary rows (4.69)-(4.71) for one exponential, (k = 1, common factors dropped)."""
+    c, b2, d, e, f = rc
+    r1 = c * (1 + s**2) * A - d * s * B
+    r2 = (b2 + c - c * s**2) * s * A - (e - d * s**2) * B
+    r3 = d * (1 + s**2) * A - f * s * B
+    return np.stack([r1, r2, r3], axis=-1)
+
+
+def _column(s, t, parity, kind, rc, kappa):
+    """Column of the parity-reduced 3x3 matrix for root s (complex arrays allowed).
+
+    kind "quartic": (A, B) = (1, kappa s); "electric": (0, 1); "mechanical": (1, 0).
+    "E": psi even (A(-s) = A(s)), "O": psi odd. Divided by cosh(s t / 2).
+    """
+    if kind == "quartic":
+        Ap, Bp, Am, Bm = 1.0, kappa * s, 1.0, -kappa * s
+    elif kind == "electric":
+        Ap, Bp, Am, Bm = 0.0, 1.0, 0.0, 1.0
+    else:
+        Ap, Bp, Am, Bm = 1.0, 0.0, 1.0, 0.0
+    # psi-parity sign of the (-s) partner: even psi -> +, odd psi -> -
+    if kind == "electric":
+        # phi even <-> psi odd: cosh for "O", sinh for "E"
+        sign_m = -1.0 if parity == "E" else 1.0
+    else:
+        sign_m = 1.0 if parity == "E" else -1.0
+    th = np.tanh(s * t / 2)
+    top = _rows(s, Ap, Bp, rc) * (1 - th)[..., None]
+    bot = _rows(-s, Am, Bm, rc) * (1 + th)[..., None]
+    return 0.5 * (sign_m * bot + top) if sign_m > 0 else 0.5 * (bot - top)
+
+
+def _quartic_roots(lam, p):
+    qa, qb, qc = reduced_quartic(lam, p)
+    disc = np.asarray(qb**2 - 4 * qa * qc, dtype=complex)
+    sq = np.sqrt(disc)
+    # numerically stable pair: sigma+ sigma- = qa/qc
+    big = np.where(np.real(qb) >= 0, (qb + sq) / (2 * qc), (qb - sq) / (2 * qc))
+    small = qa / (qc * big)
+    return np.sqrt(big + 0j), np.sqrt(small + 0j)
+
+
+def determinant(lam, kH, params: PlateParams, parity: str):
+    """Scaled 3x3 determinant of parity ``parity`` ("E" or "O"); zero at bifurcation.
+
+    Vectorised over broadcastable ``lam`` and ``kH``. Returns NaN where the model is not
+    strongly elliptic (there the exponential solution does not describe a decaying mode
+    and the bifurcation problem is ill-posed).
+    """
+    require(parity in PARITIES, f"parity must be 'E' or 'O', got {parity!r}")
+    p = params
+    require(p.alpha == 0, f"method 1 is implemented for alpha == 0 (thesis), got {p.alpha}")
+    lam, kH = np.broadcast_arrays(np.asarray(lam, float), np.asarray(kH, float))
+    require(bool(np.all(kH > 0)), "kH must be > 0")
+    t = kH * lam**-2
+    rc = _row_coefficients(lam, p)
+    if p.variant == "literal":
+        kappa = p.Dhat * np.ones_like(lam)
+        # (4.81): the s = +-1 mode is (A, B) = (1, 0). Taken literally the 6x6 system is
+        # singular for every lam when Dhat = 0 (row (4.77) vanishes identically) or
+        # xi = 0 (the mode coincides with the quartic root s = 1); there the electric
+        # mode (0, 1) is used instead, which is a solution in both cases.
+        kind1 = "mechanical" if (p.xi > 0 and p.Dhat > 0) else "electric"
+    else:
+        kappa = rc[2] / rc[4]
+        kind1 = "electric"
+    s2, s3 = _quartic_roots(lam, p)
+    rcx = tuple(np.asarray(r) for r in rc)
+    kap = kappa
+
+    def col(s):
+        return _column(s, t, parity, "quartic", rcx, kap)
+
+    c2, c3 = col(s2), col(s3)
+    diff = s2 - s3
+    close = np.abs(diff) < _CLOSE
+    safe = np.where(close, 1.0, diff)
+    avg = 0.5 * (c2 + c3)
+    dd = (c2 - c3) / safe[..., None]
+    if np.any(close):
+        m = 0.5 * (s2 + s3)
+        dd_c = (col(m + _DS) - col(m - _DS)) / (2 * _DS)
+        dd = np.where(close[..., None], dd_c, dd)
+    one = np.ones_like(lam, dtype=complex)
+    c1 = _column(one, t, parity, kind1, rcx, kap)
+    Mx = np.stack([avg, dd, c1], axis=-1)
+    det = np.real(np.linalg.det(Mx))
+    ell = strongly_elliptic(lam, p) if p.variant != "literal" else np.ones_like(lam, bool)
+    return np.where(ell, det, np.nan)
+
+
+@dataclass(frozen=True)
+class Roots:
+    """Critical stretches at one kH: ``lam`` sorted, ``parity`` of each root."""
+
+    kH: float
+    lam: np.ndarray
+    parity: tuple[str, ...]
+
+
+#: default lam window and scan density (geometric grid, only used to bracket roots)
+LAM_WINDOW = (0.4, 8.0)
+N_SCAN = 400
+XTOL = 1e-13
+
+
+def scan_grid(window=LAM_WINDOW, n=N_SCAN):
+    return np.geomspace(window[0], window[1], n)
+
+
+def critical_stretches(kH: float, params: PlateParams, *, window=LAM_WINDOW,
+                       n_scan: int = N_SCAN, parities=PARITIES) -> Roots:
+    """All lam in ``window`` at which a parity determinant vanishes, at fixed kH.
+
+    Sign changes of the determinant on a geometric lam grid bracket the roots; each is
+    refined with :func:`scipy.optimize.brentq` to ``xtol = 1e-13``. Points where the model
+    is not strongly elliptic are skipped (no bracket crosses them). Raises
+    :class:`ConvergenceError` if brentq fails on a bracket.
+    """
+    require(np.isfinite(kH) and kH > 0, f"kH must be finite and > 0, got {kH}")
+    grid = scan_grid(window, n_scan)
+    lams, pars = [], []
+    for par in parities:
+        vals = determinant(grid, kH, params, par)
+        ok = np.isfinite(vals[:-1]) & np.isfinite(vals[1:])
+        idx = np.nonzero(ok & (np.sign(vals[:-1]) * np.sign(vals[1:]) < 0))[0]
+        exact = np.nonzero(vals == 0)[0]
+        for i in idx:
+            lo, hi = grid[i], grid[i + 1]
+            try:
+                r, info = brentq(lambda x: float(determinant(x, kH, params, par)),
+                                 lo, hi, xtol=XTOL, full_output=True)
+            except (ValueError, RuntimeError) as exc:
+                raise ConvergenceError(f"brentq failed on [{lo}, {hi}] at kH={kH}, "
+                                       f"{params}: {exc}") from exc
+            if not info.converged:
+                raise ConvergenceError(f"brentq did not converge on [{lo}, {hi}]")
+            lams.append(r)
+            pars.append(par)
+        for i in exact:
+            lams.append(float(grid[i]))
+            pars.append(par)
+    order = np.argsort(lams)
+    return Roots(kH, np.asarray(lams)[order], tuple(pars[i] for i in order))
+
+
+def curves(kH_values, params: PlateParams, *, window=LAM_WINDOW, n_scan: int = N_SCAN,
+           max_roots: int = 6):
+    """Bifurcation curves lam_cr(kH): array (len(kH), max_roots) padded with NaN,
+    plus the parity codes (0 = "E", 1 = "O", -1 = none)."""
+    kH_values = np.asarray(kH_values, float)
+    lam = np.full((kH_values.size, max_roots), np.nan)
+    par = np.full((kH_values.size, max_roots), -1, dtype=int)
+    for i, kH in enumerate(kH_values):
+        r = critical_stretches(float(kH), params, window=window, n_scan=n_scan)
+        if r.lam.size > max_roots:
+            raise ConvergenceError(f"more than {max_roots} roots at kH={kH}: {r.lam}")
+        lam[i, : r.lam.size] = r.lam
+        par[i, : r.lam.size] = [PARITIES.index(x) for x in r.parity]
+    return lam, par

@@ -1,0 +1,222 @@
+"""Method 2: 1D finite elements through the thickness (no exponential ansatz).
+
+The incremental fields are psi = Psi(x2) exp(i k x1), phi = Phi(x2) exp(i k x1) with
+u = (psi_2, -psi_1) (exactly incompressible) and Ddot_L0 = (phi_2, -phi_1) (exactly
+divergence free). The incremental energy per wavelength is the Hermitian form
+
+    Pi[Psi, Phi] = int_{-h/2}^{h/2} z^H S z dx2,
+    z = (i Psi', Psi'', Psi, -i Psi', Phi', -i Phi)   (k = 1 after scaling x2 by k),
+
+with S the energy matrix of :func:`models.plate.coefficients.energy_matrix` (moduli of
+(4.29)-(4.31) pushed forward, plus the base-pressure term). Traction-free faces and
+equipotential electrodes (tangential incremental field zero, the charge free to
+redistribute: charge control fixes only the total charge) are the *natural* boundary
+conditions of Pi, so no boundary row is imposed: the discretisation does not use
+(4.69)-(4.80) or the roots (4.64)-(4.66).
+
+Discretisation: Hermite cubic elements for Psi (C1, needed for Psi'') and continuous
+quadratic Lagrange elements for Phi on a mesh graded towards the faces (boundary layers
+of width 1/(k s) when k h is large). Energy-norm error O(N^-2) gives eigenvalue and
+critical-stretch errors O(N^-4) (asserted in the verification suite).
+
+Stability criterion: the plate is stable iff Pi > 0 (the D_L formulation is a
+minimum principle), i.e. iff all eigenvalues omega of K v = omega M v are positive
+(M the L2 Gram matrix). lam_cr is where an eigenvalue crosses zero; the number of
+negative eigenvalues (the inertia) brackets the crossings on a lam grid and brentq
+refines the crossing eigenvalue.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as sla
+from scipy.optimize import brentq
+
+from models.errors import ConvergenceError, require
+from models.plate.coefficients import PlateParams, energy_matrix, strongly_elliptic
+
+#: default number of elements through the thickness
+N_ELEMENTS = 24
+_GAUSS = np.polynomial.legendre.leggauss(5)
+
+# z = sum_m Cpsi[m] D^m Psi + sum_m Cphi[m] D^m Phi   (D = d/deta, eta = k x2)
+_CPSI = np.zeros((3, 6), complex)
+_CPSI[0, 2] = 1.0             # L21 = Psi
+_CPSI[1, 0] = 1j              # L11 = i Psi'
+_CPSI[1, 3] = -1j             # L22 = -i Psi'
+_CPSI[2, 1] = 1.0             # L12 = Psi''
+_CPHI = np.zeros((2, 6), complex)
+_CPHI[0, 5] = -1j             # Dd2 = -i Phi
+_CPHI[1, 4] = 1.0             # Dd1 = Phi'
+
+
+def grading(t: float) -> float:
+    """Mesh grading towards the faces, a smooth function of t = k h.
+
+    Thick plates (large t) have boundary layers of width ~1/(s t); thin plates do not and
+    a uniform mesh keeps the t^-3 bending terms well conditioned. Smooth in t so that the
+    discrete eigenvalues vary continuously along a lam scan (t = kH lam^-2).
+    """
+    return 0.8 * t / (t + 4.0)
+
+
+def _nodes(n: int, g: float) -> np.ndarray:
+    """Nodes on [-1/2, 1/2]: a fixed smooth map of a uniform grid, graded to the faces."""
+    u = np.linspace(-0.5, 0.5, n + 1)
+    return (1 - g) * u + g * 0.5 * np.sin(np.pi * u)
+
+
+def _gram(n: int, g: float):
+    """Gram matrices int D^m N_i D^k N_j dzeta on [-1/2, 1/2] (zeta = x2/h).
+
+    Returns (G_pp[3,3], G_pf[3,2], G_ff[2,2]) as dense arrays, dofs ordered
+    [Psi dofs (2 per node: value, zeta-slope), Phi dofs (nodes then mid-points)].
+    """
+    x = _nodes(n, g)
+    npsi, nphi = 2 * (n + 1), 2 * n + 1
+    gp, gw = _GAUSS
+    xi = 0.5 * (gp + 1)[None, :]
+    he = np.diff(x)[:, None]                       # (n, 1)
+    ww = 0.5 * gw[None, :] * he                    # (n, nq)
+    one = np.ones_like(he)
+    H = np.stack([(1 - 3 * xi**2 + 2 * xi**3) * one, he * (xi - 2 * xi**2 + xi**3),
+                  (3 * xi**2 - 2 * xi**3) * one, he * (-xi**2 + xi**3)], axis=1)
+    H1 = np.stack([(-6 * xi + 6 * xi**2) / he, (1 - 4 * xi + 3 * xi**2) * one,
+                   (6 * xi - 6 * xi**2) / he, (-2 * xi + 3 * xi**2) * one], axis=1)
+    H2 = np.stack([(-6 + 12 * xi) / he**2, (-4 + 6 * xi) / he, (6 - 12 * xi) / he**2,
+                   (-2 + 6 * xi) / he], axis=1)
+    P = np.stack([(1 - xi) * (1 - 2 * xi) * one, 4 * xi * (1 - xi) * one,
+                  xi * (2 * xi - 1) * one], axis=1)
+    P1 = np.stack([(-3 + 4 * xi) / he, (4 - 8 * xi) / he, (4 * xi - 1) / he], axis=1)
+    e = np.arange(n)[:, None]
+    ip = np.hstack([2 * e, 2 * e + 1, 2 * e + 2, 2 * e + 3])      # (n, 4)
+    iF = np.hstack([e, n + 1 + e, e + 1])                          # (n, 3)
+    dpsi, dphi = (H, H1, H2), (P, P1)
+
+    def assemble(A, B, ia, ib, size):
+        loc = np.einsum("eaq,ebq,eq->eab", A, B, ww)
+        out = np.zeros(size)
+        np.add.at(out, (ia[:, :, None], ib[:, None, :]), loc)
+        return out
+
+    Gpp = np.array([[assemble(dpsi[m], dpsi[k], ip, ip, (npsi, npsi)) for k in range(3)]
+                    for m in range(3)])
+    Gpf = np.array([[assemble(dpsi[m], dphi[k], ip, iF, (npsi, nphi)) for k in range(2)]
+                    for m in range(3)])
+    Gff = np.array([[assemble(dphi[m], dphi[k], iF, iF, (nphi, nphi)) for k in range(2)]
+                    for m in range(2)])
+    return Gpp, Gpf, Gff
+
+
+def stiffness(lam: float, kH: float, params: PlateParams, n: int = N_ELEMENTS):
+    """Hermitian stiffness K(lam, kH) and Gram (mass) matrix M of the discretisation."""
+    require(np.isfinite(lam) and lam > 0, f"lam must be > 0, got {lam}")
+    require(np.isfinite(kH) and kH > 0, f"kH must be > 0, got {kH}")
+    require(n >= 2, f"n must be >= 2, got {n}")
+    t = kH * lam**-2  # k h
+    S = energy_matrix(np.asarray(lam, float), params)
+    Gpp, Gpf, Gff = _gram(n, grading(t))
+    npsi, nphi = Gpp.shape[2], Gff.shape[2]
+    K = np.zeros((npsi + nphi, npsi + nphi), complex)
+    # eta = t zeta: D_eta^m = t^-m D_zeta^m, d eta = t d zeta
+    for m in range(3):
+        for k in range(3):
+            cmk = _CPSI[m].conj() @ S @ _CPSI[k]
+            if cmk != 0:
+                K[:npsi, :npsi] += cmk * t ** (1 - m - k) * Gpp[m, k]
+        for k in range(2):
+            cmk = _CPSI[m].conj() @ S @ _CPHI[k]
+            if cmk != 0:
+                blk = cmk * t ** (1 - m - k) * Gpf[m, k]
+                K[:npsi, npsi:] += blk
+                K[npsi:, :npsi] += blk.conj().T
+    for m in range(2):
+        for k in range(2):
+            cmk = _CPHI[m].conj() @ S @ _CPHI[k]
+            if cmk != 0:
+                K[npsi:, npsi:] += cmk * t ** (1 - m - k) * Gff[m, k]
+    M = sla.block_diag(Gpp[0, 0], Gff[0, 0])
+    return K, M
+
+
+def eigenvalues(lam: float, kH: float, params: PlateParams, n: int = N_ELEMENTS,
+                count: int | None = None) -> np.ndarray:
+    """Ascending eigenvalues omega of K v = omega M v (all, or the ``count`` lowest)."""
+    K, M = stiffness(lam, kH, params, n)
+    sub = None if count is None else (0, count - 1)
+    return sla.eigh(K, M, eigvals_only=True, subset_by_index=sub)
+
+
+@dataclass(frozen=True)
+class FemRoots:
+    kH: float
+    lam: np.ndarray
+    index: tuple[int, ...]  # which eigenvalue (ascending) crosses zero
+
+
+def critical_stretches(kH: float, params: PlateParams, *, window=(0.4, 8.0),
+                       n_scan: int = 400, n: int = N_ELEMENTS, max_index: int = 8,
+                       grid=None) -> FemRoots:
+    """All lam in ``window`` where an eigenvalue of K v = omega M v crosses zero.
+
+    The inertia (number of negative eigenvalues among the ``max_index`` lowest) is
+    evaluated on a geometric lam grid; where it changes by one the crossing eigenvalue
+    is refined with brentq. Non-elliptic lam (``strongly_elliptic`` false) are skipped.
+    """
+    g = np.geomspace(window[0], window[1], n_scan) if grid is None else np.asarray(grid)
+    ell = strongly_elliptic(g, params)
+    ev = np.array([eigenvalues(x, kH, params, n, max_index) if e else
+                   np.full(max_index, np.nan) for x, e in zip(g, ell, strict=True)])
+    neg = np.sum(ev < 0, axis=1)
+    lams, idx = [], []
+
+    def inertia(x):
+        return int(np.sum(eigenvalues(x, kH, params, n, max_index) < 0))
+
+    def crossings(lo, hi, nlo, nhi, depth=0):
+        """(lo, hi, j) with exactly one crossing of eigenvalue j, by recursive splitting."""
+        if nlo == nhi:
+            return []
+        if abs(nlo - nhi) == 1:
+            return [(lo, hi, min(nlo, nhi))]
+        if depth > 6:
+            raise ConvergenceError(f"{abs(nlo - nhi)} eigenvalues cross zero in "
+                                   f"[{lo}, {hi}] at kH={kH}: not separable")
+        sub = np.geomspace(lo, hi, 9)
+        ns = [nlo] + [inertia(x) for x in sub[1:-1]] + [nhi]
+        out = []
+        for a, b, na, nb in zip(sub[:-1], sub[1:], ns[:-1], ns[1:], strict=True):
+            out += crossings(a, b, na, nb, depth + 1)
+        return out
+
+    for i in range(len(g) - 1):
+        if not (ell[i] and ell[i + 1]) or neg[i] == neg[i + 1]:
+            continue
+        for lo, hi, j in crossings(g[i], g[i + 1], int(neg[i]), int(neg[i + 1])):
+            def fj(x, j=j):
+                return eigenvalues(x, kH, params, n, j + 1)[j]
+
+            try:
+                r, info = brentq(fj, lo, hi, xtol=1e-13, full_output=True)
+            except (ValueError, RuntimeError) as exc:
+                raise ConvergenceError(f"FE brentq failed on [{lo}, {hi}]: {exc}") from exc
+            if not info.converged:
+                raise ConvergenceError("FE brentq did not converge")
+            lams.append(r)
+            idx.append(int(j))
+    return FemRoots(kH, np.asarray(lams), tuple(idx))
+
+
+def refine_root(lam0: float, kH: float, params: PlateParams, n: int, *, index: int,
+                rel: float = 0.02) -> float:
+    """The zero of eigenvalue ``index`` near ``lam0`` (bracket lam0 (1 +- rel))."""
+    def fj(x):
+        return eigenvalues(x, kH, params, n, index + 1)[index]
+
+    lo, hi = lam0 * (1 - rel), lam0 * (1 + rel)
+    try:
+        return brentq(fj, lo, hi, xtol=1e-14)
+    except ValueError as exc:
+        raise ConvergenceError(f"no sign change of eigenvalue {index} on [{lo}, {hi}]") from exc
