@@ -356,3 +356,28 @@ class MembraneModel:
                 return w[:nev][idx], Xb[:, :nev][:, idx]
             old = w[:nev]
         raise ConvergenceError(f"subspace iteration: no convergence in {iters} steps ({w[:nev]})")
+
+
+def energies_at(F: np.ndarray, E_hat: np.ndarray, mat: NeoHookean | Ogden,
+                mu_ref: float = MU_REF) -> tuple[float, float]:
+    """Evaluate the CoefficientFunction energies at a constant ``F`` and scaled field.
+
+    Returns ``(W_mech [Pa], Omega/mu_ref)`` exactly as assembled by :class:`MembraneModel`
+    (used to check the NGSolve energies against :mod:`models.materials`).
+    """
+    F = np.asarray(F, dtype=float)
+    require(F.shape == (3, 3), f"F must be 3x3, got {F.shape}")
+    require(np.linalg.det(F) > 0, f"det F must be > 0, got {np.linalg.det(F)}")
+    mesh = _unit_mesh()
+    mip = mesh(0.25, 0.25, 0.25)
+    Fcf = ngs.CF(tuple(F.ravel()), dims=(3, 3))
+    Ecf = ngs.CF(tuple(float(e) for e in E_hat))
+    return (float(mechanical_energy_cf(Fcf, mat)(mip)),
+            float(enthalpy_cf(Fcf, Ecf, mat, mu_ref)(mip)))
+
+
+def _unit_mesh():
+    ngm = NGMesh(dim=3)
+    pts = [ngm.Add(MeshPoint(Pnt(*p))) for p in ((0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1))]
+    ngm.Add(Element3D(1, pts))
+    return ngs.Mesh(ngm)
