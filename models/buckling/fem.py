@@ -381,3 +381,27 @@ def _unit_mesh():
     pts = [ngm.Add(MeshPoint(Pnt(*p))) for p in ((0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1))]
     ngm.Add(Element3D(1, pts))
     return ngs.Mesh(ngm)
+
+
+def mode_axisymmetry(model: MembraneModel, mode: np.ndarray, n_theta: int = 24) -> float:
+    """Fraction of a mode's displacement in the angular harmonic n = 0.
+
+    The mode's cylindrical components (u_r, u_theta, u_z) are sampled on the mid-plane
+    circle r = a/2; returns sum_c |mean_theta u_c|^2 / mean_theta sum_c |u_c|^2, which is
+    1 for an axisymmetric mode and 0 for a pure n >= 1 (wrinkling) mode.
+    """
+    gf = ngs.GridFunction(model.X)
+    gf.vec.FV().NumPy()[:] = mode
+    gu = gf.components[0]
+    a, t0 = model.plate.radius, model.plate.thickness
+    r = 0.5 * a
+    w = (model.plate.imperfection * t0 if model.with_imperfection else 0.0) * (1 - 0.25) ** 2
+    comps = []
+    for th in np.linspace(0, 2 * np.pi, n_theta, endpoint=False):
+        ux, uy, uz = gu(model.mesh(r * np.cos(th), r * np.sin(th), 0.5 * t0 + w))
+        comps.append((ux * np.cos(th) + uy * np.sin(th), -ux * np.sin(th) + uy * np.cos(th), uz))
+    comps = np.array(comps)
+    total = float(np.mean(np.sum(comps**2, axis=1)))
+    if total == 0:
+        raise ValueError("mode is zero on the sampling circle")
+    return float(np.sum(np.mean(comps, axis=0) ** 2) / total)

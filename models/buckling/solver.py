@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from models.buckling.analytic import critical_voltage_plate
-from models.buckling.fem import MembraneModel
+from models.buckling.fem import MembraneModel, mode_axisymmetry
 from models.buckling.parameters import Discretisation, NeoHookean, Ogden, Plate
 from models.errors import ConvergenceError, require
 
@@ -94,12 +94,34 @@ class RampResult:
     ndof: int
     nelements: int
     stats: dict
+    eig_v: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    eig_w: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    eig_lam: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    eig_axisym: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+
+    def wrinkling_onset(self, axisym_max: float = 0.5):
+        """First recorded state where a non-axisymmetric mode (n = 0 fraction below
+        ``axisym_max``) has a negative eigenvalue: (v, w) interpolated linearly between the
+        last stable and the first unstable record, or None."""
+        prev = None
+        for i in range(len(self.eig_v)):
+            bad = (self.eig_lam[i] < 0) & (self.eig_axisym[i] < axisym_max)
+            if np.any(bad):
+                if prev is None:
+                    return float(self.eig_v[i]), float(self.eig_w[i])
+                lam0 = np.min(np.where(self.eig_axisym[prev] < axisym_max, self.eig_lam[prev], np.inf))
+                lam1 = np.min(self.eig_lam[i][bad])
+                f = lam0 / (lam0 - lam1) if np.isfinite(lam0) else 1.0
+                return (float(self.eig_v[prev] + f * (self.eig_v[i] - self.eig_v[prev])),
+                        float(self.eig_w[prev] + f * (self.eig_w[i] - self.eig_w[prev])))
+            prev = i
+        return None
 
 
 def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
                  v_max: float = 1.5, dv0: float = 0.02, dv_max: float = 0.02,
                  dw_max: float = 0.5, inverse: str = "umfpack", progress=None,
-                 max_steps: int = 2000) -> RampResult:
+                 max_steps: int = 2000, eig_every: int = 0) -> RampResult:
     """Newton continuation in voltage with step control and pull-in bracketing.
 
     Step control: a step is rejected (and halved) when Newton fails, when the centre
@@ -107,7 +129,9 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
     jumps by more than ``dw_max`` t0.  When the step falls below ``PULLIN_VTOL * v`` the
     path has reached the voltage limit point: the pull-in voltage is bracketed between the
     last converged voltage and that voltage plus the failed step.  Predictor: secant
-    extrapolation of the last two converged states.
+    extrapolation of the last two converged states.  With ``eig_every > 0`` the three
+    smallest-|lambda| eigenvalues of the condensed tangent and the axisymmetric fraction
+    of their modes are recorded every ``eig_every`` steps (wrinkling detection).
     """
     require(v_max > 0, f"v_max must be > 0, got {v_max}")
     require(0 < dv0 <= dv_max, f"need 0 < dv0 <= dv_max, got {dv0}, {dv_max}")
@@ -122,6 +146,7 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
         rec["e_max"].append(model.max_true_field())
         rec["its"].append(its)
 
+    eig = {"v": [], "w": [], "lam": [], "ax": []}
     record(0)
     states = [model.state()]
     dv = dv0
@@ -150,12 +175,24 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
             model.set_voltage(v)
             if dv < PULLIN_VTOL * max(v, 1e-3):
                 bracket = (v, v + 2 * dv)
+                if eig_every:
+                    lam, modes = model.lowest_eigenvalues(nev=3)
+                    eig["v"].append(v)
+                    eig["w"].append(rec["w"][-1])
+                    eig["lam"].append(lam)
+                    eig["ax"].append([mode_axisymmetry(model, modes[:, j]) for j in range(3)])
                 break
             dv /= 2
             continue
         v = v_try
         record(its)
         states.append(model.state())
+        if eig_every and len(rec["v"]) % eig_every == 0:
+            lam, modes = model.lowest_eigenvalues(nev=3)
+            eig["v"].append(v)
+            eig["w"].append(rec["w"][-1])
+            eig["lam"].append(lam)
+            eig["ax"].append([mode_axisymmetry(model, modes[:, j]) for j in range(3)])
         if progress is not None:
             progress(v, rec["w"][-1])
         if its <= 4:
@@ -166,7 +203,10 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
     return RampResult(v=arr["v"], w=arr["w"], thickness=arr["thickness"],
                       e_centre=arr["e_centre"], e_max=arr["e_max"], newton_its=arr["its"],
                       v_pullin=(bracket[0] if bracket else None), pullin_bracket=bracket,
-                      ndof=model.ndof, nelements=model.nelements, stats=dict(model.stats))
+                      ndof=model.ndof, nelements=model.nelements, stats=dict(model.stats),
+                      eig_v=np.array(eig["v"]), eig_w=np.array(eig["w"]),
+                      eig_lam=np.array(eig["lam"]).reshape(-1, 3),
+                      eig_axisym=np.array(eig["ax"]).reshape(-1, 3))
 
 
 def southwell(v: np.ndarray, w: np.ndarray, w_imp: float, *, window=(0.3, 0.85),
