@@ -1,0 +1,199 @@
+"""Derived quantities of Chapter 4: limits (Fig. 4.4), unstable regions (Figs 4.2, 4.3),
+critical electric displacement (Fig. 4.6), and the literature limits.
+
+All functions are pure; they use the ansatz determinant of :mod:`models.plate.ansatz`
+(method 1) and closed forms derived here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+from scipy.optimize import brentq
+
+from models.errors import ConvergenceError, require
+from models.plate.ansatz import _column, _quartic_roots, _row_coefficients, determinant
+from models.plate.coefficients import PlateParams, coefficients, strongly_elliptic
+
+
+# --------------------------------------------------------------------------- kH -> 0
+def membrane_stress(lam, params: PlateParams):
+    """a - c = A0_1212 - A0_2121, which for a consistent model equals tau11 - tau22.
+
+    For the ``"derived"`` energy (4.28) this is the lateral total stress
+    lam^2 - lam^-4 - beta Dhat^2 + 2 xi lam^-4 (1 - lam^-4) (tau22 = 0). For the printed
+    coefficients (4.54)-(4.56) it is lam^2 - lam^-4 - beta Dhat^2 - 2 xi lam^-8, which
+    is *not* the stress of (4.28) (erratum ch4.erratum.eq4_56_c).
+    """
+    a, b2, c, *_ = coefficients(lam, params)
+    return a - c
+
+
+def thin_limit(params: PlateParams, window=(0.3, 10.0), n: int = 2000) -> np.ndarray:
+    """lam_cr(kH -> 0) of the flexural (psi-even) mode: the roots of a - c = 0.
+
+    Thin-plate (Euler) limit: the buckling load vanishes like (kh)^2, so the critical
+    membrane stress tends to zero. For ``"literal"`` the rows (4.75)-(4.77) imply
+    c = lam^-4 + Dhat^2 + 2 xi lam^-8 (beta = 1), used here.
+    """
+    grid = np.geomspace(*window, n)
+    if params.variant == "literal":
+        def f(x):
+            C1, b2, *_ = _row_coefficients(np.asarray(x, float), params)
+            return np.asarray(x, float) ** 2 - C1
+    else:
+        def f(x):
+            return membrane_stress(np.asarray(x, float), params)
+    v = f(grid)
+    idx = np.nonzero(np.sign(v[:-1]) * np.sign(v[1:]) < 0)[0]
+    return np.array([brentq(lambda x: float(f(x)), grid[i], grid[i + 1], xtol=1e-14)
+                     for i in idx])
+
+
+def euler_coefficient_isotropic() -> float:
+    """d lam_cr / d (kH)^2 at kH -> 0 for xi = 0, Dhat = 0: -1/18.
+
+    Plate theory: plane-strain bending stiffness of an incompressible plate
+    D_b = 4 mu h^3/12, membrane stress tau11 ~ 6 mu (lam - 1) near lam = 1, buckling when
+    -tau11 h = D_b k^2 -> 1 - lam = (kh)^2/18 (and h -> H as lam -> 1).
+    """
+    return -1.0 / 18.0
+
+
+# --------------------------------------------------------------------------- kH -> inf
+def half_space_determinant(lam, params: PlateParams):
+    """Surface-instability determinant of the half-space (decaying modes only)."""
+    lam = np.asarray(lam, float)
+    rc = _row_coefficients(lam, params)
+    s2, s3 = _quartic_roots(lam, params)
+    kappa = rc[2] / rc[4] if params.variant != "literal" else params.Dhat * np.ones_like(lam)
+    big = np.full_like(lam, 1e3)  # tanh(s t / 2) = 1: only exp(-s x2) survives
+
+    def col(s):
+        return _column(s, big, "E", "quartic", rc, kappa)
+
+    c2, c3 = col(s2), col(s3)
+    diff = s2 - s3
+    close = np.abs(diff) < 1e-3
+    dd = (c2 - c3) / np.where(close, 1.0, diff)[..., None]
+    if np.any(close):
+        m = 0.5 * (s2 + s3)
+        dd = np.where(close[..., None], (col(m + 1e-4) - col(m - 1e-4)) / 2e-4, dd)
+    c1 = _column(np.ones_like(lam, dtype=complex), big, "E", "electric", rc, kappa)
+    det = np.real(np.linalg.det(np.stack([0.5 * (c2 + c3), dd, c1], axis=-1)))
+    return np.where(strongly_elliptic(lam, params) | (params.variant == "literal"), det,
+                    np.nan)
+
+
+def half_space_limit(params: PlateParams, window=(0.3, 0.999)) -> float:
+    """Largest lam < 1 at which the half-space is marginally stable (kH -> inf limit)."""
+    grid = np.linspace(window[1], window[0], 700)
+    v = half_space_determinant(grid, params)
+    idx = np.nonzero(np.isfinite(v[:-1]) & np.isfinite(v[1:]) & (v[:-1] * v[1:] < 0))[0]
+    if idx.size == 0:
+        raise ConvergenceError(f"no half-space root in {window} for {params}")
+    i = idx[0]
+    return brentq(lambda x: float(half_space_determinant(x, params)), grid[i + 1], grid[i],
+                  xtol=1e-14)
+
+
+def biot_equibiaxial_closed_form() -> float:
+    """Biot's surface instability of the incompressible neo-Hookean half-space.
+
+    With r = lam1/lam2 (lam1 along the surface, lam2 normal), the condition is
+    r^3 + r^2 + 3 r - 1 = 0 (Biot 1963; Dowaikh & Ogden 1990). Equibiaxial lam1 = lam3 =
+    lam, lam2 = lam^-2 gives r = lam^3.
+    """
+    roots = np.roots([1.0, 1.0, 3.0, -1.0])
+    r = float(np.real(roots[np.abs(np.imag(roots)) < 1e-12][0]))
+    return r ** (1.0 / 3.0)
+
+
+# --------------------------------------------------------------------------- regions
+@dataclass(frozen=True)
+class Region:
+    """Unstable region on a (kH, lam) grid.
+
+    ``thesis``: det6 = det_E det_O < 0 (sign relative to the stable top of the window),
+    the thesis' definition ("determinant < 0", Sec. 4.4). ``physical``: at least one
+    parity has an odd number of roots above lam (an eigenvalue of the incremental
+    energy is negative), plus every non-elliptic point. ``nonelliptic``: the model is not
+    strongly elliptic.
+    """
+
+    kH: np.ndarray
+    lam: np.ndarray
+    thesis: np.ndarray
+    physical: np.ndarray
+    nonelliptic: np.ndarray
+
+    def area(self, which: str = "thesis") -> float:
+        """Area in the (kH, lam) plane (trapezoidal rule on the grid)."""
+        m = getattr(self, which).astype(float)  # NaN if no stable reference exists
+        return float(np.trapezoid(np.trapezoid(m, self.lam, axis=1), self.kH))
+
+
+def region(params: PlateParams, kH, lam) -> Region:
+    """Unstable region on the tensor grid ``kH`` x ``lam`` (lam ascending, top stable)."""
+    kH = np.asarray(kH, float)
+    lam = np.asarray(lam, float)
+    K, L = np.meshgrid(kH, lam, indexing="ij")
+    dE = determinant(L, K, params, "E")
+    dO = determinant(L, K, params, "O")
+    ne = ~np.isfinite(dE) | ~np.isfinite(dO)
+    top = lam.size - 1
+    if ne[:, top].any():
+        # The stable reference (large lam, all in tension) is not strongly elliptic:
+        # the derived anisotropic model (4.22) for xi > 1/2. No sign reference exists.
+        nan = np.full(K.shape, np.nan)
+        return Region(kH, lam, nan, nan, ne)
+    sE = np.sign(dE) * np.sign(dE[:, top:top + 1])
+    sO = np.sign(dO) * np.sign(dO[:, top:top + 1])
+    thesis = np.where(ne, False, sE * sO < 0)
+    physical = ne | (sE < 0) | (sO < 0)
+    return Region(kH, lam, thesis, physical, ne)
+
+
+# --------------------------------------------------------------------------- Fig 4.6
+def area_curve(params: PlateParams, Dhats, kH, lam, which="thesis") -> np.ndarray:
+    return np.array([region(replace(params, Dhat=float(D)), kH, lam).area(which)
+                     for D in Dhats])
+
+
+def critical_D_max_area(params: PlateParams, Dhats, kH, lam, which="thesis") -> float:
+    """Candidate 1 for Fig. 4.6: the Dhat at which the unstable area is largest
+    ("the electric field started to stabilize the plate"), refined by a parabola
+    through the grid maximum and its neighbours."""
+    Dhats = np.asarray(Dhats, float)
+    A = area_curve(params, Dhats, kH, lam, which)
+    i = int(np.argmax(A))
+    if i == 0 or i == len(A) - 1:
+        raise ConvergenceError(f"area maximum at the end of the Dhat range {Dhats[[0, -1]]}")
+    x, y = Dhats[i - 1:i + 2], A[i - 1:i + 2]
+    c2, c1, _ = np.polyfit(x, y, 2)
+    return float(-c1 / (2 * c2))
+
+
+def critical_D_thin_extensional(params: PlateParams, D_window=(0.5, 6.0),
+                                kH: float = 1e-3, lam_window=(0.4, 8.0)) -> float:
+    """Candidate 2 for Fig. 4.6: the smallest Dhat at which an extensional (psi-odd)
+    bifurcation exists for a thin plate (kH -> 0), i.e. the change of shape of the
+    curves described for Figs 4.2(d)-(f)."""
+    lam = np.geomspace(*lam_window, 1500)
+
+    def has_root(D):
+        v = determinant(lam, kH, replace(params, Dhat=float(D)), "O")
+        ok = np.isfinite(v[:-1]) & np.isfinite(v[1:])
+        return bool(np.any(ok & (v[:-1] * v[1:] < 0)))
+
+    Ds = np.linspace(*D_window, 111)
+    flags = np.array([has_root(D) for D in Ds])
+    if not flags.any() or flags[0]:
+        raise ConvergenceError(f"no onset of the extensional mode in {D_window}")
+    i = int(np.argmax(flags))
+    lo, hi = Ds[i - 1], Ds[i]
+    for _ in range(40):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if has_root(mid) else (mid, hi)
+    return 0.5 * (lo + hi)
