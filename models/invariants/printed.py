@@ -124,7 +124,8 @@ def d2I6iso_dFdF(F, D, A=None):
     + F_ig D_g F_ja D_b + F_jg D_g F_ib D_a + b_ij D_a D_b]``."""
     c, b = _C(F), _b(F)
     FD = F @ D
-    return 2 * (np.einsum("ij,ag,g,b->iajb", _d, c, D, D) + np.einsum("ij,bg,g,a->iajb", _d, c, D, D)
+    return 2 * (np.einsum("ij,ag,g,b->iajb", _d, c, D, D)
+                + np.einsum("ij,bg,g,a->iajb", _d, c, D, D)
                 + np.einsum("ab,i,j->iajb", _d, FD, FD) + np.einsum("i,ja,b->iajb", FD, F, D)
                 + np.einsum("j,ib,a->iajb", FD, F, D) + np.einsum("ij,a,b->iajb", b, D, D))
 
@@ -165,7 +166,8 @@ def d2I6iso_dFdD(F, D, A=None):
     + 2 d_ab F_ig c_gd D_d``."""
     c = _C(F)
     return (2 * np.einsum("ib,ag,g->iab", F, c, D) + 2 * np.einsum("ig,g,ab->iab", F, D, c)
-            + 2 * np.einsum("ig,gb,a->iab", F, c, D) + 2 * np.einsum("ab,ig,gd,d->iab", _d, F, c, D))
+            + 2 * np.einsum("ig,gb,a->iab", F, c, D)
+            + 2 * np.einsum("ab,ig,gd,d->iab", _d, F, c, D))
 
 
 _ISO = [  # (Ch. 2 label, App. A.2 label, kind, n, func)

@@ -22,8 +22,8 @@ state).
 
 from __future__ import annotations
 
-import numpy as np
 import ngsolve as ng
+import numpy as np
 
 
 def _invariants(F, D_L):
@@ -59,7 +59,8 @@ def ti_neo_hookean_dielectric(F, D_L, *, mu, xi, alpha, beta, eps, A):
     a = ng.CoefficientFunction(tuple(float(x) for x in A))
     I4 = ng.InnerProduct(a, C * a)
     I6 = ng.InnerProduct(D_L, D_L)
-    return 0.5 * mu * (I1 - 3) + 0.5 * mu * xi * (I4 - 1) ** 2 + (alpha * I6 + beta * I5) / (2 * eps)
+    return (0.5 * mu * (I1 - 3) + 0.5 * mu * xi * (I4 - 1) ** 2
+            + (alpha * I6 + beta * I5) / (2 * eps))
 
 
 def energy_cf(material, F, D_L):

@@ -16,10 +16,10 @@ import numpy as np
 from models.invariants import _generated
 from models.invariants import printed as pr
 from models.materials import (
+    MEMBRANE_MODELS,
     GentIdealDielectric,
     IdealDielectric,
     JimenezMcMeekingPermittivity,
-    MEMBRANE_MODELS,
     NeoHookeanIdealDielectric,
     OgdenIdealDielectric,
     TransverselyIsotropicNeoHookean,
