@@ -353,3 +353,31 @@ def test_every_registry_material_is_covered_by_every_battery_property():
     assert set(NAMES) >= {"gent_ideal_dielectric", "neo_hookean_ideal_dielectric",
                           "ogden_ideal_dielectric", "ideal_dielectric",
                           "ti_neo_hookean_dielectric"}
+
+
+def _ogden_uniaxial_sigma11(k, lam=2.0):
+    """sigma11 of the compressible Ogden (5.26)+(5.27) in uniaxial tension with
+    traction-free lateral faces (sigma22 = sigma33 = 0 solved for the lateral stretch)."""
+    from scipy.optimize import brentq
+
+    mat = OgdenIdealDielectric(k=k)
+
+    def s22(t):
+        return cauchy_stress(mat, np.diag([lam, t, t]), np.zeros(3))[1, 1]
+
+    t = brentq(s22, 0.3, 1.0, xtol=1e-14)
+    return cauchy_stress(mat, np.diag([lam, t, t]), np.zeros(3))[0, 0]
+
+
+def test_ogden_bulk_modulus_assumption_sensitivity():
+    """Assumption ch2.assumption.ogden_bulk_modulus (k of the neo-Hookean row of Table 5.1):
+    at uniaxial stretch 2 the stress is 2.0 % below the incompressible limit, and the gap
+    closes like 1/k (x10 k -> gap / 10 within 10 %)."""
+    lam = 2.0
+    mat = OgdenIdealDielectric()
+    sig = cauchy_stress(mat, np.diag([lam, lam**-0.5, lam**-0.5]), np.zeros(3))
+    incompressible = sig[0, 0] - sig[1, 1]
+    gap1 = 1 - _ogden_uniaxial_sigma11(mat.k, lam) / incompressible
+    gap10 = 1 - _ogden_uniaxial_sigma11(10 * mat.k, lam) / incompressible
+    assert 0.015 < gap1 < 0.025
+    assert gap10 / gap1 == pytest.approx(0.1, rel=0.1)
