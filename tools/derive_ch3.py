@@ -117,7 +117,29 @@ def generate(path: Path) -> None:
     path.write_text(text)
 
 
+def gent_free_membrane_extrema(Jm: int = 120, digits: int = 30):
+    """Local max/min of Phibar for the free Gent membrane (Zhao, Hong & Suo 2007).
+
+    Phibar^2 = (lam^-2 - lam^-8)/(1 - (2 lam^2 + lam^-4 - 3)/Jm): the stationary points are
+    the real roots > 1 of the numerator of its derivative, a polynomial in lam.
+    """
+    x = sp.Symbol("x", positive=True)
+    f = (x**-2 - x**-8) / (1 - (2 * x**2 + x**-4 - 3) / sp.Integer(Jm))
+    num = sp.numer(sp.together(sp.diff(f, x)))
+    roots = sorted(r for r in sp.Poly(num, x).nroots(n=digits, maxsteps=200)
+                   if r.is_real and r > 1)
+    out = []
+    for r in roots:
+        out.append((r, sp.sqrt(f.subs(x, r)).evalf(digits)))
+    return out
+
+
 def main(argv: list[str]) -> int:
+    if "--literature" in argv:
+        for lam_, phi_ in gent_free_membrane_extrema():
+            print(f"Gent free membrane Jm=120 stationary point: lam = {lam_:.12f}, "
+                  f"Phibar = {phi_:.12f}")
+        return 0
     K, Kd = circle_a_coefficient()
     printed_K = 1 + c * (sp.Rational(5, 2) * lam - 2)
     print("circle A coefficient (3.21 at l1=l2):", sp.factor(K))

@@ -83,30 +83,39 @@ def _scan(annulus: Annulus, steps: int, n: int = 160):
     return lam, q
 
 
-def branch(annulus: Annulus, lam=None, *, n: int = 400, lam_end: float | None = None,
+def branch(annulus: Annulus, lam=None, *, n: int = 300, lam_end: float | None = None,
            steps: int = DEFAULT_STEPS) -> Branch:
-    """Trace the annulus branch on a stretch grid (vectorised shooting + Newton polish).
+    """Trace the annulus branch (vectorised shooting, no Newton iteration by default).
 
     Parameters
     ----------
     lam
-        Stretches of circle A (>= lamP). Default: ``n`` points uniformly from lamP to
-        ``lam_end`` (default: the last admissible stretch, at most 0.999 of the circle-A
-        Gent locking stretch).
+        Exact stretches of circle A (>= lamP) at which to solve (Newton polish of the
+        shooting parameter). Default: ``n`` points whose shooting parameters are
+        interpolated from a coarse scan so that the stretches are nearly uniform from lamP
+        to ``lam_end`` (default: the last admissible stretch, at most 0.999 of the
+        circle-A Gent locking stretch); the points are exact solutions either way.
     """
     lam_scan, q_scan = _scan(annulus, steps)
     top = min(lam_scan[-1], 0.999 * locking_stretch_equibiaxial(annulus.Jm))
     if lam_end is None:
         lam_end = top
     if lam is None:
-        lam = np.linspace(annulus.lamP, lam_end, n)
-    lam = np.asarray(lam, dtype=float)
-    if np.any(lam < annulus.lamP) or np.any(lam > lam_scan[-1]):
-        raise ValueError(f"stretches must lie in [lamP, {lam_scan[-1]:.6g}] (the admissible "
-                         f"branch of {annulus}); got [{lam.min():.6g}, {lam.max():.6g}]")
-    q0 = PchipInterpolator(lam_scan, q_scan)(lam)
-    q = q_for_stretch(annulus, lam, q0, steps=steps)
+        target = np.linspace(annulus.lamP, min(lam_end, lam_scan[-1]), n)
+        q = PchipInterpolator(lam_scan, q_scan)(target)
+        q[0] = annulus.lamP
+    else:
+        lam = np.asarray(lam, dtype=float)
+        if np.any(lam < annulus.lamP) or np.any(lam > lam_scan[-1]):
+            raise ValueError(
+                f"stretches must lie in [lamP, {lam_scan[-1]:.6g}] (the admissible branch of "
+                f"{annulus}); got [{lam.min():.6g}, {lam.max():.6g}]")
+        q0 = PchipInterpolator(lam_scan, q_scan)(lam)
+        q = q_for_stretch(annulus, lam, q0, steps=steps)
     st = interface_state(annulus, q, steps=steps)
+    if not np.all(np.isfinite(st.lam)) or np.any(np.diff(st.lam) <= 0):
+        raise ConvergenceError(f"annulus branch of {annulus}: non-monotone or inadmissible "
+                               "points on the interpolated grid")
     return Branch(annulus=annulus, lam=st.lam, q=q, lam1=st.lam1, T1=st.T1, dlam=st.dlam,
                   dT1=st.dT1, lam_end=float(min(lam_end, top)), steps=steps)
 
@@ -210,9 +219,12 @@ def locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
     return np.where(np.abs(fa) < np.abs(fb), a, b)
 
 
-def curves(br: Branch, cs, *, eps_r: float | None = None, mu: float | None = None,
+def curves(br: Branch, cs, *, eps_r=None, mu: float | None = None,
            steps: int | None = None) -> list[Curve]:
-    """Voltage-stretch curves for several c on one annulus branch, events located."""
+    """Voltage-stretch curves for several c on one annulus branch, events located.
+
+    ``eps_r`` is a scalar or one value per c (sensitivity studies in one batch).
+    """
     from .params import EPS_R_ASSUMED, MU_VHB
     eps_r = EPS_R_ASSUMED if eps_r is None else eps_r
     mu = MU_VHB if mu is None else mu
@@ -220,14 +232,16 @@ def curves(br: Branch, cs, *, eps_r: float | None = None, mu: float | None = Non
     an = br.annulus
     kappa = an.kappa
     cs = [float(c) for c in cs]
-    actuators = [CircularActuator(an, c=c, eps_r=eps_r, mu=mu) for c in cs]
+    eps_rs = [float(e) for e in np.broadcast_to(np.asarray(eps_r, float), (len(cs),))]
+    actuators = [CircularActuator(an, c=c, eps_r=e, mu=mu) for c, e in zip(cs, eps_rs,
+                                                                          strict=True)]
     out = []
     # dense-grid data and brackets, per c
     brackets = {k: [] for k in EVENT_KINDS}  # (curve index, qa, qb)
     data = []
     lam = br.lam
-    pb = circle_a.breakdown_phibar(lam, eps_r, mu)
     for i, c in enumerate(cs):
+        pb = circle_a.breakdown_phibar(lam, eps_rs[i], mu)
         K = circle_a.electrostriction_factor(lam, c)
         valid = K > 0
         p2 = np.where(valid, circle_a.phibar_squared(lam, br.T1, c, kappa), np.nan)
@@ -250,21 +264,21 @@ def curves(br: Branch, cs, *, eps_r: float | None = None, mu: float | None = Non
             if idx.size:
                 j = idx[0]
                 brackets[kind].append((i, br.q[j], br.q[j + 1]))
-        data.append((np.sqrt(np.maximum(p2, 0.0)), p2))
+        data.append((np.sqrt(np.maximum(p2, 0.0)), pb))
     located = {k: {} for k in EVENT_KINDS}
     rows = [(kind, *r) for kind, rs in brackets.items() for r in rs]
     if rows:
         kinds = np.array([r[0] for r in rows])
         idx = [r[1] for r in rows]
         qroot = locate(kinds, an, [r[2] for r in rows], [r[3] for r in rows],
-                       [cs[i] for i in idx], eps_r, mu, steps=steps)
+                       [cs[i] for i in idx], [eps_rs[i] for i in idx], mu, steps=steps)
         st = interface_state(an, qroot, steps=steps)
         for k, i in enumerate(idx):
             p2 = circle_a.phibar_squared(st.lam[k], st.T1[k], cs[i], kappa)
             located[kinds[k]][i] = Event(str(kinds[k]), float(st.lam[k]),
                                          float(np.sqrt(max(p2, 0.0))), float(qroot[k]))
     for i, act in enumerate(actuators):
-        phibar, _ = data[i]
+        phibar, pb = data[i]
         events = {k: located[k].get(i) for k in EVENT_KINDS}
         cands = [e for k, e in events.items() if k in FAILURE_KINDS and e is not None]
         failure = min(cands, key=lambda e: e.lam) if cands else None

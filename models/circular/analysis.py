@@ -51,12 +51,29 @@ def state_at_voltage(br: Branch, c: float, phibar: float) -> dict:
         raise ValueError(f"Phibar = {phibar} is not reached on the traced branch "
                          f"(max {np.sqrt(np.nanmax(p2)):.4g})")
     j = idx[0]
-
-    def g(q):
+    # safeguarded Newton on q with the exact complex-step derivative of Phibar^2
+    a, b = br.q[j + 1], br.q[j]
+    fa, fb = f[j + 1], f[j]
+    q = b - fb * (b - a) / (fb - fa)
+    for _ in range(60):
         st = interface_state(br.annulus, np.array([q]), steps=br.steps)
-        return float(circle_a.phibar_squared(st.lam[0], st.T1[0], c, kappa) - phibar**2)
-
-    q = brentq(g, br.q[j + 1], br.q[j], xtol=1e-15, rtol=1e-15, maxiter=200)
+        p2c = circle_a.phibar_squared(st.lam_c[0], st.T1_c[0], c, kappa)
+        r, dr = p2c.real - phibar**2, p2c.imag / 1e-30
+        if r == 0:
+            break
+        if np.sign(r) == np.sign(fa):
+            a, fa = q, r
+        else:
+            b, fb = q, r
+        qn = q - r / dr
+        if not (min(a, b) < qn < max(a, b)):
+            qn = 0.5 * (a + b)
+        if abs(qn - q) <= 1e-15 * abs(q):
+            q = qn
+            break
+        q = qn
+    else:
+        raise ConvergenceError(f"state_at_voltage: no convergence for Phibar = {phibar}")
     st = interface_state(br.annulus, np.array([q]), steps=br.steps)
     lam, lam1 = float(st.lam[0]), float(st.lam1[0])
     return {"lam": lam, "lam1B": lam1, "lam3A": lam**-2, "lam3B": 1 / (lam1 * lam), "q": q}
@@ -73,11 +90,14 @@ def loss_of_tension_stretch(br: Branch) -> float:
 
 def _min_slope(br: Branch, c: float, definition: str, lam_lot: float | None) -> float:
     d = dphibar2_dlam(br, c)
+    if definition == "before_loss_of_tension" and lam_lot is None:
+        lam_lot = np.inf
     # only where the permittivity factor K of (3.30) is positive (Phibar finite)
     mask = np.isfinite(d) & (br.lam > br.annulus.lamP) & (
         circle_a.electrostriction_factor(br.lam, c) > 0)
     if definition == "before_loss_of_tension":
-        mask &= br.lam <= lam_lot
+        # grid points before loss of tension (T1 > 0) and up to lam_lot
+        mask &= (br.lam <= lam_lot) & (np.cumprod(br.T1 > 0) > 0)
     elif definition != "monotonic":
         raise ValueError(f"definition must be one of {DEFINITIONS}, got {definition!r}")
     return float(np.min(d[mask]))
@@ -130,18 +150,16 @@ def pullin_c_threshold_closed_form(annulus: Annulus) -> float:
 def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
                                   Jm: float = 120.0, equilibrium: str = "printed",
                                   definition: str = "before_loss_of_tension",
-                                  bracket=(2.0, 3.2), n: int = 800) -> float:
+                                  bracket=(2.0, 3.2), n: int = 800,
+                                  xtol: float = 1e-8) -> float:
     """The pre-stretch above which pull-in is suppressed (Sec. 3.5.2: 2.53 for c = 0)."""
 
     def f(lamP):
         an = Annulus(lamP, radius_ratio, Jm, equilibrium)
         br = branch(an, n=n)
-        lam_lot = None
-        if definition == "before_loss_of_tension":
-            lam_lot = loss_of_tension_stretch(br)
-        return _min_slope(br, c, definition, lam_lot)
+        return _min_slope(br, c, definition, None)
 
     lo, hi = bracket
     if not (f(lo) < 0 < f(hi)):
         raise ConvergenceError(f"suppression pre-stretch not bracketed in {bracket}")
-    return brentq(f, lo, hi, xtol=1e-8)
+    return brentq(f, lo, hi, xtol=xtol)
