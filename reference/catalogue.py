@@ -156,6 +156,8 @@ def load(directory: Path = CATALOGUE_DIR) -> list[Entry]:
             if unknown:
                 raise CatalogueError(
                     f"{path.name}: {raw.get('id')}: unknown fields {sorted(unknown)}")
+            if raw.get("kind") == "assumption" and "expected_status" not in raw:
+                raw = {**raw, "expected_status": "assumed"}
             try:
                 entry = Entry(**raw, file=path.name)
             except TypeError as exc:
