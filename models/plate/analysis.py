@@ -13,7 +13,13 @@ import numpy as np
 from scipy.optimize import brentq
 
 from models.errors import ConvergenceError, require
-from models.plate.ansatz import _column, _quartic_roots, _row_coefficients, determinant
+from models.plate.ansatz import (
+    _column,
+    _quartic_roots,
+    _row_coefficients,
+    critical_stretches,
+    determinant,
+)
 from models.plate.coefficients import PlateParams, coefficients, strongly_elliptic
 
 
@@ -34,17 +40,18 @@ def thin_limit(params: PlateParams, window=(0.3, 10.0), n: int = 2000) -> np.nda
     """lam_cr(kH -> 0) of the flexural (psi-even) mode: the roots of a - c = 0.
 
     Thin-plate (Euler) limit: the buckling load vanishes like (kh)^2, so the critical
-    membrane stress tends to zero. For ``"literal"`` the rows (4.75)-(4.77) imply
-    c = lam^-4 + Dhat^2 + 2 xi lam^-8 (beta = 1), used here.
+    membrane stress tends to zero. For ``"literal"`` (no energy behind it) the
+    flexural method-1 roots at kH = 1e-4 are returned instead.
     """
-    grid = np.geomspace(*window, n)
     if params.variant == "literal":
-        def f(x):
-            C1, b2, *_ = _row_coefficients(np.asarray(x, float), params)
-            return np.asarray(x, float) ** 2 - C1
-    else:
-        def f(x):
-            return membrane_stress(np.asarray(x, float), params)
+        # Not an energy formulation: the identity a - c = tau11 does not govern its thin
+        # limit ((4.76) is inconsistent with (4.75)); use the method-1 flexural roots.
+        return critical_stretches(1e-4, params, window=window, parities=("E",)).lam
+    grid = np.geomspace(*window, n)
+
+    def f(x):
+        return membrane_stress(np.asarray(x, float), params)
+
     v = f(grid)
     idx = np.nonzero(np.sign(v[:-1]) * np.sign(v[1:]) < 0)[0]
     return np.array([brentq(lambda x: float(f(x)), grid[i], grid[i + 1], xtol=1e-14)
