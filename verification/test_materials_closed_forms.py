@@ -232,3 +232,18 @@ def test_eq2_71_and_2_74_incompressible_increments_equal_derivative_of_T(F, D, L
     Tdot0 = (np.einsum("ipjq,jq->pi", AA0, L) + np.einsum("ipq,q->pi", AAA0, DL0)
              + p * L - pdot * np.eye(3))
     assert _close(Tdot0, F @ Tdot_fd, FD_RTOL)
+
+
+@given(F=isochoric_deformation_gradients(), D=lagrangian_displacements(1.0),
+       dF=st.lists(st.floats(-1, 1), min_size=9, max_size=9),
+       dD=st.lists(st.floats(-1, 1), min_size=3, max_size=3))
+def test_ti_model_with_alpha_term_stress_is_the_energy_derivative(F, D, dF, dD):
+    """The thesis uses alpha = 0; with alpha != 0 the I6 = D.D term of (4.20)/(4.22) must
+    also differentiate correctly: central differences of W equal P:dF + E_L.dD."""
+    mat = TransverselyIsotropicNeoHookean(alpha=0.7, beta=0.5)
+    dF = np.array(dF).reshape(3, 3)
+    dD = np.array(dD)
+    r = mat.response(F, D)
+    h = 1e-5
+    fd = (mat.energy(F + h * dF, D + h * dD) - mat.energy(F - h * dF, D - h * dD)) / (2 * h)
+    assert fd == pytest.approx(np.sum(r.P * dF) + r.E_L @ dD, rel=FD_RTOL, abs=FD_RTOL)

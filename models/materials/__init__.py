@@ -86,8 +86,8 @@ MATERIALS = {
 }
 """Every 3-D material of the library with thesis parameters (the battery loops over it).
 
-``ti_neo_hookean_dielectric`` is non-dimensional (mu = eps = 1, alpha = beta = 1, xi = 5,
-as in the Ch. 4 normalisation); the others are SI.
+``ti_neo_hookean_dielectric`` is non-dimensional (mu = eps = 1, xi = 5, alpha = 0,
+beta = 0.5 of Sec. 4.4); the others are SI.
 """
 
 MEMBRANE_MODELS = {

@@ -288,8 +288,8 @@ class TransverselyIsotropicNeoHookean(_InvariantMaterial):
 
     mu: float = 1.0
     xi: float = 5.0
-    alpha: float = 1.0
-    beta: float = 1.0
+    alpha: float = 0.0
+    beta: float = 0.5
     eps: float = 1.0
     A: tuple[float, float, float] = (0.0, 1.0, 0.0)
     numbering: ClassVar[str] = "ti"

@@ -34,7 +34,7 @@ STATES = {
     "simple_shear_0p5_poled": ((1.0, 1.0), 0.5, (0.0, 0.3, 0.4)),
     "general": ((1.3, 0.9), 0.2, (0.2, -0.1, 0.6)),
 }
-TI_SI = dict(mu=51e3, xi=5.0, alpha=1.0, beta=1.0, eps=4.7 * 8.85e-12)
+TI_SI = dict(mu=51e3, xi=5.0, alpha=0.0, beta=0.5, eps=4.7 * 8.85e-12)
 """SI instance of (4.22) for the dataset (the registry one is non-dimensional)."""
 
 
