@@ -106,10 +106,11 @@ def branch(annulus: Annulus, lam=None, *, n: int = 300, lam_end: float | None = 
         q[0] = annulus.lamP
     else:
         lam = np.asarray(lam, dtype=float)
-        if np.any(lam < annulus.lamP) or np.any(lam > lam_scan[-1]):
+        if np.any(lam < annulus.lamP) or np.any(lam > top):
             raise ValueError(
-                f"stretches must lie in [lamP, {lam_scan[-1]:.6g}] (the admissible branch of "
-                f"{annulus}); got [{lam.min():.6g}, {lam.max():.6g}]")
+                f"stretches must lie in [lamP, {top:.6g}] (the admissible branch of "
+                f"{annulus}, below the circle-A Gent locking stretch); got "
+                f"[{lam.min():.6g}, {lam.max():.6g}]")
         q0 = PchipInterpolator(lam_scan, q_scan)(lam)
         q = q_for_stretch(annulus, lam, q0, steps=steps)
     st = interface_state(annulus, q, steps=steps)
@@ -244,10 +245,13 @@ def curves(br: Branch, cs, *, eps_r=None, mu: float | None = None,
         pb = circle_a.breakdown_phibar(lam, eps_rs[i], mu)
         K = circle_a.electrostriction_factor(lam, c)
         valid = K > 0
-        p2 = np.where(valid, circle_a.phibar_squared(lam, br.T1, c, kappa), np.nan)
+        Ks = np.where(valid, K, 1.0)  # Phibar is undefined where K <= 0 (masked below)
+        p2 = np.where(valid, circle_a.phibar_squared(lam, br.T1, c, kappa) * K / Ks, np.nan)
         # d(Phibar^2)/dlam from the exact q-derivatives
         h = 1e-30
-        p2c = circle_a.phibar_squared(lam + 1j * h * br.dlam, br.T1 + 1j * h * br.dT1, c, kappa)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            p2c = circle_a.phibar_squared(lam + 1j * h * br.dlam, br.T1 + 1j * h * br.dT1, c,
+                                          kappa)
         dp2 = np.where(valid, (p2c.imag / h) / br.dlam, np.nan)
         fun = {"pullin": dp2, "minimum": dp2, "loss_of_tension": br.T1,
                "breakdown": p2 - pb**2}

@@ -32,8 +32,9 @@ OUTER_XTOL = 1e-10
 def dphibar2_dlam(br: Branch, c: float) -> np.ndarray:
     """d(Phibar^2)/d lambda on the branch grid (exact q-derivatives, complex step)."""
     h = 1e-30
-    p2c = circle_a.phibar_squared(br.lam + 1j * h * br.dlam, br.T1 + 1j * h * br.dT1, c,
-                                  br.annulus.kappa)
+    with np.errstate(divide="ignore", invalid="ignore"):  # K = 0 -> inf, masked by callers
+        p2c = circle_a.phibar_squared(br.lam + 1j * h * br.dlam, br.T1 + 1j * h * br.dT1,
+                                      c, br.annulus.kappa)
     return (p2c.imag / h) / br.dlam
 
 
