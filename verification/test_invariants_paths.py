@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from models.invariants import _generated, closed_form, numerical
 from models.invariants.printed import PRINTED_DERIVATIVES, SAME_FORMULA
@@ -153,3 +154,38 @@ def test_frozen_reference_state_derivatives():
     np.testing.assert_allclose(d.dF[2], 2 * np.eye(3), rtol=1e-15)
     np.testing.assert_array_equal(d.dD[4], [0.0, 0.0, 2.0])
     np.testing.assert_array_equal(d.I, [3.0, 3.0, 1.0, 1.0, 1.0, 1.0])
+
+
+@given(lam=st.floats(0.5, 3.0), D2=st.floats(-2.0, 2.0))
+def test_equibiaxial_invariants_4_23_to_4_27_and_energy_4_28(lam, D2):
+    """With l1 = l3 = lam, l2 = lam^-2, A = e2, D_L = D2 e2 (Sec. 4.3.3): I1 = 2 lam^2 +
+    lam^-4, I2 = 2 lam^-2 + lam^4, I4 = lam^-4, I5 = lam^-4 D2^2, I6 = D2^2 (4.23)-(4.27),
+    and the energy (4.22) reduces to (4.28)."""
+    from models.materials import TransverselyIsotropicNeoHookean
+
+    F = np.diag([lam, lam**-2, lam])
+    D = np.array([0.0, D2, 0.0])
+    A = np.array([0.0, 1.0, 0.0])
+    I = closed_form.invariants(F, D, A, numbering="ti")
+    expected = [2 * lam**2 + lam**-4, 2 * lam**-2 + lam**4, 1.0, lam**-4, lam**-4 * D2**2,
+                D2**2]
+    np.testing.assert_allclose(I, expected, rtol=1e-13, atol=1e-13)
+    mat = TransverselyIsotropicNeoHookean(mu=1.3, xi=5.0, alpha=0.4, beta=0.5, eps=0.9)
+    W428 = (mat.mu / 2 * (2 * lam**2 + lam**-4 - 3)
+            + mat.mu / 2 * mat.xi * (lam**-8 - 2 * lam**-4 + 1)
+            + (mat.alpha + mat.beta * lam**-4) * D2**2 / (2 * mat.eps))
+    assert mat.energy(F, D) == pytest.approx(W428, rel=1e-12, abs=1e-12)
+
+
+@given(l1=st.floats(0.5, 3.0), l2=st.floats(0.5, 3.0), l3=st.floats(0.5, 3.0),
+       D=lagrangian_displacements(2.0))
+def test_principal_invariants_4_12_to_4_17(l1, l2, l3, D):
+    """Diagonal F = diag(l1, l2, l3), A = e2: I1 = sum l^2, I2 = sum of pairwise products of
+    l^2, I4 = C22 = l2^2, I5 = sum l_k^2 D_k^2 (4.16 with D_L = D2 e2), I6 = D.D."""
+    F = np.diag([l1, l2, l3])
+    A = np.array([0.0, 1.0, 0.0])
+    I = closed_form.invariants(F, D, A, numbering="ti")
+    s = np.array([l1, l2, l3]) ** 2
+    expected = [s.sum(), s[1] * s[2] + s[2] * s[0] + s[0] * s[1], s.prod(), s[1],
+                s @ D**2, D @ D]
+    np.testing.assert_allclose(I, expected, rtol=1e-13)
