@@ -308,8 +308,9 @@ def _check_discrepancy_grows(entry, eps_r, eq):
         lam = br.lam[br.lam < min(f.lam for f in _modes(lamP, (0.0, c), eps_r, eq))]
         kap = br.annulus.kappa
         T1 = br.T1[: lam.size]
-        r = np.sqrt(circle_a.phibar_squared(lam, T1, c, kap) /
-                    circle_a.phibar_squared(lam, T1, 0.0, kap))
+        with np.errstate(invalid="ignore", divide="ignore"):  # 0/0 at lam = lamP
+            r = np.sqrt(circle_a.phibar_squared(lam, T1, c, kap) /
+                        circle_a.phibar_squared(lam, T1, 0.0, kap))
         ok &= bool(np.all(np.diff(r[1:]) > 0))  # grows with the stretch
         # at a common actuated stretch lam/lamP
         ra = float(np.interp(_p(entry, "actuated_stretch") * lamP, lam, r))
