@@ -28,6 +28,7 @@ Materials (thesis parameters as defaults; see :data:`MATERIALS`)
                                    2.561, mu = 8580, 84300, -23300 Pa; initial shear modulus
                                    sum mu_p = 69580 Pa; bulk k of the neo-Hookean (assumed)
 :class:`IdealDielectric`           (5.9) W = I5/(2 eps J)
+:class:`DorfmannOgdenElectric`     (4.20) (alpha D_L.D_L + beta D_L.C D_L)/(2 eps)
 :class:`TransverselyIsotropicNeoHookean`  (4.22) mu/2 (I1-3) + mu xi/2 (I4-1)^2 +
                                    (alpha I6 + beta I5)/(2 eps), ti numbering, A = (0,1,0)
 =================================  ========================================================
@@ -56,6 +57,7 @@ from __future__ import annotations
 from models.materials.kernel import Response, invariant_chain_rule, spectral_response
 from models.materials.library import (
     VACUUM_PERMITTIVITY,
+    DorfmannOgdenElectric,
     GentIdealDielectric,
     IdealDielectric,
     NeoHookeanIdealDielectric,
@@ -83,11 +85,14 @@ MATERIALS = {
     "ogden_ideal_dielectric": OgdenIdealDielectric(),
     "ideal_dielectric": IdealDielectric(),
     "ti_neo_hookean_dielectric": TransverselyIsotropicNeoHookean(),
+    "dorfmann_ogden_electric": DorfmannOgdenElectric(alpha=0.3, beta=0.5),
 }
 """Every 3-D material of the library with thesis parameters (the battery loops over it).
 
 ``ti_neo_hookean_dielectric`` is non-dimensional (mu = eps = 1, xi = 5, alpha = 0,
-beta = 0.5 of Sec. 4.4); the others are SI.
+beta = 0.5 of Sec. 4.4); ``dorfmann_ogden_electric`` (4.20) alone is non-dimensional with
+alpha = 0.3 (the thesis uses alpha = 0; nonzero here so the battery exercises the I4 = D.D
+term); the others are SI.
 """
 
 MEMBRANE_MODELS = {
@@ -99,7 +104,8 @@ MEMBRANE_MODELS = {
 linearisation gives the same c)."""
 
 __all__ = [
-    "MATERIALS", "MEMBRANE_MODELS", "VACUUM_PERMITTIVITY", "GentIdealDielectric",
+    "MATERIALS", "MEMBRANE_MODELS", "VACUUM_PERMITTIVITY", "DorfmannOgdenElectric",
+    "GentIdealDielectric",
     "GentMembrane", "IdealDielectric", "JimenezMcMeekingPermittivity",
     "NeoHookeanIdealDielectric", "OgdenIdealDielectric", "Response",
     "TransverselyIsotropicNeoHookean", "ZhaoSuoPermittivity", "cauchy_stress",

@@ -184,6 +184,38 @@ class IdealDielectric(_InvariantMaterial):
         return W, Wn, Wmn
 
 
+@dataclass(frozen=True)
+class DorfmannOgdenElectric(_InvariantMaterial):
+    """The Dorfmann-Ogden electrical part alone, eq. (4.20), isotropic numbering::
+
+        W_el = (alpha D_L.D_L + beta D_L.C D_L)/(2 eps) = (alpha I4 + beta I5)/(2 eps)
+
+    (the same as ``(alpha I6 + beta I5)/(2 eps)`` in the Ch. 4 numbering). Incompressible
+    (used with the Ch. 4 plate); ``alpha = 0, beta = 0.5`` of Sec. 4.4, non-dimensional eps.
+    """
+
+    alpha: float = 0.0
+    beta: float = 0.5
+    eps: float = 1.0
+    numbering: ClassVar[str] = "iso"
+    incompressible: ClassVar[bool] = True
+
+    def __post_init__(self):
+        _finite("alpha", self.alpha)
+        _finite("beta", self.beta)
+        _positive("eps", self.eps)
+
+    @property
+    def shear_modulus(self) -> float:
+        return 0.0
+
+    def invariant_derivatives(self, I):
+        Wn = np.zeros(6)
+        Wn[3] = self.alpha / (2 * self.eps)
+        Wn[4] = self.beta / (2 * self.eps)
+        return (self.alpha * I[3] + self.beta * I[4]) / (2 * self.eps), Wn, np.zeros((6, 6))
+
+
 # ------------------------------------------------------------- Ogden (Ch. 5, 5.26)
 @dataclass(frozen=True)
 class OgdenIdealDielectric:

@@ -63,6 +63,12 @@ def ti_neo_hookean_dielectric(F, D_L, *, mu, xi, alpha, beta, eps, A):
             + (alpha * I6 + beta * I5) / (2 * eps))
 
 
+def dorfmann_ogden_electric(F, D_L, *, alpha, beta, eps):
+    """(4.20): ``(alpha D.D + beta D.CD)/(2 eps)``."""
+    _, _, _, I5 = _invariants(F, D_L)
+    return (alpha * ng.InnerProduct(D_L, D_L) + beta * I5) / (2 * eps)
+
+
 def energy_cf(material, F, D_L):
     """The CF energy of a library material instance (dispatch on its class)."""
     from models.materials import library as lib
@@ -74,6 +80,9 @@ def energy_cf(material, F, D_L):
                                             eps=material.eps)
     if isinstance(material, lib.IdealDielectric):
         return ideal_dielectric(F, D_L, eps=material.eps)
+    if isinstance(material, lib.DorfmannOgdenElectric):
+        return dorfmann_ogden_electric(F, D_L, alpha=material.alpha, beta=material.beta,
+                                       eps=material.eps)
     if isinstance(material, lib.TransverselyIsotropicNeoHookean):
         return ti_neo_hookean_dielectric(F, D_L, mu=material.mu, xi=material.xi,
                                          alpha=material.alpha, beta=material.beta,

@@ -5,8 +5,8 @@ Table 5.1 / Ch. 3 models in incompressible uniaxial tension.
 ``build(out_dir, full=False)`` writes
 
 * ``ch2_kernel_reference_states.nc`` - for each material of
-  :data:`models.materials.MATERIALS` (the transversely isotropic one in SI units, see
-  :data:`TI_SI`) and each state of :data:`STATES` (isochoric F, D_L in units of
+  :data:`models.materials.MATERIALS` (the non-dimensional ones in SI units, see
+  :data:`TI_SI`, :data:`DO_SI`) and each state of :data:`STATES` (isochoric F, D_L in units of
   ``sqrt(eps mu)``): W, dW/dF, dW/dD_L, Cauchy stress (p = 0), the traction-free p on the
   face with current normal e3 (incompressible materials; NaN otherwise), E, and the moduli
   AA, AAA, A of eqs (2.65)-(2.67);
@@ -36,13 +36,16 @@ STATES = {
 }
 TI_SI = dict(mu=51e3, xi=5.0, alpha=0.0, beta=0.5, eps=4.7 * 8.85e-12)
 """SI instance of (4.22) for the dataset (the registry one is non-dimensional)."""
+DO_SI = dict(alpha=0.3, beta=0.5, eps=4.7 * 8.85e-12)
+"""SI instance of (4.20) for the dataset."""
 
 
 def _materials():
-    from models.materials import MATERIALS, TransverselyIsotropicNeoHookean
+    from models.materials import MATERIALS, DorfmannOgdenElectric, TransverselyIsotropicNeoHookean
 
     mats = dict(MATERIALS)
     mats["ti_neo_hookean_dielectric"] = TransverselyIsotropicNeoHookean(**TI_SI)
+    mats["dorfmann_ogden_electric"] = DorfmannOgdenElectric(**DO_SI)
     return mats
 
 
