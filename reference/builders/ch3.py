@@ -161,13 +161,13 @@ def failure_points(full: bool = False, family=None) -> xr.Dataset:
     })
 
 
-def c_sweep(full: bool = False) -> xr.Dataset:
+def c_sweep(full: bool = False, lamPs=LAMP_SWEEP) -> xr.Dataset:
     s = _settings(full)
     cs = np.linspace(0.0, -0.1, s["n_c"])
-    lam = np.full((len(LAMP_SWEEP), cs.size), np.nan)
+    lam = np.full((len(lamPs), cs.size), np.nan)
     phi = np.full_like(lam, np.nan)
     mode = np.zeros(lam.shape, np.int8)
-    for i, lamP in enumerate(tqdm(LAMP_SWEEP, desc="ch3 c sweep", leave=False)):
+    for i, lamP in enumerate(tqdm(lamPs, desc="ch3 c sweep", leave=False)):
         br = branch(Annulus(lamP, RADIUS_RATIO), n=s["n"], steps=s["steps"])
         for j, cv in enumerate(curves(br, cs)):
             lam[i, j], phi[i, j] = cv.lam_max, cv.phibar_max
@@ -177,7 +177,7 @@ def c_sweep(full: bool = False) -> xr.Dataset:
         {"lambda_max": (("lamP", "c"), lam, {**one, "long_name": "maximum stretch of circle A (first failure)"}),
          "phibar_at_lambda_max": (("lamP", "c"), phi, {**one, "long_name": "Phibar at the maximum stretch"}),
          "failure_mode": (("lamP", "c"), mode, _mode_attrs())},
-        coords={"lamP": ("lamP", np.array(LAMP_SWEEP), {**one, "long_name": "equibiaxial pre-stretch"}),
+        coords={"lamP": ("lamP", np.array(lamPs), {**one, "long_name": "equibiaxial pre-stretch"}),
                 "c": ("c", cs, {**one, "long_name": "Zhao-Suo electrostrictive factor c"})})
 
 
