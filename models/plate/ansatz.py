@@ -75,24 +75,27 @@ def _column(s, t, parity, kind, rc, kappa):
     """Column of the parity-reduced 3x3 matrix for root s (complex arrays allowed).
 
     kind "quartic": (A, B) = (1, kappa s); "electric": (0, 1); "mechanical": (1, 0).
-    "E": psi even (A(-s) = A(s)), "O": psi odd. Divided by cosh(s t / 2).
+    With th = tanh(s t / 2) and the rows (4.69)-(4.71) split into their even (r1, r3) and
+    odd (r2) parts in s (B odd in s for quartic/mechanical modes, even for the electric
+    mode), the combinations [R(s) e^{-st/2} +- R(-s) e^{st/2}] / (2 cosh(st/2)) are
+
+    * psi even ("E"):  quartic/mechanical (r1, -r2 th, r3);   electric (d, -(e-d) th, f)
+    * psi odd  ("O"):  quartic/mechanical (r1 th, -r2, r3 th); electric (d th, -(e-d), f th)
     """
-    if kind == "quartic":
-        Ap, Bp, Am, Bm = 1.0, kappa * s, 1.0, -kappa * s
-    elif kind == "electric":
-        Ap, Bp, Am, Bm = 0.0, 1.0, 0.0, 1.0
-    else:
-        Ap, Bp, Am, Bm = 1.0, 0.0, 1.0, 0.0
-    # psi-parity sign of the (-s) partner: even psi -> +, odd psi -> -
-    if kind == "electric":
-        # phi even <-> psi odd: cosh for "O", sinh for "E"
-        sign_m = -1.0 if parity == "E" else 1.0
-    else:
-        sign_m = 1.0 if parity == "E" else -1.0
+    c, b2, d, e, f = rc
     th = np.tanh(s * t / 2)
-    top = _rows(s, Ap, Bp, rc) * (1 - th)[..., None]
-    bot = _rows(-s, Am, Bm, rc) * (1 + th)[..., None]
-    return 0.5 * (sign_m * bot + top) if sign_m > 0 else 0.5 * (bot - top)
+    if kind == "electric":  # s = 1
+        r1, r2, r3 = d * np.ones_like(th), -(e - d) * np.ones_like(th), f * np.ones_like(th)
+    else:
+        k = kappa if kind == "quartic" else 0.0
+        s2 = s * s
+        r1 = c * (1 + s2) - d * k * s2
+        r2 = s * (b2 + c - c * s2 - e * k + d * k * s2)
+        r3 = d * (1 + s2) - f * k * s2
+        r2 = -r2
+    if parity == "E":
+        return np.stack([r1, r2 * th, r3], axis=-1)
+    return np.stack([r1 * th, r2, r3 * th], axis=-1)
 
 
 def _det3(u, v, w):

@@ -1,0 +1,85 @@
+"""Benchmarks of Chapter 4 (plate bifurcation) on the named problems of the verification
+suite. Thread counts are fixed (OMP_NUM_THREADS=1) and named in the group; the 2-core
+variant splits the Fig. 4.2 cases over two worker processes (pool started outside the
+timed region). Run: ``python -m pytest benchmarks/test_bench_ch4.py --benchmark-only``.
+
+Named problems:
+* "fig4_2_all": all Fig. 4.2 cases (9 Dhat x 2 materials, printed coefficients) on 400
+  kH points, method 1 (vectorised scan + bracketed Illinois refinement); target < 2 s.
+* "single_root": one critical stretch (xi = 5, Dhat = 2, kH = 2, printed), refined from
+  the same bracket by method 1 (brentq on the determinant) and method 2 (brentq on the
+  crossing FE eigenvalue, elements_for(kh) elements): their ratio is the cost per root.
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+from concurrent.futures import ProcessPoolExecutor  # noqa: E402
+
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+from scipy.optimize import brentq  # noqa: E402
+
+from models.plate import PlateParams  # noqa: E402
+from models.plate.ansatz import critical_stretches, curves_vectorised, determinant  # noqa: E402
+from models.plate.fem import eigenvalues, elements_for  # noqa: E402
+
+FIG42 = [(xi, D) for D in (0.0, 1.0, 2.0, 2.2, 2.4, 2.6, 3.0, 4.0, 5.0) for xi in (0.0, 5.0)]
+KH = np.geomspace(0.01, 20.0, 400)
+
+
+def _case(args):
+    xi, D = args
+    lam, _ = curves_vectorised(KH, PlateParams(xi, D, variant="printed"))
+    return int(np.isfinite(lam).sum())
+
+
+def _all_cases_serial():
+    return sum(_case(c) for c in FIG42)
+
+
+@pytest.mark.benchmark(group="ch4-fig4_2_all-400kH-1thread")
+def test_bench_fig4_2_all_cases_one_thread(benchmark):
+    n = benchmark.pedantic(_all_cases_serial, rounds=3, iterations=1)
+    assert n > 18 * 400  # at least one root per kH on average
+
+
+@pytest.fixture(scope="module")
+def pool():
+    with ProcessPoolExecutor(max_workers=2) as ex:
+        list(ex.map(_case, FIG42[:2]))  # warm up (imports) outside the timed region
+        yield ex
+
+
+@pytest.mark.benchmark(group="ch4-fig4_2_all-400kH-2procs-1thread-each")
+def test_bench_fig4_2_all_cases_two_processes(benchmark, pool):
+    n = benchmark.pedantic(lambda: sum(pool.map(_case, FIG42)), rounds=3, iterations=1)
+    assert n == _all_cases_serial()
+
+
+P = PlateParams(5.0, 2.0, variant="printed")
+KH1 = 2.0
+ROOT = float(critical_stretches(KH1, P).lam[-1])
+BRACKET = (ROOT * (1 - 1e-3), ROOT * (1 + 1e-3))
+
+
+@pytest.mark.benchmark(group="ch4-single_root-1thread")
+def test_bench_single_root_method1_determinant(benchmark):
+    r = benchmark(lambda: brentq(lambda x: float(determinant(x, KH1, P, "E")), *BRACKET,
+                                 xtol=1e-13))
+    assert r == pytest.approx(ROOT, abs=1e-12)
+
+
+@pytest.mark.benchmark(group="ch4-single_root-1thread")
+def test_bench_single_root_method2_fe(benchmark):
+    n = elements_for(KH1 * ROOT**-2)
+    j = int(np.sum(eigenvalues(BRACKET[0], KH1, P, n, 8) < 0)) - 1
+
+    def solve():
+        return brentq(lambda x: eigenvalues(x, KH1, P, n, j + 1)[j], *BRACKET, xtol=1e-13)
+
+    r = benchmark(solve)
+    assert r == pytest.approx(ROOT, abs=2e-5)
