@@ -86,7 +86,8 @@ def test_fig4_4_thin_limit_is_root_of_membrane_stress(variant, xi, D):
 def test_derived_thin_limit_equals_lateral_stress_root_of_eq_4_28():
     """For the derived model a - c is exactly the lateral stress of (4.28); at Dhat = 0
     it vanishes at lam = 1 for every xi (the fibre term (I4 - 1) vanishes there), so the
-    TI and isotropic upper curves start at the same lam = 1 (cf. ch4.fig4_2.upper_curve_higher_ti)."""
+    TI and isotropic upper curves start at the same lam = 1
+    (cf. ch4.fig4_2.upper_curve_higher_ti)."""
     for xi in (0.0, 3.0, 5.0, 10.0):
         p = PlateParams(xi, 0.0, variant="derived")
         assert float(membrane_stress(np.array(1.0), p)) == pytest.approx(0.0, abs=1e-14)

@@ -12,7 +12,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import brentq
 
-from models.errors import ConvergenceError, require
+from models.errors import ConvergenceError
 from models.plate.ansatz import (
     _column,
     _quartic_roots,

@@ -202,7 +202,7 @@ def critical_stretches(kH: float, params: PlateParams, *, window=LAM_WINDOW,
         for i in idx:
             lo, hi = grid[i], grid[i + 1]
             try:
-                r, info = brentq(lambda x: float(determinant(x, kH, params, par)),
+                r, info = brentq(lambda x, par=par: float(determinant(x, kH, params, par)),
                                  lo, hi, xtol=XTOL, full_output=True)
             except (ValueError, RuntimeError) as exc:
                 raise ConvergenceError(f"brentq failed on [{lo}, {hi}] at kH={kH}, "

@@ -22,9 +22,9 @@ critical-stretch errors O(N^-4) (asserted in the verification suite).
 Stability criterion: the plate is stable iff Pi > 0 (the D_L formulation is a
 minimum principle), i.e. iff all eigenvalues omega of K v = omega M v are positive
 (M = I: the crossings do not depend on M, and the identity avoids the
-ill-conditioned L2 Gram matrix of the Hermite basis). lam_cr is where an eigenvalue crosses zero; the number of
-negative eigenvalues (the inertia) brackets the crossings on a lam grid and brentq
-refines the crossing eigenvalue.
+ill-conditioned L2 Gram matrix of the Hermite basis). lam_cr is where an eigenvalue
+crosses zero; the number of negative eigenvalues (the inertia) brackets the crossings
+on a lam grid and brentq refines the crossing eigenvalue.
 """
 
 from __future__ import annotations

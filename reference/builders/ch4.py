@@ -25,7 +25,7 @@ from tqdm import tqdm
 from models.plate import PlateParams, ellipticity_limit_stretch
 from models.plate.analysis import biot_equibiaxial_closed_form, half_space_limit, thin_limit
 from models.plate.ansatz import LAM_WINDOW, critical_stretches, curves_vectorised
-from models.plate.fem import elements_for, eigenvalues, refine_root
+from models.plate.fem import eigenvalues, elements_for, refine_root
 from reference.datasets import write_dataset
 from reference.producers import ch4 as prod
 
@@ -251,7 +251,7 @@ def figures(out: Path, c42: xr.Dataset, c45: xr.Dataset, lim: xr.Dataset, ar: xr
     paths.append(p)
     # Fig 4.4
     fig, ax = plt.subplots(figsize=(7, 4))
-    for k, (v, xi) in enumerate(((vv, xx) for vv in VARIANTS for xx in (0.0, 5.0))):
+    for k, (v, xi) in enumerate((vv, xx) for vv in VARIANTS for xx in (0.0, 5.0)):
         y = lim.lam_cr_thin.sel(variant=v, xi=xi).values[:3]
         ax.bar(np.arange(3) + (k - 2.5) * 0.13, y, width=0.13,
                label=f"{v}, {'TI' if xi else 'iso'}")
