@@ -291,3 +291,93 @@ def cauchy_5_20_corrected(C10, D1, eps, F, D_L):
     I = np.eye(3)
     return (2 * C10 / J * (Bdis - np.trace(Bdis) / 3 * I) + 2 / D1 * (J - 1) * I
             - (D @ D) / (2 * eps) * I + np.outer(D, D) / eps)
+
+
+# ------------------------------------------------ Ch. 5 tangents (enthalpy form, (5.21)-(5.28))
+# The FE model of Ch. 5 uses (F, E_L) as independent variables; E = F^-T E_L, D_L =
+# eps J C^-1 E_L. Index layout as printed: T_L,ij (i spatial, j material), d/dF_kl.
+def tangent_5_21(C10, F):
+    """(5.21) as printed, ``dT^mech_L,ij/dF_kl``::
+
+        2 C10 J^-2/3 (-2/3 Finv_lk F_ij + 2/9 Finv_lk trc Finv_ji + d_ik d_jl
+                      - 2/3 F_kl Finv_ji + 1/3 trc Finv_jk Finv_li)
+
+    (no volumetric term). Array ``[i, j, k, l]``.
+    """
+    J = np.linalg.det(F)
+    Fi = np.linalg.inv(F)
+    trc = np.trace(F.T @ F)
+    return 2 * C10 * J ** (-2 / 3) * (
+        -2 / 3 * np.einsum("lk,ij->ijkl", Fi, F) + 2 / 9 * trc * np.einsum("lk,ji->ijkl", Fi, Fi)
+        + np.einsum("ik,jl->ijkl", _d, _d) - 2 / 3 * np.einsum("kl,ji->ijkl", F, Fi)
+        + 1 / 3 * trc * np.einsum("jk,li->ijkl", Fi, Fi))
+
+
+def tangent_5_21_volumetric(D1, F):
+    """The volumetric tangent missing from (5.21): d/dF_kl of ``2/D1 J (J - 1) Finv_ji``
+    = ``2/D1 [(2J - 1) J Finv_lk Finv_ji - J (J - 1) Finv_jk Finv_li]``."""
+    J = np.linalg.det(F)
+    Fi = np.linalg.inv(F)
+    return 2 / D1 * ((2 * J - 1) * J * np.einsum("lk,ji->ijkl", Fi, Fi)
+                     - J * (J - 1) * np.einsum("jk,li->ijkl", Fi, Fi))
+
+
+def _enthalpy_kinematics(F, E_L):
+    J = np.linalg.det(F)
+    Fi = np.linalg.inv(F)
+    Ci = Fi @ Fi.T
+    return J, Fi, Ci, Fi.T @ E_L, Ci @ E_L
+
+
+def tangent_5_22(eps, F, E_L):
+    """(5.22) as printed, ``dT^elec_L,ij/dF_kl`` (E = F^-T E_L)::
+
+        eps J (-Finv_li Cinv_jm EL_m E_k - E_i Finv_jk Cinv_lm EL_m - E_i E_k Cinv_jl
+               + Finv_ji E_k Cinv_lm EL_m + E_i Cinv_jm EL_m Finv_lk
+               + 1/2 E_m E_m Finv_li Finv_jk - 1/2 E_m E_m Finv_ji Finv_lk)
+    """
+    J, Fi, Ci, E, CE = _enthalpy_kinematics(F, E_L)
+    EE = E @ E
+    return eps * J * (
+        -np.einsum("li,j,k->ijkl", Fi, CE, E) - np.einsum("i,jk,l->ijkl", E, Fi, CE)
+        - np.einsum("i,k,jl->ijkl", E, E, Ci) + np.einsum("ji,k,l->ijkl", Fi, E, CE)
+        + np.einsum("i,j,lk->ijkl", E, CE, Fi) + 0.5 * EE * np.einsum("li,jk->ijkl", Fi, Fi)
+        - 0.5 * EE * np.einsum("ji,lk->ijkl", Fi, Fi))
+
+
+def tangent_5_23(eps, F, E_L):
+    """(5.23) as printed, ``dT^elec_L,ij/dEL_l = eps J (Finv_li Cinv_jm EL_m + Cinv_jl E_i
+    - Finv_ji Cinv_lm EL_m)``, array ``[i, j, l]``."""
+    J, Fi, Ci, E, CE = _enthalpy_kinematics(F, E_L)
+    return eps * J * (np.einsum("li,j->ijl", Fi, CE) + np.einsum("jl,i->ijl", Ci, E)
+                      - np.einsum("ji,l->ijl", Fi, CE))
+
+
+def tangent_5_24(eps, F, E_L):
+    """(5.24) as printed, ``dD_L,j/dF_kl = eps J (Finv_lk Cinv_jm EL_m - Finv_jk Cinv_lm EL_m
+    - Finv_mk Cinv_jl EL_m)``, array ``[j, k, l]``."""
+    J, Fi, Ci, E, CE = _enthalpy_kinematics(F, E_L)
+    return eps * J * (np.einsum("lk,j->jkl", Fi, CE) - np.einsum("jk,l->jkl", Fi, CE)
+                      - np.einsum("mk,jl,m->jkl", Fi, Ci, E_L))
+
+
+def tangent_5_25(eps, F, E_L):
+    """(5.25) as printed, ``dD_L,j/dEL_l = eps J Cinv_jl``."""
+    J, _, Ci, _, _ = _enthalpy_kinematics(F, E_L)
+    return eps * J * Ci
+
+
+def dtau_db_5_28(alphas, mus, k, lam):
+    """(5.28) as printed, ``dtau_i/db_j`` (b_j = lambda_j^2) of the Ogden model::
+
+        sum_p mu_p/(3 l_j^2) J^(-a_p/3) (1/3 sum_k l_k^a_p - l_i^a_p - l_j^a_p
+                                         + 3 l_i^a_p d_ij) + k (2J - 1) J/(2 l_j^2)
+    """
+    lam = np.asarray(lam, dtype=float)
+    J = np.prod(lam)
+    out = np.zeros((3, 3))
+    for a, m in zip(alphas, mus, strict=True):
+        la = lam**a
+        out += (m / (3 * lam[None, :] ** 2) * J ** (-a / 3)
+                * (la.sum() / 3 - la[:, None] - la[None, :] + 3 * np.diag(la)))
+    return out + k * (2 * J - 1) * J / (2 * lam[None, :] ** 2)
