@@ -199,8 +199,14 @@ class MembraneModel:
     def set_voltage(self, v: float) -> None:
         """Impose the normalised voltage ``v`` on the top electrode (bottom grounded)."""
         self.v = float(v)
-        gp = self.gf.components[1]
-        gp.Set(self.v * self.plate.thickness, definedon=self.mesh.Boundaries("top"))
+        if not hasattr(self, "_dir_pattern"):
+            tmp = ngs.GridFunction(self.X)
+            tmp.components[1].Set(self.plate.thickness, definedon=self.mesh.Boundaries("top"))
+            fixed = ~np.array(self.X.FreeDofs(), dtype=bool)
+            self._dir_fixed = fixed
+            self._dir_pattern = np.array(tmp.vec.FV(), copy=True)[fixed]
+        # only the Dirichlet (non-free) dofs are touched: all electrode dofs are fixed
+        self.gf.vec.FV().NumPy()[self._dir_fixed] = self.v * self._dir_pattern
 
     def state(self) -> np.ndarray:
         return np.array(self.gf.vec.FV(), copy=True)
@@ -255,6 +261,15 @@ class MembraneModel:
         z = t0 + (self.plate.imperfection * t0 if self.with_imperfection else 0.0)
         return float(self.gf.components[0](self.mesh(0.0, 0.0, z - 1e-12 * t0))[2]) / t0
 
+    def centre_midplane_deflection(self) -> float:
+        """Mean vertical displacement of the top and bottom centre points / t0 (free of the
+        symmetric thinning of the flat film)."""
+        t0 = self.plate.thickness
+        w = self.plate.imperfection * t0 if self.with_imperfection else 0.0
+        ut = self.gf.components[0](self.mesh(0.0, 0.0, t0 + w - 1e-12 * t0))[2]
+        ub = self.gf.components[0](self.mesh(0.0, 0.0, w + 1e-12 * t0))[2]
+        return 0.5 * (ut + ub) / t0
+
     def centre_thickness(self) -> float:
         """Current thickness at the centre / t0 (top minus bottom vertical position)."""
         t0 = self.plate.thickness
@@ -297,17 +312,25 @@ class MembraneModel:
 
     # ----------------------------------------------------------------- stability
     def lowest_eigenvalues(self, *, nev: int = 3, iters: int = 300, rtol: float = 1e-9,
-                           seed: int = 0):
+                           seed: int = 0, shift: float = 0.0):
         """Eigenvalues of smallest magnitude of the condensed tangent S u = lambda M u.
 
         S = K_uu + K_up K_pp^-1 K_pu is the stiffness at fixed electrode voltage.  Block
         inverse (subspace) iteration with Rayleigh-Ritz, using the factorised saddle-point
         tangent: the potential rows of the right-hand side are zero, so the displacement
         part of each solve is S^-1 M x.  M is the L2 mass of u / t0^2.
+        With ``shift > 0`` the iteration runs on S + shift M, so it returns the eigenvalues
+        of S closest to -shift: the algebraically smallest ones whenever they exceed
+        -shift (used to detect negative eigenvalues, i.e. instability, along the path).
         Returns (eigenvalues sorted ascending, modes as columns).  Raises
         ConvergenceError if the Ritz values do not settle to ``rtol``.
         """
-        inv = self._factor()
+        if shift:
+            self.a.AssembleLinearization(self.gf.vec)
+            self.a.mat.AsVector().data += shift * self.m.mat.AsVector()
+            inv = self.a.mat.Inverse(self.X.FreeDofs(), inverse=self.inverse)
+        else:
+            inv = self._factor()
         free = np.array(self.X.FreeDofs(), dtype=bool)
         nu = ngs.VectorH1(self.mesh, order=self.disc.order).ndof
         mask = free.copy()
@@ -353,7 +376,7 @@ class MembraneModel:
             wscale = np.max(np.abs(w[np.isfinite(w)]))   # block scale: absolute floor
             if old is not None and np.all(np.abs(w[:nev] - old) <= rtol * wscale + EIG_ATOL):
                 idx = np.argsort(w[:nev])
-                return w[:nev][idx], Xb[:, :nev][:, idx]
+                return w[:nev][idx] - shift, Xb[:, :nev][:, idx]
             old = w[:nev]
         raise ConvergenceError(f"subspace iteration: no convergence in {iters} steps ({w[:nev]})")
 
@@ -405,3 +428,76 @@ def mode_axisymmetry(model: MembraneModel, mode: np.ndarray, n_theta: int = 24) 
     if total == 0:
         raise ValueError("mode is zero on the sampling circle")
     return float(np.sum(np.mean(comps, axis=0) ** 2) / total)
+
+
+def _control_dofs(model: MembraneModel) -> tuple[int, int]:
+    """z-displacement dofs of the top and bottom vertices nearest to the centre axis."""
+    t0 = model.plate.thickness
+    w0 = model.plate.imperfection * t0 if model.with_imperfection else 0.0
+    best = {}
+    for v in model.mesh.vertices:
+        x, y, z = v.point
+        for key, zt in (("top", t0 + w0), ("bottom", w0)):
+            d = x * x + y * y + (z - zt) ** 2
+            if key not in best or d < best[key][0]:
+                best[key] = (d, v.nr)
+    dofs = []
+    for key in ("top", "bottom"):
+        nrs = model.X.GetDofNrs(ngs.NodeId(ngs.VERTEX, best[key][1]))
+        dofs.append(int(nrs[2]))          # (u_x, u_y, u_z, phi) of the compound space
+    return dofs[0], dofs[1]
+
+
+def control_deflection(model: MembraneModel) -> float:
+    """Control variable of the deflection-controlled continuation: mean z-displacement of
+    the top and bottom vertices nearest to the centre, / t0."""
+    it, ib = model._ctrl if hasattr(model, "_ctrl") else _control_dofs(model)
+    model._ctrl = (it, ib)
+    x = model.gf.vec.FV().NumPy()
+    return 0.5 * (x[it] + x[ib]) / model.plate.thickness
+
+
+def newton_deflection(model: MembraneModel, c: float, *, tol: float = NEWTON_TOL,
+                      maxit: int = NEWTON_MAXIT) -> int:
+    """Bordered Newton with the voltage as unknown and the centre deflection prescribed.
+
+    Solves R(x, v) = 0, g(x) = c (g: :func:`control_deflection`) by
+    ``dx = -a - dv b``, ``K a = R``, ``K b = dR/dv``, ``dv = (g(x) - c - g(a)) / g(b)``;
+    dR/dv by a central difference, exact because R is quadratic in the potential.
+    Passes voltage limit points (pull-in).  Raises ConvergenceError.
+    """
+    t0 = model.plate.thickness
+    g = control_deflection  # noqa: F841 (sets model._ctrl)
+    control_deflection(model)
+    it_, ib_ = model._ctrl
+    res_p, res_m = model.res.CreateVector(), model.res.CreateVector()
+    for k in range(1, maxit + 1):
+        v = model.v
+        h = 1e-3 * max(abs(v), 0.1)
+        model.set_voltage(v + h)
+        model.a.Apply(model.gf.vec, res_p)
+        model.set_voltage(v - h)
+        model.a.Apply(model.gf.vec, res_m)
+        model.set_voltage(v)
+        model.a.Apply(model.gf.vec, model.res)
+        rv = ((1 / (2 * h)) * (res_p - res_m)).Evaluate()
+        inv = model._factor()
+        a = (inv * model.res).Evaluate().FV().NumPy().copy()
+        b = (inv * rv).Evaluate().FV().NumPy().copy()
+        x = model.gf.vec.FV().NumPy()
+        gx = 0.5 * (x[it_] + x[ib_]) / t0
+        ga = 0.5 * (a[it_] + a[ib_]) / t0
+        gb = 0.5 * (b[it_] + b[ib_]) / t0
+        if gb == 0 or not np.isfinite(gb):
+            raise ConvergenceError(f"bordered Newton: singular border at c={c}")
+        dv = (gx - c - ga) / gb
+        dx = -a - dv * b
+        dmax = float(np.max(np.abs(dx)))
+        if not np.isfinite(dmax) or abs(dv) > 0.5:
+            raise ConvergenceError(f"bordered Newton: diverged at c={c} (dv={dv:.3g})")
+        x += dx
+        model.set_voltage(v + dv)
+        model.stats["newton_steps"] += 1
+        if dmax < tol * t0 and abs(dv) < 1e-9:
+            return k
+    raise ConvergenceError(f"bordered Newton: no convergence in {maxit} steps at c={c}")
