@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy.optimize import brentq
 
 from models.plate import PlateParams
 from models.plate.ansatz import PARITIES, _quartic_roots, critical_stretches, determinant
@@ -24,6 +25,9 @@ KH_FULL = (0.1, 0.3, 0.7, 1.5, 3.0, 6.0, 10.0, 20.0)
 #: method 2 uses elements_for(k h) elements; its error is then <~ 2e-6 (O(N^-4) measured
 #: in test_fe_converges_at_fourth_order), so 2e-5 is 10x the discretisation error
 TOL_AGREE = 2e-5
+#: roots closer than PAIR_GAP are checked as a pair in a window of +-PAIR_WINDOW
+PAIR_GAP = 2e-5
+PAIR_WINDOW = 1e-4
 #: method 2 is limited by rounding for very thin plates: the bending terms scale like
 #: (k h)^-3 while the critical eigenvalue scales like k h, so below t = k h = 0.1 the
 #: float64 eigenvalue is not resolved at N_AGREE (documented in models.plate.fem)
@@ -36,9 +40,26 @@ ORDER_TOL = 0.4
 
 def _fe_root_near(lam1, kH, p, others, n=None):
     """Method-2 root near the method-1 root lam1: the inertia must change by exactly one
-    across [lam1 (1 - d), lam1 (1 + d)]; brentq on the crossing eigenvalue."""
+    across [lam1 (1 - d), lam1 (1 + d)]; brentq on the crossing eigenvalue.
+
+    A partner root closer than PAIR_GAP (the flexural/extensional pair of a thick plate
+    near the surface instability, split by ~exp(-k h)) cannot be separated by a mesh
+    whose error is ~1e-6; then the inertia must change by two across a window of
+    +-PAIR_WINDOW around the pair, and the FE crossing of the same rank is returned.
+    """
     n = elements_for(kH * lam1**-2) if n is None else n
     gaps = [abs(o - lam1) for o in others if o != lam1]
+    close = [o for o in others if o != lam1 and abs(o - lam1) < PAIR_GAP]
+    if close:
+        pair = sorted([lam1, close[0]])
+        lo, hi = pair[0] - PAIR_WINDOW, pair[1] + PAIR_WINDOW
+        n_lo = int(np.sum(eigenvalues(lo, kH, p, n, 8) < 0))
+        n_hi = int(np.sum(eigenvalues(hi, kH, p, n, 8) < 0))
+        assert abs(n_lo - n_hi) == 2, f"inertia {n_lo} -> {n_hi} across the pair {pair}"
+        j0 = min(n_lo, n_hi)
+        fe = sorted(brentq(lambda x, j=j: eigenvalues(x, kH, p, n, j + 1)[j], lo, hi,
+                           xtol=1e-14) for j in (j0, j0 + 1))
+        return fe[pair.index(lam1)]
     d = min([1e-3] + [0.3 * g / lam1 for g in gaps])
     lo, hi = lam1 * (1 - d), lam1 * (1 + d)
     n_lo = int(np.sum(eigenvalues(lo, kH, p, n, 8) < 0))
