@@ -121,6 +121,52 @@ def branch(annulus: Annulus, lam=None, *, n: int = 300, lam_end: float | None = 
                   dT1=st.dT1, lam_end=float(min(lam_end, top)), steps=steps)
 
 
+def branches(annuli, *, n: int = 300, steps: int = DEFAULT_STEPS) -> list[Branch]:
+    """Batched :func:`branch` (default grids) for annuli differing only in lamP."""
+    annuli = list(annuli)
+    if not annuli:
+        return []
+    a0 = annuli[0]
+    if any((a.radius_ratio, a.Jm, a.equilibrium) != (a0.radius_ratio, a0.Jm, a0.equilibrium)
+           for a in annuli):
+        raise ValueError("branches(): annuli must differ only in lamP")
+    m = 160
+    delta = np.concatenate([[0.0], np.geomspace(1e-8, 0.95, m - 1)])
+    lamP = np.repeat([a.lamP for a in annuli], m)
+    st = interface_state(a0, lamP - np.tile(delta, len(annuli)) * lamP, steps=steps,
+                         lamP=lamP)
+    qs, lps = [], []
+    tops = []
+    for k, a in enumerate(annuli):
+        sl = slice(k * m, (k + 1) * m)
+        lam_k, q_k = st.lam[sl], st.q[sl]
+        ok = np.isfinite(lam_k) & np.isfinite(st.T1[sl])
+        first_bad = np.argmin(ok) if not ok.all() else m
+        lam_k, q_k = lam_k[:first_bad], q_k[:first_bad]
+        if lam_k.size < 4 or np.any(np.diff(lam_k) <= 0):
+            raise ConvergenceError(f"annulus branch for {a} is not monotone in the shooting "
+                                   "parameter (or too short)")
+        top = min(lam_k[-1], 0.999 * locking_stretch_equibiaxial(a.Jm))
+        target = np.linspace(a.lamP, top, n)
+        q = PchipInterpolator(lam_k, q_k)(target)
+        q[0] = a.lamP
+        qs.append(q)
+        lps.append(np.full(n, a.lamP))
+        tops.append(top)
+    q = np.concatenate(qs)
+    st = interface_state(a0, q, steps=steps, lamP=np.concatenate(lps))
+    out = []
+    for k, a in enumerate(annuli):
+        sl = slice(k * n, (k + 1) * n)
+        if not np.all(np.isfinite(st.lam[sl])) or np.any(np.diff(st.lam[sl]) <= 0):
+            raise ConvergenceError(f"annulus branch of {a}: non-monotone or inadmissible "
+                                   "points on the interpolated grid")
+        out.append(Branch(annulus=a, lam=st.lam[sl], q=q[sl], lam1=st.lam1[sl],
+                          T1=st.T1[sl], dlam=st.dlam[sl], dT1=st.dT1[sl],
+                          lam_end=float(tops[k]), steps=steps))
+    return out
+
+
 @dataclass(frozen=True)
 class Event:
     """A failure event located on a voltage-stretch curve."""
@@ -162,7 +208,7 @@ class Curve:
         return p is None or (lot is not None and p.lam >= lot.lam)
 
 
-def _event_function(kinds, annulus, q, c, eps_r, mu, steps):
+def _event_function(kinds, annulus, q, c, eps_r, mu, steps, lamP=None):
     """Functions whose zeros are the events, vectorised over (kind, q, c, eps_r).
 
     ``pullin``/``minimum``: d(Phibar^2)/d lambda (exact, complex step through the
@@ -172,7 +218,7 @@ def _event_function(kinds, annulus, q, c, eps_r, mu, steps):
     bad = ~np.isin(kinds, EVENT_KINDS)
     if bad.any():
         raise ValueError(f"unknown event kind {kinds[bad][0]!r}; expected one of {EVENT_KINDS}")
-    st = interface_state(annulus, q, steps=steps)
+    st = interface_state(annulus, q, steps=steps, lamP=lamP)
     p2c = circle_a.phibar_squared(st.lam_c, st.T1_c, c, annulus.kappa)
     deriv = (p2c.imag / 1e-30) / st.dlam
     brk = p2c.real - circle_a.breakdown_phibar(st.lam, eps_r, mu) ** 2
@@ -181,22 +227,54 @@ def _event_function(kinds, annulus, q, c, eps_r, mu, steps):
 
 
 def locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
-           xtol=EVENT_XTOL, maxiter=100):
+           xtol=EVENT_XTOL, maxiter=100, lamP=None, fa=None, fb=None, x0=None):
     """Vectorised Illinois iteration for zeros bracketed in [qa, qb]; raises if it fails.
 
-    All events (any kinds, any c) of one annulus are located together: one shooting
-    integration per iteration.
+    All events (any kinds, any c, any lamP) of compatible annuli are located together: one
+    shooting integration per iteration. ``fa``/``fb`` (the event functions at the bracket
+    ends, if already known) and ``x0`` (an interpolated estimate of the root) save
+    iterations: the bracket is first shrunk to [x0 - d, x0 + d] when it contains the root.
     """
     a = np.array(qa, float)
     b = np.array(qb, float)
     kinds = np.broadcast_to(np.asarray(kinds), a.shape)
     c = np.broadcast_to(c, a.shape).astype(float)
     eps_r = np.broadcast_to(eps_r, a.shape).astype(float)
-    fab = _event_function(np.concatenate([kinds, kinds]), annulus, np.concatenate([a, b]),
-                          np.concatenate([c, c]), np.concatenate([eps_r, eps_r]), mu, steps)
-    fa, fb = fab[: a.size], fab[a.size:]
+    lp = None if lamP is None else np.broadcast_to(np.asarray(lamP, float), a.shape)
+
+    def F(x, mask=None):
+        if mask is None:
+            return _event_function(kinds, annulus, x, c, eps_r, mu, steps, lp)
+        return _event_function(kinds[mask], annulus, x, c[mask], eps_r[mask], mu, steps,
+                               None if lp is None else lp[mask])
+
+    if fa is None or fb is None:
+        cat = np.concatenate
+        fab = _event_function(cat([kinds, kinds]), annulus, cat([a, b]), cat([c, c]),
+                              cat([eps_r, eps_r]), mu, steps,
+                              None if lp is None else cat([lp, lp]))
+        fa, fb = fab[: a.size], fab[a.size:]
+    fa = np.array(fa, float)
+    fb = np.array(fb, float)
     if np.any(np.sign(fa) * np.sign(fb) > 0) or not np.all(np.isfinite(fa * fb)):
         raise ConvergenceError(f"events {sorted(set(kinds))}: not bracketed for {annulus}")
+    if x0 is not None:
+        x0 = np.clip(np.asarray(x0, float), np.minimum(a, b), np.maximum(a, b))
+        d = 1e-4 * np.abs(b - a)
+        lo = np.clip(x0 - d, np.minimum(a, b), np.maximum(a, b))
+        hi = np.clip(x0 + d, np.minimum(a, b), np.maximum(a, b))
+        cat = np.concatenate
+        f2 = _event_function(cat([kinds, kinds]), annulus, cat([lo, hi]), cat([c, c]),
+                             cat([eps_r, eps_r]), mu, steps,
+                             None if lp is None else cat([lp, lp]))
+        flo, fhi = f2[: a.size], f2[a.size:]
+        ok = np.isfinite(flo) & np.isfinite(fhi) & (np.sign(flo) * np.sign(fhi) <= 0)
+        # shrink to the tight bracket where it holds the root (keeps a as 'lo' side)
+        a = np.where(ok, lo, a)
+        fa_new = np.where(ok, flo, fa)
+        b = np.where(ok, hi, b)
+        fb = np.where(ok, fhi, fb)
+        fa = fa_new
     side = np.zeros(a.shape, int)
     for _ in range(maxiter):
         done = (np.abs(b - a) <= xtol * np.abs(b)) | (fa == 0) | (fb == 0)
@@ -204,7 +282,8 @@ def locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
             break
         x = np.where(done, b, b - fb * (b - a) / (fb - fa))
         x = np.clip(x, np.minimum(a, b), np.maximum(a, b))
-        fx = _event_function(kinds, annulus, x, c, eps_r, mu, steps)
+        fx = np.zeros_like(x)
+        fx[~done] = F(x[~done], ~done)
         if not np.all(np.isfinite(fx)):
             raise ConvergenceError(f"events: non-finite residual during location for {annulus}")
         same = np.sign(fx) == np.sign(fb)
@@ -226,70 +305,100 @@ def curves(br: Branch, cs, *, eps_r=None, mu: float | None = None,
 
     ``eps_r`` is a scalar or one value per c (sensitivity studies in one batch).
     """
+    return curves_many([(br, cs, eps_r)], mu=mu, steps=steps)[0]
+
+
+def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
+    """Batched :func:`curves`: ``jobs`` is a list of ``(branch, cs, eps_r)``.
+
+    Branches that differ only in the pre-stretch (same Jm, R_B/R_A, equilibrium, steps)
+    share one vectorised event location: one shooting integration per Illinois iteration
+    for all their events.
+    """
     from .params import EPS_R_ASSUMED, MU_VHB
-    eps_r = EPS_R_ASSUMED if eps_r is None else eps_r
     mu = MU_VHB if mu is None else mu
-    steps = br.steps if steps is None else steps
-    an = br.annulus
-    kappa = an.kappa
-    cs = [float(c) for c in cs]
-    eps_rs = [float(e) for e in np.broadcast_to(np.asarray(eps_r, float), (len(cs),))]
-    actuators = [CircularActuator(an, c=c, eps_r=e, mu=mu) for c, e in zip(cs, eps_rs,
-                                                                          strict=True)]
-    out = []
-    # dense-grid data and brackets, per c
-    brackets = {k: [] for k in EVENT_KINDS}  # (curve index, qa, qb)
-    data = []
-    lam = br.lam
-    for i, c in enumerate(cs):
-        pb = circle_a.breakdown_phibar(lam, eps_rs[i], mu)
-        K = circle_a.electrostriction_factor(lam, c)
-        valid = K > 0
-        Ks = np.where(valid, K, 1.0)  # Phibar is undefined where K <= 0 (masked below)
-        p2 = np.where(valid, circle_a.phibar_squared(lam, br.T1, c, kappa) * K / Ks, np.nan)
-        # d(Phibar^2)/dlam from the exact q-derivatives
-        h = 1e-30
-        with np.errstate(divide="ignore", invalid="ignore"):
-            p2c = circle_a.phibar_squared(lam + 1j * h * br.dlam, br.T1 + 1j * h * br.dT1, c,
-                                          kappa)
-        dp2 = np.where(valid, (p2c.imag / h) / br.dlam, np.nan)
-        fun = {"pullin": dp2, "minimum": dp2, "loss_of_tension": br.T1,
-               "breakdown": p2 - pb**2}
-        for kind in EVENT_KINDS:
-            f = fun[kind]
-            if kind == "minimum":
-                idx = np.nonzero((f[:-1] < 0) & (f[1:] >= 0))[0]
-            elif kind == "pullin":
-                idx = np.nonzero((f[:-1] > 0) & (f[1:] <= 0))[0]
-            elif kind == "loss_of_tension":
-                idx = np.nonzero((f[:-1] > 0) & (f[1:] <= 0))[0]
-            else:  # breakdown crossed from below
-                idx = np.nonzero((f[:-1] < 0) & (f[1:] >= 0))[0]
-            if idx.size:
-                j = idx[0]
-                brackets[kind].append((i, br.q[j], br.q[j + 1]))
-        data.append((np.sqrt(np.maximum(p2, 0.0)), pb))
-    located = {k: {} for k in EVENT_KINDS}
-    rows = [(kind, *r) for kind, rs in brackets.items() for r in rs]
-    if rows:
-        kinds = np.array([r[0] for r in rows])
-        idx = [r[1] for r in rows]
-        qroot = locate(kinds, an, [r[2] for r in rows], [r[3] for r in rows],
-                       [cs[i] for i in idx], [eps_rs[i] for i in idx], mu, steps=steps)
-        st = interface_state(an, qroot, steps=steps)
-        for k, i in enumerate(idx):
-            p2 = circle_a.phibar_squared(st.lam[k], st.T1[k], cs[i], kappa)
-            located[kinds[k]][i] = Event(str(kinds[k]), float(st.lam[k]),
-                                         float(np.sqrt(max(p2, 0.0))), float(qroot[k]))
-    for i, act in enumerate(actuators):
-        phibar, pb = data[i]
-        events = {k: located[k].get(i) for k in EVENT_KINDS}
-        cands = [e for k, e in events.items() if k in FAILURE_KINDS and e is not None]
-        failure = min(cands, key=lambda e: e.lam) if cands else None
-        sigma1A = circle_a.sigma1_circle_a(lam, phibar, act.c, kappa)
-        out.append(Curve(actuator=act, lam=lam, phibar=phibar, sigma1A=sigma1A,
-                         phibar_breakdown=pb, events=events, failure=failure))
-    return out
+    results = [None] * len(jobs)
+    pending = []  # (job index, curve index, kind, qa, qb, c, eps_r, lamP)
+    prepared = []
+    for jb, (br, cs, eps_r) in enumerate(jobs):
+        eps_r = EPS_R_ASSUMED if eps_r is None else eps_r
+        an = br.annulus
+        kappa = an.kappa
+        cs = [float(c) for c in cs]
+        eps_rs = [float(e) for e in np.broadcast_to(np.asarray(eps_r, float), (len(cs),))]
+        lam = br.lam
+        data = []
+        for i, c in enumerate(cs):
+            pb = circle_a.breakdown_phibar(lam, eps_rs[i], mu)
+            K = circle_a.electrostriction_factor(lam, c)
+            valid = K > 0
+            Ks = np.where(valid, K, 1.0)  # Phibar is undefined where K <= 0 (masked below)
+            p2 = np.where(valid, circle_a.phibar_squared(lam, br.T1, c, kappa) * K / Ks,
+                          np.nan)
+            h = 1e-30
+            with np.errstate(divide="ignore", invalid="ignore"):
+                p2c = circle_a.phibar_squared(lam + 1j * h * br.dlam,
+                                              br.T1 + 1j * h * br.dT1, c, kappa)
+            dp2 = np.where(valid, (p2c.imag / h) / br.dlam, np.nan)
+            fun = {"pullin": dp2, "minimum": dp2, "loss_of_tension": br.T1,
+                   "breakdown": p2 - pb**2}
+            for kind in EVENT_KINDS:
+                f = fun[kind]
+                if kind in ("minimum", "breakdown"):   # crossing from below
+                    idx = np.nonzero((f[:-1] < 0) & (f[1:] >= 0))[0]
+                else:                                   # crossing from above
+                    idx = np.nonzero((f[:-1] > 0) & (f[1:] <= 0))[0]
+                if idx.size:
+                    j = idx[0]
+                    # cubic through the 4 grid values around the crossing: root estimate
+                    lo_, hi_ = max(j - 1, 0), min(j + 3, f.size)
+                    qq, ff = br.q[lo_:hi_], f[lo_:hi_]
+                    x0 = br.q[j] - f[j] * (br.q[j + 1] - br.q[j]) / (f[j + 1] - f[j])
+                    if np.all(np.isfinite(ff)) and ff.size == 4:
+                        r = np.roots(np.polyfit(qq - br.q[j], ff, 3)) + br.q[j]
+                        r = r[np.isreal(r)].real
+                        r = r[(r - br.q[j]) * (r - br.q[j + 1]) <= 0]
+                        if r.size:
+                            x0 = r[0]
+                    pending.append((jb, i, kind, br.q[j], br.q[j + 1], c, eps_rs[i],
+                                    an.lamP, f[j], f[j + 1], x0))
+            data.append((np.sqrt(np.maximum(p2, 0.0)), pb))
+        prepared.append((br, cs, eps_rs, data))
+    # one location per group of compatible annuli
+    located = {}
+    groups = {}
+    for row in pending:
+        an = jobs[row[0]][0].annulus
+        st = jobs[row[0]][0].steps if steps is None else steps
+        key = (an.radius_ratio, an.Jm, an.equilibrium, st)
+        groups.setdefault(key, []).append(row)
+    for (_, _, _, st), rows in groups.items():
+        an0 = jobs[rows[0][0]][0].annulus
+        kinds = np.array([r[2] for r in rows])
+        lamPs = np.array([r[7] for r in rows])
+        qroot = locate(kinds, an0, [r[3] for r in rows], [r[4] for r in rows],
+                       [r[5] for r in rows], [r[6] for r in rows], mu, steps=st,
+                       lamP=lamPs, fa=[r[8] for r in rows], fb=[r[9] for r in rows],
+                       x0=[r[10] for r in rows])
+        state = interface_state(an0, qroot, steps=st, lamP=lamPs)
+        for k, r in enumerate(rows):
+            p2 = circle_a.phibar_squared(state.lam[k], state.T1[k], r[5], an0.kappa)
+            located[(r[0], r[1], r[2])] = Event(r[2], float(state.lam[k]),
+                                                float(np.sqrt(max(p2, 0.0))),
+                                                float(qroot[k]))
+    for jb, (br, cs, eps_rs, data) in enumerate(prepared):
+        out = []
+        for i, c in enumerate(cs):
+            act = CircularActuator(br.annulus, c=c, eps_r=eps_rs[i], mu=mu)
+            phibar, pb = data[i]
+            events = {k: located.get((jb, i, k)) for k in EVENT_KINDS}
+            cands = [e for k, e in events.items() if k in FAILURE_KINDS and e is not None]
+            failure = min(cands, key=lambda e: e.lam) if cands else None
+            sigma1A = circle_a.sigma1_circle_a(br.lam, phibar, c, br.annulus.kappa)
+            out.append(Curve(actuator=act, lam=br.lam, phibar=phibar, sigma1A=sigma1A,
+                             phibar_breakdown=pb, events=events, failure=failure))
+        results[jb] = out
+    return results
 
 
 def curve(actuator: CircularActuator, *, n: int = 400, steps: int = DEFAULT_STEPS) -> Curve:

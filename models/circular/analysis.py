@@ -91,14 +91,14 @@ def loss_of_tension_stretch(br: Branch) -> float:
 
 def _min_slope(br: Branch, c: float, definition: str, lam_lot: float | None) -> float:
     d = dphibar2_dlam(br, c)
-    if definition == "before_loss_of_tension" and lam_lot is None:
-        lam_lot = np.inf
     # only where the permittivity factor K of (3.30) is positive (Phibar finite)
     mask = np.isfinite(d) & (br.lam > br.annulus.lamP) & (
         circle_a.electrostriction_factor(br.lam, c) > 0)
     if definition == "before_loss_of_tension":
-        # grid points before loss of tension (T1 > 0) and up to lam_lot
-        mask &= (br.lam <= lam_lot) & (np.cumprod(br.T1 > 0) > 0)
+        if lam_lot is not None:   # branch traced up to the located loss of tension
+            mask &= br.lam <= lam_lot * (1 + 1e-12)
+        else:                     # grid points before loss of tension (T1 > 0)
+            mask &= np.cumprod(br.T1 > 0) > 0
     elif definition != "monotonic":
         raise ValueError(f"definition must be one of {DEFINITIONS}, got {definition!r}")
     return float(np.min(d[mask]))

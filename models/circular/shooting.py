@@ -71,7 +71,7 @@ def _rhs(l1, l2, kappa, membrane):
 
 
 def integrate_inward(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
-                     profile: bool = False):
+                     profile: bool = False, lamP=None):
     """RK4 from t = T (lambda_1 = q, lambda_2 = lamP) to t = 0.
 
     Returns (l1, l2) at t = 0 (arrays like q, complex if q is), NaN where the trajectory
@@ -83,7 +83,9 @@ def integrate_inward(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
     q = np.asarray(q)
     dtype = np.complex128 if np.iscomplexobj(q) else np.float64
     l1 = q.astype(dtype, copy=True)
-    l2 = np.full_like(l1, annulus.lamP)
+    # lamP (array like q) batches annuli that differ only in the pre-stretch (3.38)
+    l2 = np.full_like(l1, annulus.lamP) if lamP is None else (
+        np.broadcast_to(np.asarray(lamP, float), l1.shape).astype(dtype))
     kappa = annulus.kappa
     membrane = annulus.equilibrium == "membrane"
     tgrid = _grid(np.log(annulus.radius_ratio), steps)
@@ -136,10 +138,14 @@ class InterfaceState:
     T1_c: np.ndarray
 
 
-def interface_state(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS) -> InterfaceState:
-    """Interface state and its exact q-sensitivities (complex step through RK4)."""
+def interface_state(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
+                    lamP=None) -> InterfaceState:
+    """Interface state and its exact q-sensitivities (complex step through RK4).
+
+    ``lamP`` (optional, broadcast with q) overrides ``annulus.lamP`` per trajectory.
+    """
     q = np.asarray(q, dtype=float)
-    l1, l2 = integrate_inward(annulus, q + 1j * CSTEP, steps=steps)
+    l1, l2 = integrate_inward(annulus, q + 1j * CSTEP, steps=steps, lamP=lamP)
     with np.errstate(all="ignore"):  # NaN marks inadmissible trajectories, by design
         s1, *_ = _stresses(l1, l2, annulus.kappa)
         T1 = s1 / l1

@@ -23,7 +23,7 @@ import xarray as xr
 from tqdm import tqdm
 
 from models.circular import analysis, params
-from models.circular.actuator import EVENT_KINDS, branch, curves
+from models.circular.actuator import EVENT_KINDS, branch, branches, curves, curves_many
 from models.circular.params import Annulus
 from models.circular.shooting import DEFAULT_STEPS, integrate_inward
 from reference.datasets import write_dataset
@@ -60,10 +60,10 @@ def _common_params(full: bool) -> dict:
 
 
 # ------------------------------------------------------------------ datasets
-def annulus_profiles(full: bool = False) -> xr.Dataset:
+def annulus_profiles(full: bool = False, br=None) -> xr.Dataset:
     s = _settings(full)
     an = Annulus(3.0, RADIUS_RATIO)
-    br = branch(an, n=s["n"], steps=s["steps"])
+    br = br if br is not None else branch(an, n=s["n"], steps=s["steps"])
     cs = (0.0, params.C_WISSLER_MAZZA)
     rows = []
     for c in cs:
@@ -90,15 +90,6 @@ def annulus_profiles(full: bool = False) -> xr.Dataset:
         attrs={"lamP": 3.0, "phibar": 0.2})
 
 
-def _curve_family(full: bool):
-    s = _settings(full)
-    out = {}
-    for lamP in tqdm(LAMP_CURVES, desc="ch3 voltage-stretch", leave=False):
-        br = branch(Annulus(lamP, RADIUS_RATIO), n=s["n"], steps=s["steps"])
-        out[lamP] = (br, curves(br, C_CURVES))
-    return out
-
-
 def voltage_stretch(family) -> xr.Dataset:
     lamPs = list(family)
     n = family[lamPs[0]][0].lam.size
@@ -123,7 +114,8 @@ def voltage_stretch(family) -> xr.Dataset:
         })
 
 
-def failure_points(full: bool = False, family=None) -> xr.Dataset:
+def failure_points(full: bool = False, family=None, membrane=None) -> xr.Dataset:
+    """``family``/``membrane``: {lamP: (branch, curves over C_CURVES)} per variant."""
     s = _settings(full)
     variants = ("printed", "membrane")
     data = {k: np.full((2, len(LAMP_CURVES), len(C_CURVES)), np.nan) for k in
@@ -133,6 +125,8 @@ def failure_points(full: bool = False, family=None) -> xr.Dataset:
         for i, lamP in enumerate(tqdm(LAMP_CURVES, desc=f"ch3 failures ({eq})", leave=False)):
             if eq == "printed" and family is not None:
                 cvs = family[lamP][1]
+            elif eq == "membrane" and membrane is not None:
+                cvs = membrane[lamP][1]
             else:
                 br = branch(Annulus(lamP, RADIUS_RATIO, equilibrium=eq), n=s["n"],
                             steps=s["steps"])
@@ -161,15 +155,20 @@ def failure_points(full: bool = False, family=None) -> xr.Dataset:
     })
 
 
-def c_sweep(full: bool = False, lamPs=LAMP_SWEEP) -> xr.Dataset:
+def c_sweep(full: bool = False, lamPs=LAMP_SWEEP, precomputed=None) -> xr.Dataset:
+    """``precomputed``: {lamP: curves over the c grid} (from :func:`compute`)."""
     s = _settings(full)
-    cs = np.linspace(0.0, -0.1, s["n_c"])
+    cs = _c_grid(full)
     lam = np.full((len(lamPs), cs.size), np.nan)
     phi = np.full_like(lam, np.nan)
     mode = np.zeros(lam.shape, np.int8)
     for i, lamP in enumerate(tqdm(lamPs, desc="ch3 c sweep", leave=False)):
-        br = branch(Annulus(lamP, RADIUS_RATIO), n=s["n"], steps=s["steps"])
-        for j, cv in enumerate(curves(br, cs)):
+        if precomputed is not None:
+            cvs = precomputed[lamP]
+        else:
+            br = branch(Annulus(lamP, RADIUS_RATIO), n=s["n"], steps=s["steps"])
+            cvs = curves(br, cs)
+        for j, cv in enumerate(cvs):
             lam[i, j], phi[i, j] = cv.lam_max, cv.phibar_max
             mode[i, j] = _mode_code(cv.failure)
     one = {"units": "1"}
@@ -181,7 +180,11 @@ def c_sweep(full: bool = False, lamPs=LAMP_SWEEP) -> xr.Dataset:
                 "c": ("c", cs, {**one, "long_name": "Zhao-Suo electrostrictive factor c"})})
 
 
-def eps_r_sensitivity(full: bool = False, family=None) -> xr.Dataset:
+def _c_grid(full: bool) -> np.ndarray:
+    return np.linspace(0.0, -0.1, _settings(full)["n_c"])
+
+
+def eps_r_sensitivity(full: bool = False, family=None, precomputed=None) -> xr.Dataset:
     s = _settings(full)
     cs2 = (0.0, params.C_WISSLER_MAZZA)
     lam = np.full((len(EPS_R), len(LAMP_CURVES), 2), np.nan)
@@ -191,7 +194,7 @@ def eps_r_sensitivity(full: bool = False, family=None) -> xr.Dataset:
             Annulus(lamP, RADIUS_RATIO), n=s["n"], steps=s["steps"])
         allc = [c for _ in EPS_R for c in cs2]
         alle = [e for e in EPS_R for _ in cs2]
-        res = curves(br, allc, eps_r=alle)
+        res = precomputed[lamP] if precomputed is not None else curves(br, allc, eps_r=alle)
         for k in range(len(EPS_R)):
             for j in range(2):
                 cv = res[2 * k + j]
@@ -207,15 +210,45 @@ def eps_r_sensitivity(full: bool = False, family=None) -> xr.Dataset:
 
 
 def compute(full: bool = False) -> dict[str, xr.Dataset]:
-    """All Chapter 3 datasets (no I/O)."""
-    family = _curve_family(full)
-    return {
-        "ch3_annulus_profiles": annulus_profiles(full),
+    """All Chapter 3 datasets (no I/O).
+
+    Two batched branch traces (printed and membrane equilibrium, all pre-stretches at
+    once) and two batched event locations serve every curve of the chapter.
+    """
+    s = _settings(full)
+    bar = tqdm(total=4, desc="ch3", leave=False)
+    pr = dict(zip(LAMP_CURVES, branches([Annulus(p, RADIUS_RATIO) for p in LAMP_CURVES],
+                                        n=s["n"], steps=s["steps"]), strict=True))
+    mb = dict(zip(LAMP_CURVES, branches([Annulus(p, RADIUS_RATIO, equilibrium="membrane")
+                                         for p in LAMP_CURVES], n=s["n"], steps=s["steps"]),
+                  strict=True))
+    bar.update()
+    cs2 = (0.0, params.C_WISSLER_MAZZA)
+    allc = [c for _ in EPS_R for c in cs2]
+    alle = [e for e in EPS_R for _ in cs2]
+    cgrid = _c_grid(full)
+    jobs = ([(pr[p], C_CURVES, None) for p in LAMP_CURVES]
+            + [(pr[p], cgrid, None) for p in LAMP_SWEEP]
+            + [(pr[p], allc, alle) for p in LAMP_CURVES])
+    res = curves_many(jobs)
+    bar.update()
+    resm = curves_many([(mb[p], C_CURVES, None) for p in LAMP_CURVES])
+    bar.update()
+    nL, nS = len(LAMP_CURVES), len(LAMP_SWEEP)
+    family = {p: (pr[p], res[k]) for k, p in enumerate(LAMP_CURVES)}
+    sweep = {p: res[nL + k] for k, p in enumerate(LAMP_SWEEP)}
+    sens = {p: res[nL + nS + k] for k, p in enumerate(LAMP_CURVES)}
+    membrane = {p: (mb[p], resm[k]) for k, p in enumerate(LAMP_CURVES)}
+    out = {
+        "ch3_annulus_profiles": annulus_profiles(full, pr[3.0]),
         "ch3_voltage_stretch": voltage_stretch(family),
-        "ch3_failure_points": failure_points(full, family),
-        "ch3_c_sweep": c_sweep(full),
-        "ch3_eps_r_sensitivity": eps_r_sensitivity(full, family),
+        "ch3_failure_points": failure_points(full, family, membrane),
+        "ch3_c_sweep": c_sweep(full, precomputed=sweep),
+        "ch3_eps_r_sensitivity": eps_r_sensitivity(full, family, precomputed=sens),
     }
+    bar.update()
+    bar.close()
+    return out
 
 
 _TEXT = {

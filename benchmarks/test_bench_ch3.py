@@ -1,0 +1,81 @@
+"""Benchmarks of the Chapter 3 circular actuator on the named problems of the suite.
+
+Thread count fixed: OMP_NUM_THREADS=1 (named in the groups). Run:
+``python -m pytest benchmarks/test_bench_ch3.py --benchmark-only``.
+
+* one curve point: shooting (one trajectory with complex-step sensitivities) vs one warm
+  collocation solve;
+* one voltage-stretch curve (lamP = 2, c = 0 and -0.053, 300 points, events located)
+  vs the naive baseline: ``solve_bvp`` from a cold start at every one of the 300 points
+  (no events);
+* the whole chapter: :func:`reference.builders.ch3.compute` (all datasets of Figs 3.2-3.9,
+  both equilibrium variants, the eps_r study).
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+from models.circular import collocation, shooting  # noqa: E402
+from models.circular.actuator import branch, curves  # noqa: E402
+from models.circular.params import Annulus  # noqa: E402
+from reference.builders import ch3 as builder  # noqa: E402
+
+AN = Annulus(2.0)
+N_POINTS = 300
+
+
+@pytest.mark.benchmark(group="ch3-one-point-1thread")
+def test_bench_point_shooting(benchmark):
+    st = benchmark(shooting.interface_state, AN, np.array([1.99]))
+    assert np.isfinite(st.T1[0])
+
+
+@pytest.mark.benchmark(group="ch3-one-point-1thread")
+def test_bench_point_collocation_warm(benchmark):
+    prev = collocation.solve(AN, 3.0, collocation.solve(AN, 2.5))
+    sol = benchmark(collocation.solve, AN, 3.05, prev)
+    assert sol.nodes > 0
+
+
+@pytest.mark.benchmark(group="ch3-one-point-1thread")
+def test_bench_point_collocation_cold(benchmark):
+    sol = benchmark(collocation.solve, AN, 3.05)
+    assert sol.nodes > 0
+
+
+def _curve():
+    br = branch(AN, n=N_POINTS)
+    return curves(br, [0.0, -0.053])
+
+
+@pytest.mark.benchmark(group="ch3-one-curve-1thread")
+def test_bench_curve_ours(benchmark):
+    cvs = benchmark(_curve)
+    assert cvs[0].failure.kind == "pullin"
+
+
+@pytest.mark.benchmark(group="ch3-one-curve-1thread")
+def test_bench_curve_naive_cold_solve_bvp(benchmark):
+    lam = branch(AN, n=N_POINTS).lam[1:]
+    out = benchmark.pedantic(lambda: collocation.branch(AN, lam, warm=False), rounds=1,
+                             iterations=1)
+    assert out.T1.size == lam.size
+
+
+@pytest.mark.benchmark(group="ch3-one-curve-1thread")
+def test_bench_curve_warm_collocation(benchmark):
+    lam = branch(AN, n=N_POINTS).lam[1:]
+    out = benchmark.pedantic(lambda: collocation.branch(AN, lam), rounds=1, iterations=1)
+    assert out.T1.size == lam.size
+
+
+@pytest.mark.benchmark(group="ch3-chapter-1thread")
+def test_bench_whole_chapter(benchmark):
+    ds = benchmark.pedantic(builder.compute, rounds=3, iterations=1)
+    assert set(ds) >= {"ch3_voltage_stretch", "ch3_c_sweep"}
