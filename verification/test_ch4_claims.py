@@ -31,12 +31,13 @@ def test_catalogue_entry_has_expected_status(entry):
     assert r.status == entry.expected_status, (r.value, r.diagnosis)
 
 
-@pytest.mark.parametrize("kH_max", [5.0, 20.0])
-def test_claims_robust_to_area_window(kH_max):
+@pytest.mark.parametrize(("kH_max", "lam_min"), [(5.0, 0.4), (20.0, 0.4), (10.0, 0.3),
+                                                 (10.0, 0.5)])
+def test_claims_robust_to_area_window(kH_max, lam_min):
     """ch4.assumption.area_window: the area orderings behind ch4.fig4_2.* hold for
-    kH_max = 5 and 20 as well as 10 (printed variant)."""
+    kH_max = 5, 20 and lam_min = 0.3, 0.5 as well as (10, 0.4) (printed variant)."""
     def a(xi, D):
-        return prod.area(xi, D, "printed", "thesis", kH_max)
+        return prod.area(xi, D, "printed", "thesis", kH_max, lam_min)
 
     Ds = prod.FIG42_D
     assert all(a(5.0, D) > a(0.0, D) for D in Ds)                       # TI larger

@@ -45,15 +45,15 @@ def _kH(kH_max=KH_MAX):
     return np.linspace(0.01, kH_max, AREA_KH_N)
 
 
-def _lam():
-    return np.geomspace(AREA_LAM[0], AREA_LAM[1], AREA_LAM[2])
+def _lam(lam_min=AREA_LAM[0]):
+    return np.geomspace(lam_min, AREA_LAM[1], AREA_LAM[2])
 
 
 @lru_cache(maxsize=512)
 def area(xi: float, D: float, variant: str = "printed", which: str = "thesis",
-         kH_max: float = KH_MAX) -> float:
+         kH_max: float = KH_MAX, lam_min: float = AREA_LAM[0]) -> float:
     p = PlateParams(xi=xi, Dhat=D, variant=variant)
-    return region(p, _kH(kH_max), _lam()).area(which)
+    return region(p, _kH(kH_max), _lam(lam_min)).area(which)
 
 
 @lru_cache(maxsize=256)
@@ -326,6 +326,8 @@ def area_window_sensitivity(entry: Entry) -> Outcome:
     """Assumption ch4.assumption.area_window: areas for kH_max = 5, 10, 20."""
     sens = {f"kHmax{k:g}": [area(xi, 2.0, "printed", "thesis", k) for xi in (0.0, XI_TI)]
             for k in (5.0, 10.0, 20.0)}
+    sens.update({f"lam_min{m:g}": [area(xi, 2.0, "printed", "thesis", KH_MAX, m)
+                                   for xi in (0.0, XI_TI)] for m in (0.3, 0.5)})
     return Outcome(KH_MAX, status="assumed",
                    diagnosis=f"thesis-definition areas at Dhat=2 (iso, TI) by window: {sens}",
                    details=sens)
