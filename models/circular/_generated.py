@@ -11,7 +11,9 @@ Each returns (dl1/dt, dl2/dt); ``jac_*`` return the 2x2 Jacobian [[df1/dl1, df1/
 hand-written forms): a test re-derives these expressions and compares them numerically.
 """
 
+# ruff: noqa: E501  (generated expressions)
 from numpy import log  # noqa: F401
+
 
 def rhs_printed(l1, l2, kappa):
     """(dl1/dt, dl2/dt) for the printed equilibrium."""

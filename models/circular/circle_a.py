@@ -22,8 +22,6 @@ Every function is complex-safe (used with complex-step sensitivities).
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from .params import EB_COEFF, EB_EXPONENT, EPS0

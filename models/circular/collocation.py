@@ -103,9 +103,9 @@ def solve(annulus: Annulus, lam: float, guess=None, *, tol: float = BVP_TOL):
         res = solve_bvp(fun, bc, t, y, fun_jac=fun_jac, bc_jac=bc_jac, tol=tol,
                         max_nodes=MAX_NODES)
     if not res.success or not np.all(np.isfinite(res.y)) or np.any(res.y[0] <= 0):
+        resid = np.max(res.rms_residuals) if res.rms_residuals is not None else "n/a"
         raise ConvergenceError(f"solve_bvp failed for {annulus} at lam = {lam}: "
-                               f"{res.message} (max residual "
-                               f"{np.max(res.rms_residuals) if res.rms_residuals is not None else 'n/a'})")
+                               f"{res.message} (max residual {resid})")
     l1 = float(res.y[0, 0])
     return CollocationSolution(lam=float(lam), lam1=l1,
                                T1=float(nominal_radial_stress(l1, float(lam), annulus.kappa)),

@@ -1,3 +1,4 @@
+# ruff: noqa: E501  -- CF attribute dicts and dataset descriptions read best on one line
 """Builder of the Chapter 3 datasets and figures (Figs 3.2-3.9 of Zeng 2020).
 
 Datasets (``ch3_*``, written with :func:`reference.datasets.write_dataset`):

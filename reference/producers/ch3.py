@@ -244,7 +244,7 @@ def _check_failure_modes(entry, eps_r, eq):
 
 
 def _check_annulus_profile(entry, eps_r, eq):
-    from models.circular.shooting import integrate_inward, q_for_stretch
+    from models.circular.shooting import integrate_inward
     br = _branch(_p(entry, "lamP"), eq)
     ok = True
     msgs = []
