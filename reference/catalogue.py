@@ -52,6 +52,8 @@ STATUSES = (
     "confirmed",         # erratum: the printed form is wrong, evidence shows it
     "refuted",           # erratum: on checking, the printed form is right after all
     "assumed",           # assumption: the value we use where the thesis is silent
+    "input",             # a stated parameter; the models use exactly it (transcription
+                         # checked), so there is nothing to reproduce
     "error",             # the producer raised: always a regression
 )
 _ID = re.compile(r"^(ch[2-5]|app|lit)\.[a-z0-9_]+(\.[a-zA-Z0-9_]+)*$")
@@ -236,6 +238,16 @@ def _jsonable(v: Any) -> Any:
 def judge(entry: Entry, outcome: Outcome) -> Result:
     """Status of an entry given a producer's outcome (see :data:`STATUSES`)."""
     diagnosis = outcome.diagnosis or entry.diagnosis
+    if outcome.status == "input":
+        # A model input: its value must equal the stated one, but agreement is not a
+        # reproduction of anything.
+        tol = entry.implied_tolerance() or 0.0
+        same = (outcome.value == entry.value if not isinstance(entry.value, int | float)
+                else abs(float(outcome.value) - float(entry.value)) <= tol * (1 + 1e-12))
+        if not same:
+            return Result(entry, outcome.value, "not_reproduced",
+                          f"the models use {outcome.value!r}, the thesis states "
+                          f"{entry.value!r}", outcome.evidence, outcome.details)
     if outcome.status is not None:
         if outcome.status not in STATUSES:
             raise CatalogueError(f"{entry.id}: producer returned unknown status {outcome.status!r}")

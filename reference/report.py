@@ -20,7 +20,7 @@ STATUS_MARK = {
     "reproduced": "✅ reproduced", "not_reproduced": "❌ not reproduced",
     "not_reproducible": "⚠️ not reproducible", "pending": "⏳ pending",
     "confirmed": "📝 erratum confirmed", "refuted": "erratum refuted",
-    "assumed": "assumed", "error": "💥 error",
+    "assumed": "assumed", "input": "input (stated parameter)", "error": "💥 error",
 }
 CHAPTER_TITLES = {
     "ch2": "Chapter 2 and Appendix A: invariants and constitutive equations",
@@ -86,7 +86,7 @@ def errata_table(results: Iterable[Result]) -> str:
 def summary_line(results: list[Result]) -> str:
     counts = status_counts(results)
     order = ["reproduced", "not_reproduced", "not_reproducible", "pending", "confirmed",
-             "assumed", "error"]
+             "assumed", "input", "error"]
     return ", ".join(f"{counts[s]} {s.replace('_', ' ')}" for s in order if counts[s])
 
 

@@ -138,6 +138,12 @@ def test_judge_qualitative_and_explicit_statuses():
     assert r.status == "not_reproducible" and r.diagnosis == "eps_r missing"
 
 
+def test_input_parameters_are_checked_but_not_counted_as_reproduced():
+    assert judge(_entry(), Outcome(0.518, status="input")).status == "input"
+    r = judge(_entry(), Outcome(0.52, status="input"))
+    assert r.status == "not_reproduced" and "0.52" in r.diagnosis
+
+
 def test_producer_exception_is_an_error_not_a_value():
     e = _entry(producer="reference.nonexistent_module:f")
     r = catalogue.evaluate(e)
