@@ -104,3 +104,23 @@ def test_eq_3_27_is_taylor_expansion_of_3_26():
     mm = pytest.importorskip("models.materials.membrane")
     jm = mm.JimenezMcMeekingPermittivity(eps0_bar=2.0, c0=0.01)
     assert jm.zhao_suo_linearisation().c == pytest.approx(-6 * 0.01 / 2.0)
+
+
+def test_eq_3_32_is_membrane_force_balance():
+    """(3.31)-(3.32) checked against thin-membrane force balance: the radial force per unit
+    current length N = sigma1 h is continuous across r = lambda R_A (both sides share the
+    reference circle R_A and the thickness H), and N_A = N_B is exactly T1^(A) = T1^(B) --
+    the printed interface condition is right (entry ch3.erratum.eq_3_32, refuted)."""
+    from models.circular import circle_a
+
+    br = branch(Annulus(3.0))
+    for c in (0.0, -0.053):
+        cv = curves(br, [c])[0]
+        k = br.lam.size // 3
+        lam, phibar = br.lam[k], cv.phibar[k]
+        lam1B = br.lam1[k]
+        sA = float(circle_a.sigma1_circle_a(lam, phibar, c, br.annulus.kappa))
+        s1B = br.T1[k] * lam1B
+        N_A = sA * lam**-2              # sigma1 h / H, h^A = H lam^-2
+        N_B = s1B / (lam1B * lam)       # h^B = H/(lambda1 lambda2), lambda2 = lam (3.31)
+        assert N_A == pytest.approx(N_B, rel=1e-12)

@@ -393,6 +393,17 @@ def erratum(entry: Entry) -> Outcome:
         ok = abs(slope - (-6 * c0)) < 1e-6
         return Outcome(value=ok, status="confirmed" if ok else "refuted",
                        evidence=entry.evidence)
+    if which == "eq_3_32":
+        # membrane force per unit current length at the interface, both sides (lamP = 3)
+        br = _branch(3.0)
+        k = br.lam.size // 3
+        lam, lam1B = br.lam[k], br.lam1[k]
+        phibar = float(np.sqrt(circle_a.phibar_squared(lam, br.T1[k], -0.053, br.annulus.kappa)))
+        n_a = float(circle_a.sigma1_circle_a(lam, phibar, -0.053, br.annulus.kappa)) * lam**-2
+        n_b = br.T1[k] * lam1B / (lam1B * lam)
+        same = abs(n_a - n_b) <= 1e-12 * abs(n_b)
+        return Outcome(value=not same, status="refuted" if same else "confirmed",
+                       evidence=entry.evidence)
     if which == "section_4":
         # textual cross-reference: nothing to compute; Sec. 3.5 (not Section 4, which in the
         # thesis is Chapter IV on anisotropic plates) holds the c study
