@@ -192,3 +192,35 @@ def test_even_odd_split_has_the_roots_of_the_full_6x6_determinant():
         for r in roots:
             scale = abs(_det6(r * 1.01, kH, p))
             assert abs(_det6(r, kH, p)) < 1e-7 * scale
+
+
+# --------------------------------------------------------------------------- beyond: voltage
+@pytest.mark.parametrize("variant", ["derived", "printed"])
+@pytest.mark.parametrize("xi", [0.0, 5.0])
+@pytest.mark.parametrize("Vhat", [0.25, 0.5, 1.0])
+def test_voltage_control_roots_agree_between_methods(variant, xi, Vhat):
+    """Beyond the thesis (voltage control, models.plate.voltage): every method-1 root of
+    det(lam, kH; Dhat = Vhat lam^2/beta) is an FE eigenvalue crossing with the same
+    lam-dependent Dhat, and lies on the charge-control curve of that Dhat."""
+    from models.plate.voltage import (
+        critical_stretches_at_voltage,
+        dhat_at_voltage,
+        fe_root_at_voltage,
+    )
+
+    p = PlateParams(xi, 0.0, variant=variant)
+    for kH in (0.3, 2.0, 10.0):
+        lam, _ = critical_stretches_at_voltage(kH, Vhat, p)
+        for i, l1 in enumerate(lam):
+            D = float(dhat_at_voltage(l1, Vhat, p))
+            cc = critical_stretches(kH, PlateParams(xi, D, variant=variant)).lam
+            assert np.min(np.abs(cc - l1)) < 1e-9
+            if kH * l1**-2 < T_MIN:
+                continue
+            others = np.delete(lam, i)
+            gap = np.min(np.abs(others - l1)) if others.size else 1.0
+            if gap < PAIR_GAP:
+                continue
+            l2 = fe_root_at_voltage(l1, kH, Vhat, p, elements_for(kH * l1**-2),
+                                    rel=min(1e-3, 0.3 * gap / l1))
+            assert l2 == pytest.approx(l1, abs=TOL_AGREE)

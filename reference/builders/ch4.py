@@ -9,6 +9,7 @@
 * ``ch4_areas.nc`` - unstable-region areas (Fig. 4.3) for two definitions and three windows;
 * ``ch4_critical_dhat.nc`` - critical Dhat vs xi (Fig. 4.6), two candidate definitions;
 * ``ch4_method_agreement.nc`` - method 1 vs method 2 on sample roots of every figure case;
+* ``ch4_voltage_control.nc`` - beyond the thesis: lam_cr(kH) at fixed voltage;
 
 and the figures ``fig4_2_*.png``, ``fig4_3_areas.png``, ``fig4_4_thin_limit.png``,
 ``fig4_5_anisotropy.png``, ``fig4_6_critical_D.png`` in ``out_dir/figures``.
@@ -184,6 +185,31 @@ def agreement_dataset(kHs=(0.3, 2.0, 10.0), progress=True) -> xr.Dataset:
         coords={"case": ("case", idx, _attrs("sample root index"))})
 
 
+def voltage_dataset(progress=True) -> xr.Dataset:
+    """Beyond the thesis: lam_cr(kH) at fixed voltage Vhat (models.plate.voltage)."""
+    from models.plate.voltage import critical_stretches_at_voltage
+
+    variants, xis, Vs = ("derived", "printed"), (0.0, 5.0), (0.25, 0.5, 0.75, 1.0)
+    kH = np.geomspace(0.01, 20.0, 81)
+    lam = np.full((2, 2, len(Vs), kH.size, MAX_ROOTS), np.nan)
+    jobs = [(a, b, c) for a in range(2) for b in range(2) for c in range(len(Vs))]
+    for iv, ix, iV in tqdm(jobs, desc="ch4 voltage control", disable=not progress,
+                           leave=False):
+        p = PlateParams(xis[ix], 0.0, variant=variants[iv])
+        for ik, k in enumerate(kH):
+            r, _ = critical_stretches_at_voltage(float(k), Vs[iV], p, n_scan=240)
+            lam[iv, ix, iV, ik, : r.size] = r[:MAX_ROOTS]
+    return xr.Dataset(
+        {"lam_cr": (("variant", "xi", "Vhat", "kH", "root"), lam,
+                    _attrs("critical stretch under voltage control (electroded plate; "
+                           "Dhat = Vhat lam^2/beta along the curve)"))},
+        coords={"variant": ("variant", list(variants), {"long_name": "form of the equations"}),
+                "xi": ("xi", list(xis), _attrs("anisotropy parameter")),
+                "Vhat": ("Vhat", list(Vs), _attrs("dimensionless voltage V sqrt(eps/mu)/H")),
+                "kH": ("kH", kH, _attrs("wavenumber times reference thickness")),
+                "root": ("root", np.arange(MAX_ROOTS), _attrs("root index"))})
+
+
 # --------------------------------------------------------------------------- figures
 def _plot_curves(ax, ds, v, xi, D, style, label):
     sel = ds.lam_cr.sel(variant=v, xi=xi, Dhat=D).values
@@ -343,5 +369,37 @@ def build(out_dir: Path, *, full: bool = False, progress: bool = True) -> list[P
         summary="Critical stretches of every figure case at kH = 0.3, 2, 10 (k h >= 0.1) "
         "from the ansatz determinant and from the through-thickness FE.",
         parameters=COMMON, out_dir=out_dir, overwrite=True))
+    vc = voltage_dataset(progress=progress)
+    paths.append(write_dataset(
+        vc, "ch4_voltage_control", title="Chapter 4, beyond the thesis: voltage control",
+        summary="Critical stretch vs kH at fixed voltage for the electroded plate; the "
+        "incremental problem equals the charge-controlled one with Dhat = Vhat lam^2/beta.",
+        parameters=COMMON, out_dir=out_dir, overwrite=True))
     paths += figures(out_dir / "figures", c42, c45, lim, ar, crit)
+    paths.append(_voltage_figure(out_dir / "figures", vc))
     return paths
+
+
+def _voltage_figure(out: Path, vc: xr.Dataset) -> Path:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axs = plt.subplots(1, 2, figsize=(11, 4), sharey=True)
+    for ax, xi in zip(axs, (0.0, 5.0), strict=True):
+        for k, V in enumerate(vc.Vhat.values):
+            sel = vc.lam_cr.sel(variant="printed", xi=xi, Vhat=V).values
+            for j in range(sel.shape[1]):
+                ax.semilogx(vc.kH, sel[:, j], ".", ms=2, color=f"C{k}",
+                            label=f"Vhat={V:g}" if j == 0 else None)
+        ax.set_title(f"voltage control (beyond the thesis), xi = {xi:g}, printed coeffs")
+        ax.set_xlabel("kH")
+        ax.set_ylim(0.4, 3.0)
+    axs[0].set_ylabel("lam_cr")
+    axs[0].legend(fontsize=7, markerscale=4)
+    fig.tight_layout()
+    p = out / "ch4_beyond_voltage_control.png"
+    fig.savefig(p, dpi=110)
+    plt.close(fig)
+    return p

@@ -343,3 +343,27 @@ def critical_D_candidates(entry: Entry) -> Outcome:
 
 
 __all__ = [n for n in dir() if not n.startswith("_")] + ["replace"]
+
+
+def voltage_control_bc(entry: Entry) -> Outcome:
+    """Voltage control of the electroded plate: every root of the voltage-controlled
+    determinant is a root of the charge-controlled one at Dhat = Vhat lam^2/beta, i.e.
+    the incremental boundary conditions are the same (value False = they do not differ)."""
+    from models.plate.voltage import critical_stretches_at_voltage, dhat_at_voltage
+
+    v = _variant(entry)
+    worst = 0.0
+    for xi in entry.parameters["xi"]:
+        p = PlateParams(float(xi), 0.0, variant=v)
+        for V in entry.parameters["Vhat"]:
+            for kH in (0.5, 3.0):
+                lam, _ = critical_stretches_at_voltage(kH, float(V), p, n_scan=200)
+                for lv in lam:
+                    cc = critical_stretches(kH, PlateParams(float(xi), float(
+                        dhat_at_voltage(lv, float(V), p)), variant=v)).lam
+                    worst = max(worst, float(np.min(np.abs(cc - lv))))
+    same = worst < 1e-9
+    return Outcome(not same, diagnosis=f"{entry.diagnosis}; max distance of a "
+                   f"voltage-control root to the charge-control curve of its Dhat: {worst:.2e}",
+                   evidence="verification/test_ch4_methods.py::"
+                   "test_voltage_control_roots_agree_between_methods")

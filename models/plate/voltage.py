@@ -1,0 +1,88 @@
+"""Beyond the thesis: voltage control of the electroded plate (Sec. 4.3.1 leaves it to
+"a future study").
+
+With compliant electrodes bonded to both faces (the thesis' configuration) the exterior
+field vanishes under charge *and* voltage control, and each electrode is an equipotential
+surface. For an incremental mode ~ exp(i k x1), k != 0, the electrode potential must stay
+uniform, hence zero: the tangential incremental field vanishes (E_L0,1 = 0) and the
+traction rows are unchanged. The incremental boundary-value problem is therefore the same
+as under charge control; only the base state differs. Re-derived from (4.20):
+
+    E = F^-T dW/dD_L = (alpha F^-T D_L + beta F D_L)/eps,  E2 = (alpha lam^4 + beta) D2/eps,
+    V = E2 h = (alpha lam^4 + beta) D2 H lam^-2/eps,
+
+so at fixed Vhat = V sqrt(eps/mu)/H the displacement along a curve is
+Dhat(lam) = Vhat lam^2/(alpha lam^4 + beta). lam_cr(kH) at fixed Vhat solves
+det(lam, kH; Dhat(lam)) = 0 with the determinant of method 1, and is checked against the
+FE eigenvalue crossing of method 2 at the same (lam, kH, Dhat(lam)).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from types import SimpleNamespace
+
+import numpy as np
+from scipy.optimize import brentq
+
+from models.errors import ConvergenceError, require
+from models.plate.ansatz import LAM_WINDOW, PARITIES, determinant, scan_grid
+from models.plate.coefficients import PlateParams
+from models.plate.fem import eigenvalues
+
+
+def dhat_at_voltage(lam, Vhat: float, params: PlateParams):
+    """Dhat = Vhat lam^2/(alpha lam^4 + beta): the displacement at fixed voltage."""
+    lam = np.asarray(lam, float)
+    return Vhat * lam**2 / (params.alpha * lam**4 + params.beta)
+
+
+def _params_at(lam, Vhat, params):
+    """Duck-typed parameters with an array Dhat (for the vectorised determinant)."""
+    return SimpleNamespace(xi=params.xi, Dhat=dhat_at_voltage(lam, Vhat, params),
+                           beta=params.beta, alpha=params.alpha, variant=params.variant)
+
+
+def determinant_at_voltage(lam, kH, Vhat: float, params: PlateParams, parity: str):
+    lam = np.asarray(lam, float)
+    return determinant(lam, kH, _params_at(lam, Vhat, params), parity)
+
+
+def critical_stretches_at_voltage(kH: float, Vhat: float, params: PlateParams, *,
+                                  window=LAM_WINDOW, n_scan: int = 400):
+    """lam_cr at fixed kH and fixed voltage Vhat (charge-free exterior, electroded plate).
+
+    Returns (lam, parity) sorted by lam. Brackets on a geometric lam grid, brentq refine.
+    """
+    require(np.isfinite(Vhat) and Vhat >= 0, f"Vhat must be >= 0, got {Vhat}")
+    require(np.isfinite(kH) and kH > 0, f"kH must be > 0, got {kH}")
+    grid = scan_grid(window, n_scan)
+    lams, pars = [], []
+    for par in PARITIES:
+        v = determinant_at_voltage(grid, kH, Vhat, params, par)
+        ok = np.isfinite(v[:-1]) & np.isfinite(v[1:])
+        for i in np.nonzero(ok & (v[:-1] * v[1:] < 0))[0]:
+            try:
+                r = brentq(lambda x, par=par: float(determinant_at_voltage(
+                    np.array(x), kH, Vhat, params, par)), grid[i], grid[i + 1], xtol=1e-13)
+            except (ValueError, RuntimeError) as exc:
+                raise ConvergenceError(f"voltage-control brentq failed: {exc}") from exc
+            lams.append(r)
+            pars.append(par)
+    order = np.argsort(lams)
+    return np.asarray(lams)[order], tuple(pars[i] for i in order)
+
+
+def fe_root_at_voltage(lam0: float, kH: float, Vhat: float, params: PlateParams, n: int,
+                       rel: float = 1e-3) -> float:
+    """Method 2: the FE eigenvalue crossing near lam0 with Dhat = Dhat(lam) varying."""
+    def ev(x, count=8):
+        p = replace(params, Dhat=float(dhat_at_voltage(x, Vhat, params)))
+        return eigenvalues(x, kH, p, n, count)
+
+    lo, hi = lam0 * (1 - rel), lam0 * (1 + rel)
+    n_lo, n_hi = int(np.sum(ev(lo) < 0)), int(np.sum(ev(hi) < 0))
+    if abs(n_lo - n_hi) != 1:
+        raise ConvergenceError(f"inertia {n_lo} -> {n_hi} near lam = {lam0} (voltage control)")
+    j = min(n_lo, n_hi)
+    return brentq(lambda x: ev(x, j + 1)[j], lo, hi, xtol=1e-14)
