@@ -43,31 +43,39 @@ def _grid(T: float, steps: int) -> np.ndarray:
 
 
 def _stresses(l1, l2, kappa):
-    J = 1.0 / (l1 * l1 * l2 * l2)            # lambda_3^2
-    den = 1.0 - kappa * (l1 * l1 + l2 * l2 + J - 3.0)
+    """sigma1, sigma2, d sigma1/d l1, d sigma1/d l2 (3.36)-(3.37) per mu, and 1 - (I1-3)/Jm."""
+    l1s = l1 * l1
+    l2s = l2 * l2
+    J = 1.0 / (l1s * l2s)                    # lambda_3^2
+    den = 1.0 - kappa * (l1s + l2s + J - 3.0)
     g = 1.0 / den
-    a1 = l1 * l1 - J
-    a2 = l2 * l2 - J
+    a1 = l1s - J
     s1 = g * a1
-    s2 = g * a2
-    gg = kappa * g * g
-    s1_1 = g * (2 * l1 + 2 * J / l1) + a1 * gg * (2 * l1 - 2 * J / l1)
-    s1_2 = g * (2 * J / l2) + a1 * gg * (2 * l2 - 2 * J / l2)
+    s2 = g * (l2s - J)
+    Jl1 = J / l1
+    Jl2 = J / l2
+    if kappa:
+        ga = kappa * g * s1                  # a1 kappa g^2
+        s1_1 = 2 * (g * (l1 + Jl1) + ga * (l1 - Jl1))
+        s1_2 = 2 * (g * Jl2 + ga * (l2 - Jl2))
+    else:
+        s1_1 = 2 * (l1 + Jl1)
+        s1_2 = 2 * Jl2
     return s1, s2, s1_1, s1_2, den
 
 
 def _rhs(l1, l2, kappa, membrane):
     s1, s2, s1_1, s1_2, den = _stresses(l1, l2, kappa)
+    d12 = l1 - l2
     if membrane:
         T1 = s1 / l1
-        T1_1 = (s1_1 * l1 - s1) / (l1 * l1)
-        T1_2 = s1_2 / l1
-        f1 = (s2 / l2 - T1 - T1_2 * (l1 - l2)) / T1_1
+        T1_1 = (s1_1 - T1) / l1
+        f1 = (s2 / l2 - T1 - (s1_2 / l1) * d12) / T1_1
         slope = T1_1
     else:
-        f1 = (l1 * (s2 - s1) + s1_2 * (l2 - l1) * l2) / (l2 * s1_1)
+        f1 = (l1 * (s2 - s1) - s1_2 * d12 * l2) / (l2 * s1_1)
         slope = s1_1
-    return f1, l1 - l2, den, slope
+    return f1, d12, den, slope
 
 
 def integrate_inward(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
@@ -95,22 +103,26 @@ def integrate_inward(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
         P2 = np.empty_like(P1)
         P1[0], P2[0] = l1, l2
     with np.errstate(all="ignore"):
+        # admissibility: Gent energy defined (den > 0) and radial equation elliptic
+        # (slope > 0) at every stage; tracked as a running minimum (real parts)
+        worst = np.full(l1.shape, np.inf)
         for k in range(steps):
             h = tgrid[k + 1] - tgrid[k]
             a1, a2, d, s = _rhs(l1, l2, kappa, membrane)
-            bad |= ~((d.real > 0) & (s.real > 0) & (l1.real > 0))
+            worst = np.minimum(worst, np.minimum(d.real, s.real))
             b1, b2, d, s = _rhs(l1 + 0.5 * h * a1, l2 + 0.5 * h * a2, kappa, membrane)
-            bad |= ~((d.real > 0) & (s.real > 0))
+            worst = np.minimum(worst, np.minimum(d.real, s.real))
             c1, c2, d, s = _rhs(l1 + 0.5 * h * b1, l2 + 0.5 * h * b2, kappa, membrane)
-            bad |= ~((d.real > 0) & (s.real > 0))
+            worst = np.minimum(worst, np.minimum(d.real, s.real))
             e1, e2, d, s = _rhs(l1 + h * c1, l2 + h * c2, kappa, membrane)
-            bad |= ~((d.real > 0) & (s.real > 0))
+            worst = np.minimum(worst, np.minimum(d.real, s.real))
             l1 = l1 + h / 6 * (a1 + 2 * b1 + 2 * c1 + e1)
             l2 = l2 + h / 6 * (a2 + 2 * b2 + 2 * c2 + e2)
             if profile:
                 P1[k + 1], P2[k + 1] = l1, l2
         _, _, d, s = _rhs(l1, l2, kappa, membrane)
-        bad |= ~((d.real > 0) & (s.real > 0) & (l1.real > 0) & np.isfinite(l1.real))
+        worst = np.minimum(worst, np.minimum(d.real, s.real))
+        bad |= ~(worst > 0) | ~(l1.real > 0) | ~np.isfinite(l1.real) | ~np.isfinite(l2.real)
     l1 = np.where(bad, np.nan, l1)
     l2 = np.where(bad, np.nan, l2)
     if profile:
