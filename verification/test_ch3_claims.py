@@ -191,3 +191,35 @@ def test_catalogue_statuses_match_expected():
 def test_percent_units_are_percent():
     assert all(e.unit in ("1", "%", "Pa", "F/m", "V/m") for e in CAT.values())
     assert math.isclose(CAT["ch3.annulus.thickness_A_increase"].implied_tolerance(), 0.05)
+
+
+# ------------------------------------------------------------------ event properties
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+#: events are located to the shooting solver's precision (Illinois to 1e-14 in q):
+#: the defining residuals vanish to ~1e-9 relative (|d lambda/dq| ~ 1e2 amplifies q
+#: rounding; Phibar^2 ~ 0.1-1)
+EVENT_RESIDUAL = 1e-8
+
+
+@settings(max_examples=15)
+@given(c=st.floats(-0.1, 0.0), lamP=st.sampled_from([1.25, 2.0, 3.0]))
+def test_failure_events_satisfy_their_definitions(c, lamP):
+    """Property over c and lamP: the failure point satisfies its defining equation
+    (pull-in: d Phibar^2/d lambda = 0; loss of tension: sigma1^(A) = 0; breakdown:
+    Phibar = Phibar_B), precedes every other event, and loss of tension is independent
+    of c (Sec. 3.6)."""
+    from models.circular.actuator import _event_function
+    br = prod._branch(lamP)
+    cv, c0 = curves(br, [c, 0.0])
+    f = cv.failure
+    assert f is not None
+    res = _event_function(np.array([f.kind]), br.annulus, np.array([f.q]), np.array([c]),
+                          np.array([params.EPS_R_ASSUMED]), params.MU_VHB, br.steps)
+    scale = 1.0 if f.kind != "pullin" else max(1.0, abs(float(np.max(
+        analysis.dphibar2_dlam(br, c)[np.isfinite(analysis.dphibar2_dlam(br, c))]))))
+    assert abs(res[0]) < EVENT_RESIDUAL * scale
+    others = [e.lam for k, e in cv.events.items() if e is not None and k != "minimum"]
+    assert f.lam == min(others)
+    assert cv.events["loss_of_tension"].lam == c0.events["loss_of_tension"].lam

@@ -194,7 +194,7 @@ def free_membrane_gent(entry: Entry) -> Outcome:
 def model_constant(entry: Entry) -> Outcome:
     """The code's constant equals the thesis-stated value (the model implements the spec)."""
     name = _p(entry, "constant")
-    return Outcome(value=float(getattr(params, name)))
+    return Outcome(value=float(getattr(params, name)), status="input")
 
 
 def table_3_1(entry: Entry) -> Outcome:
@@ -204,7 +204,17 @@ def table_3_1(entry: Entry) -> Outcome:
     if ref != int(_p(entry, "data_reference")):
         return Outcome(value=False, status="not_reproduced",
                        diagnosis=f"model's Table 3.1 column {col} cites [{ref}]")
-    return Outcome(value=c)
+    return Outcome(value=c, status="input")
+
+
+def figure_parameters(entry: Entry) -> Outcome:
+    """The builder uses the stated figure parameters (RB/RA = 15, c = 0 and -0.053, the
+    Fig. 3.7 pre-stretches)."""
+    from reference.builders import ch3 as builder
+    ok = (builder.RADIUS_RATIO == _p(entry, "radius_ratio_figures")
+          and set(_p(entry, "prestretches_fig3_7")) <= set(builder.LAMP_CURVES)
+          and set(_p(entry, "c_values")) <= set(builder.C_CURVES))
+    return Outcome(value=entry.value if ok else "differs", status="input")
 
 
 # ------------------------------------------------------------------ qualitative claims
