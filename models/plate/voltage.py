@@ -56,6 +56,8 @@ def critical_stretches_at_voltage(kH: float, Vhat: float, params: PlateParams, *
     """
     require(np.isfinite(Vhat) and Vhat >= 0, f"Vhat must be >= 0, got {Vhat}")
     require(np.isfinite(kH) and kH > 0, f"kH must be > 0, got {kH}")
+    require(params.variant != "literal", "voltage control needs a consistent variant "
+            "('derived' or 'printed'), got 'literal'")
     grid = scan_grid(window, n_scan)
     lams, pars = [], []
     for par in PARITIES:
