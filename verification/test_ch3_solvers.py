@@ -202,3 +202,73 @@ def test_curves_share_one_branch_for_all_c():
     cvs = curves(br, [0.0, -0.03, -0.053])
     lot = [cv.events["loss_of_tension"].lam for cv in cvs]
     assert max(lot) - min(lot) == 0.0
+
+
+# ------------------------------------------------------------------ key numbers, two ways
+class _ColloBranch:
+    """Circle-A quantities on collocation solves with warm starts (no shooting code)."""
+
+    def __init__(self, an):
+        self.an = an
+        self.cache = {}
+        self.prev = None
+
+    def T1(self, lam):
+        if lam not in self.cache:
+            near = self.prev is not None and abs(self.prev.lam - lam) < 0.5
+            guess = self.prev if near else None
+            if guess is None:
+                for s in np.linspace(self.an.lamP, lam, 8)[1:-1]:
+                    guess = collocation.solve(self.an, float(s), guess)
+            self.prev = collocation.solve(self.an, float(lam), guess)
+            self.cache[lam] = self.prev
+        return self.cache[lam].T1
+
+    def phibar2(self, lam, c):
+        from models.circular import circle_a
+        return float(circle_a.phibar_squared(lam, self.T1(lam), c, self.an.kappa))
+
+
+#: collocation (tol 1e-8) vs shooting (200 steps): T1 agrees to ~1e-7; a root of T1
+#: moves by ~1e-7/|dT1/dlam| ~ 1e-7; a maximum's location is set by golden section
+#: (xatol 1e-7) and its value to O(1e-12)
+KEY_LAM_ATOL = 2e-6
+KEY_PHI_RTOL = 1e-7
+
+
+def test_loss_of_tension_two_methods():
+    """Sec. 3.5.3 (6.73): brentq on collocation T1(lam) vs the shooting event."""
+    from scipy.optimize import brentq
+    cb = _ColloBranch(Annulus(3.0))
+    lam_c = brentq(cb.T1, 6.5, 7.0, xtol=1e-12)
+    ev = curves(branch(Annulus(3.0)), [0.0])[0].events["loss_of_tension"]
+    assert lam_c == pytest.approx(ev.lam, abs=KEY_LAM_ATOL)
+
+
+def test_pullin_two_methods():
+    """Sec. 3.5.2 (0.518): golden-section maximum of Phibar on collocation solves vs the
+    shooting event (Illinois on the exact complex-step slope)."""
+    from scipy.optimize import minimize_scalar
+    cb = _ColloBranch(Annulus(1.25))
+    res = minimize_scalar(lambda x: -cb.phibar2(x, 0.0), bounds=(1.7, 1.9), method="bounded",
+                          options={"xatol": 1e-7})
+    ev = curves(branch(Annulus(1.25)), [0.0])[0].events["pullin"]
+    assert res.x == pytest.approx(ev.lam, abs=1e-5)
+    assert np.sqrt(-res.fun) == pytest.approx(ev.phibar, rel=KEY_PHI_RTOL)
+
+
+def test_interface_change_two_methods():
+    """Sec. 3.5.1 (25.3 %, 15.6 %): states at Phibar = 0.2 by brentq on collocation vs the
+    shooting Newton (models.circular.analysis.state_at_voltage)."""
+    from scipy.optimize import brentq
+
+    from models.circular import analysis
+    an = Annulus(3.0)
+    cb = _ColloBranch(an)
+    br = branch(an)
+    for c in (0.0, -0.053):
+        lam_c = brentq(lambda x, c=c: cb.phibar2(x, c) - 0.04, 3.05, 6.0, xtol=1e-12)
+        s = analysis.state_at_voltage(br, c, 0.2)
+        assert lam_c == pytest.approx(s["lam"], abs=KEY_LAM_ATOL)
+        cb.T1(lam_c)
+        assert cb.cache[lam_c].lam1 == pytest.approx(s["lam1B"], abs=KEY_LAM_ATOL)
