@@ -272,3 +272,22 @@ def test_interface_change_two_methods():
         assert lam_c == pytest.approx(s["lam"], abs=KEY_LAM_ATOL)
         cb.T1(lam_c)
         assert cb.cache[lam_c].lam1 == pytest.approx(s["lam1B"], abs=KEY_LAM_ATOL)
+
+
+def test_suppression_prestretch_bracketed_by_collocation():
+    """Sec. 3.5.2 (2.53, c = 0), second method: on collocation solves (dense stretch grid
+    through the cusp region) Phibar has a local maximum for lamP = 2.530 and none for
+    lamP = 2.538, bracketing the shooting value 2.5341."""
+    from models.circular import analysis
+
+    def has_max(lamP):
+        an = Annulus(lamP)
+        lam = np.linspace(4.0, 5.0, 81)
+        cb = collocation.branch(an, np.concatenate([np.linspace(lamP, 4.0, 12)[1:-1], lam]))
+        from models.circular import circle_a
+        p2 = circle_a.phibar_squared(cb.lam[-81:], cb.T1[-81:], 0.0, an.kappa)
+        return bool(np.any(np.diff(p2) < 0))
+
+    assert has_max(2.530) and not has_max(2.538)
+    shoot = analysis.pullin_suppression_prestretch(0.0, n=200, xtol=1e-6)
+    assert 2.530 < shoot < 2.538
