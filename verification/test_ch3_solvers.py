@@ -291,3 +291,13 @@ def test_suppression_prestretch_bracketed_by_collocation():
     assert has_max(2.530) and not has_max(2.538)
     shoot = analysis.pullin_suppression_prestretch(0.0, n=200, xtol=1e-6)
     assert 2.530 < shoot < 2.538
+
+
+def test_gent_locking_is_the_failure_when_nothing_else_occurs():
+    """With breakdown removed (eps_r huge) and no pull-in / loss of tension (lamP = 5,
+    c = 0), the curve ends at the circle-A Gent locking stretch (3.23)."""
+    br = branch(Annulus(5.0))
+    cv = curves(br, [0.0], eps_r=1e6)[0]
+    assert cv.failure.kind == "locking"
+    assert cv.lam_max == pytest.approx(locking_stretch_equibiaxial(120.0), rel=1e-14)
+    assert np.isfinite(cv.phibar[-1]) and cv.phibar[-1] > cv.phibar[-2]

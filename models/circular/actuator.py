@@ -16,7 +16,10 @@ the shooting parameter, to ``EVENT_XTOL`` relative, with exact complex-step deri
   c by construction;
 * ``breakdown``: Phibar = sqrt(eps_bar/mu) E_B(lambda)/lambda^2 (Sec. 3.5.5), crossed from
   below;
-* ``end``: the end of the traced branch (Gent locking / loss of admissibility).
+* ``locking``: the Gent locking stretch of circle A, 2 lam^2 + lam^-4 - 3 = Jm (3.23)
+  (bisection to machine precision), reported as the failure only when none of the
+  above occurs first (Phibar -> inf there, so breakdown normally precedes it);
+* ``end``: the end of the admissible annulus branch, likewise.
 
 The *failure* is the first of pullin, loss_of_tension, breakdown along increasing lambda
 (the thesis terminates its curves there, Sec. 3.5.3-3.5.5); ``lam_max`` and its Phibar are
@@ -394,6 +397,14 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
             events = {k: located.get((jb, i, k)) for k in EVENT_KINDS}
             cands = [e for k, e in events.items() if k in FAILURE_KINDS and e is not None]
             failure = min(cands, key=lambda e: e.lam) if cands else None
+            if failure is None:
+                # nothing before the end of the traced branch: Gent locking of circle A
+                # (3.23) if the branch reaches it (Phibar -> inf there), else the end of
+                # the admissible annulus branch
+                lock = locking_stretch_equibiaxial(br.annulus.Jm)
+                kind = "locking" if br.lam_end >= 0.999 * lock * (1 - 1e-12) else "end"
+                failure = Event(kind, float(lock if kind == "locking" else br.lam_end),
+                                float("nan"), float("nan"))
             sigma1A = circle_a.sigma1_circle_a(br.lam, phibar, c, br.annulus.kappa)
             out.append(Curve(actuator=act, lam=br.lam, phibar=phibar, sigma1A=sigma1A,
                              phibar_breakdown=pb, events=events, failure=failure))

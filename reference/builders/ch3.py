@@ -33,7 +33,7 @@ LAMP_CURVES = (1.1, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0)
 C_CURVES = (0.0, -0.02, -0.04, -0.053, -0.06, -0.08, -0.1)
 LAMP_SWEEP = (1.25, 2.0, 3.0)
 EPS_R = (3.5, 4.05, 4.2, 4.7, 5.5)
-MODES = ("pullin", "loss_of_tension", "breakdown")  # failure_mode flag values 1, 2, 3
+MODES = ("pullin", "loss_of_tension", "breakdown", "locking", "end")  # flag values 1..5
 RADIUS_RATIO = 15.0
 
 
@@ -48,8 +48,9 @@ def _mode_code(failure) -> int:
 
 def _mode_attrs() -> dict:
     return {"long_name": "failure mode (first event along increasing stretch)", "units": "1",
-            "flag_values": np.array([0, 1, 2, 3], dtype=np.int8),
-            "flag_meanings": "none pull_in loss_of_tension dielectric_breakdown"}
+            "flag_values": np.array([0, 1, 2, 3, 4, 5], dtype=np.int8),
+            "flag_meanings": ("none pull_in loss_of_tension dielectric_breakdown "
+                              "gent_locking end_of_admissible_branch")}
 
 
 def _common_params(full: bool) -> dict:
@@ -342,7 +343,7 @@ def figures(ds: dict[str, xr.Dataset], fig_dir: Path) -> list[Path]:
     save(fig, "fig3_6_sigma1_lamP_3.png")
 
     fig, ax = plt.subplots(figsize=(6, 4.5))
-    sym = {1: "d", 2: "o", 3: "s"}
+    sym = {1: "d", 2: "o", 3: "s", 4: "x", 5: "x"}
     for lp in v.lamP.values:
         for c, ls in ((0.0, "-"), (-0.053, ":")):
             fp = f.sel(lamP=lp, c=c)
