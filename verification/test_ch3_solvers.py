@@ -301,3 +301,19 @@ def test_gent_locking_is_the_failure_when_nothing_else_occurs():
     assert cv.failure.kind == "locking"
     assert cv.lam_max == pytest.approx(locking_stretch_equibiaxial(120.0), rel=1e-14)
     assert np.isfinite(cv.phibar[-1]) and cv.phibar[-1] > cv.phibar[-2]
+
+
+def test_c_threshold_bracketed_by_collocation():
+    """Sec. 3.5.2 (c = -0.085 printed, -0.0826 ours), second method: on one collocation
+    branch (lamP = 1.25; c enters circle A only) Phibar has a local maximum for c = -0.080
+    and none for c = -0.085."""
+    from models.circular import circle_a
+    an = Annulus(1.25)
+    cb = collocation.branch(an, np.linspace(1.25, 4.5, 261)[1:])
+
+    def has_max(c):
+        K = circle_a.electrostriction_factor(cb.lam, c)
+        p2 = circle_a.phibar_squared(cb.lam, cb.T1, c, an.kappa)
+        return bool(np.any(np.diff(p2[K > 0]) < 0))
+
+    assert has_max(-0.080) and not has_max(-0.085)
