@@ -218,7 +218,11 @@ class MembraneModel:
         t = time.perf_counter()
         self.a.AssembleLinearization(self.gf.vec)
         t1 = time.perf_counter()
-        inv = self.a.mat.Inverse(self.X.FreeDofs(), inverse=self.inverse)
+        try:
+            inv = self.a.mat.Inverse(self.X.FreeDofs(), inverse=self.inverse)
+        except Exception as exc:  # NgException: singular tangent (exactly at a bifurcation)
+            raise ConvergenceError(f"factorisation of the tangent failed at v={self.v:.6g}: "
+                                   f"{exc}") from exc
         t2 = time.perf_counter()
         self.stats["assemble_s"] += t1 - t
         self.stats["factor_s"] += t2 - t1
