@@ -256,30 +256,36 @@ class MembraneModel:
                                f"last |du|/t0={dmax / t0:.3g}")
 
     # ----------------------------------------------------------------- outputs
-    def _eval(self, cf, x, y, z):
-        return cf(self.mesh(x, y, z))
+    def _point(self, x, y, z):
+        try:
+            return self.mesh(x, y, z)
+        except Exception as exc:  # NgException
+            raise ValueError(
+                f"point ({x:.3g}, {y:.3g}, {z:.3g}) is outside the faceted mesh: the "
+                f"imperfection {self.plate.imperfection} t0 is too curved for h_rel = "
+                f"{self.disc.h_rel} (works for imperfection <= 1e-3)") from exc
 
     def centre_deflection(self) -> float:
         """Vertical displacement of the centre point of the top surface / t0."""
         t0 = self.plate.thickness
         z = t0 + (self.plate.imperfection * t0 if self.with_imperfection else 0.0)
-        return float(self.gf.components[0](self.mesh(0.0, 0.0, z - 1e-12 * t0))[2]) / t0
+        return float(self.gf.components[0](self._point(0.0, 0.0, z - 1e-12 * t0))[2]) / t0
 
     def centre_midplane_deflection(self) -> float:
         """Mean vertical displacement of the top and bottom centre points / t0 (free of the
         symmetric thinning of the flat film)."""
         t0 = self.plate.thickness
         w = self.plate.imperfection * t0 if self.with_imperfection else 0.0
-        ut = self.gf.components[0](self.mesh(0.0, 0.0, t0 + w - 1e-12 * t0))[2]
-        ub = self.gf.components[0](self.mesh(0.0, 0.0, w + 1e-12 * t0))[2]
+        ut = self.gf.components[0](self._point(0.0, 0.0, t0 + w - 1e-12 * t0))[2]
+        ub = self.gf.components[0](self._point(0.0, 0.0, w + 1e-12 * t0))[2]
         return 0.5 * (ut + ub) / t0
 
     def centre_thickness(self) -> float:
         """Current thickness at the centre / t0 (top minus bottom vertical position)."""
         t0 = self.plate.thickness
         w = self.plate.imperfection * t0 if self.with_imperfection else 0.0
-        ut = self.gf.components[0](self.mesh(0.0, 0.0, t0 + w - 1e-12 * t0))[2]
-        ub = self.gf.components[0](self.mesh(0.0, 0.0, w + 1e-12 * t0))[2]
+        ut = self.gf.components[0](self._point(0.0, 0.0, t0 + w - 1e-12 * t0))[2]
+        ub = self.gf.components[0](self._point(0.0, 0.0, w + 1e-12 * t0))[2]
         return (t0 + ut - ub) / t0
 
     def centre_stress(self) -> np.ndarray:

@@ -134,7 +134,7 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
 
     Phase 1, voltage control (Newton in v, secant predictor) up to ``v_switch`` (default:
     1.3 x the plate-theory critical voltage) or ``v_max``.  Step control: a step is
-    rejected and halved when Newton fails, when the centre deflection *decreases* (the
+    rejected and halved when Newton fails, when the mid-plane centre deflection *decreases* (the
     iteration slid back towards the unstable flat branch or jumped to the mirror branch),
     or when it jumps by more than ``dw_max`` t0.
     Phase 2, deflection control (bordered Newton, the voltage is an unknown): the centre
@@ -195,8 +195,8 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
         ok = True
         try:
             its = model.newton()
-            w_new = model.centre_deflection()
-            if w_new < rec["w"][-1] - 1e-9 or abs(w_new - rec["w"][-1]) > dw_max:
+            w_new = model.centre_midplane_deflection()   # free of the symmetric thinning
+            if w_new < rec["w_mid"][-1] - 1e-12 or abs(w_new - rec["w_mid"][-1]) > dw_max:
                 ok = False
         except ConvergenceError:
             ok = False
