@@ -47,7 +47,9 @@ def mechanical_energy_numpy(F: np.ndarray, mat: NeoHookean | Ogden) -> float:
     if isinstance(mat, NeoHookean):
         return mat.mu / 2 * (J ** (-2 / 3) * np.trace(C) - 3) + vol
     lb2 = np.linalg.eigvalsh(J ** (-2 / 3) * C)
-    return sum(2 * m / a**2 * (np.sum(lb2 ** (a / 2)) - 3) for a, m in zip(mat.alphas, mat.mus)) + vol
+    iso = sum(2 * m / a**2 * (np.sum(lb2 ** (a / 2)) - 3)
+              for a, m in zip(mat.alphas, mat.mus, strict=True))
+    return iso + vol
 
 
 def kirchhoff_principal(stretches, mat: NeoHookean | Ogden) -> np.ndarray:
@@ -60,7 +62,7 @@ def kirchhoff_principal(stretches, mat: NeoHookean | Ogden) -> np.ndarray:
     tau = np.full(3, mat.k * J * (J - 1))
     if isinstance(mat, NeoHookean):
         return tau + mat.mu * (lb**2 - np.sum(lb**2) / 3)
-    for a, m in zip(mat.alphas, mat.mus):
+    for a, m in zip(mat.alphas, mat.mus, strict=True):
         tau = tau + 2 * m / a * (lb**a - np.sum(lb**a) / 3)
     return tau
 

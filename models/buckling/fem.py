@@ -40,8 +40,8 @@ import math
 import time
 from dataclasses import dataclass, field
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 from netgen.geom2d import SplineGeometry
 from netgen.meshing import Element2D, Element3D, FaceDescriptor, MeshPoint, Pnt
 from netgen.meshing import Mesh as NGMesh
@@ -80,7 +80,8 @@ def disk_prism_mesh(plate: Plate, disc: Discretisation, *, with_imperfection: bo
     ids = []
     for k in range(disc.layers + 1):
         z = t0 * k / disc.layers
-        ids.append([ngm.Add(MeshPoint(Pnt(x, y, z + w))) for (x, y), w in zip(pts2, w0)])
+        ids.append([ngm.Add(MeshPoint(Pnt(x, y, z + w)))
+                    for (x, y), w in zip(pts2, w0, strict=True)])
     fd_bot = ngm.Add(FaceDescriptor(surfnr=1, domin=1, domout=0, bc=1))
     fd_top = ngm.Add(FaceDescriptor(surfnr=2, domin=1, domout=0, bc=2))
     fd_edge = ngm.Add(FaceDescriptor(surfnr=3, domin=1, domout=0, bc=3))
@@ -142,7 +143,7 @@ def mechanical_energy_cf(F, mat: NeoHookean | Ogden):
     w = 0
     for sign in (1.0, -1.0):
         eigs = _sym_eigs(Cb + sign * mat.delta * P)
-        for a, mu in zip(mat.alphas, mat.mus):
+        for a, mu in zip(mat.alphas, mat.mus, strict=True):
             w = w + 0.5 * 2 * mu / a**2 * (sum(e ** (a / 2) for e in eigs) - 3)
     return w + vol
 
@@ -316,7 +317,8 @@ class MembraneModel:
         a, t0 = self.plate.radius, self.plate.thickness
         best = 0.0
         for r in np.linspace(0, 0.95 * a, npts):
-            w = (self.plate.imperfection * t0 if self.with_imperfection else 0.0) * (1 - (r / a) ** 2) ** 2
+            amp = self.plate.imperfection * t0 if self.with_imperfection else 0.0
+            w = amp * (1 - (r / a) ** 2) ** 2
             best = max(best, float(E(self.mesh(r, 0.0, 0.5 * t0 + w))))
         return best
 

@@ -53,7 +53,7 @@ def critical_voltage(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation
 
     xs = [(0.8 * v_est) ** 2, (0.95 * v_est) ** 2]
     ls = [lam_at(math.sqrt(x)) for x in xs]
-    hist = [(math.sqrt(x), lv) for x, lv in zip(xs, ls)]
+    hist = [(math.sqrt(x), lv) for x, lv in zip(xs, ls, strict=True)]
     for it in range(maxit):
         x_new = xs[-1] - ls[-1] * (xs[-1] - xs[-2]) / (ls[-1] - ls[-2])
         if not (x_new > 0 and math.isfinite(x_new)):
@@ -112,7 +112,8 @@ class RampResult:
             if np.any(bad):
                 if prev is None:
                     return float(self.eig_v[i]), float(self.eig_w[i])
-                lam0 = np.min(np.where(self.eig_axisym[prev] < axisym_max, self.eig_lam[prev], np.inf))
+                lam0 = np.min(np.where(self.eig_axisym[prev] < axisym_max,
+                                       self.eig_lam[prev], np.inf))
                 lam1 = np.min(self.eig_lam[i][bad])
                 f = lam0 / (lam0 - lam1) if np.isfinite(lam0) else 1.0
                 return (float(self.eig_v[prev] + f * (self.eig_v[i] - self.eig_v[prev])),

@@ -18,7 +18,6 @@ one core.  ``full=True``: refined meshes (down to 0.5 t0; ramps at 1 t0), hours.
 
 from __future__ import annotations
 
-import math
 import os
 from pathlib import Path
 
@@ -150,11 +149,15 @@ def compute(full: bool = False, progress: bool = True):
     data = {}
     for key, ln, unit in (("v", "normalised voltage Phi/t0 sqrt(eps/mu_ref)", "1"),
                           ("w", "vertical displacement of the top-surface centre / t0", "1"),
-                          ("w_mid", "mean vertical displacement of top and bottom centre / t0", "1"),
+                          ("w_mid", "mean vertical displacement of top and bottom centre / t0",
+                           "1"),
                           ("thickness", "current centre thickness / t0", "1"),
-                          ("e_centre", "normalised true field at the centre E sqrt(eps/mu_ref)", "1"),
-                          ("e_max", "largest sampled normalised true field (mid-plane radius)", "1")):
-        data[key] = (("case", "step"), np.array([pad(getattr(ramps[c], key), nstep) for c in names]),
+                          ("e_centre", "normalised true field at the centre E sqrt(eps/mu_ref)",
+                           "1"),
+                          ("e_max", "largest sampled normalised true field (mid-plane radius)",
+                           "1")):
+        data[key] = (("case", "step"),
+                     np.array([pad(getattr(ramps[c], key), nstep) for c in names]),
                      attrs1(ln, unit))
     data["eig_v"] = (("case", "eig_record"), np.array([pad(ramps[c].eig_v, neig) for c in names]),
                      attrs1("normalised voltage of the eigen-analysis record"))
@@ -190,7 +193,8 @@ def compute(full: bool = False, progress: bool = True):
         "normalised voltage at the onset of a non-axisymmetric mode (NaN: none before pull-in)"))
     data["w_wrinkling"] = (("case",), np.array([w[1] if w else np.nan for w in won]), attrs1(
         "centre deflection / t0 at the onset of a non-axisymmetric mode (NaN: none)"))
-    data["ndof"] = (("case",), np.array([r.ndof for r in ramps.values()]), attrs1("degrees of freedom"))
+    data["ndof"] = (("case",), np.array([r.ndof for r in ramps.values()]),
+                    attrs1("degrees of freedom"))
     data["thickness_m"] = (("case",), np.array([CASES[c][1] for c in names]),
                            attrs1("initial thickness t0", "m"))
     ramp_ds = xr.Dataset(data, coords={
@@ -256,7 +260,8 @@ def figures(crit, ramps, fig_dir: Path) -> list[Path]:
     for case in crit.case.values:
         c = crit.sel(case=case)
         err = np.abs(c.v_cr.values - float(c.v_cr_extrapolated))
-        ax.loglog(crit.h_rel.values, err, "o-", label=f"{case} (p = {float(c.convergence_rate):.2f})")
+        ax.loglog(crit.h_rel.values, err, "o-",
+                  label=f"{case} (p = {float(c.convergence_rate):.2f})")
     ax.set_xlabel("in-plane mesh size / t0")
     ax.set_ylabel("|v_cr - Richardson limit|")
     ax.legend()

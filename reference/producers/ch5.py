@@ -208,7 +208,8 @@ def erratum_compressibility(entry: Entry) -> Outcome:
     compressible = h["s"] < 1 - 1e-5 and -h["sigma11"] < 0.99 * h["e"] ** 2
     return Outcome(value=compressible, status="confirmed" if compressible else "refuted",
                    evidence=entry.evidence,
-                   details={"s_at_v0.2": h["s"], "sigma11_over_maxwell": -h["sigma11"] / h["e"] ** 2})
+                   details={"s_at_v0.2": h["s"],
+                            "sigma11_over_maxwell": -h["sigma11"] / h["e"] ** 2})
 
 
 def clamped_plate_coefficient(entry: Entry) -> Outcome:
@@ -235,7 +236,8 @@ def model_input(entry: Entry) -> Outcome:
         "table5_1.ogden_alpha": ", ".join(f"{a:g}" for a in Ogden().alphas),
         "table5_1.ogden_mu": ", ".join(f"{m:g}" for m in Ogden().mus),
         "geometry.radius_to_thickness": Plate().aspect,
-        "geometry.thicknesses": ", ".join(f"{t * 1e3:g}" for t in sorted({t for _, t in CASES.values()})),
+        "geometry.thicknesses": ", ".join(
+            f"{t * 1e3:g}" for t in sorted({t for _, t in CASES.values()})),
         "geometry.imperfection": Plate().imperfection,
         "geometry.edge_clamped": "fixed (clamped)",   # fem.MembraneModel: dirichlet="edge" on u
         "breakdown_strength": BREAKDOWN,
@@ -253,7 +255,8 @@ def discretisation(entry: Entry) -> Outcome:
     if ours is None:
         c = _crit()
         ours = int(c.nelements.values.max())
-    return Outcome(value=float(ours), status="not_reproduced", details={"ramp_ndof": r.ndof.values.tolist()},
+    return Outcome(value=float(ours), status="not_reproduced",
+                   details={"ramp_ndof": r.ndof.values.tolist()},
                    diagnosis=("different discretisation by design (quadratic prisms, one layer; "
                               "the 1 vs 2 layer change of v_cr is < 0.5 %, and v_cr converges at "
                               "a measured rate, see ch5_critical_voltage.nc)"),
