@@ -23,7 +23,6 @@ from pathlib import Path
 import numpy as np
 
 
-
 def _discover_chapters() -> tuple[str, ...]:
     """Builder modules in ``reference.builders``; the catalogue last (it reflects all)."""
     import reference.builders as pkg
