@@ -39,8 +39,11 @@ ROUNDING_RTOL = 1e-10
 """Identities that hold exactly (objectivity, symmetry): rounding of O(100) flops on
 entries up to the stress scale (k = 7.7e6 Pa amplifies relative errors of J - 1)."""
 TAYLOR_MIN_RATE_ENERGY = 1.8
-"""|W(x + h d) - W - h W'.d| must fall like h^2 (first-order Taylor remainder);
-1.8 leaves room for the h^3 term at the largest h."""
+"""|W(x + h d) - W - h W'.d| must fall like h^2 (first-order Taylor remainder). The rate
+of a first-order remainder is measured between the two smallest steps (the asymptotic
+end), where the remainder is still ~1e-6 relative, far above rounding: with the stiff
+volumetric term (k/mu ~ 50) the h^3 term is not negligible at h = 1e-3 (see
+test_taylor_rate_at_stiff_ogden_state_found_by_hypothesis)."""
 TAYLOR_MIN_RATE_SECOND = 2.7
 """Second-order remainders (energy with moduli) must fall like h^3."""
 TAYLOR_STEPS = 1e-3 * 0.5 ** np.arange(4)
@@ -122,12 +125,20 @@ def test_transversely_isotropic_model_is_not_isotropic():
     assert abs(mat.energy(F @ R.T, np.zeros(3)) - mat.energy(F, np.zeros(3))) > 1e-3
 
 
-def _taylor_rates(f0, g0, f, steps):
-    """Slopes of log remainders; None when every remainder is at rounding level."""
+def _taylor_rates(f0, g0, f, steps, *, asymptotic=False):
+    """Slope of log remainders against log h; None when every remainder is at rounding
+    level. ``asymptotic``: the slope between the two smallest steps only."""
     rem = np.array([abs(f(h) - f0 - g0(h)) for h in steps])
     if np.all(rem <= ROUNDOFF_FLOOR * max(1.0, abs(f0))):
         return None
-    return np.polyfit(np.log(steps), np.log(np.maximum(rem, 1e-300)), 1)[0]
+    return _slope(steps, rem, asymptotic=asymptotic)
+
+
+def _slope(steps, rem, *, asymptotic: bool) -> float:
+    steps, rem = np.asarray(steps), np.maximum(np.asarray(rem), 1e-300)
+    if asymptotic:
+        return float(np.log(rem[-2] / rem[-1]) / np.log(steps[-2] / steps[-1]))
+    return float(np.polyfit(np.log(steps), np.log(rem), 1)[0])
 
 
 def _direction(data, mat):
@@ -153,7 +164,7 @@ def test_battery_stress_and_field_are_the_energy_derivative(name, data):
     quad = float(np.einsum("ia,iajb,jb", dF, r.AA, dF) + 2 * np.einsum("ia,iab,b", dF, r.AAA, dD)
                  + dD @ r.A @ dD)
     W = lambda h: mat.energy(F + h * dF, D + h * dD)  # noqa: E731
-    rate1 = _taylor_rates(r.W, lambda h: h * lin, W, TAYLOR_STEPS)
+    rate1 = _taylor_rates(r.W, lambda h: h * lin, W, TAYLOR_STEPS, asymptotic=True)
     rate2 = _taylor_rates(r.W, lambda h: h * lin + 0.5 * h * h * quad, W, TAYLOR_STEPS)
     assert rate1 is not None and rate1 >= TAYLOR_MIN_RATE_ENERGY, rate1
     if rate2 is not None:
@@ -181,7 +192,7 @@ def test_battery_moduli_are_the_stress_derivative(name, data):
         rem = np.array(rem)
         if np.all(rem <= ROUNDOFF_FLOOR * max(ref, 1e-300)):
             continue  # stress linear in the direction: exact, no rate to measure
-        rate = np.polyfit(np.log(TAYLOR_STEPS), np.log(np.maximum(rem, 1e-300)), 1)[0]
+        rate = _slope(TAYLOR_STEPS, rem, asymptotic=True)
         assert rate >= TAYLOR_MIN_RATE_ENERGY, rate
 
 
@@ -381,3 +392,30 @@ def test_ogden_bulk_modulus_assumption_sensitivity():
     gap10 = 1 - _ogden_uniaxial_sigma11(10 * mat.k, lam) / incompressible
     assert 0.015 < gap1 < 0.025
     assert gap10 / gap1 == pytest.approx(0.1, rel=0.1)
+
+
+def test_taylor_rate_at_stiff_ogden_state_found_by_hypothesis():
+    """Frozen counterexample (found when the whole suite ran, 2026-11-22): at this Ogden
+    state the first-order remainder / h^2 still drifts from 235 to 381 over
+    h = 1e-3 ... 1.25e-4 (the h^3 term of the stiff volumetric part), so a fit over all
+    steps gave a rate of 1.77; the asymptotic rate is 2 and the remainder / h^2 converges
+    (to ~398) under refinement."""
+    from models.materials import OgdenIdealDielectric
+
+    mat = OgdenIdealDielectric(alphas=(1.293, 2.3252, 2.561), mus=(8580.0, 84300.0, -23300.0),
+                               k=7748003.92, eps=4.1595e-11)
+    F = np.array([[-0.43740963, 0.05970523, -1.00752573],
+                  [0.05270139, 0.96891564, 0.03453732],
+                  [0.92957407, -0.03609996, -0.40570677]])
+    D = np.array([0.0, 0.0, -0.00013291])
+    dF = np.array([0.109375, 0.59375, 0.990234375, -0.625, 0.0, 0.69921875, 0.8, 0.0, 0.0])
+    dF = dF.reshape(3, 3) / np.linalg.norm(dF)
+    dD = np.array([1.0, 0.0, 0.0]) * _scale(mat)[1]
+    r = mat.response(F, D)
+    lin = float(np.sum(r.P * dF) + r.E_L @ dD)
+    W = lambda h: mat.energy(F + h * dF, D + h * dD)  # noqa: E731
+    rate = _taylor_rates(r.W, lambda h: h * lin, W, TAYLOR_STEPS, asymptotic=True)
+    assert rate >= TAYLOR_MIN_RATE_ENERGY, rate
+    fine = 1e-3 * 0.5 ** np.arange(4, 8)
+    ratios = [abs(W(h) - r.W - h * lin) / h**2 for h in fine]
+    assert abs(ratios[-1] - ratios[-2]) < 0.02 * ratios[-1]  # converged: O(h^2) exactly
