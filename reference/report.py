@@ -86,17 +86,18 @@ def errata_table(results: Iterable[Result]) -> str:
 def summary_line(results: list[Result]) -> str:
     counts = status_counts(results)
     order = ["reproduced", "not_reproduced", "not_reproducible", "pending", "confirmed",
-             "assumed", "input", "error"]
+             "refuted", "assumed", "input", "error"]
     return ", ".join(f"{counts[s]} {s.replace('_', ' ')}" for s in order if counts[s])
 
 
 def chapter_summary(results: list[Result]) -> str:
     """Markdown table of status counts per chapter."""
     cols = ["reproduced", "not_reproduced", "not_reproducible", "pending", "confirmed",
-            "assumed", "input", "error"]
+            "refuted", "assumed", "input", "error"]
     present = [c for c in cols if any(r.status == c for r in results)]
-    head = "| chapter | " + " | ".join(c.replace("_", " ") if c != "confirmed"
-                                       else "errata" for c in present) + " |"
+    names = {"confirmed": "errata confirmed", "refuted": "errata refuted"}
+    head = "| chapter | " + " | ".join(names.get(c, c.replace("_", " "))
+                                       for c in present) + " |"
     rows = [head, "|---|" + "---|" * len(present)]
     prefixes = sorted({r.entry.id.split(".")[0] for r in results},
                       key=lambda p: list(CHAPTER_TITLES).index(p) if p in CHAPTER_TITLES else 99)
