@@ -8,9 +8,7 @@
 
 from __future__ import annotations
 
-import importlib.util
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,6 +17,7 @@ from scipy.optimize import brentq, minimize_scalar
 from models.circular import circle_a, collocation, params, shooting
 from reference import catalogue
 from reference.producers import ch3 as producers
+from verification._loaders import load_script
 
 #: closed forms evaluated two ways: rounding only
 CLOSED_FORM_RTOL = 1e-12
@@ -27,11 +26,7 @@ MAX_LOCATION_TOL = 1e-7
 
 
 def _tool():
-    path = Path(__file__).resolve().parents[1] / "tools" / "derive_ch3.py"
-    spec = importlib.util.spec_from_file_location("derive_ch3", path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script("tools/derive_ch3.py")
 
 
 def test_free_neo_hookean_membrane_matches_zhao_suo_closed_form():

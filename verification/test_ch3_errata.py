@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
-
 import numpy as np
 import pytest
 import sympy as sp
@@ -12,6 +9,7 @@ import sympy as sp
 from models.circular import analysis, shooting
 from models.circular.actuator import branch, curves
 from models.circular.params import Annulus
+from verification._loaders import load_script
 
 #: a solution of one ODE fails the other equation by O(1) relative: any threshold far
 #: above the RK4 error (1e-6) and far below O(1) separates "satisfies" from "violates"
@@ -20,11 +18,7 @@ RESIDUAL_VIOLATED = 1e-2
 
 
 def _tool():
-    path = Path(__file__).resolve().parents[1] / "tools" / "derive_ch3.py"
-    spec = importlib.util.spec_from_file_location("derive_ch3", path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script("tools/derive_ch3.py")
 
 
 def _membrane_residual(an: Annulus, lam: float):

@@ -115,15 +115,12 @@ def test_energy_matrix_agrees_with_models_materials_kernel():
 
 def test_generated_code_matches_fresh_sympy_derivation():
     """Re-derive with tools/derive_ch4.py and compare with _generated.py numerically."""
-    import importlib.util
-    import pathlib
 
     import sympy as sp
 
-    path = pathlib.Path(__file__).resolve().parents[1] / "tools" / "derive_ch4.py"
-    spec = importlib.util.spec_from_file_location("derive_ch4", path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
+    from verification._loaders import load_script
+
+    mod = load_script("tools/derive_ch4.py")
     S, p, tau11 = mod.derive()
     _, _, _, coeff = mod.symbol(S)
     rng = np.random.default_rng(4)

@@ -66,11 +66,9 @@ def _junit(tmp_path, tests: int, skipped: int) -> str:
 
 def test_ci_fails_when_no_test_ran(tmp_path):
     """.ci/run must fail when every test was skipped or none was collected."""
-    import importlib.util
+    from verification._loaders import load_script
 
-    spec = importlib.util.spec_from_file_location("count_tests", ROOT / ".ci/count_tests.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
+    mod = load_script(".ci/count_tests.py")
     assert mod.main(["x", _junit(tmp_path, 0, 0)]) == 1
     assert mod.main(["x", _junit(tmp_path, 5, 5)]) == 1
     assert mod.main(["x", _junit(tmp_path, 5, 4)]) == 0
