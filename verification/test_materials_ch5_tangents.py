@@ -14,6 +14,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from models.invariants import printed as pr
+from models.invariants.numerical import central_difference_F
 from models.materials import NeoHookeanIdealDielectric, OgdenIdealDielectric, cauchy_stress
 from verification.strategies import deformation_gradients, lagrangian_displacements
 
@@ -38,14 +39,7 @@ def _mech_iso_P(F):
 
 
 def _fd_F(fun, F):
-    out = []
-    for k in range(3):
-        for l_ in range(3):
-            e = np.zeros((3, 3))
-            e[k, l_] = FD_STEP
-            out.append((fun(F + e) - fun(F - e)) / (2 * FD_STEP))
-    arr = np.array(out).reshape((3, 3) + out[0].shape)
-    return np.moveaxis(arr, (0, 1), (-2, -1))
+    return central_difference_F(fun, F, FD_STEP)
 
 
 def _close(a, b, rtol=FD_RTOL):

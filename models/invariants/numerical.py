@@ -60,3 +60,20 @@ def derivatives(F, D_L, A=None, *, numbering: str = "iso", h2: float = FD_STEP) 
         dFD[:, :, :, b] = (gpF - gmF) / (2 * h2)
         dDD[:, :, b] = (gpD - gmD) / (2 * h2)
     return {"I": I, "dF": dF, "dD": dD, "dFF": dFF, "dFD": dFD, "dDD": dDD}
+
+
+def central_difference_F(fun, F, h: float = FD_STEP) -> np.ndarray:
+    """Central difference of a tensor function of F: ``out[..., k, l] = d fun / dF_kl``.
+
+    ``fun(F)`` may return any array shape S; the result has shape ``S + (3, 3)``.
+    Truncation error ``O(h^2)``.
+    """
+    F = np.asarray(F, dtype=float)
+    cols = []
+    for k in range(3):
+        for l_ in range(3):
+            e = np.zeros((3, 3))
+            e[k, l_] = h
+            cols.append((np.asarray(fun(F + e)) - np.asarray(fun(F - e))) / (2 * h))
+    arr = np.array(cols).reshape((3, 3) + np.shape(cols[0]))
+    return np.moveaxis(arr, (0, 1), (-2, -1))

@@ -15,6 +15,7 @@ import numpy as np
 
 from models.invariants import _generated
 from models.invariants import printed as pr
+from models.invariants.numerical import central_difference_F
 from models.materials import (
     MEMBRANE_MODELS,
     GentIdealDielectric,
@@ -292,14 +293,7 @@ _FD = 1e-6
 
 
 def _fd_F(fun, F):
-    cols = []
-    for k in range(3):
-        for l_ in range(3):
-            e = np.zeros((3, 3))
-            e[k, l_] = _FD
-            cols.append((fun(F + e) - fun(F - e)) / (2 * _FD))
-    arr = np.array(cols).reshape((3, 3) + cols[0].shape)
-    return np.moveaxis(arr, (0, 1), (-2, -1))
+    return central_difference_F(fun, F, _FD)
 
 
 def _TL_DL(F, E_L):
