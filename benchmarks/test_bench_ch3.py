@@ -8,7 +8,7 @@ Thread count fixed: OMP_NUM_THREADS=1 (named in the groups). Run:
 * one voltage-stretch curve (lamP = 2, c = 0 and -0.053, 300 points, events located)
   vs the naive baseline: ``solve_bvp`` from a cold start at every one of the 300 points
   (no events);
-* the whole chapter: :func:`reference.builders.ch3.compute` (all datasets of Figs 3.2-3.9,
+* the whole chapter: :func:`debench.reference.builders.ch3.compute` (all datasets of Figs 3.2-3.9,
   both equilibrium variants, the eps_r study).
 """
 
@@ -21,10 +21,10 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from models.circular import collocation, shooting  # noqa: E402
-from models.circular.actuator import branch, curves  # noqa: E402
-from models.circular.params import Annulus  # noqa: E402
-from reference.builders import ch3 as builder  # noqa: E402
+from debench.models.circular import collocation, shooting  # noqa: E402
+from debench.models.circular.actuator import branch, curves  # noqa: E402
+from debench.models.circular.params import Annulus  # noqa: E402
+from debench.reference.builders import ch3 as builder  # noqa: E402
 
 AN = Annulus(2.0)
 N_POINTS = 300

@@ -28,9 +28,9 @@ import pytest  # noqa: E402
 ngsolve = pytest.importorskip("ngsolve")
 ngsolve.SetNumThreads(1)
 
-from models.buckling.fem import MembraneModel  # noqa: E402
-from models.buckling.parameters import Discretisation, NeoHookean, Ogden, Plate  # noqa: E402
-from models.buckling.solver import voltage_ramp  # noqa: E402
+from debench.models.buckling.fem import MembraneModel  # noqa: E402
+from debench.models.buckling.parameters import Discretisation, NeoHookean, Ogden, Plate  # noqa: E402
+from debench.models.buckling.solver import voltage_ramp  # noqa: E402
 
 SIZES = (3.0, 2.0, 1.4)
 

@@ -13,8 +13,8 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from models.invariants import _generated, closed_form  # noqa: E402
-from models.materials import MATERIALS  # noqa: E402
+from debench.models.invariants import _generated, closed_form  # noqa: E402
+from debench.models.materials import MATERIALS  # noqa: E402
 
 F = np.array([[1.2, 0.1, 0.05], [0.0, 0.9, 0.1], [0.02, 0.0, 1 / 1.08]])
 D = np.array([0.1, 0.2, 0.3])
@@ -46,7 +46,7 @@ def test_bench_material_response_numpy(benchmark, name):
 @pytest.mark.parametrize("name", ["gent_ideal_dielectric", "neo_hookean_ideal_dielectric"])
 def test_bench_material_response_ngsolve(benchmark, name):
     """The same by NGSolve CoefficientFunction.Diff (expression trees built once)."""
-    ngf = pytest.importorskip("models.materials.ngsolve_forms")
+    ngf = pytest.importorskip("debench.models.materials.ngsolve_forms")
     import ngsolve
 
     ngsolve.SetNumThreads(1)

@@ -24,8 +24,8 @@ import numpy as np
 
 
 def _discover_chapters() -> tuple[str, ...]:
-    """Builder modules in ``reference.builders``; the catalogue last (it reflects all)."""
-    import reference.builders as pkg
+    """Builder modules in ``debench.reference.builders``; the catalogue last (it reflects all)."""
+    import debench.reference.builders as pkg
 
     names = sorted(m.name for m in pkgutil.iter_modules(pkg.__path__)
                    if not m.name.startswith("_"))
@@ -50,14 +50,14 @@ def _progress(iterable, desc: str, **kw):
 def cmd_list(args) -> int:
     what = args.what
     if what in ("models", "all"):
-        import models
+        from debench import models
 
         print("models:")
         for mod in pkgutil.iter_modules(models.__path__):
             if not mod.name.startswith("_"):
-                print(f"  models.{mod.name}")
+                print(f"  debench.models.{mod.name}")
     if what in ("datasets", "all"):
-        from reference.datasets import data_dir, read_manifest
+        from debench.reference.datasets import data_dir, read_manifest
 
         files = read_manifest(data_dir())
         print(f"datasets in {data_dir()}:")
@@ -66,7 +66,7 @@ def cmd_list(args) -> int:
         if not files:
             print("  (none: run `debench reproduce --write-data`)")
     if what in ("claims", "all"):
-        from reference import catalogue
+        from debench.reference import catalogue
 
         entries = catalogue.load()
         print(f"catalogue ({len(entries)} entries):")
@@ -78,16 +78,16 @@ def cmd_list(args) -> int:
 # --------------------------------------------------------------------------- reproduce
 def _builder(chapter: str):
     try:
-        return importlib.import_module(f"reference.builders.{chapter}")
+        return importlib.import_module(f"debench.reference.builders.{chapter}")
     except ModuleNotFoundError as exc:
-        if exc.name == f"reference.builders.{chapter}":
+        if exc.name == f"debench.reference.builders.{chapter}":
             return None
         raise
 
 
 def compare_with_curated(path: Path, curated_dir: Path) -> str:
     """One line saying whether a regenerated dataset matches the curated one."""
-    from reference.datasets import DatasetError, read_dataset
+    from debench.reference.datasets import DatasetError, read_dataset
 
     curated = curated_dir / path.name
     if not curated.exists():
@@ -112,8 +112,8 @@ def compare_with_curated(path: Path, curated_dir: Path) -> str:
 
 
 def cmd_reproduce(args) -> int:
-    from reference import catalogue, report
-    from reference.datasets import data_dir
+    from debench.reference import catalogue, report
+    from debench.reference.datasets import data_dir
 
     chapters = args.chapters or list(CHAPTERS)
     unknown = sorted(set(chapters) - set(CHAPTERS))
@@ -137,7 +137,7 @@ def cmd_reproduce(args) -> int:
             print(f"  wrote {p}", file=sys.stderr)
     regeneration = []
     if args.write_data:
-        from reference import datacard
+        from debench.reference import datacard
 
         print(f"  data card: {datacard.write(out)}", file=sys.stderr)
     else:
@@ -157,7 +157,7 @@ def regenerate_and_compare(chapters, *, quiet: bool = False) -> list[str]:
     """Rebuild cheap chapters in a temporary directory; problems where data/ differs."""
     import tempfile
 
-    from reference.datasets import data_dir
+    from debench.reference.datasets import data_dir
 
     problems = []
     with tempfile.TemporaryDirectory(prefix="debench-verify-") as tmp:
@@ -177,8 +177,8 @@ def regenerate_and_compare(chapters, *, quiet: bool = False) -> list[str]:
 
 
 def cmd_verify(args) -> int:
-    from reference import catalogue
-    from reference.datasets import verify_directory
+    from debench.reference import catalogue
+    from debench.reference.datasets import verify_directory
 
     results = catalogue.evaluate_all(progress=None if args.json else
                                      (lambda xs: _progress(xs, "verifying claims")))
@@ -189,7 +189,7 @@ def cmd_verify(args) -> int:
     if args.json:
         print(json.dumps([r.as_json() for r in results], indent=1, ensure_ascii=False))
     else:
-        from reference.report import summary_line
+        from debench.reference.report import summary_line
 
         for r in results:
             if r.status in ("not_reproduced", "not_reproducible", "error") or r.regressed:
@@ -206,21 +206,26 @@ def cmd_verify(args) -> int:
 
 # --------------------------------------------------------------------------- report
 def cmd_report(args) -> int:
-    from reference import catalogue, report
+    from debench.reference import catalogue, report
 
     results = catalogue.evaluate_all(progress=lambda xs: _progress(xs, "verifying claims"))
     if args.datacard:
-        from reference import datacard
+        from debench.reference import datacard
 
         print(f"data card: {datacard.write()}")
     if args.readme:
-        readme = Path(__file__).resolve().parents[1] / "README.md"
+        from debench.reference.provenance import REPO_ROOT
+
+        if REPO_ROOT is None:
+            raise RuntimeError("--readme updates README.md of a source checkout; "
+                               "this debench is installed without one")
+        readme = REPO_ROOT / "README.md"
         changed = report.update_readme(readme, results)
         print(f"{readme}: {'updated' if changed else 'already current'}")
     out = Path(args.out)
     figures = out / "figures"
     if not figures.exists():
-        from reference.datasets import data_dir
+        from debench.reference.datasets import data_dir
 
         figures = data_dir() / "figures"
     path = report.write_report(out, results, figures_dir=figures)
@@ -229,12 +234,38 @@ def cmd_report(args) -> int:
 
 
 # --------------------------------------------------------------------------- main
+def version_string() -> str:
+    """``debench X (commit C; data manifest sha256 D)``: what ``--version`` prints."""
+    import hashlib
+
+    from debench import __version__
+    from debench.reference.datasets import MANIFEST_NAME, data_dir
+    from debench.reference.provenance import git_commit
+
+    manifest = data_dir() / MANIFEST_NAME
+    digest = (hashlib.sha256(manifest.read_bytes()).hexdigest()[:16]
+              if manifest.is_file() else f"none ({manifest} missing)")
+    return (f"debench {__version__} (commit {git_commit()}; "
+            f"data {data_dir()}, manifest sha256 {digest})")
+
+
+class _VersionAction(argparse.Action):
+    def __init__(self, option_strings, dest, **kw):
+        super().__init__(option_strings, dest, nargs=0, default=argparse.SUPPRESS, **kw)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(version_string())
+        parser.exit()
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="debench",
         description="Verification and reproducibility benchmark for dielectric elastomer "
                     "actuators (Zeng 2020).")
     p.add_argument("--debug", action="store_true", help="show tracebacks")
+    p.add_argument("--version", action=_VersionAction,
+                   help="print version, git commit and data manifest digest, then exit")
     sub = p.add_subparsers(dest="command", required=True)
 
     s = sub.add_parser("list", help="list models, datasets and catalogue entries")

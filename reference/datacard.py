@@ -10,18 +10,22 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from reference.datasets import data_dir, read_dataset, read_manifest
+from debench.reference.datasets import data_dir, read_dataset, read_manifest
 
 HEADER = """# debench data card
 
 Curated reference datasets (netCDF-4, CF-1.10 and ACDD-1.3 attributes) produced by
 `debench reproduce --write-data`. Every file is listed in `MANIFEST.json` with its sha256;
-`reference.datasets.read_dataset(name)` verifies the checksum and the required attributes
+`debench.reference.datasets.read_dataset(name)` verifies the checksum and the required attributes
 on every read. Each file carries its model parameters (`parameters`, JSON, and `param_*`),
 the git commit, package versions and the command that made it.
 
+The datasets ship inside the `debench` distribution (`debench.data`): after `pip install`
+the reader finds them from any working directory. Set `DEBENCH_DATA_DIR` (or pass
+`data_dir=`) to read another directory; `debench --version` prints which one is in use.
+
 ```python
-from reference.datasets import read_dataset
+from debench.reference.datasets import read_dataset
 ds = read_dataset("thesis_values")          # xarray.Dataset, verified
 ds.sel(entry="ch3.pullin.voltage_lamP_1p25")
 ```

@@ -33,6 +33,7 @@ from __future__ import annotations
 import contextlib
 import datetime as _dt
 import hashlib
+import importlib.resources
 import json
 import os
 import re
@@ -43,8 +44,8 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from reference import __version__
-from reference.provenance import REPO_ROOT, command_line, git_commit, package_versions_json
+from debench.reference import __version__
+from debench.reference.provenance import command_line, git_commit, package_versions_json
 
 MANIFEST_NAME = "MANIFEST.json"
 CONVENTIONS = "CF-1.10, ACDD-1.3"
@@ -65,15 +66,27 @@ class DatasetError(RuntimeError):
     """A dataset is malformed, tampered with, or missing from its manifest."""
 
 
+#: Environment variable that overrides where the curated datasets are read and written.
+DATA_DIR_ENV = "DEBENCH_DATA_DIR"
+
+
 def data_dir() -> Path:
-    """The curated data directory: ``$DEBENCH_DATA_DIR``, else ``<repo>/data``, else ``./data``."""
-    env = os.environ.get("DEBENCH_DATA_DIR")
+    """The curated data directory.
+
+    ``$DEBENCH_DATA_DIR`` when set, else the datasets shipped with the package
+    (``debench.data``: the clone's ``data/`` in an editable install, the installed copy
+    otherwise). Every reader and writer takes an explicit ``data_dir``/``out_dir`` too.
+    """
+    env = os.environ.get(DATA_DIR_ENV)
     if env:
         return Path(env)
-    repo_data = REPO_ROOT / "data"
-    if (REPO_ROOT / "pyproject.toml").exists():
-        return repo_data
-    return Path.cwd() / "data"
+    return Path(str(importlib.resources.files("debench.data")))
+
+
+def _missing_data_hint(directory: Path) -> str:
+    return (f"looked in {directory} (the packaged data; set ${DATA_DIR_ENV} or pass "
+            "data_dir= to read another directory); `debench reproduce --write-data` "
+            "regenerates the curated datasets from a source checkout")
 
 
 def sha256(path: Path) -> str:
@@ -230,7 +243,7 @@ def read_dataset(name: str | Path, *, data_dir: Path | None = None,
     if path.suffix != ".nc":
         path = (Path(data_dir) if data_dir is not None else globals()["data_dir"]()) / f"{name}.nc"
     if not path.exists():
-        raise DatasetError(f"{path}: no such dataset (run `debench reproduce`)")
+        raise DatasetError(f"{path.name}: no such dataset; {_missing_data_hint(path.parent)}")
     if verify:
         files = read_manifest(path.parent)
         if path.name not in files:

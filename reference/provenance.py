@@ -19,11 +19,23 @@ TRACKED_PACKAGES = (
     "debench", "numpy", "scipy", "sympy", "xarray", "netCDF4", "ngsolve", "matplotlib",
 )
 
-REPO_ROOT = Path(__file__).resolve().parents[1]
+def _source_root() -> Path | None:
+    """The source checkout this package runs from (editable install), else ``None``."""
+    root = Path(__file__).resolve().parents[1]
+    return root if (root / "pyproject.toml").is_file() and (root / ".git").exists() else None
 
 
-def git_commit(root: Path = REPO_ROOT) -> str:
-    """The commit of the source tree, with ``-dirty`` when it has uncommitted changes."""
+#: The git checkout of an editable install; ``None`` for an installed wheel.
+REPO_ROOT = _source_root()
+
+
+def git_commit(root: Path | None = REPO_ROOT) -> str:
+    """The commit of the source tree, with ``-dirty`` when it has uncommitted changes.
+
+    ``"unknown"`` outside a git checkout (an installed wheel).
+    """
+    if root is None:
+        return "unknown"
     try:
         sha = subprocess.run(
             ["git", "rev-parse", "HEAD"], cwd=root, capture_output=True, text=True,

@@ -12,8 +12,8 @@ from collections import Counter
 from collections.abc import Iterable
 from pathlib import Path
 
-from reference.catalogue import Result
-from reference.provenance import git_commit
+from debench.reference.catalogue import Result
+from debench.reference.provenance import git_commit
 
 START, END = "<!-- results:start -->", "<!-- results:end -->"
 STATUS_MARK = {

@@ -154,7 +154,7 @@ def report(S, p, tau11, coeff):
 
 
 def generate(S, p, tau11, coeff) -> str:
-    # The structure S(a, 2b, c, d, e, f, g) used by models.plate is checked here.
+    # The structure S(a, 2b, c, d, e, f, g) used by debench.models.plate is checked here.
     a, b2, c, d, e, f, g = (coeff[k] for k in ("a", "b2", "c", "d", "e", "f", "g"))
     S_struct = sp.Matrix([[a, 0, 0, -c, 0, 0], [0, c, c, 0, d, 0], [0, c, a, 0, d, 0],
                           [-c, 0, 0, b2 - a, 0, e], [0, d, d, 0, f, 0], [0, 0, 0, e, 0, g]])
@@ -168,7 +168,7 @@ def generate(S, p, tau11, coeff) -> str:
         "derived from the energy (4.22) with mu = eps = 1 (D_hat = D2/sqrt(mu eps)), and the",
         "base-state pressure p (tau22 = 0) and lateral total stress tau11.",
         "The plane-strain incremental energy matrix is S(a, 2b, c, d, e, f, g), see",
-        "models.plate.coefficients.energy_matrix. A test re-derives these numerically.",
+        "debench.models.plate.coefficients.energy_matrix. A test re-derives these numerically.",
         '"""',
         "",
         "from __future__ import annotations",

@@ -54,7 +54,7 @@ def invariant_expressions(numbering: str):
 
 
 def derivative_expressions(numbering: str) -> dict[str, list]:
-    """Nested lists of sympy expressions, layout of :mod:`models.invariants`."""
+    """Nested lists of sympy expressions, layout of :mod:`debench.models.invariants`."""
     F, D, _ = _symbols()
     Is = invariant_expressions(numbering)
     r3 = range(3)
@@ -158,7 +158,7 @@ def main(argv=None) -> int:
     if args.check:
         import numpy as np
 
-        from models.invariants import _generated
+        from debench.models.invariants import _generated
 
         rng = np.random.default_rng(1)
         F = np.eye(3) + 0.3 * rng.standard_normal((3, 3))

@@ -30,12 +30,17 @@ def pytest_addoption(parser: pytest.Parser) -> None:
         "--full", action="store_true", default=False,
         help="run tests marked slow (converged FE meshes, full sweeps)",
     )
+    parser.addoption(
+        "--install", action="store_true", default=False,
+        help="run tests marked install (wheel built and installed in a fresh venv)",
+    )
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    if config.getoption("--full"):
-        return
     skip_slow = pytest.mark.skip(reason="slow: opt in with --full")
+    skip_install = pytest.mark.skip(reason="install: opt in with --install")
     for item in items:
-        if "slow" in item.keywords:
+        if "slow" in item.keywords and not config.getoption("--full"):
             item.add_marker(skip_slow)
+        if "install" in item.keywords and not config.getoption("--install"):
+            item.add_marker(skip_install)

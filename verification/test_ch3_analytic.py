@@ -3,7 +3,7 @@
 * Annulus removed (T1^(B) = 0): free equibiaxial membrane; neo-Hookean ideal dielectric
   pull-in at lambda = 2^(1/3), Phibar = 0.6874 (Zhao & Suo 2007).
 * Gent: local maximum and minimum of Phibar (Zhao, Hong & Suo 2007) vs sympy roots.
-* Circle A stress (3.30) vs the constitutive kernel (models.materials.membrane, issue 3).
+* Circle A stress (3.30) vs the constitutive kernel (debench.models.materials.membrane, issue 3).
 """
 
 from __future__ import annotations
@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq, minimize_scalar
 
-from models.circular import circle_a, collocation, params, shooting
-from reference import catalogue
-from reference.producers import ch3 as producers
+from debench.models.circular import circle_a, collocation, params, shooting
+from debench.reference import catalogue
+from debench.reference.producers import ch3 as producers
 from verification._loaders import load_script
 
 #: closed forms evaluated two ways: rounding only
@@ -63,10 +63,10 @@ def test_gent_free_membrane_extrema_match_sympy_polynomial_roots():
 
 
 def test_circle_a_stress_matches_constitutive_kernel():
-    """(3.30) (models.circular) vs (3.21) evaluated by models.materials.membrane (issue 3),
+    """(3.30) (debench.models.circular) vs (3.21) evaluated by debench.models.materials.membrane (issue 3),
     both the kernel's closed form and its complex-step differentiation of (3.20)."""
-    pytest.importorskip("models.materials.membrane")
-    from models.materials.membrane import GentMembrane, ZhaoSuoPermittivity
+    pytest.importorskip("debench.models.materials.membrane")
+    from debench.models.materials.membrane import GentMembrane, ZhaoSuoPermittivity
     mu, eps_r = 51e3, 4.7
     for c in (0.0, -0.053):
         m = GentMembrane(mu=mu, Jm=120.0, permittivity=ZhaoSuoPermittivity(
@@ -84,8 +84,8 @@ def test_circle_a_stress_matches_constitutive_kernel():
 def test_annulus_stresses_match_constitutive_kernel():
     """sigma_i = lambda_i dWs/dlambda_i (3.36)-(3.37): shooting's and collocation's forms vs
     the kernel's Gent stretching energy derivative."""
-    pytest.importorskip("models.materials.membrane")
-    from models.materials.membrane import GentMembrane
+    pytest.importorskip("debench.models.materials.membrane")
+    from debench.models.materials.membrane import GentMembrane
     m = GentMembrane(mu=1.0, Jm=120.0)
     rng = np.random.default_rng(0)
     l1, l2 = rng.uniform(0.4, 3.0, 20), rng.uniform(1.0, 6.0, 20)

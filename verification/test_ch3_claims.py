@@ -12,11 +12,11 @@ import math
 import numpy as np
 import pytest
 
-from models.circular import analysis, circle_a, params
-from models.circular.actuator import branch, curves
-from models.circular.params import Annulus
-from reference import catalogue
-from reference.producers import ch3 as prod
+from debench.models.circular import analysis, circle_a, params
+from debench.models.circular.actuator import branch, curves
+from debench.models.circular.params import Annulus
+from debench.reference import catalogue
+from debench.reference.producers import ch3 as prod
 
 CAT = {e.id: e for e in catalogue.load() if e.file == "ch3.toml" or
        e.id.startswith("lit.membrane")}
@@ -210,7 +210,7 @@ def test_failure_events_satisfy_their_definitions(c, lamP):
     (pull-in: d Phibar^2/d lambda = 0; loss of tension: sigma1^(A) = 0; breakdown:
     Phibar = Phibar_B), precedes every other event, and loss of tension is independent
     of c (Sec. 3.6)."""
-    from models.circular.actuator import _event_function
+    from debench.models.circular.actuator import _event_function
     br = prod._branch(lamP)
     cv, c0 = curves(br, [c, 0.0])
     f = cv.failure

@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from reference.builders import ch3 as builder
-from reference.datasets import DatasetError, data_dir, read_dataset
+from debench.reference.builders import ch3 as builder
+from debench.reference.datasets import DatasetError, data_dir, read_dataset
 
 NAMES = ("ch3_annulus_profiles", "ch3_voltage_stretch", "ch3_failure_points", "ch3_c_sweep",
          "ch3_eps_r_sensitivity")

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from models.circular import analysis, shooting
-from models.circular.actuator import branch, curves
-from models.circular.params import Annulus
+from debench.models.circular import analysis, shooting
+from debench.models.circular.actuator import branch, curves
+from debench.models.circular.params import Annulus
 from verification._loaders import load_script
 
 #: a solution of one ODE fails the other equation by O(1) relative: any threshold far
@@ -95,7 +95,7 @@ def test_eq_3_27_is_taylor_expansion_of_3_26():
     zs = e0 * (1 + (-6 * c0 / e0) * (d1 + d2))
     assert sp.simplify(sp.expand(lin - zs)) == 0
     # and the kernel (issue 3) agrees, if present
-    mm = pytest.importorskip("models.materials.membrane")
+    mm = pytest.importorskip("debench.models.materials.membrane")
     jm = mm.JimenezMcMeekingPermittivity(eps0_bar=2.0, c0=0.01)
     assert jm.zhao_suo_linearisation().c == pytest.approx(-6 * 0.01 / 2.0)
 
@@ -105,7 +105,7 @@ def test_eq_3_32_is_membrane_force_balance():
     current length N = sigma1 h is continuous across r = lambda R_A (both sides share the
     reference circle R_A and the thickness H), and N_A = N_B is exactly T1^(A) = T1^(B) --
     the printed interface condition is right (entry ch3.erratum.eq_3_32, refuted)."""
-    from models.circular import circle_a
+    from debench.models.circular import circle_a
 
     br = branch(Annulus(3.0))
     for c in (0.0, -0.053):
@@ -124,7 +124,7 @@ def test_c_effects_are_in_section_3_5():
     """Sec. 3.3.4 says the effect of c 'will be discussed in detail in Section 4'; in the
     thesis that discussion is Sec. 3.5 (3.5.2-3.5.6; Chapter IV is the anisotropic plate).
     Evidence from the catalogue's own provenance: every claim about c cites Sec. 3.5.x."""
-    from reference import catalogue
+    from debench.reference import catalogue
     c_claims = [e for e in catalogue.load() if e.file == "ch3.toml" and e.kind == "claim"
                 and ("c = " in e.quantity or "c from" in e.quantity or "as c" in e.quantity)]
     assert len(c_claims) >= 8

@@ -1,7 +1,7 @@
 """Chapter 3 annulus solvers: shooting (RK4 + complex-step sensitivities) versus
 collocation (solve_bvp with sympy-generated Jacobians), Eqs. (3.31)-(3.38).
 
-The two share no code (see models.circular.shooting / models.circular.collocation).
+The two share no code (see debench.models.circular.shooting / debench.models.circular.collocation).
 """
 
 from __future__ import annotations
@@ -12,11 +12,11 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from models.circular import _generated as gen
-from models.circular import collocation, shooting
-from models.circular.actuator import branch, curves, locate
-from models.circular.params import Annulus, CircularActuator, locking_stretch_equibiaxial
-from models.errors import ConvergenceError
+from debench.models.circular import _generated as gen
+from debench.models.circular import collocation, shooting
+from debench.models.circular.actuator import branch, curves, locate
+from debench.models.circular.params import Annulus, CircularActuator, locking_stretch_equibiaxial
+from debench.models.errors import ConvergenceError
 
 #: shooting (RK4, 800 steps) vs collocation (solve_bvp tol 1e-8): both discretisation
 #: errors are <= ~2e-8 on the thesis range (measured max 1.1e-8 at lambda = 7.5,
@@ -225,7 +225,7 @@ class _ColloBranch:
         return self.cache[lam].T1
 
     def phibar2(self, lam, c):
-        from models.circular import circle_a
+        from debench.models.circular import circle_a
         return float(circle_a.phibar_squared(lam, self.T1(lam), c, self.an.kappa))
 
 
@@ -259,10 +259,10 @@ def test_pullin_two_methods():
 
 def test_interface_change_two_methods():
     """Sec. 3.5.1 (25.3 %, 15.6 %): states at Phibar = 0.2 by brentq on collocation vs the
-    shooting Newton (models.circular.analysis.state_at_voltage)."""
+    shooting Newton (debench.models.circular.analysis.state_at_voltage)."""
     from scipy.optimize import brentq
 
-    from models.circular import analysis
+    from debench.models.circular import analysis
     an = Annulus(3.0)
     cb = _ColloBranch(an)
     br = branch(an)
@@ -278,13 +278,13 @@ def test_suppression_prestretch_bracketed_by_collocation():
     """Sec. 3.5.2 (2.53, c = 0), second method: on collocation solves (dense stretch grid
     through the cusp region) Phibar has a local maximum for lamP = 2.530 and none for
     lamP = 2.538, bracketing the shooting value 2.5341."""
-    from models.circular import analysis
+    from debench.models.circular import analysis
 
     def has_max(lamP):
         an = Annulus(lamP)
         lam = np.linspace(4.0, 5.0, 81)
         cb = collocation.branch(an, np.concatenate([np.linspace(lamP, 4.0, 12)[1:-1], lam]))
-        from models.circular import circle_a
+        from debench.models.circular import circle_a
         p2 = circle_a.phibar_squared(cb.lam[-81:], cb.T1[-81:], 0.0, an.kappa)
         return bool(np.any(np.diff(p2) < 0))
 
@@ -307,7 +307,7 @@ def test_c_threshold_bracketed_by_collocation():
     """Sec. 3.5.2 (c = -0.085 printed, -0.0826 ours), second method: on one collocation
     branch (lamP = 1.25; c enters circle A only) Phibar has a local maximum for c = -0.080
     and none for c = -0.085."""
-    from models.circular import circle_a
+    from debench.models.circular import circle_a
     an = Annulus(1.25)
     cb = collocation.branch(an, np.linspace(1.25, 4.5, 261)[1:])
 

@@ -6,10 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from models.plate import PlateParams
-from models.plate.ansatz import critical_stretches, curves_vectorised
-from reference.builders import ch4 as builder
-from reference.datasets import DatasetError, dataset_parameters, read_dataset
+from debench.models.plate import PlateParams
+from debench.models.plate.ansatz import critical_stretches, curves_vectorised
+from debench.reference.builders import ch4 as builder
+from debench.reference.datasets import DatasetError, dataset_parameters, read_dataset
 
 NAMES = ("ch4_fig4_2_curves", "ch4_fig4_5_curves", "ch4_limits", "ch4_areas",
          "ch4_critical_dhat", "ch4_method_agreement")
@@ -68,7 +68,7 @@ def test_regenerating_limits_and_critical_values_reproduces_curated():
     assert float(lim.lam_cr_halfspace_D0_iso) == pytest.approx(
         float(stored.lam_cr_halfspace_D0_iso), abs=REGEN_TOL)
     crit = _read("ch4_critical_dhat")
-    from reference.producers.ch4 import critical_D
+    from debench.reference.producers.ch4 import critical_D
     assert critical_D(5.0, "thin_extensional", "printed") == pytest.approx(
         float(crit.Dhat_critical.sel(variant="printed", candidate="thin_extensional", xi=5.0)),
         abs=1e-9)
@@ -83,7 +83,7 @@ def test_curated_method_agreement_within_tolerance():
 
 
 def test_curated_areas_match_producer():
-    from reference.producers.ch4 import area
+    from debench.reference.producers.ch4 import area
     ds = _read("ch4_areas")
     for xi, D in ((0.0, 2.0), (5.0, 2.6)):
         assert area(xi, D, "printed") == pytest.approx(

@@ -10,8 +10,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from reference import catalogue
-from reference.producers import ch4 as prod
+from debench.reference import catalogue
+from debench.reference.producers import ch4 as prod
 
 ENTRIES = [e for e in catalogue.load() if e.file == "ch4.toml"]
 REQUIRED = ("lit.plate.biot_equibiaxial", "lit.plate.euler_thin_limit")

@@ -1,10 +1,10 @@
 """Chapter 4: the incremental equations re-derived from the energy (4.22) and compared with
 the printed (4.38), (4.54)-(4.66), (4.75)-(4.82). Evidence tests of the ch4 errata.
 
-Three independent routes to the incremental energy matrix S (models.plate.coefficients):
+Three independent routes to the incremental energy matrix S (debench.models.plate.coefficients):
 the sympy derivation (tools/derive_ch4.py -> _generated.py), central finite differences
 of a numpy transcription of (4.22) written here, and the constitutive kernel
-models.materials (TransverselyIsotropicNeoHookean + push_forward).
+debench.models.materials (TransverselyIsotropicNeoHookean + push_forward).
 """
 
 from __future__ import annotations
@@ -14,9 +14,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from models.plate import PlateParams, base_state, coefficients, energy_matrix
-from models.plate.ansatz import _row_coefficients, critical_stretches
-from models.plate.coefficients import printed_coefficients, reduced_quartic
+from debench.models.plate import PlateParams, base_state, coefficients, energy_matrix
+from debench.models.plate.ansatz import _row_coefficients, critical_stretches
+from debench.models.plate.coefficients import printed_coefficients, reduced_quartic
 
 #: finite differences of second order with step 1e-4 on O(1) quantities: error
 #: ~ h^2 * |W''''| ~ 1e-8, rounding ~ eps/h^2 ~ 1e-8
@@ -89,10 +89,10 @@ def test_energy_matrix_equals_finite_difference_of_energy_4_22(lam, xi):
 
 
 def test_energy_matrix_agrees_with_models_materials_kernel():
-    """The push-forward moduli of models.materials (issue 3, written independently) give
-    the same plane-strain incremental energy as models.plate (Eqs 2.72-2.73, 4.29-4.31)."""
-    materials = pytest.importorskip("models.materials.library")
-    response = pytest.importorskip("models.materials.response")
+    """The push-forward moduli of debench.models.materials (issue 3, written independently) give
+    the same plane-strain incremental energy as debench.models.plate (Eqs 2.72-2.73, 4.29-4.31)."""
+    materials = pytest.importorskip("debench.models.materials.library")
+    response = pytest.importorskip("debench.models.materials.response")
     lam, xi, alpha, beta, D = 1.23, 5.0, 0.4, 0.5, 1.9
     mat = materials.TransverselyIsotropicNeoHookean(mu=1.0, xi=xi, alpha=alpha, beta=beta,
                                                     eps=1.0)

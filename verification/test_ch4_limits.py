@@ -10,16 +10,16 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from models.plate import PlateParams, ellipticity_limit_stretch, strongly_elliptic
-from models.plate.analysis import (
+from debench.models.plate import PlateParams, ellipticity_limit_stretch, strongly_elliptic
+from debench.models.plate.analysis import (
     biot_equibiaxial_closed_form,
     euler_coefficient_isotropic,
     half_space_limit,
     membrane_stress,
     thin_limit,
 )
-from models.plate.ansatz import critical_stretches
-from models.plate.fem import eigenvalues
+from debench.models.plate.ansatz import critical_stretches
+from debench.models.plate.fem import eigenvalues
 
 #: printed digits of the literature value 0.666
 BIOT_PRINTED_TOL = 5e-4

@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from models.plate import PlateParams
-from models.plate.ansatz import PARITIES, _quartic_roots, critical_stretches, determinant
-from models.plate.fem import eigenvalues, elements_for, refine_root
+from debench.models.plate import PlateParams
+from debench.models.plate.ansatz import PARITIES, _quartic_roots, critical_stretches, determinant
+from debench.models.plate.fem import eigenvalues, elements_for, refine_root
 
 #: Fig. 4.2 (nine Dhat, xi = 0 and 5) and Fig. 4.5 (xi = 3, 10 at Dhat = 2)
 FIG42 = [(xi, D) for D in (0.0, 1.0, 2.0, 2.2, 2.4, 2.6, 3.0, 4.0, 5.0) for xi in (0.0, 5.0)]
@@ -30,7 +30,7 @@ PAIR_GAP = 2e-5
 PAIR_WINDOW = 1e-4
 #: method 2 is limited by rounding for very thin plates: the bending terms scale like
 #: (k h)^-3 while the critical eigenvalue scales like k h, so below t = k h = 0.1 the
-#: float64 eigenvalue is not resolved at N_AGREE (documented in models.plate.fem)
+#: float64 eigenvalue is not resolved at N_AGREE (documented in debench.models.plate.fem)
 T_MIN = 0.1
 #: expected convergence order: Hermite-cubic / quadratic elements, energy error O(N^-2),
 #: eigenvalue (and root) error O(N^-4); the fitted slope must be within 0.4 of it
@@ -168,7 +168,7 @@ def test_no_spurious_root_at_lam_one_where_quartic_roots_coincide(parity, D):
 
 def _det6(lam, kH, p):
     """Unsplit 6x6 determinant of (4.69)-(4.74), faces at 0 and h, six roots +-s."""
-    from models.plate.ansatz import _row_coefficients, _rows
+    from debench.models.plate.ansatz import _row_coefficients, _rows
 
     rc = [float(x) for x in _row_coefficients(np.array(lam), p)]
     kappa = rc[2] / rc[4]
@@ -199,10 +199,10 @@ def test_even_odd_split_has_the_roots_of_the_full_6x6_determinant():
 @pytest.mark.parametrize("xi", [0.0, 5.0])
 @pytest.mark.parametrize("Vhat", [0.25, 0.5, 1.0])
 def test_voltage_control_roots_agree_between_methods(variant, xi, Vhat):
-    """Beyond the thesis (voltage control, models.plate.voltage): every method-1 root of
+    """Beyond the thesis (voltage control, debench.models.plate.voltage): every method-1 root of
     det(lam, kH; Dhat = Vhat lam^2/beta) is an FE eigenvalue crossing with the same
     lam-dependent Dhat, and lies on the charge-control curve of that Dhat."""
-    from models.plate.voltage import (
+    from debench.models.plate.voltage import (
         critical_stretches_at_voltage,
         dhat_at_voltage,
         fe_root_at_voltage,

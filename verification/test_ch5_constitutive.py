@@ -6,8 +6,8 @@ Claims checked (thesis Zeng 2020, §5.2.2):
   model is the partial Legendre transform of the ideal dielectric (5.9)
   ``W_ele = I5/(2 eps J)``: ``Omega = W - E_L.D_L`` at ``E_L = dW/dD_L`` (5.13), and
   ``-dOmega/dE_L = D_L``;
-* the NGSolve energies of :mod:`models.buckling.fem` equal the constitutive kernel's
-  (:mod:`models.materials`) at sample points, including equal principal stretches where
+* the NGSolve energies of :mod:`debench.models.buckling.fem` equal the constitutive kernel's
+  (:mod:`debench.models.materials`) at sample points, including equal principal stretches where
   the Ogden model (5.26) needs care (§5.2.2.2);
 * the homogeneous clamped film (the pre-buckled state) satisfies sigma_33 = 0 with the
   in-plane compression equal to the Maxwell stress eps E^2 up to the compressibility
@@ -20,9 +20,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from models.buckling import analytic
-from models.buckling.parameters import MU_REF, NeoHookean, Ogden
-from models.materials import NeoHookeanIdealDielectric, OgdenIdealDielectric, cauchy_stress
+from debench.models.buckling import analytic
+from debench.models.buckling.parameters import MU_REF, NeoHookean, Ogden
+from debench.models.materials import NeoHookeanIdealDielectric, OgdenIdealDielectric, cauchy_stress
 
 EPS = 4.7 * 8.8541878128e-12
 # algebraic identities evaluated in double precision on O(1) data: a few hundred ulp
@@ -54,7 +54,7 @@ def _samples():
 @pytest.mark.parametrize("pair", PAIRS, ids=["nh", "ogden"])
 def test_enthalpy_is_partial_legendre_transform_of_ideal_dielectric_5_9(F, pair):
     """Omega(F,E_L) = W(F,D_L) - E_L.D_L with D_L = eps J C^-1 E_L, and E_L = dW/dD_L
-    there (5.13) (W from the constitutive kernel, Omega from models.buckling)."""
+    there (5.13) (W from the constitutive kernel, Omega from debench.models.buckling)."""
     ours, kernel = pair
     E_L = np.array([0.3, -0.2, 1.1]) * 1e7
     J = np.linalg.det(F)
@@ -74,10 +74,10 @@ def test_enthalpy_is_partial_legendre_transform_of_ideal_dielectric_5_9(F, pair)
 @pytest.mark.parametrize("F", _samples())
 @pytest.mark.parametrize("pair", PAIRS, ids=["nh", "ogden"])
 def test_ngsolve_energy_equals_constitutive_kernel(F, pair):
-    """One constitutive truth: the CoefficientFunction energies of models.buckling.fem
-    ((5.15), (5.26) + k/2 (J-1)^2, enthalpy) equal models.materials at sample points,
+    """One constitutive truth: the CoefficientFunction energies of debench.models.buckling.fem
+    ((5.15), (5.26) + k/2 (J-1)^2, enthalpy) equal debench.models.materials at sample points,
     including F = I and equal in-plane stretches (the flat pre-buckled state)."""
-    from models.buckling import fem
+    from debench.models.buckling import fem
     ours, kernel = pair
     E_hat = np.array([0.1, 0.05, 0.3])          # E_L sqrt(eps/mu_ref)
     w_mech, omega = fem.energies_at(F, E_hat, ours)
@@ -140,6 +140,6 @@ def test_bad_inputs_raise_naming_the_bound():
         analytic.mechanical_energy_numpy(np.diag([1, 1, -1.0]), NeoHookean())
     with pytest.raises(ValueError, match="v must be finite"):
         analytic.homogeneous_film(float("nan"), NeoHookean())
-    from models.buckling.parameters import Plate
+    from debench.models.buckling.parameters import Plate
     with pytest.raises(ValueError, match="aspect"):
         Plate(aspect=1.0)

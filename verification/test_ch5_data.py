@@ -14,10 +14,10 @@ import os
 import numpy as np
 import pytest
 
-from reference import catalogue
-from reference.datasets import dataset_parameters, read_dataset
+from debench.reference import catalogue
+from debench.reference.datasets import dataset_parameters, read_dataset
 
-# secant on lambda_1(v^2) stops at |dv| < 1e-6 (models.buckling.solver.CRITICAL_VTOL);
+# secant on lambda_1(v^2) stops at |dv| < 1e-6 (debench.models.buckling.solver.CRITICAL_VTOL);
 # a rerun from the same start is deterministic up to BLAS round-off
 REGEN_ATOL = 2e-6
 # Southwell on the ramp mesh vs eigen-analysis on the same mesh (see test_ch5_fem.py)
@@ -41,8 +41,8 @@ def test_regenerating_coarsest_level_reproduces_curated_critical_voltage(crit):
     equals the curated value."""
     ngsolve = pytest.importorskip("ngsolve")
     ngsolve.SetNumThreads(int(os.environ.get("OMP_NUM_THREADS", "1")))
-    from models.buckling.parameters import Discretisation, NeoHookean, Plate
-    from models.buckling.solver import critical_voltage
+    from debench.models.buckling.parameters import Discretisation, NeoHookean, Plate
+    from debench.models.buckling.solver import critical_voltage
     p = dataset_parameters(crit)
     h = float(crit.h_rel.values[0])
     r = critical_voltage(Plate(thickness=1e-3), NeoHookean(),

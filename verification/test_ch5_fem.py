@@ -26,11 +26,11 @@ import pytest
 ngsolve = pytest.importorskip("ngsolve")
 ngsolve.SetNumThreads(int(os.environ.get("OMP_NUM_THREADS", "1")))
 
-from models.buckling import analytic  # noqa: E402
-from models.buckling.fem import MembraneModel, mode_axisymmetry  # noqa: E402
-from models.buckling.parameters import Discretisation, NeoHookean, Ogden, Plate  # noqa: E402
-from models.buckling.solver import critical_voltage, southwell, voltage_ramp  # noqa: E402
-from models.errors import ConvergenceError  # noqa: E402
+from debench.models.buckling import analytic  # noqa: E402
+from debench.models.buckling.fem import MembraneModel, mode_axisymmetry  # noqa: E402
+from debench.models.buckling.parameters import Discretisation, NeoHookean, Ogden, Plate  # noqa: E402
+from debench.models.buckling.solver import critical_voltage, southwell, voltage_ramp  # noqa: E402
+from debench.models.errors import ConvergenceError  # noqa: E402
 
 COARSE = Discretisation(h_rel=3.0, layers=1, order=2)
 LEVELS = (3.0, 2.0, 1.4)
@@ -72,7 +72,7 @@ def test_deflection_control_and_voltage_control_find_the_same_state():
     """Two solvers, one equilibrium: the bordered Newton (deflection prescribed, voltage
     unknown) gives a voltage v; plain Newton at that v from the previous state returns the
     same centre deflection (stable post-buckled branch)."""
-    from models.buckling.fem import control_deflection, newton_deflection
+    from debench.models.buckling.fem import control_deflection, newton_deflection
     m = MembraneModel(Plate(), NeoHookean(), COARSE)
     # small steps: stays on the upward branch
     for v in (0.1, 0.2, 0.22, 0.24, 0.25, 0.26, 0.28, 0.3):
@@ -119,7 +119,7 @@ def test_eigen_critical_voltage_converges_to_clamped_plate_theory():
     """Critical voltage of the perfect film (zero eigenvalue of the condensed tangent)
     decreases monotonically under in-plane refinement at a measured rate p >= 1, and its
     Richardson limit is within PLATE_THEORY_RTOL of 14.68 D/a^2 (Timoshenko & Gere §9.1)."""
-    from reference.builders.ch5 import richardson
+    from debench.reference.builders.ch5 import richardson
     v = [critical_voltage(Plate(), NeoHookean(), Discretisation(h_rel=h, layers=1)).v
          for h in LEVELS]
     assert v[0] > v[1] > v[2]
@@ -134,7 +134,7 @@ def test_eigen_critical_voltage_converges_to_clamped_plate_theory():
 @pytest.mark.slow
 def test_eigen_critical_voltage_convergence_rate_full():
     """--full: the same on finer meshes; the rate stays >= 1 and the limit within 3 %."""
-    from reference.builders.ch5 import richardson
+    from debench.reference.builders.ch5 import richardson
     v = [critical_voltage(Plate(), NeoHookean(), Discretisation(h_rel=h, layers=1)).v
          for h in LEVELS_FULL]
     assert all(a > b for a, b in zip(v, v[1:], strict=False))

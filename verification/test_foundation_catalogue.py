@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from reference import catalogue
-from reference.catalogue import Entry, Outcome, judge, printed_half_ulp
+from debench.reference import catalogue
+from debench.reference.catalogue import Entry, Outcome, judge, printed_half_ulp
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -145,7 +145,7 @@ def test_input_parameters_are_checked_but_not_counted_as_reproduced():
 
 
 def test_producer_exception_is_an_error_not_a_value():
-    e = _entry(producer="reference.nonexistent_module:f")
+    e = _entry(producer="debench.reference.nonexistent_module:f")
     r = catalogue.evaluate(e)
     assert r.status == "error" and r.regressed
 
@@ -163,8 +163,8 @@ def test_malformed_entries_are_rejected(tmp_path):
 
 def test_thesis_values_dataset_regenerates_from_catalogue(entries):
     """data/thesis_values.nc is the catalogue as a citable dataset, and up to date."""
-    from reference.builders.catalogue import catalogue_dataset
-    from reference.datasets import read_dataset
+    from debench.reference.builders.catalogue import catalogue_dataset
+    from debench.reference.datasets import read_dataset
 
     curated = read_dataset("thesis_values")
     fresh = catalogue_dataset(entries)
@@ -177,7 +177,7 @@ def test_thesis_values_dataset_regenerates_from_catalogue(entries):
 
 
 def test_readme_results_table_is_current(results):
-    from reference.report import END, START, readme_block
+    from debench.reference.report import END, START, readme_block
 
     text = (ROOT / "README.md").read_text()
     block = START + text.split(START, 1)[1].split(END, 1)[0] + END

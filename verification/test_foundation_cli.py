@@ -8,14 +8,14 @@ from pathlib import Path
 import jsonschema
 import yaml
 
-from reference.cli import main
+from debench.reference.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
 STABLE_KEYS = {"kind", "id", "thesis_value", "value", "unit", "status", "diagnosis"}
 
 
 def test_verify_json_lists_every_entry_with_stable_keys(capsys):
-    from reference import catalogue
+    from debench.reference import catalogue
 
     code = main(["verify", "--json", "--no-data"])
     rows = json.loads(capsys.readouterr().out)

@@ -1,4 +1,4 @@
-"""The dataset convention (reference.datasets): provenance, checksums, atomic writes."""
+"""The dataset convention (debench.reference.datasets): provenance, checksums, atomic writes."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import pytest
 import xarray as xr
 from xarray.testing import assert_identical
 
-from reference import datasets
-from reference.datasets import DatasetError, read_dataset, write_dataset
+from debench.reference import datasets
+from debench.reference.datasets import DatasetError, read_dataset, write_dataset
 
 PARAMS = {"mu": 51e3, "Jm": 120.0, "c": -0.053, "label": "test"}
 
@@ -128,6 +128,6 @@ def test_curated_directory_verifies():
 def test_data_card_is_current():
     """data/README.md is generated from the curated files; regenerate with
     `debench report --datacard`."""
-    from reference import datacard
+    from debench.reference import datacard
 
     assert (datasets.data_dir() / "README.md").read_text() == datacard.render()

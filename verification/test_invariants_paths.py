@@ -1,9 +1,9 @@
 """Three (four) evaluations of the invariant derivatives agree; printed formulas are statused.
 
-Paths: closed form (:mod:`models.invariants.closed_form`, used by the materials),
-sympy-generated (:mod:`models.invariants._generated`, from ``tools/derive_invariants.py``),
-numerical (complex step + central differences, :mod:`models.invariants.numerical`), and
-the thesis formulas as printed (:mod:`models.invariants.printed`), eqs (2.75)-(2.92),
+Paths: closed form (:mod:`debench.models.invariants.closed_form`, used by the materials),
+sympy-generated (:mod:`debench.models.invariants._generated`, from ``tools/derive_invariants.py``),
+numerical (complex step + central differences, :mod:`debench.models.invariants.numerical`), and
+the thesis formulas as printed (:mod:`debench.models.invariants.printed`), eqs (2.75)-(2.92),
 (4.35)-(4.51), (A.1)-(A.35).
 """
 
@@ -14,8 +14,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from models.invariants import _generated, closed_form, numerical
-from models.invariants.printed import PRINTED_DERIVATIVES, SAME_FORMULA
+from debench.models.invariants import _generated, closed_form, numerical
+from debench.models.invariants.printed import PRINTED_DERIVATIVES, SAME_FORMULA
 from verification.strategies import (
     deformation_gradients,
     lagrangian_displacements,
@@ -133,7 +133,7 @@ def test_every_appendix_formula_repeats_its_chapter_formula():
 def test_catalogue_statuses_every_printed_derivative_formula():
     """Each printed label has a catalogue entry (claim, or the erratum for A.4/4.38); Ch. 4
     labels are covered by their App. A.1 twin."""
-    from reference.catalogue import load
+    from debench.reference.catalogue import load
 
     entries = {e.id: e for e in load() if e.file == "ch2_appendix.toml"}
     labels = {str(e.parameters.get("label")) for e in entries.values()}
@@ -161,7 +161,7 @@ def test_equibiaxial_invariants_4_23_to_4_27_and_energy_4_28(lam, D2):
     """With l1 = l3 = lam, l2 = lam^-2, A = e2, D_L = D2 e2 (Sec. 4.3.3): I1 = 2 lam^2 +
     lam^-4, I2 = 2 lam^-2 + lam^4, I4 = lam^-4, I5 = lam^-4 D2^2, I6 = D2^2 (4.23)-(4.27),
     and the energy (4.22) reduces to (4.28)."""
-    from models.materials import TransverselyIsotropicNeoHookean
+    from debench.models.materials import TransverselyIsotropicNeoHookean
 
     F = np.diag([lam, lam**-2, lam])
     D = np.array([0.0, D2, 0.0])

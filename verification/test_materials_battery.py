@@ -1,4 +1,4 @@
-"""Hypothesis property battery over every material of ``models.materials.MATERIALS``.
+"""Hypothesis property battery over every material of ``debench.models.materials.MATERIALS``.
 
 Properties (issue 3): objectivity, material symmetry, incompressibility (p recovered from a
 traction-free face), tangent consistency by Taylor tests asserting remainder *rates*, major
@@ -17,7 +17,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from models.materials import (
+from debench.models.materials import (
     MATERIALS,
     GentIdealDielectric,
     NeoHookeanIdealDielectric,
@@ -282,7 +282,7 @@ def test_battery_pressure_from_traction_free_face_gives_plane_stress(name, l1, l
 def test_gent_3d_stress_equals_membrane_equation_of_state_3_21():
     """Gent + ideal dielectric in 3-D (D_L form) with p from sigma_33 = 0 gives the
     membrane equations of state (3.21)-(3.22) with c = 0 (E form, Legendre transform)."""
-    from models.materials import GentMembrane, ZhaoSuoPermittivity
+    from debench.models.materials import GentMembrane, ZhaoSuoPermittivity
 
     mat = GentIdealDielectric()
     mem = GentMembrane(mu=mat.mu, Jm=mat.Jm, permittivity=ZhaoSuoPermittivity(mat.eps, 0.0))
@@ -400,7 +400,7 @@ def test_taylor_rate_at_stiff_ogden_state_found_by_hypothesis():
     h = 1e-3 ... 1.25e-4 (the h^3 term of the stiff volumetric part), so a fit over all
     steps gave a rate of 1.77; the asymptotic rate is 2 and the remainder / h^2 converges
     (to ~398) under refinement."""
-    from models.materials import OgdenIdealDielectric
+    from debench.models.materials import OgdenIdealDielectric
 
     mat = OgdenIdealDielectric(alphas=(1.293, 2.3252, 2.561), mus=(8580.0, 84300.0, -23300.0),
                                k=7748003.92, eps=4.1595e-11)

@@ -13,9 +13,9 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from models.invariants import printed as pr
-from models.invariants.numerical import central_difference_F
-from models.materials import NeoHookeanIdealDielectric, OgdenIdealDielectric, cauchy_stress
+from debench.models.invariants import printed as pr
+from debench.models.invariants.numerical import central_difference_F
+from debench.models.materials import NeoHookeanIdealDielectric, OgdenIdealDielectric, cauchy_stress
 from verification.strategies import deformation_gradients, lagrangian_displacements
 
 FD_STEP = 1e-6

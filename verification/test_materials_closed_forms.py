@@ -1,7 +1,7 @@
 """Printed closed forms vs the chain rule: (2.42), (2.43), (2.69)/(4.33), (2.71)-(2.74),
 (5.18)-(5.20), (5.27).
 
-The chain rule (:mod:`models.materials.kernel`) is itself checked by Taylor tests in
+The chain rule (:mod:`debench.models.materials.kernel`) is itself checked by Taylor tests in
 ``test_materials_battery.py`` and by NGSolve in ``test_materials_ngsolve.py``.
 """
 
@@ -12,9 +12,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from models.invariants import derivatives, invariants
-from models.invariants import printed as pr
-from models.materials import (
+from debench.models.invariants import derivatives, invariants
+from debench.models.invariants import printed as pr
+from debench.models.materials import (
     MATERIALS,
     GentIdealDielectric,
     IdealDielectric,

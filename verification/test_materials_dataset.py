@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from reference.builders import ch2_appendix
-from reference.datasets import read_dataset
+from debench.reference.builders import ch2_appendix
+from debench.reference.datasets import read_dataset
 
 REGEN_RTOL = 1e-12
 """Same code, same inputs: only the platform's rounding may differ."""

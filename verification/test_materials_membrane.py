@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from models.materials import (
+from debench.models.materials import (
     MEMBRANE_MODELS,
     VACUUM_PERMITTIVITY,
     GentMembrane,

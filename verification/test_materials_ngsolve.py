@@ -8,14 +8,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from models.materials import MATERIALS
+from debench.models.materials import MATERIALS
 from verification.strategies import (
     deformation_gradients,
     isochoric_deformation_gradients,
     lagrangian_displacements,
 )
 
-ng_forms = pytest.importorskip("models.materials.ngsolve_forms")
+ng_forms = pytest.importorskip("debench.models.materials.ngsolve_forms")
 
 pytestmark = pytest.mark.fe
 

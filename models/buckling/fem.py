@@ -46,8 +46,8 @@ from netgen.geom2d import SplineGeometry
 from netgen.meshing import Element2D, Element3D, FaceDescriptor, MeshPoint, Pnt
 from netgen.meshing import Mesh as NGMesh
 
-from models.buckling.parameters import MU_REF, Discretisation, NeoHookean, Ogden, Plate
-from models.errors import ConvergenceError, require
+from debench.models.buckling.parameters import MU_REF, Discretisation, NeoHookean, Ogden, Plate
+from debench.models.errors import ConvergenceError, require
 
 NEWTON_TOL = 1e-9    # Newton: max |correction| / t0
 NEWTON_MAXIT = 30
@@ -303,7 +303,7 @@ class MembraneModel:
         mip = self.mesh(0.0, 0.0, 0.5 * t0 + w)
         Fn = np.array(F(mip)).reshape(3, 3)
         En = np.array(E(mip))
-        from models.buckling.analytic import cauchy_mech_numpy
+        from debench.models.buckling.analytic import cauchy_mech_numpy
         sig = cauchy_mech_numpy(Fn, self.material) / MU_REF
         sig += np.outer(En, En) - 0.5 * En @ En * np.eye(3)
         del J
@@ -398,7 +398,7 @@ def energies_at(F: np.ndarray, E_hat: np.ndarray, mat: NeoHookean | Ogden,
     """Evaluate the CoefficientFunction energies at a constant ``F`` and scaled field.
 
     Returns ``(W_mech [Pa], Omega/mu_ref)`` exactly as assembled by :class:`MembraneModel`
-    (used to check the NGSolve energies against :mod:`models.materials`).
+    (used to check the NGSolve energies against :mod:`debench.models.materials`).
     """
     F = np.asarray(F, dtype=float)
     require(F.shape == (3, 3), f"F must be 3x3, got {F.shape}")

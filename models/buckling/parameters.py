@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from models.errors import require
+from debench.models.errors import require
 
 EPS0 = 8.8541878128e-12  # F/m, vacuum permittivity (CODATA 2018)
 MU_REF = 156000.0        # Pa, Table 5.1 shear modulus: the normalising modulus (assumption)
@@ -48,7 +48,7 @@ class Ogden:
 
     ``delta`` is the size of the symmetric spectral perturbation used to evaluate the
     principal stretches without the equal-eigenvalue singularity (see
-    :mod:`models.buckling.fem`); the energy error it causes is O(delta**2).
+    :mod:`debench.models.buckling.fem`); the energy error it causes is O(delta**2).
     """
 
     alphas: tuple[float, ...] = (1.293, 2.3252, 2.561)

@@ -12,10 +12,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from models.buckling.analytic import critical_voltage_plate
-from models.buckling.fem import MembraneModel, mode_axisymmetry
-from models.buckling.parameters import Discretisation, NeoHookean, Ogden, Plate
-from models.errors import ConvergenceError, require
+from debench.models.buckling.analytic import critical_voltage_plate
+from debench.models.buckling.fem import MembraneModel, mode_axisymmetry
+from debench.models.buckling.parameters import Discretisation, NeoHookean, Ogden, Plate
+from debench.models.errors import ConvergenceError, require
 
 CRITICAL_VTOL = 1e-6     # secant on lambda_1(v^2) = 0 stops when |dv| < this
 
@@ -149,7 +149,7 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
     require(v_max > 0, f"v_max must be > 0, got {v_max}")
     require(0 < dv0 <= dv_max, f"need 0 < dv0 <= dv_max, got {dv0}, {dv_max}")
     require(dc > 0, f"dc must be > 0, got {dc}")
-    from models.buckling.fem import control_deflection, newton_deflection
+    from debench.models.buckling.fem import control_deflection, newton_deflection
     model = MembraneModel(plate, mat, disc, with_imperfection=True, inverse=inverse)
     rec = {k: [] for k in ("v", "w", "w_mid", "thickness", "e_centre", "e_max", "its")}
     eig = {"v": [], "w": [], "lam": [], "ax": []}

@@ -4,8 +4,8 @@ The annulus problem does not involve the voltage nor c (only lambda^(A) enters B
 (3.31)), so one annulus *branch* -- the interface stress T1^(B)(R_A) as a function of the
 circle-A stretch lambda, computed once per (lamP, R_B/R_A, Jm, equilibrium) -- serves every
 c and every eps_r: ``Phibar^2 = (s(lam) - lam T1B)/(lam^4 K(lam))`` (see
-:mod:`models.circular.circle_a`). The branch is traced by the vectorised shooting method
-(:mod:`models.circular.shooting`), parametrised by the radial stretch at the frame.
+:mod:`debench.models.circular.circle_a`). The branch is traced by the vectorised shooting method
+(:mod:`debench.models.circular.shooting`), parametrised by the radial stretch at the frame.
 
 Failure events on a curve (each located by a safeguarded secant (Illinois) iteration on
 the shooting parameter, to ``EVENT_XTOL`` relative, with exact complex-step derivatives):
@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.interpolate import PchipInterpolator
 
-from models.errors import ConvergenceError
+from debench.models.errors import ConvergenceError
 
 from . import circle_a
 from .params import Annulus, CircularActuator, locking_stretch_equibiaxial

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import brentq
 
-from models.errors import ConvergenceError
+from debench.models.errors import ConvergenceError
 
 from . import circle_a
 from .actuator import Branch, branch, curves

@@ -1,7 +1,7 @@
 """Annulus B by collocation (``scipy.integrate.solve_bvp``, as the thesis' bvp4c).
 
-Independent of :mod:`models.circular.shooting`: the right-hand sides and their Jacobians
-come from the sympy-generated module :mod:`models.circular._generated`
+Independent of :mod:`debench.models.circular.shooting`: the right-hand sides and their Jacobians
+come from the sympy-generated module :mod:`debench.models.circular._generated`
 (``tools/derive_ch3.py``), the interface stress from a complex-step derivative of the Gent
 energy (3.23), and the problem is posed as a two-point BVP in ``t = ln(R/R_A)``:
 
@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_bvp
 
-from models.errors import ConvergenceError
+from debench.models.errors import ConvergenceError
 
 from . import _generated as gen
 from .params import Annulus

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from models.errors import require
+from debench.models.errors import require
 
 MU_VHB = 51e3            # Pa, shear modulus, Sec. 3.3.3
 JM_VHB = 120.0           # Gent locking parameter, Sec. 3.3.3

@@ -1,6 +1,6 @@
 """Annulus B by shooting from the frame inwards, with complex-step sensitivities.
 
-Method (independent of :mod:`models.circular.collocation`: no shared code beyond the
+Method (independent of :mod:`debench.models.circular.collocation`: no shared code beyond the
 parameter dataclass). In ``t = ln(R/R_A)``, ``t in [0, T]``, ``T = ln(R_B/R_A)``, the
 annulus ODE is (3.34)-(3.35) (``equilibrium="printed"``) or the thin-membrane balance
 d(R T1)/dR = T2 (``"membrane"``). At the frame lambda_2(T) = lamP (3.38) is known; the
@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from models.errors import ConvergenceError
+from debench.models.errors import ConvergenceError
 
 from .params import Annulus
 

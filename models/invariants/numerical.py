@@ -4,7 +4,7 @@ First derivatives by the complex step ``Im f(x + i h e)/h`` (no subtractive canc
 exact to rounding for h = 1e-30); second derivatives by central differences (step
 ``h2``) of the complex-step gradient, error ``O(h2^2)`` - the invariants are polynomials of
 degree <= 6 in F, so the truncation term is ``h2^2/6`` times a bounded third derivative.
-Independent of the closed forms and of sympy: only :func:`~models.invariants.invariants`
+Independent of the closed forms and of sympy: only :func:`~debench.models.invariants.invariants`
 is used.
 """
 
@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from models.invariants.closed_form import invariants
+from debench.models.invariants.closed_form import invariants
 
 CS_STEP = 1e-30
 FD_STEP = 1e-4
@@ -37,7 +37,7 @@ def _grad_cs(F, D_L, A, numbering):
 
 
 def derivatives(F, D_L, A=None, *, numbering: str = "iso", h2: float = FD_STEP) -> dict:
-    """Dict ``I, dF, dD, dFF, dFD, dDD`` (layout of :mod:`models.invariants`)."""
+    """Dict ``I, dF, dD, dFF, dFD, dDD`` (layout of :mod:`debench.models.invariants`)."""
     F = np.asarray(F, dtype=float)
     D_L = np.asarray(D_L, dtype=float)
     I = invariants(F, D_L, A, numbering=numbering)

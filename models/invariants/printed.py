@@ -2,13 +2,13 @@
 
 These are the object under test: each function is the thesis formula with its indices
 exactly as printed (re-read from the PDF; ``c = C``, ``b = B``, ``a = A``), *including*
-errors. Do not fix them here - fixes live in :mod:`models.invariants.closed_form` and the
+errors. Do not fix them here - fixes live in :mod:`debench.models.invariants.closed_form` and the
 catalogue (``reference/catalogue/ch2_appendix.toml``) records which differ.
 
 :data:`PRINTED_DERIVATIVES` maps an equation label to ``(numbering, kind, n, func)``:
 ``kind`` in ``{"F", "D", "FF", "FD", "DD"}`` (derivative w.r.t. F and/or D_L), ``n`` the
 invariant number (1..6) and ``func(F, D_L, A) -> ndarray`` in the index layout of
-:mod:`models.invariants` (``[i, a]``, ``[a]``, ``[i, a, j, b]``, ``[i, a, b]``, ``[a, b]``).
+:mod:`debench.models.invariants` (``[i, a]``, ``[a]``, ``[i, a, j, b]``, ``[i, a, b]``, ``[a, b]``).
 Formulas printed twice (Ch. 2 and App. A.2, Ch. 4 and App. A.1) appear under both labels.
 """
 

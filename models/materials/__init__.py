@@ -13,7 +13,7 @@ moduli or NaN raise ``ValueError`` naming the bound) with
     chain rule over the invariants (2.68)-(2.70) (Ogden: spectral formula).
 ``mat.incompressible``, ``mat.numbering`` (``"iso"`` or ``"ti"``), ``mat.shear_modulus``.
 
-Functions (:mod:`models.materials.response`): :func:`first_piola`, :func:`cauchy_stress`
+Functions (:mod:`debench.models.materials.response`): :func:`first_piola`, :func:`cauchy_stress`
 (2.31/2.33, with p), :func:`electric_field` (2.32/2.34), :func:`eulerian_displacement`,
 :func:`moduli`, :func:`push_forward` (2.72-2.73), :func:`pressure_from_traction_free_face`.
 
@@ -33,20 +33,20 @@ Materials (thesis parameters as defaults; see :data:`MATERIALS`)
                                    (alpha I6 + beta I5)/(2 eps), ti numbering, A = (0,1,0)
 =================================  ========================================================
 
-Membrane (Ch. 3, :mod:`models.materials.membrane`): :class:`GentMembrane` with
+Membrane (Ch. 3, :mod:`debench.models.materials.membrane`): :class:`GentMembrane` with
 :class:`ZhaoSuoPermittivity` (3.27) or :class:`JimenezMcMeekingPermittivity` (3.24-3.26):
 free energy (3.20), equations of state (3.21)-(3.22) in closed form and from (3.14)-(3.16).
 
 Permittivity: the thesis does not print eps_r for VHB 4910; the defaults use eps_r = 4.7
 (assumption ``ch2.assumption.eps_r`` in the catalogue). Pass ``eps`` explicitly.
 
-NGSolve: :mod:`models.materials.ngsolve_forms` (imported on demand) builds the same
+NGSolve: :mod:`debench.models.materials.ngsolve_forms` (imported on demand) builds the same
 energies as ``CoefficientFunction`` s for ``.Diff``.
 
 Example
 -------
 >>> import numpy as np
->>> from models.materials import NeoHookeanIdealDielectric, cauchy_stress
+>>> from debench.models.materials import NeoHookeanIdealDielectric, cauchy_stress
 >>> mat = NeoHookeanIdealDielectric()
 >>> float(np.abs(cauchy_stress(mat, np.eye(3), np.zeros(3))).max())
 0.0
@@ -54,8 +54,8 @@ Example
 
 from __future__ import annotations
 
-from models.materials.kernel import Response, invariant_chain_rule, spectral_response
-from models.materials.library import (
+from debench.models.materials.kernel import Response, invariant_chain_rule, spectral_response
+from debench.models.materials.library import (
     VACUUM_PERMITTIVITY,
     DorfmannOgdenElectric,
     GentIdealDielectric,
@@ -64,12 +64,12 @@ from models.materials.library import (
     OgdenIdealDielectric,
     TransverselyIsotropicNeoHookean,
 )
-from models.materials.membrane import (
+from debench.models.materials.membrane import (
     GentMembrane,
     JimenezMcMeekingPermittivity,
     ZhaoSuoPermittivity,
 )
-from models.materials.response import (
+from debench.models.materials.response import (
     cauchy_stress,
     electric_field,
     eulerian_displacement,

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from models.invariants import derivatives
+from debench.models.invariants import derivatives
 
 
 @dataclass(frozen=True)

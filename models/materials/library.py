@@ -17,8 +17,8 @@ from typing import ClassVar
 
 import numpy as np
 
-from models.invariants import invariants, validate_state
-from models.materials.kernel import (
+from debench.models.invariants import invariants, validate_state
+from debench.models.materials.kernel import (
     Response,
     divided_difference_power,
     invariant_chain_rule,

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from models.materials.library import VACUUM_PERMITTIVITY
+from debench.models.materials.library import VACUUM_PERMITTIVITY
 
 _H = 1e-30  # complex step: no subtractive cancellation, any tiny step is exact to rounding
 

@@ -1,6 +1,6 @@
 """The library energies as NGSolve ``CoefficientFunction`` s (third evaluation path).
 
-Import on demand (``import models.materials.ngsolve_forms``): it imports ``ngsolve``.
+Import on demand (``import debench.models.materials.ngsolve_forms``): it imports ``ngsolve``.
 
 One function per energy builds ``W`` from CF arguments ``F`` (3x3) and ``D_L`` (3-vector)
 and the parameters; stress and moduli follow from NGSolve's symbolic differentiation::
@@ -71,7 +71,7 @@ def dorfmann_ogden_electric(F, D_L, *, alpha, beta, eps):
 
 def energy_cf(material, F, D_L):
     """The CF energy of a library material instance (dispatch on its class)."""
-    from models.materials import library as lib
+    from debench.models.materials import library as lib
 
     if isinstance(material, lib.GentIdealDielectric):
         return gent_ideal_dielectric(F, D_L, mu=material.mu, Jm=material.Jm, eps=material.eps)
@@ -125,7 +125,7 @@ def evaluate(material, F, D_L) -> dict:
     """``W, P, E_L, AA, AAA, A`` of a library material by NGSolve symbolic differentiation.
 
     Uses one thread (``ngsolve.SetNumThreads(1)``). Index layout as
-    :class:`models.materials.kernel.Response`.
+    :class:`debench.models.materials.kernel.Response`.
     """
     ng.SetNumThreads(1)
     key = material

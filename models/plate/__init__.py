@@ -2,14 +2,14 @@
 
 Two independent methods give the critical stretch lam_cr(kH):
 
-* :mod:`models.plate.ansatz` - exponential-ansatz determinant (eqs 4.61-4.82), even/odd
+* :mod:`debench.models.plate.ansatz` - exponential-ansatz determinant (eqs 4.61-4.82), even/odd
   split, roots bracketed on a grid and refined with brentq;
-* :mod:`models.plate.fem` - 1D finite elements through the thickness (Hermite-cubic
+* :mod:`debench.models.plate.fem` - 1D finite elements through the thickness (Hermite-cubic
   stream function, quadratic electric stream function), lam_cr from the zero crossing of
   an eigenvalue of the generalised eigenproblem K v = omega M v.
 """
 
-from models.plate.coefficients import (
+from debench.models.plate.coefficients import (
     VARIANTS,
     PlateParams,
     base_state,

@@ -4,7 +4,7 @@ Coefficients a, 2b, c, d, e, f, g of the incremental equations (4.52)-(4.53),
 derived from the energy (4.22) with mu = eps = 1 (D_hat = D2/sqrt(mu eps)), and the
 base-state pressure p (tau22 = 0) and lateral total stress tau11.
 The plane-strain incremental energy matrix is S(a, 2b, c, d, e, f, g), see
-models.plate.coefficients.energy_matrix. A test re-derives these numerically.
+debench.models.plate.coefficients.energy_matrix. A test re-derives these numerically.
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Derived quantities of Chapter 4: limits (Fig. 4.4), unstable regions (Figs 4.2, 4.3),
 critical electric displacement (Fig. 4.6), and the literature limits.
 
-All functions are pure; they use the ansatz determinant of :mod:`models.plate.ansatz`
+All functions are pure; they use the ansatz determinant of :mod:`debench.models.plate.ansatz`
 (method 1) and closed forms derived here.
 """
 
@@ -12,15 +12,15 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import brentq
 
-from models.errors import ConvergenceError
-from models.plate.ansatz import (
+from debench.models.errors import ConvergenceError
+from debench.models.plate.ansatz import (
     _column,
     _quartic_roots,
     _row_coefficients,
     critical_stretches,
     determinant,
 )
-from models.plate.coefficients import PlateParams, coefficients, strongly_elliptic
+from debench.models.plate.coefficients import PlateParams, coefficients, strongly_elliptic
 
 
 # --------------------------------------------------------------------------- kH -> 0

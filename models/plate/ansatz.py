@@ -35,8 +35,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from models.errors import ConvergenceError, require
-from models.plate.coefficients import (
+from debench.models.errors import ConvergenceError, require
+from debench.models.plate.coefficients import (
     PlateParams,
     coefficients,
     reduced_quartic,

@@ -28,9 +28,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from models.errors import require
-from models.plate._generated import base_state as _base_state
-from models.plate._generated import derived_coefficients
+from debench.models.errors import require
+from debench.models.plate._generated import base_state as _base_state
+from debench.models.plate._generated import derived_coefficients
 
 VARIANTS = ("derived", "printed", "literal")
 

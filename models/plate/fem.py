@@ -7,7 +7,7 @@ divergence free). The incremental energy per wavelength is the Hermitian form
     Pi[Psi, Phi] = int_{-h/2}^{h/2} z^H S z dx2,
     z = (i Psi', Psi'', Psi, -i Psi', Phi', -i Phi)   (k = 1 after scaling x2 by k),
 
-with S the energy matrix of :func:`models.plate.coefficients.energy_matrix` (moduli of
+with S the energy matrix of :func:`debench.models.plate.coefficients.energy_matrix` (moduli of
 (4.29)-(4.31) pushed forward, plus the base-pressure term). Traction-free faces and
 equipotential electrodes (tangential incremental field zero, the charge free to
 redistribute: charge control fixes only the total charge) are the *natural* boundary
@@ -35,8 +35,8 @@ import numpy as np
 import scipy.linalg as sla
 from scipy.optimize import brentq
 
-from models.errors import ConvergenceError, require
-from models.plate.coefficients import PlateParams, energy_matrix, strongly_elliptic
+from debench.models.errors import ConvergenceError, require
+from debench.models.plate.coefficients import PlateParams, energy_matrix, strongly_elliptic
 
 #: default number of elements through the thickness
 N_ELEMENTS = 24

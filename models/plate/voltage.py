@@ -25,10 +25,10 @@ from types import SimpleNamespace
 import numpy as np
 from scipy.optimize import brentq
 
-from models.errors import ConvergenceError, require
-from models.plate.ansatz import LAM_WINDOW, PARITIES, determinant, scan_grid
-from models.plate.coefficients import PlateParams
-from models.plate.fem import eigenvalues
+from debench.models.errors import ConvergenceError, require
+from debench.models.plate.ansatz import LAM_WINDOW, PARITIES, determinant, scan_grid
+from debench.models.plate.coefficients import PlateParams
+from debench.models.plate.fem import eigenvalues
 
 
 def dhat_at_voltage(lam, Vhat: float, params: PlateParams):

@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from reference import catalogue
-from reference.datasets import write_dataset
+from debench.reference import catalogue
+from debench.reference.datasets import write_dataset
 
 NAME = "thesis_values"
 

@@ -5,7 +5,7 @@ Table 5.1 / Ch. 3 models in incompressible uniaxial tension.
 ``build(out_dir, full=False)`` writes
 
 * ``ch2_kernel_reference_states.nc`` - for each material of
-  :data:`models.materials.MATERIALS` (the non-dimensional ones in SI units, see
+  :data:`debench.models.materials.MATERIALS` (the non-dimensional ones in SI units, see
   :data:`TI_SI`, :data:`DO_SI`) and each state of :data:`STATES` (isochoric F, D_L in units of
   ``sqrt(eps mu)``): W, dW/dF, dW/dD_L, Cauchy stress (p = 0), the traction-free p on the
   face with current normal e3 (incompressible materials; NaN otherwise), E, and the moduli
@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from reference.datasets import write_dataset
+from debench.reference.datasets import write_dataset
 
 STATES = {
     # name: (principal stretches l1, l2 (l3 = 1/(l1 l2)), shear gamma, normalised D_L)
@@ -41,7 +41,7 @@ DO_SI = dict(alpha=0.3, beta=0.5, eps=4.7 * 8.85e-12)
 
 
 def _materials():
-    from models.materials import MATERIALS, DorfmannOgdenElectric, TransverselyIsotropicNeoHookean
+    from debench.models.materials import MATERIALS, DorfmannOgdenElectric, TransverselyIsotropicNeoHookean
 
     mats = dict(MATERIALS)
     mats["ti_neo_hookean_dielectric"] = TransverselyIsotropicNeoHookean(**TI_SI)
@@ -59,7 +59,7 @@ def _state(name, mat):
 
 def compute() -> xr.Dataset:
     """The reference-state dataset (pure computation, no I/O)."""
-    from models.materials import cauchy_stress, electric_field, pressure_from_traction_free_face
+    from debench.models.materials import cauchy_stress, electric_field, pressure_from_traction_free_face
 
     mats = _materials()
     names, states = list(mats), list(STATES)
@@ -108,7 +108,7 @@ def compute() -> xr.Dataset:
         data_vars[k] = (("material", "state") + d, out[k],
                         {"units": units, "long_name": long_name})
     coords = {
-        "material": ("material", names, {"long_name": "library material (models.materials)"}),
+        "material": ("material", names, {"long_name": "library material (debench.models.materials)"}),
         "state": ("state", states, {"long_name": "canonical isochoric state"}),
         "i": ("i", np.arange(3), {"long_name": "spatial index", "units": "1"}),
         "j": ("j", np.arange(3), {"long_name": "spatial index", "units": "1"}),
@@ -136,7 +136,7 @@ def figure(path: Path) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from models.materials import MATERIALS, cauchy_stress
+    from debench.models.materials import MATERIALS, cauchy_stress
 
     lam = np.linspace(1.0, 4.0, 61)
     fig, ax = plt.subplots(figsize=(5.5, 4))

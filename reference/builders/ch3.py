@@ -1,7 +1,7 @@
 # ruff: noqa: E501  -- CF attribute dicts and dataset descriptions read best on one line
 """Builder of the Chapter 3 datasets and figures (Figs 3.2-3.9 of Zeng 2020).
 
-Datasets (``ch3_*``, written with :func:`reference.datasets.write_dataset`):
+Datasets (``ch3_*``, written with :func:`debench.reference.datasets.write_dataset`):
 
 * ``ch3_annulus_profiles``: lambda_1, lambda_2, lambda_3 along R/R_A in annulus B and the
   circle-A stretch, lamP = 3, R_B/R_A = 15, Phibar = 0.2, c = 0 and -0.053 (Figs 3.2-3.3).
@@ -23,11 +23,11 @@ import numpy as np
 import xarray as xr
 from tqdm import tqdm
 
-from models.circular import analysis, params
-from models.circular.actuator import EVENT_KINDS, branch, branches, curves, curves_many
-from models.circular.params import Annulus
-from models.circular.shooting import DEFAULT_STEPS, integrate_inward
-from reference.datasets import write_dataset
+from debench.models.circular import analysis, params
+from debench.models.circular.actuator import EVENT_KINDS, branch, branches, curves, curves_many
+from debench.models.circular.params import Annulus
+from debench.models.circular.shooting import DEFAULT_STEPS, integrate_inward
+from debench.reference.datasets import write_dataset
 
 LAMP_CURVES = (1.1, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0)
 C_CURVES = (0.0, -0.02, -0.04, -0.053, -0.06, -0.08, -0.1)
@@ -356,7 +356,7 @@ def figures(ds: dict[str, xr.Dataset], fig_dir: Path) -> list[Path]:
                 ax.plot(stop, phi[-1] if phi.size else np.nan, "k" + sym[code], ms=4,
                         mfc="none" if c else "k")
     lam = np.linspace(1, 7.8, 200)
-    from models.circular.circle_a import breakdown_phibar
+    from debench.models.circular.circle_a import breakdown_phibar
     ax.plot(lam, breakdown_phibar(lam, params.EPS_R_ASSUMED, params.MU_VHB), "r--", lw=1,
             label="breakdown (eps_r = 4.7)")
     ax.set(xlabel="stretch of circle A", ylabel="Phibar", ylim=(0, 0.8),

@@ -3,7 +3,7 @@
 ``build(out_dir, full=False)`` writes
 
 * ``ch4_fig4_2_curves.nc`` - lam_cr(kH) for Dhat = 0 ... 5, xi = 0 and 5, three variants
-  of the equations (derived / printed / literal; see models.plate.coefficients);
+  of the equations (derived / printed / literal; see debench.models.plate.coefficients);
 * ``ch4_fig4_5_curves.nc`` - lam_cr(kH) at Dhat = 2 for xi = 0, 3, 5, 10;
 * ``ch4_limits.nc`` - kH -> 0 limits (Fig. 4.4), half-space (Biot) limit, ellipticity limit;
 * ``ch4_areas.nc`` - unstable-region areas (Fig. 4.3) for two definitions and three windows;
@@ -23,12 +23,12 @@ import numpy as np
 import xarray as xr
 from tqdm import tqdm
 
-from models.plate import PlateParams, ellipticity_limit_stretch
-from models.plate.analysis import biot_equibiaxial_closed_form, half_space_limit, thin_limit
-from models.plate.ansatz import LAM_WINDOW, critical_stretches, curves_vectorised
-from models.plate.fem import eigenvalues, elements_for, refine_root
-from reference.datasets import write_dataset
-from reference.producers import ch4 as prod
+from debench.models.plate import PlateParams, ellipticity_limit_stretch
+from debench.models.plate.analysis import biot_equibiaxial_closed_form, half_space_limit, thin_limit
+from debench.models.plate.ansatz import LAM_WINDOW, critical_stretches, curves_vectorised
+from debench.models.plate.fem import eigenvalues, elements_for, refine_root
+from debench.reference.datasets import write_dataset
+from debench.reference.producers import ch4 as prod
 
 VARIANTS = ("derived", "printed", "literal")
 FIG42_D = prod.FIG42_D
@@ -186,8 +186,8 @@ def agreement_dataset(kHs=(0.3, 2.0, 10.0), progress=True) -> xr.Dataset:
 
 
 def voltage_dataset(progress=True) -> xr.Dataset:
-    """Beyond the thesis: lam_cr(kH) at fixed voltage Vhat (models.plate.voltage)."""
-    from models.plate.voltage import critical_stretches_at_voltage
+    """Beyond the thesis: lam_cr(kH) at fixed voltage Vhat (debench.models.plate.voltage)."""
+    from debench.models.plate.voltage import critical_stretches_at_voltage
 
     variants, xis, Vs = ("derived", "printed"), (0.0, 5.0), (0.25, 0.5, 0.75, 1.0)
     kH = np.geomspace(0.01, 20.0, 81)

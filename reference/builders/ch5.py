@@ -25,7 +25,7 @@ import numpy as np
 import xarray as xr
 from scipy.optimize import brentq
 
-from reference.datasets import write_dataset
+from debench.reference.datasets import write_dataset
 
 CASES = {  # name: (material, thickness [m])
     "nh_t1": ("nh", 1e-3),
@@ -41,7 +41,7 @@ EIG_EVERY = 4
 
 
 def _material(name):
-    from models.buckling.parameters import NeoHookean, Ogden
+    from debench.models.buckling.parameters import NeoHookean, Ogden
     return NeoHookean() if name == "nh" else Ogden()
 
 
@@ -63,9 +63,9 @@ def compute(full: bool = False, progress: bool = True):
     """Run the FE computations; returns (critical dataset, ramps dataset, parameters)."""
     import ngsolve
 
-    from models.buckling import analytic
-    from models.buckling.parameters import MU_REF, Discretisation, Plate
-    from models.buckling.solver import critical_voltage, southwell, voltage_ramp
+    from debench.models.buckling import analytic
+    from debench.models.buckling.parameters import MU_REF, Discretisation, Plate
+    from debench.models.buckling.solver import critical_voltage, southwell, voltage_ramp
     ngsolve.SetNumThreads(int(os.environ.get("OMP_NUM_THREADS", "1")))
     try:
         from tqdm import tqdm
@@ -216,7 +216,7 @@ def figures(crit, ramps, fig_dir: Path) -> list[Path]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from models.buckling.parameters import Plate
+    from debench.models.buckling.parameters import Plate
     fig_dir.mkdir(parents=True, exist_ok=True)
     out = []
     # Fig 5.4: thickness study (Ogden), deflection in mm vs voltage in kV (eps_r 4.7)

@@ -1,7 +1,7 @@
 """Producers for the Chapter 3 catalogue (``reference/catalogue/ch3.toml``).
 
 Each producer reads the entry's ``parameters`` (lamP, c, phibar, ...) and computes our
-value with :mod:`models.circular`, using the equilibrium variant the thesis solves
+value with :mod:`debench.models.circular`, using the equilibrium variant the thesis solves
 (``"printed"``, Eq. 3.33) and reporting in ``details`` the value under the consistent
 thin-membrane balance (``"membrane"``) and, where the relative permittivity enters
 (breakdown), the value for each eps_r of :data:`EPS_R_SENSITIVITY`. Branches are cached,
@@ -15,10 +15,10 @@ from functools import lru_cache
 
 import numpy as np
 
-from models.circular import analysis, circle_a, params
-from models.circular.actuator import branch, curves
-from models.circular.params import Annulus
-from reference.catalogue import Entry, Outcome
+from debench.models.circular import analysis, circle_a, params
+from debench.models.circular.actuator import branch, curves
+from debench.models.circular.params import Annulus
+from debench.reference.catalogue import Entry, Outcome
 
 #: relative permittivities for the sensitivity study (ch3.assumption.eps_r): VHB 4910
 #: reported 4.05-4.7 (Di Lillo et al. 4.2 unstretched to 4.05 at 5x5; Pelrine et al. /
@@ -126,7 +126,7 @@ def voltage_increase(entry: Entry) -> Outcome:
     vals = {}
     for v in VARIANTS:
         br = _branch(lamP, v)
-        from models.circular.shooting import interface_state, q_for_stretch
+        from debench.models.circular.shooting import interface_state, q_for_stretch
         q = q_for_stretch(br.annulus, np.array([lam]), np.interp(lam, br.lam, br.q))
         st = interface_state(br.annulus, q)
         kap = br.annulus.kappa
@@ -210,7 +210,7 @@ def table_3_1(entry: Entry) -> Outcome:
 def figure_parameters(entry: Entry) -> Outcome:
     """The builder uses the stated figure parameters (RB/RA = 15, c = 0 and -0.053, the
     Fig. 3.7 pre-stretches)."""
-    from reference.builders import ch3 as builder
+    from debench.reference.builders import ch3 as builder
     ok = (builder.RADIUS_RATIO == _p(entry, "radius_ratio_figures")
           and set(_p(entry, "prestretches_fig3_7")) <= set(builder.LAMP_CURVES)
           and set(_p(entry, "c_values")) <= set(builder.C_CURVES))
@@ -254,7 +254,7 @@ def _check_failure_modes(entry, eps_r, eq):
 
 
 def _check_annulus_profile(entry, eps_r, eq):
-    from models.circular.shooting import integrate_inward
+    from debench.models.circular.shooting import integrate_inward
     br = _branch(_p(entry, "lamP"), eq)
     ok = True
     msgs = []
@@ -270,7 +270,7 @@ def _check_annulus_profile(entry, eps_r, eq):
 
 
 def _check_difference_decays(entry, eps_r, eq):
-    from models.circular.shooting import integrate_inward
+    from debench.models.circular.shooting import integrate_inward
     br = _branch(_p(entry, "lamP"), eq)
     prof = []
     for c in (0.0, _p(entry, "c")):

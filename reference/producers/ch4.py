@@ -16,8 +16,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from models.plate import PlateParams, ellipticity_limit_stretch
-from models.plate.analysis import (
+from debench.models.plate import PlateParams, ellipticity_limit_stretch
+from debench.models.plate.analysis import (
     biot_equibiaxial_closed_form,
     critical_D_max_area,
     critical_D_thin_extensional,
@@ -25,8 +25,8 @@ from models.plate.analysis import (
     region,
     thin_limit,
 )
-from models.plate.ansatz import critical_stretches
-from reference.catalogue import Entry, Outcome
+from debench.models.plate.ansatz import critical_stretches
+from debench.reference.catalogue import Entry, Outcome
 
 #: thesis Fig. 4.2 cases and Fig. 4.5 anisotropy levels (Sec. 4.4)
 FIG42_D = (0.0, 1.0, 2.0, 2.2, 2.4, 2.6, 3.0, 4.0, 5.0)
@@ -277,7 +277,7 @@ def area_values(entry: Entry) -> Outcome:
 def bicubic_independent_of_D(entry: Entry) -> Outcome:
     """(4.63) does not contain Dhat: with alpha = 0 the roots s of det M(s) = 0 are the
     same for every Dhat (checked numerically on the full 2x2 symbol)."""
-    from models.plate.coefficients import coefficients
+    from debench.models.plate.coefficients import coefficients
 
     def roots(D):
         a, b2, c, d, e, f, g = (float(x) for x in coefficients(
@@ -314,7 +314,7 @@ def parameters_used(entry: Entry) -> Outcome:
     status "input" (checked against the stated value, not a reproduction)."""
     d = PlateParams()
     return Outcome(f"alpha = {d.alpha:g}, beta = {d.beta:g}", status="input",
-                   diagnosis="models.plate.PlateParams defaults")
+                   diagnosis="debench.models.plate.PlateParams defaults")
 
 
 def erratum(entry: Entry) -> Outcome:
@@ -350,7 +350,7 @@ def voltage_control_bc(entry: Entry) -> Outcome:
     """Voltage control of the electroded plate: every root of the voltage-controlled
     determinant is a root of the charge-controlled one at Dhat = Vhat lam^2/beta, i.e.
     the incremental boundary conditions are the same (value False = they do not differ)."""
-    from models.plate.voltage import critical_stretches_at_voltage, dhat_at_voltage
+    from debench.models.plate.voltage import critical_stretches_at_voltage, dhat_at_voltage
 
     v = _variant(entry)
     worst = 0.0

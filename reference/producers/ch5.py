@@ -1,7 +1,7 @@
 """Producers for the Chapter 5 catalogue (``reference/catalogue/ch5.toml``).
 
 They read the curated finite-element datasets ``data/ch5_critical_voltage.nc`` and
-``data/ch5_ramps.nc`` (written by :mod:`reference.builders.ch5`); they never run the FE
+``data/ch5_ramps.nc`` (written by :mod:`debench.reference.builders.ch5`); they never run the FE
 model.  Normalised voltage ``v = Phi/t0 sqrt(eps/mu_ref)``, mu_ref = 156000 Pa
 (``ch5.assumption.normalisation``); fields in V/um use eps_r = 4.7
 (``ch5.assumption.eps_r``) with the sensitivity in ``details``.
@@ -14,8 +14,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from reference.catalogue import Entry, Outcome
-from reference.datasets import read_dataset
+from debench.reference.catalogue import Entry, Outcome
+from debench.reference.datasets import read_dataset
 
 EV_FEM = "verification/test_ch5_fem.py"
 EV_DATA = "verification/test_ch5_data.py"
@@ -202,8 +202,8 @@ def erratum_pullin_thickness(entry: Entry) -> Outcome:
 
 
 def erratum_compressibility(entry: Entry) -> Outcome:
-    from models.buckling.analytic import homogeneous_film
-    from models.buckling.parameters import NeoHookean
+    from debench.models.buckling.analytic import homogeneous_film
+    from debench.models.buckling.parameters import NeoHookean
     h = homogeneous_film(0.2, NeoHookean())
     compressible = h["s"] < 1 - 1e-5 and -h["sigma11"] < 0.99 * h["e"] ** 2
     return Outcome(value=compressible, status="confirmed" if compressible else "refuted",
@@ -213,7 +213,7 @@ def erratum_compressibility(entry: Entry) -> Outcome:
 
 
 def clamped_plate_coefficient(entry: Entry) -> Outcome:
-    from models.buckling.analytic import J11_SQ
+    from debench.models.buckling.analytic import J11_SQ
     return Outcome(value=J11_SQ, evidence=(
         "verification/test_ch5_constitutive.py::test_clamped_plate_coefficient_is_first_zero_of_j1_squared"))
 
@@ -227,8 +227,8 @@ def fe_critical_voltage_nh(entry: Entry) -> Outcome:
 
 def model_input(entry: Entry) -> Outcome:
     """A stated parameter: return the value the Chapter 5 models actually use."""
-    from models.buckling.parameters import NeoHookean, Ogden, Plate
-    from reference.builders.ch5 import CASES
+    from debench.models.buckling.parameters import NeoHookean, Ogden, Plate
+    from debench.reference.builders.ch5 import CASES
     key = entry.id.split(".", 1)[1]
     used = {
         "table5_1.nh_shear_modulus": NeoHookean().mu,
@@ -247,7 +247,7 @@ def model_input(entry: Entry) -> Outcome:
 
 def discretisation(entry: Entry) -> Outcome:
     """The thesis' Abaqus discretisation vs ours (not a physical claim)."""
-    from reference.builders.ch5 import LAYERS
+    from debench.reference.builders.ch5 import LAYERS
     r = _ramps()
     key = entry.id.split(".", 1)[1]
     ours = {"geometry.element_layers": LAYERS,

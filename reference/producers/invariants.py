@@ -3,8 +3,8 @@ closed forms of the electroelastic kernel, checked against independent derivatio
 
 Every producer evaluates at :data:`N_STATES` seeded pseudo-random states (deformation
 gradients with stretches in [0.6, 2], unit-scale D_L, unit fibre A) and compares the
-printed formula with the sympy-generated derivative (:mod:`models.invariants._generated`)
-or the chain rule (:mod:`models.materials`). Agreement means max relative difference
+printed formula with the sympy-generated derivative (:mod:`debench.models.invariants._generated`)
+or the chain rule (:mod:`debench.models.materials`). Agreement means max relative difference
 <= :data:`EXACT_RTOL`; errata are ``confirmed`` when the printed form differs *and* the
 corrected form agrees, ``refuted`` otherwise.
 """
@@ -13,10 +13,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from models.invariants import _generated
-from models.invariants import printed as pr
-from models.invariants.numerical import central_difference_F
-from models.materials import (
+from debench.models.invariants import _generated
+from debench.models.invariants import printed as pr
+from debench.models.invariants.numerical import central_difference_F
+from debench.models.materials import (
     MEMBRANE_MODELS,
     GentIdealDielectric,
     IdealDielectric,
@@ -28,7 +28,7 @@ from models.materials import (
     invariant_chain_rule,
     push_forward,
 )
-from reference.catalogue import Entry, Outcome
+from debench.reference.catalogue import Entry, Outcome
 
 N_STATES = 12
 EXACT_RTOL = 1e-10
@@ -137,7 +137,7 @@ def eq2_43_agrees(entry: Entry) -> Outcome:
 def eq2_69_truncated_sum(entry: Entry) -> Outcome:
     """(2.69)/(4.33) truncated sums equal the full chain rule for the incompressible thesis
     energies (Gent + ideal dielectric, (4.22)); details: the miss for (5.9) at J != 1."""
-    from models.invariants import derivatives, invariants
+    from debench.models.invariants import derivatives, invariants
 
     def trunc(mat, F, D, m0):
         Aa = np.asarray(mat.A, dtype=float) if mat.numbering == "ti" else None
