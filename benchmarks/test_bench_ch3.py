@@ -20,7 +20,6 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
-
 from debench.models.circular import collocation, shooting  # noqa: E402
 from debench.models.circular.actuator import branch, curves  # noqa: E402
 from debench.models.circular.params import Annulus  # noqa: E402

@@ -21,11 +21,10 @@ from concurrent.futures import ProcessPoolExecutor  # noqa: E402
 
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
-from scipy.optimize import brentq  # noqa: E402
-
 from debench.models.plate import PlateParams  # noqa: E402
 from debench.models.plate.ansatz import critical_stretches, curves_vectorised, determinant  # noqa: E402
 from debench.models.plate.fem import eigenvalues, elements_for  # noqa: E402
+from scipy.optimize import brentq  # noqa: E402
 
 FIG42 = [(xi, D) for D in (0.0, 1.0, 2.0, 2.2, 2.4, 2.6, 3.0, 4.0, 5.0) for xi in (0.0, 5.0)]
 KH = np.geomspace(0.01, 20.0, 400)

@@ -12,7 +12,6 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
-
 from debench.models.invariants import _generated, closed_form  # noqa: E402
 from debench.models.materials import MATERIALS  # noqa: E402
 

@@ -238,9 +238,10 @@ def version_string() -> str:
     """``debench X (commit C; data manifest sha256 D)``: what ``--version`` prints."""
     import hashlib
 
-    from debench import __version__
     from debench.reference.datasets import MANIFEST_NAME, data_dir
     from debench.reference.provenance import git_commit
+
+    from debench import __version__
 
     manifest = data_dir() / MANIFEST_NAME
     digest = (hashlib.sha256(manifest.read_bytes()).hexdigest()[:16]

@@ -43,7 +43,6 @@ from typing import Any
 
 import numpy as np
 import xarray as xr
-
 from debench.reference import __version__
 from debench.reference.provenance import command_line, git_commit, package_versions_json
 

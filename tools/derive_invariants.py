@@ -157,7 +157,6 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     if args.check:
         import numpy as np
-
         from debench.models.invariants import _generated
 
         rng = np.random.default_rng(1)

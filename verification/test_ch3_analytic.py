@@ -12,11 +12,11 @@ import math
 
 import numpy as np
 import pytest
-from scipy.optimize import brentq, minimize_scalar
-
 from debench.models.circular import circle_a, collocation, params, shooting
 from debench.reference import catalogue
 from debench.reference.producers import ch3 as producers
+from scipy.optimize import brentq, minimize_scalar
+
 from verification._loaders import load_script
 
 #: closed forms evaluated two ways: rounding only
@@ -63,8 +63,9 @@ def test_gent_free_membrane_extrema_match_sympy_polynomial_roots():
 
 
 def test_circle_a_stress_matches_constitutive_kernel():
-    """(3.30) (debench.models.circular) vs (3.21) evaluated by debench.models.materials.membrane (issue 3),
-    both the kernel's closed form and its complex-step differentiation of (3.20)."""
+    """(3.30) (debench.models.circular) vs (3.21) evaluated by
+    debench.models.materials.membrane, both the kernel's closed form and its complex-step
+    differentiation of (3.20)."""
     pytest.importorskip("debench.models.materials.membrane")
     from debench.models.materials.membrane import GentMembrane, ZhaoSuoPermittivity
     mu, eps_r = 51e3, 4.7

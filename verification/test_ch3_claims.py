@@ -11,7 +11,6 @@ import math
 
 import numpy as np
 import pytest
-
 from debench.models.circular import analysis, circle_a, params
 from debench.models.circular.actuator import branch, curves
 from debench.models.circular.params import Annulus

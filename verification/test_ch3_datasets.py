@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from debench.reference.builders import ch3 as builder
 from debench.reference.datasets import DatasetError, data_dir, read_dataset
 

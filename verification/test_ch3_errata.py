@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy as sp
-
 from debench.models.circular import analysis, shooting
 from debench.models.circular.actuator import branch, curves
 from debench.models.circular.params import Annulus
+
 from verification._loaders import load_script
 
 #: a solution of one ODE fails the other equation by O(1) relative: any threshold far

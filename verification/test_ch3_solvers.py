@@ -9,14 +9,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy as sp
-from hypothesis import given, settings
-from hypothesis import strategies as st
-
 from debench.models.circular import _generated as gen
 from debench.models.circular import collocation, shooting
 from debench.models.circular.actuator import branch, curves, locate
 from debench.models.circular.params import Annulus, CircularActuator, locking_stretch_equibiaxial
 from debench.models.errors import ConvergenceError
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 #: shooting (RK4, 800 steps) vs collocation (solve_bvp tol 1e-8): both discretisation
 #: errors are <= ~2e-8 on the thesis range (measured max 1.1e-8 at lambda = 7.5,
@@ -260,9 +259,8 @@ def test_pullin_two_methods():
 def test_interface_change_two_methods():
     """Sec. 3.5.1 (25.3 %, 15.6 %): states at Phibar = 0.2 by brentq on collocation vs the
     shooting Newton (debench.models.circular.analysis.state_at_voltage)."""
-    from scipy.optimize import brentq
-
     from debench.models.circular import analysis
+    from scipy.optimize import brentq
     an = Annulus(3.0)
     cb = _ColloBranch(an)
     br = branch(an)

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from debench.models.plate import PlateParams
 from debench.models.plate.ansatz import critical_stretches, curves_vectorised
 from debench.reference.builders import ch4 as builder

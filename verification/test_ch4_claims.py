@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from debench.reference import catalogue
 from debench.reference.producers import ch4 as prod
 

@@ -11,12 +11,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given
-from hypothesis import strategies as st
-
 from debench.models.plate import PlateParams, base_state, coefficients, energy_matrix
 from debench.models.plate.ansatz import _row_coefficients, critical_stretches
 from debench.models.plate.coefficients import printed_coefficients, reduced_quartic
+from hypothesis import given
+from hypothesis import strategies as st
 
 #: finite differences of second order with step 1e-4 on O(1) quantities: error
 #: ~ h^2 * |W''''| ~ 1e-8, rounding ~ eps/h^2 ~ 1e-8

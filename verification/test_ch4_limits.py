@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from debench.models.plate import PlateParams, ellipticity_limit_stretch, strongly_elliptic
 from debench.models.plate.analysis import (
     biot_equibiaxial_closed_form,

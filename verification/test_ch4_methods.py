@@ -10,11 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from scipy.optimize import brentq
-
 from debench.models.plate import PlateParams
 from debench.models.plate.ansatz import PARITIES, _quartic_roots, critical_stretches, determinant
 from debench.models.plate.fem import eigenvalues, elements_for, refine_root
+from scipy.optimize import brentq
 
 #: Fig. 4.2 (nine Dhat, xi = 0 and 5) and Fig. 4.5 (xi = 3, 10 at Dhat = 2)
 FIG42 = [(xi, D) for D in (0.0, 1.0, 2.0, 2.2, 2.4, 2.6, 3.0, 4.0, 5.0) for xi in (0.0, 5.0)]

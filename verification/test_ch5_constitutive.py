@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from debench.models.buckling import analytic
 from debench.models.buckling.parameters import MU_REF, NeoHookean, Ogden
 from debench.models.materials import NeoHookeanIdealDielectric, OgdenIdealDielectric, cauchy_stress

@@ -13,7 +13,6 @@ import os
 
 import numpy as np
 import pytest
-
 from debench.reference import catalogue
 from debench.reference.datasets import dataset_parameters, read_dataset
 

@@ -7,7 +7,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from debench.reference import catalogue
 from debench.reference.catalogue import Entry, Outcome, judge, printed_half_ulp
 

@@ -7,7 +7,6 @@ from pathlib import Path
 
 import jsonschema
 import yaml
-
 from debench.reference.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]

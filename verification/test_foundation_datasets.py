@@ -7,10 +7,9 @@ import json
 import numpy as np
 import pytest
 import xarray as xr
-from xarray.testing import assert_identical
-
 from debench.reference import datasets
 from debench.reference.datasets import DatasetError, read_dataset, write_dataset
+from xarray.testing import assert_identical
 
 PARAMS = {"mu": 51e3, "Jm": 120.0, "c": -0.053, "label": "test"}
 

@@ -11,11 +11,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from debench.models.invariants import _generated, closed_form, numerical
+from debench.models.invariants.printed import PRINTED_DERIVATIVES, SAME_FORMULA
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from debench.models.invariants import _generated, closed_form, numerical
-from debench.models.invariants.printed import PRINTED_DERIVATIVES, SAME_FORMULA
 from verification.strategies import (
     deformation_gradients,
     lagrangian_displacements,

@@ -14,9 +14,6 @@ import sys
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
-
 from debench.models.materials import (
     MATERIALS,
     GentIdealDielectric,
@@ -27,6 +24,9 @@ from debench.models.materials import (
     electric_field,
     pressure_from_traction_free_face,
 )
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
 from verification.strategies import (
     deformation_gradients,
     isochoric_deformation_gradients,

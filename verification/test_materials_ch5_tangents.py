@@ -10,12 +10,12 @@ central differences.
 from __future__ import annotations
 
 import numpy as np
-from hypothesis import given, settings
-from hypothesis import strategies as st
-
 from debench.models.invariants import printed as pr
 from debench.models.invariants.numerical import central_difference_F
 from debench.models.materials import NeoHookeanIdealDielectric, OgdenIdealDielectric, cauchy_stress
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
 from verification.strategies import deformation_gradients, lagrangian_displacements
 
 FD_STEP = 1e-6

@@ -9,9 +9,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given
-from hypothesis import strategies as st
-
 from debench.models.invariants import derivatives, invariants
 from debench.models.invariants import printed as pr
 from debench.models.materials import (
@@ -25,6 +22,9 @@ from debench.models.materials import (
     invariant_chain_rule,
     push_forward,
 )
+from hypothesis import given
+from hypothesis import strategies as st
+
 from verification.strategies import (
     deformation_gradients,
     isochoric_deformation_gradients,

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from debench.reference.builders import ch2_appendix
 from debench.reference.datasets import read_dataset
 

@@ -8,9 +8,6 @@ import sys
 
 import numpy as np
 import pytest
-from hypothesis import given
-from hypothesis import strategies as st
-
 from debench.models.materials import (
     MEMBRANE_MODELS,
     VACUUM_PERMITTIVITY,
@@ -18,6 +15,9 @@ from debench.models.materials import (
     JimenezMcMeekingPermittivity,
     ZhaoSuoPermittivity,
 )
+from hypothesis import given
+from hypothesis import strategies as st
+
 from verification.strategies import stretches
 
 NAMES = sorted(MEMBRANE_MODELS)

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from debench.models.materials import MATERIALS
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from debench.models.materials import MATERIALS
 from verification.strategies import (
     deformation_gradients,
     isochoric_deformation_gradients,

@@ -23,10 +23,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from debench.models.buckling.parameters import MU_REF, NeoHookean, Ogden
 from scipy.optimize import brentq
 from scipy.special import jn_zeros
-
-from debench.models.buckling.parameters import MU_REF, NeoHookean, Ogden
 
 J11_SQ = float(jn_zeros(1, 1)[0] ** 2)   # 14.6820, clamped circular plate coefficient
 KAPPA_MINDLIN = 5.0 / 6.0

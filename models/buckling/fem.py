@@ -42,12 +42,11 @@ from dataclasses import dataclass, field
 
 import ngsolve as ngs
 import numpy as np
+from debench.models.buckling.parameters import MU_REF, Discretisation, NeoHookean, Ogden, Plate
+from debench.models.errors import ConvergenceError, require
 from netgen.geom2d import SplineGeometry
 from netgen.meshing import Element2D, Element3D, FaceDescriptor, MeshPoint, Pnt
 from netgen.meshing import Mesh as NGMesh
-
-from debench.models.buckling.parameters import MU_REF, Discretisation, NeoHookean, Ogden, Plate
-from debench.models.errors import ConvergenceError, require
 
 NEWTON_TOL = 1e-9    # Newton: max |correction| / t0
 NEWTON_MAXIT = 30

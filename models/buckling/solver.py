@@ -11,7 +11,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-
 from debench.models.buckling.analytic import critical_voltage_plate
 from debench.models.buckling.fem import MembraneModel, mode_axisymmetry
 from debench.models.buckling.parameters import Discretisation, NeoHookean, Ogden, Plate

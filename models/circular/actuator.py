@@ -32,9 +32,8 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.interpolate import PchipInterpolator
-
 from debench.models.errors import ConvergenceError
+from scipy.interpolate import PchipInterpolator
 
 from . import circle_a
 from .params import Annulus, CircularActuator, locking_stretch_equibiaxial

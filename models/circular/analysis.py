@@ -13,9 +13,8 @@ Definitions (catalogued as ch3.assumption.* entries):
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import brentq
-
 from debench.models.errors import ConvergenceError
+from scipy.optimize import brentq
 
 from . import circle_a
 from .actuator import Branch, branch, curves

@@ -17,9 +17,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import solve_bvp
-
 from debench.models.errors import ConvergenceError
+from scipy.integrate import solve_bvp
 
 from . import _generated as gen
 from .params import Annulus

@@ -23,7 +23,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-
 from debench.models.errors import ConvergenceError
 
 from .params import Annulus

@@ -11,7 +11,6 @@ is used.
 from __future__ import annotations
 
 import numpy as np
-
 from debench.models.invariants.closed_form import invariants
 
 CS_STEP = 1e-30

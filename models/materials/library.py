@@ -16,7 +16,6 @@ from dataclasses import dataclass, field
 from typing import ClassVar
 
 import numpy as np
-
 from debench.models.invariants import invariants, validate_state
 from debench.models.materials.kernel import (
     Response,

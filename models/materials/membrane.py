@@ -24,7 +24,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-
 from debench.models.materials.library import VACUUM_PERMITTIVITY
 
 _H = 1e-30  # complex step: no subtractive cancellation, any tiny step is exact to rounding

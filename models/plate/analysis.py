@@ -10,8 +10,6 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.optimize import brentq
-
 from debench.models.errors import ConvergenceError
 from debench.models.plate.ansatz import (
     _column,
@@ -21,6 +19,7 @@ from debench.models.plate.ansatz import (
     determinant,
 )
 from debench.models.plate.coefficients import PlateParams, coefficients, strongly_elliptic
+from scipy.optimize import brentq
 
 
 # --------------------------------------------------------------------------- kH -> 0

@@ -33,8 +33,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
-
 from debench.models.errors import ConvergenceError, require
 from debench.models.plate.coefficients import (
     PlateParams,
@@ -42,6 +40,7 @@ from debench.models.plate.coefficients import (
     reduced_quartic,
     strongly_elliptic,
 )
+from scipy.optimize import brentq
 
 PARITIES = ("E", "O")
 #: below this separation of the quartic roots the divided difference is replaced by a

@@ -27,7 +27,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-
 from debench.models.errors import require
 from debench.models.plate._generated import base_state as _base_state
 from debench.models.plate._generated import derived_coefficients

@@ -33,10 +33,9 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as sla
-from scipy.optimize import brentq
-
 from debench.models.errors import ConvergenceError, require
 from debench.models.plate.coefficients import PlateParams, energy_matrix, strongly_elliptic
+from scipy.optimize import brentq
 
 #: default number of elements through the thickness
 N_ELEMENTS = 24

@@ -23,12 +23,11 @@ from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
-from scipy.optimize import brentq
-
 from debench.models.errors import ConvergenceError, require
 from debench.models.plate.ansatz import LAM_WINDOW, PARITIES, determinant, scan_grid
 from debench.models.plate.coefficients import PlateParams
 from debench.models.plate.fem import eigenvalues
+from scipy.optimize import brentq
 
 
 def dhat_at_voltage(lam, Vhat: float, params: PlateParams):

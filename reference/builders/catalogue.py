@@ -14,7 +14,6 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-
 from debench.reference import catalogue
 from debench.reference.datasets import write_dataset
 

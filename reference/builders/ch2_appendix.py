@@ -23,7 +23,6 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-
 from debench.reference.datasets import write_dataset
 
 STATES = {
@@ -41,7 +40,11 @@ DO_SI = dict(alpha=0.3, beta=0.5, eps=4.7 * 8.85e-12)
 
 
 def _materials():
-    from debench.models.materials import MATERIALS, DorfmannOgdenElectric, TransverselyIsotropicNeoHookean
+    from debench.models.materials import (
+        MATERIALS,
+        DorfmannOgdenElectric,
+        TransverselyIsotropicNeoHookean,
+    )
 
     mats = dict(MATERIALS)
     mats["ti_neo_hookean_dielectric"] = TransverselyIsotropicNeoHookean(**TI_SI)
@@ -59,7 +62,11 @@ def _state(name, mat):
 
 def compute() -> xr.Dataset:
     """The reference-state dataset (pure computation, no I/O)."""
-    from debench.models.materials import cauchy_stress, electric_field, pressure_from_traction_free_face
+    from debench.models.materials import (
+        cauchy_stress,
+        electric_field,
+        pressure_from_traction_free_face,
+    )
 
     mats = _materials()
     names, states = list(mats), list(STATES)
@@ -108,7 +115,8 @@ def compute() -> xr.Dataset:
         data_vars[k] = (("material", "state") + d, out[k],
                         {"units": units, "long_name": long_name})
     coords = {
-        "material": ("material", names, {"long_name": "library material (debench.models.materials)"}),
+        "material": ("material", names,
+                     {"long_name": "library material (debench.models.materials)"}),
         "state": ("state", states, {"long_name": "canonical isochoric state"}),
         "i": ("i", np.arange(3), {"long_name": "spatial index", "units": "1"}),
         "j": ("j", np.arange(3), {"long_name": "spatial index", "units": "1"}),
@@ -135,7 +143,6 @@ def figure(path: Path) -> Path:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
     from debench.models.materials import MATERIALS, cauchy_stress
 
     lam = np.linspace(1.0, 4.0, 61)

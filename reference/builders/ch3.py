@@ -21,13 +21,12 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from tqdm import tqdm
-
 from debench.models.circular import analysis, params
 from debench.models.circular.actuator import EVENT_KINDS, branch, branches, curves, curves_many
 from debench.models.circular.params import Annulus
 from debench.models.circular.shooting import DEFAULT_STEPS, integrate_inward
 from debench.reference.datasets import write_dataset
+from tqdm import tqdm
 
 LAMP_CURVES = (1.1, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0)
 C_CURVES = (0.0, -0.02, -0.04, -0.053, -0.06, -0.08, -0.1)

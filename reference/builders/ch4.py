@@ -21,14 +21,13 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from tqdm import tqdm
-
 from debench.models.plate import PlateParams, ellipticity_limit_stretch
 from debench.models.plate.analysis import biot_equibiaxial_closed_form, half_space_limit, thin_limit
 from debench.models.plate.ansatz import LAM_WINDOW, critical_stretches, curves_vectorised
 from debench.models.plate.fem import eigenvalues, elements_for, refine_root
 from debench.reference.datasets import write_dataset
 from debench.reference.producers import ch4 as prod
+from tqdm import tqdm
 
 VARIANTS = ("derived", "printed", "literal")
 FIG42_D = prod.FIG42_D

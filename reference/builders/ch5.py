@@ -23,9 +23,8 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from scipy.optimize import brentq
-
 from debench.reference.datasets import write_dataset
+from scipy.optimize import brentq
 
 CASES = {  # name: (material, thickness [m])
     "nh_t1": ("nh", 1e-3),
@@ -62,7 +61,6 @@ def richardson(h, v):
 def compute(full: bool = False, progress: bool = True):
     """Run the FE computations; returns (critical dataset, ramps dataset, parameters)."""
     import ngsolve
-
     from debench.models.buckling import analytic
     from debench.models.buckling.parameters import MU_REF, Discretisation, Plate
     from debench.models.buckling.solver import critical_voltage, southwell, voltage_ramp
@@ -215,7 +213,6 @@ def figures(crit, ramps, fig_dir: Path) -> list[Path]:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
     from debench.models.buckling.parameters import Plate
     fig_dir.mkdir(parents=True, exist_ok=True)
     out = []

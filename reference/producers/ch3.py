@@ -14,7 +14,6 @@ import math
 from functools import lru_cache
 
 import numpy as np
-
 from debench.models.circular import analysis, circle_a, params
 from debench.models.circular.actuator import branch, curves
 from debench.models.circular.params import Annulus

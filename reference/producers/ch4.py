@@ -15,7 +15,6 @@ from dataclasses import replace
 from functools import lru_cache
 
 import numpy as np
-
 from debench.models.plate import PlateParams, ellipticity_limit_stretch
 from debench.models.plate.analysis import (
     biot_equibiaxial_closed_form,

@@ -13,7 +13,6 @@ import math
 from functools import lru_cache
 
 import numpy as np
-
 from debench.reference.catalogue import Entry, Outcome
 from debench.reference.datasets import read_dataset
 

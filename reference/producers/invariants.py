@@ -12,7 +12,6 @@ corrected form agrees, ``refuted`` otherwise.
 from __future__ import annotations
 
 import numpy as np
-
 from debench.models.invariants import _generated
 from debench.models.invariants import printed as pr
 from debench.models.invariants.numerical import central_difference_F
