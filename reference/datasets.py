@@ -11,10 +11,40 @@ Convention (every chapter uses it, nothing else writes ``.nc`` files):
   carries ``units`` (UDUNITS strings, ``"1"`` for dimensionless).
 * Files are listed in ``MANIFEST.json`` of their directory with a sha256. Reading a file
   verifies the checksum and the required attributes and raises :class:`DatasetError`
-  otherwise.
-* Writes are atomic: write a temporary file in the same directory, read it back and
-  compare, then ``os.replace``. A curated file is never overwritten unless
-  ``overwrite=True``.
+  otherwise. A curated file is never overwritten unless ``overwrite=True``.
+
+Writes: one step seen from any reader
+-------------------------------------
+A dataset lives in two places, its file and its manifest entry, and no file system
+replaces two files in one step. The writer therefore commits in two phases with the
+intent recorded first, all under an inter-process lock on the directory
+(:data:`LOCK_NAME`, a ``flock`` lock through ``filelock``, released by the kernel when a
+writer dies, so a ``kill -9`` never leaves the directory locked):
+
+1. *Recover*: finish or roll back what a killed writer left (see :func:`recover`) and
+   remove stale temporary files. Under the lock no other writer is active, so every
+   temporary file found is stale.
+2. *Write* the data to a unique temporary file ``.<name>.<pid>.<random>.tmp.nc`` in the
+   same directory, ``fsync`` it, read it back and compare every numeric variable, and
+   take its sha256.
+3. *Intent*: record ``pending[<name>.nc] = {sha256, temp, ...}`` in the manifest.
+4. *Install*: ``os.replace`` the temporary file over ``<name>.nc`` (atomic), ``fsync``
+   the directory.
+5. *Commit*: move the pending record to ``files`` in the manifest.
+
+Every manifest update is itself write-new (unique name) -> ``fsync`` -> ``os.replace``,
+so the manifest is never half-written. A reader accepts a file whose sha256 is the
+listed one *or* the pending one, hence at every instant (a kill between any two steps
+included) the file on disk is the old or the new version and verifies. A reader that
+finds the manifest and the file disagree (a write completed between its two reads)
+re-reads once under the lock, finishing an interrupted write on the way when it may
+write the directory, before it fails. Readers take no lock otherwise, so a read-only
+installed data directory reads as before.
+
+Alternatives considered: per-file sidecar checksums with a manifest rebuilt from them
+move the two-file problem to the sidecar and the data file; a lock with two plain
+renames loses the old version when killed between them (the new file is then rejected
+against the old checksum). The pending record closes that window.
 
 Examples
 --------
@@ -37,16 +67,25 @@ import importlib.resources
 import json
 import os
 import re
-from collections.abc import Mapping
+import secrets
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import filelock
 import numpy as np
 import xarray as xr
 from debench.reference import __version__
 from debench.reference.provenance import command_line, git_commit, package_versions_json
 
 MANIFEST_NAME = "MANIFEST.json"
+#: The inter-process lock of a data directory (kept: deleting a flock file races).
+LOCK_NAME = ".MANIFEST.json.lock"
+#: Seconds a writer (or a reader re-checking) waits for the directory lock. A write holds
+#: it for one netCDF serialisation of a dataset of at most a few MB (well under a second);
+#: minutes of waiting mean a hung process, which the error then names.
+LOCK_TIMEOUT_S = 300.0
 CONVENTIONS = "CF-1.10, ACDD-1.3"
 THESIS_REFERENCE = (
     "Zeng, C. (2020). Deformation and stability of dielectric elastomer films used in "
@@ -59,10 +98,63 @@ REQUIRED_GLOBAL_ATTRS = (
 REQUIRED_VARIABLE_ATTRS = ("long_name",)
 REQUIRED_NUMERIC_ATTRS = ("units",)
 _NAME = re.compile(r"^[a-z0-9][a-z0-9_]*$")
+_SHA256 = re.compile(r"^[0-9a-f]{64}$")
+#: Temporary files of the writer (any generation of it): ``.<name>[.<pid>.<hex>].tmp.nc``
+#: and ``MANIFEST.json[.<pid>.<hex>].tmp``. Never data, never reported as unlisted.
+_TEMP = re.compile(r"^(\.[^/]+\.tmp\.nc|MANIFEST\.json(\.[^/]+)?\.tmp)$")
+#: The command that (re)creates the curated datasets.
+WRITE_DATA_COMMAND = "debench reproduce --write-data"
 
 
 class DatasetError(RuntimeError):
     """A dataset is malformed, tampered with, or missing from its manifest."""
+
+
+class DatasetWriteError(DatasetError):
+    """A write failed (disk full, directory not writable, lock not obtained).
+
+    The message says which version of the file is in place afterwards; ``errno`` is that
+    of the underlying :class:`OSError` (``None`` when there is none).
+    """
+
+    def __init__(self, message: str, errno: int | None = None):
+        super().__init__(message)
+        self.errno = errno
+
+
+@dataclass(frozen=True)
+class DataProblem:
+    """One problem with a data directory, as ``debench verify`` reports it.
+
+    Attributes
+    ----------
+    file
+        The file concerned (a name inside the directory, or the directory itself).
+    reason
+        What is wrong, and where it says so, how to fix it.
+    kind
+        Always ``"data"`` (distinguishes these records from catalogue entries).
+    """
+
+    file: str
+    reason: str
+    kind: str = "data"
+
+    def __str__(self) -> str:
+        return f"{self.file}: {self.reason}"
+
+    def as_json(self) -> dict[str, Any]:
+        """The record ``debench verify --json`` appends to its array of entries."""
+        return {"kind": self.kind, "id": f"data:{self.file}", "file": self.file,
+                "reason": self.reason}
+
+    @classmethod
+    def coerce(cls, problem: DataProblem | str) -> DataProblem:
+        """A record from a record or from a ``"<file>.nc: reason"`` line."""
+        if isinstance(problem, DataProblem):
+            return problem
+        match = re.match(r"^(\S+\.nc):? (.*)$", problem, flags=re.DOTALL)
+        return cls(match[1], match[2]) if match else cls("", problem)
 
 
 #: Environment variable that overrides where the curated datasets are read and written.
@@ -84,7 +176,7 @@ def data_dir() -> Path:
 
 def _missing_data_hint(directory: Path) -> str:
     return (f"looked in {directory} (the packaged data; set ${DATA_DIR_ENV} or pass "
-            "data_dir= to read another directory); `debench reproduce --write-data` "
+            f"data_dir= to read another directory); `{WRITE_DATA_COMMAND}` "
             "regenerates the curated datasets from a source checkout")
 
 
@@ -96,24 +188,171 @@ def sha256(path: Path) -> str:
     return h.hexdigest()
 
 
-# --------------------------------------------------------------------------- manifest
-def read_manifest(directory: Path) -> dict[str, dict[str, Any]]:
-    path = Path(directory) / MANIFEST_NAME
-    if not path.exists():
-        return {}
+def is_temporary(name: str) -> bool:
+    """Whether ``name`` is a writer's temporary file (stale unless a write is under way)."""
+    return bool(_TEMP.match(name))
+
+
+# --------------------------------------------------------------------------- durability
+def _fsync_file(path: Path) -> None:
+    fd = os.open(path, os.O_RDONLY)
     try:
-        return json.loads(path.read_text())["files"]
-    except (json.JSONDecodeError, KeyError) as exc:
-        raise DatasetError(f"{path}: malformed manifest ({exc})") from exc
+        os.fsync(fd)
+    finally:
+        os.close(fd)
 
 
-def _write_manifest(directory: Path, files: Mapping[str, Mapping[str, Any]]) -> None:
+def _fsync_dir(directory: Path) -> None:
+    """Make a rename durable; not every platform can open a directory (then skip)."""
+    try:
+        fd = os.open(directory, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        with contextlib.suppress(OSError):
+            os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def _unique(directory: Path, stem: str, suffix: str) -> Path:
+    return directory / f"{stem}.{os.getpid()}.{secrets.token_hex(4)}{suffix}"
+
+
+# --------------------------------------------------------------------------- lock
+@contextlib.contextmanager
+def _write_lock(directory: Path) -> Iterator[None]:
+    """The directory's lock for a writer; :class:`DatasetWriteError` when not obtained."""
+    lock = filelock.FileLock(str(directory / LOCK_NAME), timeout=LOCK_TIMEOUT_S)
+    try:
+        lock.acquire()
+    except filelock.Timeout as exc:
+        raise DatasetWriteError(
+            f"{directory}: another writer has held {LOCK_NAME} for more than "
+            f"{LOCK_TIMEOUT_S:g} s; nothing was written") from exc
+    except OSError as exc:
+        raise DatasetWriteError(
+            f"{directory}: cannot lock the directory for writing ({exc.strerror or exc}); "
+            "nothing was written", exc.errno) from exc
+    try:
+        yield
+    finally:
+        lock.release()
+
+
+@contextlib.contextmanager
+def _reader_lock(directory: Path) -> Iterator[bool]:
+    """The lock for a reader's second look: ``True`` when held, ``False`` when the
+    directory cannot be locked (read-only install), in which case the read goes on."""
+    lock = filelock.FileLock(str(directory / LOCK_NAME), timeout=LOCK_TIMEOUT_S)
+    try:
+        lock.acquire()
+        held = True
+    except (OSError, filelock.Timeout):
+        held = False
+    try:
+        yield held
+    finally:
+        if held:
+            lock.release()
+
+
+# --------------------------------------------------------------------------- manifest
+def _validate_entries(path: Path, files: Any, section: str) -> dict[str, dict[str, Any]]:
+    if not isinstance(files, dict):
+        raise DatasetError(f"{path}: malformed manifest ({section!r} is not an object)")
+    for fname, meta in files.items():
+        if not isinstance(meta, dict) or "sha256" not in meta:
+            raise DatasetError(f"{path}: the entry of {fname} has no sha256; "
+                               f"regenerate it with `{WRITE_DATA_COMMAND}`")
+        if not isinstance(meta["sha256"], str) or not _SHA256.match(meta["sha256"]):
+            raise DatasetError(f"{path}: the entry of {fname} has a malformed sha256 "
+                               f"{meta['sha256']!r} (64 lower-case hex digits expected)")
+    return files
+
+
+def _read_body(directory: Path) -> tuple[dict[str, dict[str, Any]], dict[str, dict[str, Any]]]:
+    """``(files, pending)`` of a directory's manifest (both empty when there is none)."""
     path = Path(directory) / MANIFEST_NAME
-    tmp = path.with_name(path.name + ".tmp")
-    body = {"description": "sha256 of every curated debench dataset in this directory",
-            "files": {k: dict(files[k]) for k in sorted(files)}}
-    tmp.write_text(json.dumps(body, indent=2, sort_keys=True) + "\n")
-    os.replace(tmp, path)
+    try:
+        text = path.read_text()
+    except FileNotFoundError:
+        return {}, {}
+    try:
+        body = json.loads(text)
+        files = body["files"]
+    except (json.JSONDecodeError, KeyError, TypeError) as exc:
+        raise DatasetError(f"{path}: malformed manifest ({exc})") from exc
+    return (_validate_entries(path, files, "files"),
+            _validate_entries(path, body.get("pending", {}), "pending"))
+
+
+def read_manifest(directory: Path) -> dict[str, dict[str, Any]]:
+    """The committed entries of a directory's manifest, ``{file name: metadata}``.
+
+    Every entry has a ``sha256``; an entry without one raises :class:`DatasetError`
+    naming the file.
+    """
+    return _read_body(directory)[0]
+
+
+def _write_manifest(directory: Path, files: Mapping[str, Mapping[str, Any]],
+                    pending: Mapping[str, Mapping[str, Any]] | None = None) -> None:
+    """Replace the manifest in one step: unique temporary file, fsync, rename."""
+    directory = Path(directory)
+    body: dict[str, Any] = {
+        "description": "sha256 of every curated debench dataset in this directory",
+        "files": {k: dict(files[k]) for k in sorted(files)}}
+    if pending:
+        body["pending"] = {k: dict(pending[k]) for k in sorted(pending)}
+    tmp = _unique(directory, MANIFEST_NAME, ".tmp")
+    try:
+        with open(tmp, "w") as fh:
+            fh.write(json.dumps(body, indent=2, sort_keys=True) + "\n")
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, directory / MANIFEST_NAME)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            tmp.unlink()
+        raise
+    _fsync_dir(directory)
+
+
+def _recover_locked(directory: Path) -> list[str]:
+    """Finish or roll back interrupted writes and remove stale temporaries (lock held)."""
+    actions: list[str] = []
+    files, pending = _read_body(directory)
+    for fname, meta in sorted(pending.items()):
+        final = directory / fname
+        if final.exists() and sha256(final) == meta["sha256"]:
+            files[fname] = {k: v for k, v in meta.items() if k != "temp"}
+            actions.append(f"{fname}: completed an interrupted write (new version listed)")
+        else:
+            actions.append(f"{fname}: rolled back an interrupted write (previous version kept)")
+    if pending:
+        _write_manifest(directory, files)
+    for path in sorted(directory.iterdir()):
+        if is_temporary(path.name):
+            with contextlib.suppress(FileNotFoundError):
+                path.unlink()
+            actions.append(f"{path.name}: removed a stale temporary file")
+    return actions
+
+
+def recover(directory: Path | None = None) -> list[str]:
+    """Finish or roll back writes that a killed process left, and clean stale temporaries.
+
+    A write killed after its intent was recorded is completed when the new file is in
+    place (its checksum matches the pending record) and rolled back otherwise; every
+    temporary file is removed. Writers do this before each write; call it to tidy a
+    directory by hand. Returns what was done, one line per action.
+    """
+    directory = Path(directory) if directory is not None else data_dir()
+    if not directory.is_dir():
+        return []
+    with _write_lock(directory):
+        return _recover_locked(directory)
 
 
 # --------------------------------------------------------------------------- validation
@@ -156,7 +395,8 @@ def write_dataset(
     out_dir: Path | None = None,
     overwrite: bool = False,
 ) -> Path:
-    """Write ``ds`` to ``<out_dir>/<name>.nc`` atomically with full provenance.
+    """Write ``ds`` to ``<out_dir>/<name>.nc`` with full provenance, atomically with its
+    manifest entry (the protocol is in the module docstring).
 
     Parameters
     ----------
@@ -173,14 +413,22 @@ def write_dataset(
     Returns
     -------
     Path of the written file. Its sha256 is recorded in the directory's manifest.
+
+    Raises
+    ------
+    FileExistsError
+        The file exists and ``overwrite`` is false (checked under the lock, so of two
+        concurrent writers of a new dataset exactly one succeeds).
+    DatasetError
+        ``ds`` lacks a required attribute, or the read-back differs.
+    DatasetWriteError
+        The disk is full, the directory is not writable, or the lock was not obtained;
+        the message says which version of the file is in place (the previous one unless
+        the failure came after the new file was installed).
     """
     if not _NAME.match(name):
         raise ValueError(f"dataset name {name!r} must match {_NAME.pattern}")
     out_dir = Path(out_dir) if out_dir is not None else data_dir()
-    out_dir.mkdir(parents=True, exist_ok=True)
-    path = out_dir / f"{name}.nc"
-    if path.exists() and not overwrite:
-        raise FileExistsError(f"{path} exists; pass overwrite=True to replace a curated file")
     check_attributes(ds, require_global=False)
 
     now = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
@@ -206,28 +454,102 @@ def write_dataset(
         out.attrs[f"param_{key}"] = _scalar_attr(value)
     check_attributes(out)
 
-    tmp = path.with_name(f".{name}.tmp.nc")
     try:
-        out.to_netcdf(tmp, engine="netcdf4")
-        with xr.open_dataset(tmp, engine="netcdf4") as back:
-            back.load()
-        check_attributes(back)
-        for var in out.data_vars:
-            if _is_numeric(out[var]):
-                np.testing.assert_array_equal(back[var].values, out[var].values,
-                                              err_msg=f"read-back of {var!r} differs")
-        digest = sha256(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            tmp.unlink()
-        raise
-    files = read_manifest(out_dir)
-    files[path.name] = {"sha256": digest, "bytes": path.stat().st_size,
-                        "title": title, "command": cmd, "git_commit": out.attrs["git_commit"],
-                        "date_created": now}
-    _write_manifest(out_dir, files)
+        out_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise DatasetWriteError(f"cannot create the data directory {out_dir} "
+                                f"({exc.strerror or exc}); nothing was written",
+                                exc.errno) from exc
+    path = out_dir / f"{name}.nc"
+    with _write_lock(out_dir):
+        _recover_locked(out_dir)
+        if path.exists() and not overwrite:
+            raise FileExistsError(f"{path} exists; pass overwrite=True to replace a curated file")
+        meta = {"title": title, "command": cmd, "git_commit": out.attrs["git_commit"],
+                "date_created": now}
+        try:
+            _install(out, path, meta)
+        except BaseException as exc:
+            _abandon(out_dir, path, meta, exc)
+            raise  # _abandon raises for an OSError; anything else goes on as it was
     return path
+
+
+def _install(out: xr.Dataset, path: Path, meta: dict[str, Any]) -> None:
+    """Steps 2-5 of the write protocol (the directory lock is held)."""
+    directory = path.parent
+    tmp = _unique(directory, f".{path.stem}", ".tmp.nc")
+    meta["temp"] = tmp.name
+    out.to_netcdf(tmp, engine="netcdf4")
+    _fsync_file(tmp)
+    with xr.open_dataset(tmp, engine="netcdf4") as back:
+        back.load()
+    check_attributes(back)
+    for var in out.data_vars:
+        if _is_numeric(out[var]):
+            try:
+                np.testing.assert_array_equal(back[var].values, out[var].values)
+            except AssertionError as exc:
+                raise DatasetError(f"{path.name}: read-back of {var!r} differs from what "
+                                   "was written; nothing was installed") from exc
+    meta["sha256"] = sha256(tmp)
+    meta["bytes"] = tmp.stat().st_size
+    files, pending = _read_body(directory)
+    pending[path.name] = dict(meta)
+    _write_manifest(directory, files, pending)                   # 3. intent
+    os.replace(tmp, path)                                        # 4. install
+    _fsync_dir(directory)
+    files[path.name] = {k: v for k, v in meta.items() if k != "temp"}
+    del pending[path.name]
+    _write_manifest(directory, files, pending)                   # 5. commit
+
+
+def _abandon(directory: Path, path: Path, meta: dict[str, Any], exc: BaseException) -> None:
+    """Clean up after a failed write (lock held) and say what is left in place."""
+    with contextlib.suppress(Exception):  # best effort: the next writer recovers anyway
+        _recover_locked(directory)
+    if isinstance(exc, DatasetError) or not isinstance(exc, OSError | RuntimeError):
+        return  # already clear (or an interrupt): re-raised as it is
+    installed = "sha256" in meta and path.exists() and sha256(path) == meta["sha256"]
+    state = ("the new version was installed" if installed else
+             "the previous version is intact" if path.exists() else "no file was left")
+    raise DatasetWriteError(
+        f"cannot write {path.name} into {directory}: {getattr(exc, 'strerror', None) or exc}; "
+        f"{state} and temporary files were removed", getattr(exc, "errno", None)) from exc
+
+
+def _accepted_checksums(fname: str, files: Mapping[str, Any], pending: Mapping[str, Any]
+                        ) -> list[str]:
+    return [section[fname]["sha256"] for section in (files, pending) if fname in section]
+
+
+def _identity(path: Path) -> tuple[int, int, int]:
+    st = path.stat()
+    return st.st_ino, st.st_size, st.st_mtime_ns
+
+
+def _read_verified(path: Path) -> xr.Dataset:
+    """One verified read: listed checksum, unchanged file while read, attributes."""
+    try:
+        before = _identity(path)
+    except FileNotFoundError:
+        raise DatasetError(f"{path.name}: no such dataset; "
+                           f"{_missing_data_hint(path.parent)}") from None
+    files, pending = _read_body(path.parent)
+    accepted = _accepted_checksums(path.name, files, pending)
+    if not accepted:
+        raise DatasetError(f"{path.name} is not listed in {path.parent / MANIFEST_NAME}")
+    actual = sha256(path)
+    if actual not in accepted:
+        raise DatasetError(
+            f"{path.name}: sha256 {actual[:12]}… does not match manifest {accepted[0][:12]}… "
+            "(file modified or half-written)")
+    with xr.open_dataset(path, engine="netcdf4") as ds:
+        ds = ds.load()
+    if _identity(path) != before:
+        raise DatasetError(f"{path.name}: replaced while being read")
+    check_attributes(ds)
+    return ds
 
 
 def read_dataset(name: str | Path, *, data_dir: Path | None = None,
@@ -236,28 +558,31 @@ def read_dataset(name: str | Path, *, data_dir: Path | None = None,
 
     ``name`` is a stem (``"ch3_voltage_stretch"``) looked up in ``data_dir`` or a path.
     Raises :class:`DatasetError` if the file is not in the manifest, its checksum differs
-    (tampered or half-written), or a required attribute is missing.
+    (tampered or half-written), or a required attribute is missing. When the first look
+    fails, the read is repeated once under the directory lock (after finishing any
+    interrupted write, when the directory is writable): a write that completed between
+    reading the manifest and reading the file is not an error.
     """
     path = Path(name)
     if path.suffix != ".nc":
         path = (Path(data_dir) if data_dir is not None else globals()["data_dir"]()) / f"{name}.nc"
+    if not verify:
+        if not path.exists():
+            raise DatasetError(f"{path.name}: no such dataset; "
+                               f"{_missing_data_hint(path.parent)}")
+        with xr.open_dataset(path, engine="netcdf4") as ds:
+            return ds.load()
     if not path.exists():
         raise DatasetError(f"{path.name}: no such dataset; {_missing_data_hint(path.parent)}")
-    if verify:
-        files = read_manifest(path.parent)
-        if path.name not in files:
-            raise DatasetError(f"{path.name} is not listed in {path.parent / MANIFEST_NAME}")
-        expected = files[path.name]["sha256"]
-        actual = sha256(path)
-        if actual != expected:
-            raise DatasetError(
-                f"{path.name}: sha256 {actual[:12]}… does not match manifest {expected[:12]}… "
-                "(file modified or half-written)")
-    with xr.open_dataset(path, engine="netcdf4") as ds:
-        ds = ds.load()
-    if verify:
-        check_attributes(ds)
-    return ds
+    try:
+        return _read_verified(path)
+    except DatasetError:
+        pass
+    with _reader_lock(path.parent) as locked:
+        if locked:
+            with contextlib.suppress(OSError, DatasetError):  # lockable, not writable
+                _recover_locked(path.parent)
+        return _read_verified(path)
 
 
 def dataset_parameters(ds: xr.Dataset) -> dict[str, Any]:
@@ -265,17 +590,43 @@ def dataset_parameters(ds: xr.Dataset) -> dict[str, Any]:
     return json.loads(ds.attrs["parameters"])
 
 
-def verify_directory(directory: Path | None = None) -> list[str]:
-    """Problems with the datasets of a directory (empty list when all verify)."""
+def _problem(fname: str, exc: Exception) -> DataProblem:
+    """A record whose reason is the error message without its leading file name."""
+    text = str(exc)
+    if text.startswith(fname):
+        text = text[len(fname):].lstrip(": ")
+    return DataProblem(fname, text)
+
+
+def verify_directory(directory: Path | None = None) -> list[DataProblem]:
+    """Problems with the datasets of a directory (empty list when all verify).
+
+    Each problem is a :class:`DataProblem` (``str()`` gives ``"file: reason"``). A
+    missing directory, a directory without datasets and an empty manifest are problems
+    (the fix is ``debench reproduce --write-data``); a writer's temporary files are not
+    data and are never reported.
+    """
     directory = Path(directory) if directory is not None else data_dir()
-    problems: list[str] = []
-    files = read_manifest(directory)
-    for fname in sorted(files):
+    fix = f"run `{WRITE_DATA_COMMAND}` to create the curated datasets"
+    if not directory.is_dir():
+        return [DataProblem(str(directory), f"data directory does not exist; {fix}")]
+    try:
+        files, pending = _read_body(directory)
+    except DatasetError as exc:
+        return [_problem(str(directory / MANIFEST_NAME), exc)]
+    on_disk = sorted(p.name for p in directory.glob("*.nc") if not is_temporary(p.name))
+    listed = sorted(set(files) | set(pending))
+    if not listed and not on_disk:
+        what = "has no MANIFEST.json" if not (directory / MANIFEST_NAME).exists() \
+            else "has a manifest that lists no dataset"
+        return [DataProblem(str(directory), f"no datasets: the directory {what}; {fix}")]
+    problems: list[DataProblem] = []
+    for fname in listed:
         try:
             read_dataset(directory / fname)
         except DatasetError as exc:
-            problems.append(str(exc))
-    for path in sorted(directory.glob("*.nc")):
-        if path.name not in files:
-            problems.append(f"{path.name} is not listed in the manifest")
+            problems.append(_problem(fname, exc))
+    listed_now = set(read_manifest(directory)) | set(_read_body(directory)[1])
+    problems += [DataProblem(f, "is not listed in the manifest")
+                 for f in on_disk if f not in listed_now]
     return problems
