@@ -28,6 +28,12 @@ chapter plus ``literature.toml``). Each ``[[entry]]`` has
 A producer is a function ``f(entry) -> Outcome``. It must be quick (seconds) so that
 ``debench verify`` can run every producer; producers of finite-element claims read the
 stored datasets instead of recomputing.
+
+Every producer module states the accuracy of the values its methods compute
+(``ACCURACY``, an :class:`Accuracy`; an :class:`Outcome` may carry a narrower one). Our
+values are stored once with that tolerance (``data/our_values.nc``,
+:mod:`debench.reference.values`), and ``debench verify`` fails when a recomputed value
+leaves it, whatever its status.
 """
 
 from __future__ import annotations
@@ -37,7 +43,7 @@ import math
 import re
 import tomllib
 from collections.abc import Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from decimal import Decimal, InvalidOperation
 from pathlib import Path
 from typing import Any
@@ -51,6 +57,7 @@ STATUSES = (
     "pending",           # no model yet
     "confirmed",         # erratum: the printed form is wrong, evidence shows it
     "refuted",           # erratum: on checking, the printed form is right after all
+    "editorial",         # erratum: a wrong cross-reference or label, no effect on results
     "assumed",           # assumption: the value we use where the thesis is silent
     "input",             # a stated parameter; the models use exactly it (transcription
                          # checked), so there is nothing to reproduce
@@ -61,6 +68,33 @@ _ID = re.compile(r"^(ch[2-5]|app|lit)\.[a-z0-9_]+(\.[a-zA-Z0-9_]+)*$")
 
 class CatalogueError(ValueError):
     """The catalogue files are malformed (bad id, kind, duplicate, missing field)."""
+
+
+@dataclass(frozen=True)
+class Accuracy:
+    """How far a recomputed value may move: ``|new - stored| <= atol + rtol |stored|``.
+
+    ``reason`` names what sets it (solver tolerance, mesh error, round-off floor), so that
+    the guard is never tighter than the method supports nor looser than it needs to be.
+    """
+
+    rtol: float
+    atol: float
+    reason: str
+
+    def __post_init__(self):
+        for name in ("rtol", "atol"):
+            x = getattr(self, name)
+            if not (isinstance(x, int | float) and math.isfinite(x) and x >= 0):
+                raise ValueError(f"Accuracy.{name} = {x!r} must be finite and >= 0")
+        if self.rtol == 0 and self.atol == 0:
+            raise ValueError("Accuracy needs rtol > 0 or atol > 0")
+        if not self.reason:
+            raise ValueError("Accuracy needs a reason")
+
+    def tolerance(self, value: float) -> float:
+        """Absolute tolerance at ``value``."""
+        return self.atol + self.rtol * abs(float(value))
 
 
 @dataclass(frozen=True)
@@ -77,6 +111,7 @@ class Outcome:
     diagnosis: str = ""
     evidence: str = ""
     details: dict[str, Any] = field(default_factory=dict)
+    accuracy: Accuracy | None = None
 
 
 @dataclass(frozen=True)
@@ -119,6 +154,16 @@ class Entry:
         if not module or not func:
             raise CatalogueError(f"{self.id}: producer {self.producer!r} is not 'module:function'")
         return getattr(importlib.import_module(module), func)
+
+    def producer_accuracy(self) -> Accuracy | None:
+        """The ``ACCURACY`` of the producer's module (``None`` without a producer)."""
+        if not self.producer:
+            return None
+        mod = importlib.import_module(self.producer.partition(":")[0])
+        acc = getattr(mod, "ACCURACY", None)
+        if not isinstance(acc, Accuracy):
+            raise CatalogueError(f"{self.id}: producer module {mod.__name__} lacks ACCURACY")
+        return acc
 
 
 def printed_half_ulp(printed: Any) -> float | None:
@@ -187,8 +232,10 @@ def _validate(e: Entry) -> None:
         raise CatalogueError(f"{where}: an explicit tolerance needs a tolerance_reason")
     if e.kind in ("claim", "erratum") and not e.source:
         raise CatalogueError(f"{where}: thesis entries need a source (section/equation/page)")
-    if e.kind == "erratum" and not (e.as_printed and e.corrected and e.evidence):
-        raise CatalogueError(f"{where}: an erratum needs as_printed, corrected and evidence")
+    if e.kind == "erratum" and not (e.as_printed and e.corrected):
+        raise CatalogueError(f"{where}: an erratum needs as_printed and corrected")
+    if e.kind == "erratum" and not e.evidence and e.expected_status != "pending":
+        raise CatalogueError(f"{where}: an erratum with a status needs evidence (a test)")
     if e.kind == "literature" and not e.reference:
         raise CatalogueError(f"{where}: a literature value needs a reference")
     if e.kind == "assumption" and not e.diagnosis and not e.notes:
@@ -210,6 +257,7 @@ class Result:
     diagnosis: str
     evidence: str = ""
     details: dict[str, Any] = field(default_factory=dict)
+    accuracy: Accuracy | None = None
 
     @property
     def regressed(self) -> bool:
@@ -235,9 +283,27 @@ def _jsonable(v: Any) -> Any:
     return v
 
 
+def render(text: str, value: Any, details: dict[str, Any]) -> str:
+    """Fill a catalogue diagnosis with our computed numbers.
+
+    Diagnoses quote our values only through placeholders - ``{value:.4g}`` or
+    ``{details[membrane]:.4f}`` - so that prose never holds a number that nothing checks.
+    """
+    if "{" not in text:
+        return text
+    try:
+        return text.format(value=value, details=details)
+    except (KeyError, IndexError, ValueError, TypeError) as exc:
+        raise CatalogueError(
+            f"diagnosis placeholder cannot be filled ({exc!r}): {text!r}") from exc
+
+
 def judge(entry: Entry, outcome: Outcome) -> Result:
     """Status of an entry given a producer's outcome (see :data:`STATUSES`)."""
     diagnosis = outcome.diagnosis or entry.diagnosis
+    if entry.diagnosis and entry.diagnosis in diagnosis:  # the catalogue's template
+        diagnosis = diagnosis.replace(
+            entry.diagnosis, render(entry.diagnosis, outcome.value, outcome.details))
     if outcome.status == "input":
         # A model input: its value must equal the stated one, but agreement is not a
         # reproduction of anything.
@@ -283,7 +349,8 @@ def evaluate(entry: Entry) -> Result:
         outcome = entry.load_producer()(entry)
         if not isinstance(outcome, Outcome):
             raise TypeError(f"producer returned {type(outcome).__name__}, not Outcome")
-        return judge(entry, outcome)
+        accuracy = outcome.accuracy or entry.producer_accuracy()
+        return replace(judge(entry, outcome), accuracy=accuracy)
     except Exception as exc:  # noqa: BLE001 - reported as status "error", never hidden
         return Result(entry, None, "error", f"{type(exc).__name__}: {exc}")
 

@@ -2,6 +2,8 @@
 
 * ``--full`` opts in to tests marked ``slow`` (converged finite-element meshes, full
   sweeps). Without it they are skipped, and a fast but real version of every check runs.
+* Thread counts (BLAS/OpenMP, NGSolve) are set once here by
+  :func:`debench.threads.limit_threads` (``DEBENCH_THREADS``, default 1).
 * Hypothesis is deterministic by default (profile ``debench``: derandomized, no example
   database, no deadline) so that CI is reproducible; ``--hypothesis-profile=explore``
   searches with fresh randomness. Counterexamples found while exploring are frozen as
@@ -12,6 +14,12 @@ from __future__ import annotations
 
 import pytest
 from hypothesis import HealthCheck, settings
+
+from debench.threads import limit_threads
+
+# One thread per process for BLAS/OpenMP and NGSolve unless DEBENCH_THREADS says otherwise:
+# default thread counts oversubscribe small machines (and must not change any result).
+limit_threads()
 
 settings.register_profile(
     "debench",

@@ -100,32 +100,18 @@ def test_eq_3_27_is_taylor_expansion_of_3_26():
     assert jm.zhao_suo_linearisation().c == pytest.approx(-6 * 0.01 / 2.0)
 
 
-def test_eq_3_32_is_membrane_force_balance():
-    """(3.31)-(3.32) checked against thin-membrane force balance: the radial force per unit
-    current length N = sigma1 h is continuous across r = lambda R_A (both sides share the
-    reference circle R_A and the thickness H), and N_A = N_B is exactly T1^(A) = T1^(B) --
-    the printed interface condition is right (entry ch3.erratum.eq_3_32, refuted)."""
-    from debench.models.circular import circle_a
-
-    br = branch(Annulus(3.0))
-    for c in (0.0, -0.053):
-        cv = curves(br, [c])[0]
-        k = br.lam.size // 3
-        lam, phibar = br.lam[k], cv.phibar[k]
-        lam1B = br.lam1[k]
-        sA = float(circle_a.sigma1_circle_a(lam, phibar, c, br.annulus.kappa))
-        s1B = br.T1[k] * lam1B
-        N_A = sA * lam**-2              # sigma1 h / H, h^A = H lam^-2
-        N_B = s1B / (lam1B * lam)       # h^B = H/(lambda1 lambda2), lambda2 = lam (3.31)
-        assert N_A == pytest.approx(N_B, rel=1e-12)
-
-
 def test_c_effects_are_in_section_3_5():
     """Sec. 3.3.4 says the effect of c 'will be discussed in detail in Section 4'; in the
     thesis that discussion is Sec. 3.5 (3.5.2-3.5.6; Chapter IV is the anisotropic plate).
-    Evidence from the catalogue's own provenance: every claim about c cites Sec. 3.5.x."""
-    from debench.reference import catalogue
-    c_claims = [e for e in catalogue.load() if e.file == "ch3.toml" and e.kind == "claim"
-                and ("c = " in e.quantity or "c from" in e.quantity or "as c" in e.quantity)]
-    assert len(c_claims) >= 8
-    assert all(str(e.source.get("section", "")).startswith(("3.5", "3.6")) for e in c_claims)
+    Evidence from the catalogue's own provenance: every claim about c cites Sec. 3.5.x
+    (the check the producer of ch3.erratum.section_4_reference calls), and the check fails
+    when one does not."""
+    from dataclasses import replace
+
+    from debench.reference.producers.ch3 import c_effect_claims, c_effects_cited_in_section_3_5
+
+    claims = c_effect_claims()
+    assert len(claims) >= 8
+    assert c_effects_cited_in_section_3_5(claims)
+    moved = [replace(claims[0], source={**claims[0].source, "section": "4.2"})] + claims[1:]
+    assert not c_effects_cited_in_section_3_5(moved)

@@ -12,8 +12,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from debench.models.plate import PlateParams, base_state, coefficients, energy_matrix
-from debench.models.plate.ansatz import _row_coefficients, critical_stretches
-from debench.models.plate.coefficients import printed_coefficients, reduced_quartic
+from debench.models.plate.ansatz import critical_stretches
+from debench.models.plate.coefficients import reduced_quartic
+from debench.reference.producers import ch4_errata
 from hypothesis import given
 from hypothesis import strategies as st
 
@@ -143,17 +144,17 @@ def test_energy_matrix_is_symmetric_and_electric_block_positive(lam, xi, D):
 
 
 # --------------------------------------------------------------------------- errata
+# Each erratum's evidence: the check function its producer calls (reference.producers.
+# ch4_errata), asserted here on the grid, plus the exact size of the missing term.
 @pytest.mark.parametrize("lam", LAMS)
 @pytest.mark.parametrize("xi", XIS)
 def test_printed_b_and_c_miss_the_I4_minus_1_term(lam, xi):
     """Errata ch4.erratum.eq4_55_b, eq4_56_c: derived - printed = -2 xi lam^-4 in 2b and c;
     a, d, e, f, g (4.54, 4.57-4.60) are right."""
-    args = (np.array(lam), xi, 0.0, 0.5, 1.3)
-    der = coefficients(args[0], PlateParams(xi, 1.3, 0.5, 0.0, "derived"))
-    pri = printed_coefficients(*args)
-    diff = np.array(der, float) - np.array(pri, float)
+    diff = ch4_errata.b_c_terms(lam, xi)
     expected = np.array([0, -2 * xi * lam**-4, -2 * xi * lam**-4, 0, 0, 0, 0])
     np.testing.assert_allclose(diff, expected, atol=ALG_TOL * 100)
+    assert ch4_errata.eq4_55_b().confirmed
 
 
 @pytest.mark.parametrize("lam", LAMS)
@@ -163,26 +164,10 @@ def test_a_minus_c_equals_lateral_stress_of_eq_4_28(lam, xi):
     identity of incremental elasticity, here with the field at fixed D_L2) where
     tau11 = (lam/2) dW/dlam of (4.28) at fixed D_L2 and tau22 = 0. The derived c satisfies
     it; the printed c is off by 2 xi lam^-4."""
-    D, beta, h = 1.1, 0.5, 1e-5
-    DL2 = lam**2 * D
-
-    def w(x):  # (4.28), mu = eps = 1, alpha = 0
-        return (0.5 * (2 * x**2 + x**-4 - 3) + 0.5 * xi * (x**-8 - 2 * x**-4 + 1)
-                + beta * x**-4 * DL2**2 / 2)
-
-    tau11 = lam / 2 * (w(lam + h) - w(lam - h)) / (2 * h)
-    a, b2, c, *_ = coefficients(np.array(lam), PlateParams(xi, D, beta, 0.0, "derived"))
-    ap, bp, cp, *_ = printed_coefficients(np.array(lam), xi, 0.0, beta, D)
-    assert float(a - c) == pytest.approx(tau11, abs=FD_TOL)
-    assert float(ap - cp) - tau11 == pytest.approx(-2 * xi * lam**-4, abs=FD_TOL)
-
-
-def _symbol_det(s, cf):
-    a, b2, c, d, e, f, g = cf
-    M11 = a - b2 * s**2 + c * s**4
-    M12 = s * (e - d - d * s**2)
-    M22 = f * s**2 - g
-    return M11 * M22 - M12**2
+    derived, printed = ch4_errata.lateral_stress_identity(lam, xi)
+    assert derived == pytest.approx(0.0, abs=FD_TOL)
+    assert printed == pytest.approx(-2 * xi * lam**-4, abs=FD_TOL)
+    assert ch4_errata.eq4_56_c().confirmed
 
 
 @pytest.mark.parametrize("xi", XIS)
@@ -190,49 +175,37 @@ def test_characteristic_polynomial_derived_vs_printed(xi):
     """Erratum ch4.erratum.eq4_63_bicubic: the roots of the printed (4.63) annihilate the
     symbol of the printed coefficients but not that of the derived ones (unless xi = 0);
     the reduced quartic roots annihilate the derived symbol."""
-    lam = 1.2
-    der = coefficients(np.array(lam), PlateParams(xi, 2.0, 0.5, 0.0, "derived"))
-    pri = printed_coefficients(np.array(lam), xi, 0.0, 0.5, 2.0)
-    qa, qb, qc = reduced_quartic(np.array(lam), PlateParams(xi, 2.0, variant="literal"))
-    s2_printed = np.roots([float(qc), -float(qb), float(qa)])
-    qa, qb, qc = reduced_quartic(np.array(lam), PlateParams(xi, 2.0, variant="derived"))
-    s2_derived = np.roots([float(qc), -float(qb), float(qa)])
-    for s2 in s2_printed:
-        s = np.sqrt(complex(s2))
-        assert abs(_symbol_det(s, pri)) < ROOT_TOL * 1e3
-        if xi == 0:
-            assert abs(_symbol_det(s, der)) < ROOT_TOL * 1e3
-        else:
-            assert abs(_symbol_det(s, der)) > 1e-3
-    for s2 in s2_derived:
-        assert abs(_symbol_det(np.sqrt(complex(s2)), der)) < ROOT_TOL * 1e3
-    assert abs(_symbol_det(1.0, der)) < ALG_TOL  # the factor s^2 - 1
+    r = ch4_errata.bicubic_residuals(xi)
+    assert r["printed_roots_on_printed_symbol"] < ROOT_TOL * 1e3
+    assert r["derived_roots_on_derived_symbol"] < ROOT_TOL * 1e3
+    assert r["s1_on_derived_symbol"] < ALG_TOL  # the factor s^2 - 1
+    if xi == 0:
+        assert r["printed_roots_on_derived_symbol"] < ROOT_TOL * 1e3
+    else:
+        assert r["printed_roots_on_derived_symbol"] > 1e-3
+    assert ch4_errata.eq4_63_bicubic().confirmed
 
 
 def test_literal_rows_are_beta_one_rows():
     """Erratum ch4.erratum.eq4_75_80_beta: for xi = 0 the literal rows (4.75)-(4.80) give
     exactly the consistent curves with beta = 1, i.e. beta = 0.5 at Dhat sqrt(2)."""
     for D in (1.0, 2.0, 3.0):
-        lit = critical_stretches(1.5, PlateParams(0.0, D, variant="literal")).lam
-        b1 = critical_stretches(1.5, PlateParams(0.0, D, beta=1.0, variant="derived")).lam
-        bh = critical_stretches(1.5, PlateParams(0.0, D * np.sqrt(2), 0.5,
-                                                 variant="derived")).lam
-        np.testing.assert_allclose(lit, b1, rtol=1e-9)
-        np.testing.assert_allclose(lit, bh, rtol=1e-9)
-        stated = critical_stretches(1.5, PlateParams(0.0, D, 0.5, variant="derived")).lam
-        assert stated.size != lit.size or not np.allclose(stated, lit, rtol=1e-3)
+        r = ch4_errata.literal_rows_vs_beta(D)
+        np.testing.assert_allclose(r["literal"], r["beta_one"], rtol=1e-9)
+        np.testing.assert_allclose(r["literal"], r["beta_half_D_sqrt2"], rtol=1e-9)
+        assert r["stated"].size != r["literal"].size or not np.allclose(
+            r["stated"], r["literal"], rtol=1e-3)
+    assert ch4_errata.eq4_75_80_beta().confirmed
 
 
 @pytest.mark.parametrize("lam", LAMS)
 def test_normal_traction_row_coefficient(lam):
     """Erratum ch4.erratum.eq4_76_xi_term: (4.70) needs 2b + c, which from the printed
     (4.55)-(4.56) contains 8 xi lam^-8, while (4.76) prints 6 xi lam^-8."""
-    xi, D = 5.0, 0.0
-    c, b2, *_ = _row_coefficients(np.array(lam), PlateParams(xi, D, 1.0, variant="printed"))
-    C1, b2l, *_ = _row_coefficients(np.array(lam), PlateParams(xi, D, variant="literal"))
-    k_printed_coeffs = float(b2 + c)
-    k_literal = float(b2l + C1)
-    assert k_printed_coeffs - k_literal == pytest.approx(2 * xi * lam**-8, abs=ALG_TOL * 100)
+    xi = 5.0
+    assert ch4_errata.normal_traction_xi_term(lam, xi) == pytest.approx(
+        2 * xi * lam**-8, abs=ALG_TOL * 100)
+    assert ch4_errata.eq4_76_xi_term().confirmed
 
 
 @pytest.mark.parametrize("variant", ["derived", "printed"])
@@ -240,38 +213,36 @@ def test_normal_traction_row_coefficient(lam):
 def test_s_equal_one_mode_is_electric_for_xi_positive(variant, xi):
     """Erratum ch4.erratum.eq4_81_amplitude: M(1) = diag(a - 2b + c, 0) with
     a - 2b + c = -4 xi lam^-8; (A, B) = (1, 0) solves M(1) v = 0 only for xi = 0."""
-    lam = 1.15
-    a, b2, c, d, e, f, g = (float(x) for x in coefficients(
-        np.array(lam), PlateParams(xi, 2.0, variant=variant)))
-    M1 = np.array([[a - b2 + c, e - 2 * d], [e - 2 * d, f - g]])
-    assert a - b2 + c == pytest.approx(-4 * xi * lam**-8, abs=ALG_TOL * 100)
-    np.testing.assert_allclose(M1 @ [0.0, 1.0], 0.0, atol=ALG_TOL)  # electric mode
-    residual_printed = np.linalg.norm(M1 @ [1.0, 0.0])
+    r = ch4_errata.s_one_mode(xi, variant)
+    assert r["a_2b_c_plus_4xi_lam^-8"] == pytest.approx(0.0, abs=ALG_TOL * 100)
+    assert r["electric_residual"] < ALG_TOL
     if xi == 0:
-        assert residual_printed < ALG_TOL
+        assert r["mechanical_residual"] < ALG_TOL
     else:
-        assert residual_printed > 1e-3
+        assert r["mechanical_residual"] > 1e-3
+    assert ch4_errata.eq4_81_amplitude().confirmed
 
 
 def test_dI4_dF_printed_is_zero_corrected_matches_fd():
     """Erratum ch4.erratum.eq4_38_dI4: as extracted, a_a (F_ik a_k - F_im a_m) is zero;
     dI4/dF_ia = 2 F_ik a_k a_a matches a finite difference of I4 = A.F^T F A."""
-    rng = np.random.default_rng(38)
-    F = np.eye(3) + 0.3 * rng.standard_normal((3, 3))
-    a = rng.standard_normal(3)
-    a /= np.linalg.norm(a)
-    printed = np.outer(F @ a - F @ a, a)
-    corrected = 2 * np.outer(F @ a, a)
-    h = 1e-6
-    fd = np.zeros((3, 3))
-    for i in range(3):
-        for al in range(3):
-            E = np.zeros((3, 3))
-            E[i, al] = h
-            fd[i, al] = ((a @ (F + E).T @ (F + E) @ a) - (a @ (F - E).T @ (F - E) @ a)) / (2 * h)
-    np.testing.assert_allclose(corrected, fd, atol=FD_TOL)
-    assert np.abs(printed).max() == 0.0
-    assert np.abs(fd).max() > 0.1
+    r = ch4_errata.dI4_dF()
+    np.testing.assert_allclose(r["corrected"], r["fd"], atol=FD_TOL)
+    assert np.abs(r["printed"]).max() == 0.0
+    assert np.abs(r["fd"]).max() > 0.1
+    assert ch4_errata.eq4_38_dI4().confirmed
+
+
+def test_errata_checks_fail_when_the_printed_form_is_right():
+    """The checks can fail: fed the derived coefficients as if they were printed, the
+    b/c check reports nothing wrong (status would be refuted)."""
+    from unittest import mock
+
+    with mock.patch.object(ch4_errata, "printed_coefficients",
+                           lambda lam, xi, alpha, beta, D: coefficients(
+                               lam, PlateParams(xi, D, beta, alpha, "derived"))):
+        assert not ch4_errata.eq4_55_b().printed_wrong
+        assert not ch4_errata.eq4_56_c().printed_wrong
 
 
 def test_bicubic_has_no_Dhat_dependence():
@@ -285,7 +256,7 @@ def test_bicubic_has_no_Dhat_dependence():
         cf = coefficients(np.array(lam), PlateParams(5.0, D, beta))
         for s in (0.3, 0.9, 1.7):
             ref = beta * (s**2 - 1) * (float(q[2]) * s**4 - float(q[1]) * s**2 + float(q[0]))
-            assert _symbol_det(s, cf) == pytest.approx(ref, rel=1e-12)
+            assert ch4_errata.symbol_det(s, cf) == pytest.approx(ref, rel=1e-12)
 
 
 def test_bad_parameters_raise_value_error_naming_the_bound():

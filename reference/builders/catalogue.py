@@ -1,10 +1,15 @@
-"""Builder of ``data/thesis_values.nc``: the thesis catalogue as a citable dataset.
+"""Builder of ``thesis_values.nc`` (the thesis catalogue as a citable dataset) and of
+``our_values.nc`` (our computed values with the tolerance their methods support).
 
 One row (dimension ``entry``) per catalogue entry: its id, kind, the value as printed,
 the numeric value (NaN when not numeric), unit, implied tolerance and where it stands in
 the thesis. Statuses are *not* stored: they are computed by ``debench verify`` from the
 code and change as the models improve; this file holds what the thesis (or the cited
 literature) states.
+
+``our_values.nc`` (:mod:`debench.reference.values`) holds every value our producers and
+model guards compute, its tolerance and the status it gave; ``debench verify`` recomputes
+them and fails when one leaves its tolerance.
 """
 
 from __future__ import annotations
@@ -14,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from debench.reference import catalogue
+from debench.reference import catalogue, values
 from debench.reference.datasets import write_dataset
 
 NAME = "thesis_values"
@@ -76,6 +81,25 @@ def catalogue_dataset(entries: list[catalogue.Entry] | None = None) -> xr.Datase
     return xr.Dataset(data, coords=coords)
 
 
+def thesis_values_problems(data_dir: Path | None = None) -> list[str]:
+    """Differences between the curated ``thesis_values.nc`` and the catalogue files."""
+    from debench.reference.datasets import DatasetError, read_dataset
+
+    try:
+        curated = read_dataset(NAME, data_dir=data_dir)
+    except DatasetError as exc:
+        return [str(exc)]
+    fresh = catalogue_dataset()
+    if curated.sizes != fresh.sizes or list(curated.entry.values) != list(fresh.entry.values):
+        return [f"{NAME}.nc: entries differ from the catalogue files "
+                "(run `debench reproduce catalogue --write-data`)"]
+    bad = [v for v in fresh.data_vars
+           if not np.array_equal(np.asarray(curated[v].values, dtype=fresh[v].dtype),
+                                 fresh[v].values, equal_nan=fresh[v].dtype.kind == "f")]
+    return [f"{NAME}.nc: {', '.join(bad)} differ from the catalogue files (run "
+            "`debench reproduce catalogue --write-data`)"] if bad else []
+
+
 def build(out_dir: Path, *, full: bool = False) -> list[Path]:
     """Write ``thesis_values.nc`` into ``out_dir`` (``full`` has no effect)."""
     entries = catalogue.load()
@@ -91,4 +115,20 @@ def build(out_dir: Path, *, full: bool = False) -> list[Path]:
         parameters={"n_entries": len(entries),
                     "catalogue_files": ",".join(sorted({e.file for e in entries}))},
     )
-    return [path]
+    results = catalogue.evaluate_all(entries)
+    errors = [r.entry.id for r in results if r.status == "error"]
+    if errors:
+        raise RuntimeError(f"producers raised for {errors}: fix them before storing values")
+    guards = values.guarded_from_results(results) + values.extra_guards()
+    ours = write_dataset(
+        values.store_dataset(guards), values.STORE_NAME, out_dir=out_dir, overwrite=True,
+        title="debench's computed values with the tolerances their methods support",
+        summary=("Every value the debench producers compute for the catalogue of Zeng (2020) "
+                 "(main values and numeric details), the Chapter 5 finite-element model "
+                 "recomputed on its coarsest mesh, the absolute tolerance each method "
+                 "supports and what sets it, and the status each entry received. "
+                 "`debench verify` recomputes them and fails when one leaves its tolerance."),
+        parameters={"n_values": len(guards), "n_entries": len(entries),
+                    "extra_guards": ",".join(values.EXTRA_GUARDS)},
+    )
+    return [path, ours]

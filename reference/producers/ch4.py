@@ -25,7 +25,7 @@ from debench.models.plate.analysis import (
     thin_limit,
 )
 from debench.models.plate.ansatz import critical_stretches
-from debench.reference.catalogue import Entry, Outcome
+from debench.reference.catalogue import Accuracy, Entry, Outcome
 
 #: thesis Fig. 4.2 cases and Fig. 4.5 anisotropy levels (Sec. 4.4)
 FIG42_D = (0.0, 1.0, 2.0, 2.2, 2.4, 2.6, 3.0, 4.0, 5.0)
@@ -38,6 +38,12 @@ AREA_KH_N = 81
 AREA_LAM = (0.4, 8.0, 241)
 EV = "verification/test_ch4_claims.py"
 EV_ERR = "verification/test_ch4_derivation.py"
+#: Accuracy of every Chapter 4 value: roots of the ansatz determinant are refined by
+#: brentq to 1e-13 and areas are sums over fixed grids, so a recomputation on another
+#: CPU/BLAS moves a value by round-off in the determinant (measured < 1e-9 relative
+#: between two OpenBLAS kernels); rtol 1e-7 keeps a 100x margin.
+ACCURACY = Accuracy(rtol=1e-7, atol=1e-9, reason="ch4 determinant roots to 1e-13 on fixed "
+                    "grids; cross-CPU spread < 1e-9 relative, 100x margin")
 
 
 def _kH(kH_max=KH_MAX):
@@ -317,9 +323,17 @@ def parameters_used(entry: Entry) -> Outcome:
 
 
 def erratum(entry: Entry) -> Outcome:
-    """Errata are confirmed by their evidence test (run by pytest); here we only report."""
-    return Outcome(entry.source.get("equation", ""), status="confirmed",
-                   evidence=entry.evidence)
+    """Run the erratum's check (:mod:`.ch4_errata`, the same function as its evidence test):
+    ``confirmed`` when the printed form fails and the corrected one holds, ``refuted``
+    when the printed form holds; a correction that fails too is an error."""
+    from debench.reference.producers import ch4_errata
+
+    key = entry.id.removeprefix("ch4.erratum.")
+    chk = ch4_errata.CHECKS[key]()
+    if chk.printed_wrong and not chk.corrected_right:
+        raise RuntimeError(f"{entry.id}: the corrected form fails its check too: {chk.details}")
+    return Outcome(chk.printed_wrong, status="confirmed" if chk.confirmed else "refuted",
+                   evidence=entry.evidence, details=chk.details)
 
 
 def area_window_sensitivity(entry: Entry) -> Outcome:

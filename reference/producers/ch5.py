@@ -13,7 +13,7 @@ import math
 from functools import lru_cache
 
 import numpy as np
-from debench.reference.catalogue import Entry, Outcome
+from debench.reference.catalogue import Accuracy, Entry, Outcome
 from debench.reference.datasets import read_dataset
 
 EV_FEM = "verification/test_ch5_fem.py"
@@ -27,6 +27,12 @@ BREAKDOWN = 50.0  # V/um, thesis §5.3.1
 #: scale invariance: the 0.5 mm and 1 mm cases use the same normalised mesh; their
 #: normalised results agree to the Newton/secant tolerances (1e-6 in v)
 SCALE_RTOL = 1e-5
+#: Accuracy of the values read from the curated finite-element datasets: they are stored
+#: numbers, reproduced exactly by a read; whether they still follow from the model is
+#: checked by :func:`coarse_guards` (the model recomputed on the coarsest mesh against the
+#: dataset's coarsest level). rtol 1e-9 absorbs the text round trip of derived numbers.
+ACCURACY = Accuracy(rtol=1e-9, atol=1e-12, reason="read from curated ch5 datasets "
+                    "(checked against the coarse recomputation)")
 
 
 @lru_cache(maxsize=4)
@@ -260,3 +266,43 @@ def discretisation(entry: Entry) -> Outcome:
                               "the 1 vs 2 layer change of v_cr is < 0.5 %, and v_cr converges at "
                               "a measured rate, see ch5_critical_voltage.nc)"),
                    evidence=f"{EV_FEM}::test_element_layers_barely_change_the_critical_voltage")
+
+
+# ------------------------------------------------------------------ model guard
+#: The coarse recomputation's critical voltage is converged by the secant to
+#: ``solver.CRITICAL_VTOL`` (1e-6 in v) on top of Newton's relative tolerance; 10x margin.
+COARSE_ATOL = 1e-5
+
+
+def coarse_guards() -> list:
+    """Recompute the finite-element model on the coarsest mesh of the curated data.
+
+    For every case of ``ch5_critical_voltage.nc``: the critical voltage of the perfect
+    film by eigen-analysis on the dataset's coarsest level (same mesh size, layers and
+    order as recorded in the dataset), guarded as ``ch5.guard.<case>.v_cr_coarse``, and its
+    difference from the dataset's stored coarsest value,
+    ``ch5.guard.<case>.v_cr_coarse_minus_curated`` (stored as ~0): a change of the model
+    (material constants, energy, solver) moves both, so the converged curated values, which
+    extrapolate the same mesh sequence, are tied to the code that made them.
+    """
+    from debench.models.buckling.parameters import Discretisation, Plate
+    from debench.models.buckling.solver import critical_voltage
+    from debench.reference.builders.ch5 import CASES, _material
+    from debench.reference.datasets import dataset_parameters
+    from debench.reference.values import Guarded
+
+    crit = _crit()
+    par = dataset_parameters(crit)
+    h0 = float(crit.h_rel.values[0])
+    disc = Discretisation(h_rel=h0, layers=int(par["layers"]), order=int(par["order"]))
+    reason = (f"secant on the lowest eigenvalue to |dv| < 1e-6 at h = {h0:g} t0; "
+              "10x margin")
+    out = []
+    for case in crit.case.values.tolist():
+        material, t0 = CASES[case]
+        v = critical_voltage(Plate(thickness=t0), _material(material), disc).v
+        stored = float(crit.v_cr.sel(case=case).values[0])
+        out.append(Guarded(f"ch5.guard.{case}.v_cr_coarse", float(v), COARSE_ATOL, reason))
+        out.append(Guarded(f"ch5.guard.{case}.v_cr_coarse_minus_curated", float(v) - stored,
+                           COARSE_ATOL, reason))
+    return out

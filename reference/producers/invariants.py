@@ -27,11 +27,18 @@ from debench.models.materials import (
     invariant_chain_rule,
     push_forward,
 )
-from debench.reference.catalogue import Entry, Outcome
+from debench.reference.catalogue import Accuracy, Entry, Outcome
 
 N_STATES = 12
 EXACT_RTOL = 1e-10
 """Two exact expressions: rounding only (relative to the largest entry)."""
+#: Accuracy of the kernel checks' values. Agreement measures sit at the round-off floor
+#: (<= 2e-15) or at the finite-difference floor (<= 2e-9); a changed formula moves them
+#: by orders of magnitude more (the printed errata give 0.1-2). atol 1e-7 is 50x the
+#: finite-difference floor; rtol 1e-6 covers the rates and moduli evaluated at seeded
+#: states (deterministic up to round-off).
+ACCURACY = Accuracy(rtol=1e-6, atol=1e-7, reason="kernel agreement at round-off or "
+                    "finite-difference floor (<= 2e-9); 50x margin")
 T_INV = "verification/test_invariants_paths.py"
 T_CF = "verification/test_materials_closed_forms.py"
 T_MEM = "verification/test_materials_membrane.py"
