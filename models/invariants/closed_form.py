@@ -16,6 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from debench.models.validation import choice, deformation_gradient, unit_vector, vector
 
 NUMBERINGS = ("iso", "ti")
 _I3 = np.eye(3)
@@ -24,39 +25,32 @@ _I3 = np.eye(3)
 def validate_state(F, D_L, A=None, *, numbering: str = "iso") -> tuple[np.ndarray, ...]:
     """Check shapes, finiteness and det F > 0; return float (or complex) arrays.
 
+    Complex arrays are accepted (complex-step derivatives); ``det F`` is checked on the
+    real part.
+
     Raises
     ------
     ValueError
         naming the violated bound (shape, NaN/inf, ``det F > 0``, ``|A| = 1``).
+    TypeError
+        for non-numeric input.
     """
-    if numbering not in NUMBERINGS:
-        raise ValueError(f"numbering must be one of {NUMBERINGS}, got {numbering!r}")
-    F = np.asarray(F)
-    D_L = np.asarray(D_L)
-    if F.shape != (3, 3):
-        raise ValueError(f"F must have shape (3, 3), got {F.shape}")
-    if D_L.shape != (3,):
-        raise ValueError(f"D_L must have shape (3,), got {D_L.shape}")
-    if not (np.all(np.isfinite(F)) and np.all(np.isfinite(D_L))):
-        raise ValueError("F and D_L must be finite (no NaN or inf)")
-    detF = np.linalg.det(F.real)
-    if not detF > 0:
-        raise ValueError(f"det F must be > 0, got {detF:.6g}")
+    choice("numbering", numbering, NUMBERINGS)
+    F = deformation_gradient("F", F, complex_ok=True)
+    D_L = vector("D_L", D_L, complex_ok=True)
     if numbering == "ti":
         if A is None:
             raise ValueError("numbering 'ti' needs the unit fibre vector A")
-        A = np.asarray(A, dtype=float)
-        if A.shape != (3,) or not np.all(np.isfinite(A)):
-            raise ValueError(f"A must be a finite 3-vector, got {A!r}")
-        if abs(np.linalg.norm(A) - 1.0) > 1e-12:
-            raise ValueError(f"|A| must be 1, got {np.linalg.norm(A):.15g}")
+        A = unit_vector("A", A)
     return F, D_L, A
 
 
 def invariants(F, D_L, A=None, *, numbering: str = "iso") -> np.ndarray:
-    """``[I1, ..., I6]`` in the chosen numbering (eqs (2.35)-(2.40) or (4.12)-(4.17))."""
-    F = np.asarray(F)
-    D_L = np.asarray(D_L)
+    """``[I1, ..., I6]`` in the chosen numbering (eqs (2.35)-(2.40) or (4.12)-(4.17)).
+
+    The state is checked by :func:`validate_state` (ValueError naming the bound).
+    """
+    F, D_L, A = validate_state(F, D_L, A, numbering=numbering)
     C = F.T @ F
     trC = np.trace(C)
     C2 = C @ C
@@ -67,12 +61,9 @@ def invariants(F, D_L, A=None, *, numbering: str = "iso") -> np.ndarray:
     if numbering == "iso":
         I4 = D_L @ D_L
         I6 = D_L @ C2 @ D_L
-    elif numbering == "ti":
-        A = np.asarray(A)
+    else:
         I4 = A @ C @ A
         I6 = D_L @ D_L
-    else:
-        raise ValueError(f"numbering must be one of {NUMBERINGS}, got {numbering!r}")
     return np.array([I1, I2, I3, I4, I5, I6])
 
 

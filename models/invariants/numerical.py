@@ -11,7 +11,8 @@ is used.
 from __future__ import annotations
 
 import numpy as np
-from debench.models.invariants.closed_form import invariants
+from debench.models.invariants.closed_form import invariants, validate_state
+from debench.models.validation import deformation_gradient, tolerance
 
 CS_STEP = 1e-30
 FD_STEP = 1e-4
@@ -36,7 +37,12 @@ def _grad_cs(F, D_L, A, numbering):
 
 
 def derivatives(F, D_L, A=None, *, numbering: str = "iso", h2: float = FD_STEP) -> dict:
-    """Dict ``I, dF, dD, dFF, dFD, dDD`` (layout of :mod:`debench.models.invariants`)."""
+    """Dict ``I, dF, dD, dFF, dFD, dDD`` (layout of :mod:`debench.models.invariants`).
+
+    ``h2`` is the central-difference step, a finite number in (0, 1).
+    """
+    tolerance("h2", h2)
+    F, D_L, A = validate_state(F, D_L, A, numbering=numbering)
     F = np.asarray(F, dtype=float)
     D_L = np.asarray(D_L, dtype=float)
     I = invariants(F, D_L, A, numbering=numbering)
@@ -65,9 +71,13 @@ def central_difference_F(fun, F, h: float = FD_STEP) -> np.ndarray:
     """Central difference of a tensor function of F: ``out[..., k, l] = d fun / dF_kl``.
 
     ``fun(F)`` may return any array shape S; the result has shape ``S + (3, 3)``.
-    Truncation error ``O(h^2)``.
+    Truncation error ``O(h^2)``. ``h`` is a finite step in (0, 1); ``F`` a finite (3, 3)
+    array with ``det F > 0``; a non-finite value of ``fun`` raises ValueError.
     """
-    F = np.asarray(F, dtype=float)
+    if not callable(fun):
+        raise TypeError(f"fun must be callable, got {fun!r}")
+    tolerance("h", h)
+    F = np.asarray(deformation_gradient("F", F), dtype=float)
     cols = []
     for k in range(3):
         for l_ in range(3):
@@ -75,4 +85,6 @@ def central_difference_F(fun, F, h: float = FD_STEP) -> np.ndarray:
             e[k, l_] = h
             cols.append((np.asarray(fun(F + e)) - np.asarray(fun(F - e))) / (2 * h))
     arr = np.array(cols).reshape((3, 3) + np.shape(cols[0]))
+    if not np.all(np.isfinite(arr)):
+        raise ValueError("central_difference_F: fun returned non-finite values near F")
     return np.moveaxis(arr, (0, 1), (-2, -1))

@@ -29,7 +29,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from debench.models import validation as v
 from debench.models.invariants import derivatives
+
+_RESPONSE_SHAPES = {"P": (3, 3), "E_L": (3,), "AA": (3, 3, 3, 3), "AAA": (3, 3, 3),
+                    "A": (3, 3)}
 
 
 @dataclass(frozen=True)
@@ -56,6 +60,14 @@ class Response:
     AAA: np.ndarray
     A: np.ndarray
 
+    def __post_init__(self):
+        for name in ("W", "P", "E_L", "AA", "AAA", "A"):
+            value = getattr(self, name)
+            v.finite(f"Response.{name}", value)
+            if name != "W" and np.shape(value) != _RESPONSE_SHAPES[name]:
+                raise ValueError(f"Response.{name} must have shape "
+                                 f"{_RESPONSE_SHAPES[name]}, got {np.shape(value)}")
+
     def __add__(self, other: Response) -> Response:
         return Response(self.W + other.W, self.P + other.P, self.E_L + other.E_L,
                         self.AA + other.AA, self.AAA + other.AAA, self.A + other.A)
@@ -63,7 +75,15 @@ class Response:
 
 def invariant_chain_rule(W: float, W_n: np.ndarray, W_mn: np.ndarray, F, D_L, A=None, *,
                          numbering: str, second: bool = True) -> Response:
-    """Apply (2.27)-(2.28), (2.68)-(2.70) to an invariant-based energy (full sums)."""
+    """Apply (2.27)-(2.28), (2.68)-(2.70) to an invariant-based energy (full sums).
+
+    ``W`` finite, ``W_n`` a finite 6-vector, ``W_mn`` a finite (6, 6) array; the state
+    is checked by :func:`~debench.models.invariants.validate_state`. A non-finite result
+    (overflow at an extreme state) raises ValueError.
+    """
+    v.finite("W", W)
+    W_n = v.vector("W_n", W_n, 6)
+    W_mn = v.array("W_mn", W_mn, (6, 6))
     d = derivatives(F, D_L, A, numbering=numbering, second=second)
     P = np.einsum("n,nia->ia", W_n, d.dF)
     E_L = np.einsum("n,na->a", W_n, d.dD)
@@ -82,8 +102,12 @@ def divided_difference_power(x: np.ndarray, y: np.ndarray, q: float) -> np.ndarr
     """``(x**q - y**q)/(x - y)`` for x, y > 0, exact limit ``q y**(q-1)`` at x = y.
 
     Written as ``y**q expm1(q log1p((x-y)/y))/(x-y)`` so that nearly equal arguments lose
-    no digits.
+    no digits. ``x``, ``y`` must be finite and > 0, ``q`` finite; a result that overflows
+    raises ValueError.
     """
+    v.positive("x", x)
+    v.positive("y", y)
+    v.finite("q", q)
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
     h = x - y
@@ -91,7 +115,9 @@ def divided_difference_power(x: np.ndarray, y: np.ndarray, q: float) -> np.ndarr
     small = np.abs(h) <= 1e-300 + 0 * y
     with np.errstate(divide="ignore", invalid="ignore"):
         r = y**q * np.expm1(q * np.log1p(h / y)) / h
-    out[...] = np.where(small, q * y ** (q - 1), r)
+        out[...] = np.where(small, q * y ** (q - 1), r)
+    if not np.all(np.isfinite(out)):
+        raise ValueError(f"divided_difference_power overflows for q = {q} at these x, y")
     return out
 
 
@@ -111,8 +137,13 @@ def spectral_response(phi, F, *, second: bool = True) -> Response:
     ``dW/dC = sum_k phi_k n_k (x) n_k`` and, for a symmetric increment H,
     ``d(dW/dC)[H] = sum_kl phi_kl H_ll N_k + 1/2 sum_{k!=l} theta_kl H_kl (n_k n_l + n_l n_k)``.
     Then ``P = 2 F dW/dC`` and ``AA_iajb = 2 d_ij G_ba + 2 F_ig (K_gadb F_jd + K_gabe F_je)``.
+
+    ``F`` is checked (finite (3, 3), ``det F > 0``); a non-finite energy or derivative
+    from ``phi`` raises ValueError (through :class:`Response`).
     """
-    F = np.asarray(F, dtype=float)
+    if not callable(phi):
+        raise TypeError(f"phi must be callable, got {phi!r}")
+    F = np.asarray(v.deformation_gradient("F", F), dtype=float)
     C = F.T @ F
     c, n = np.linalg.eigh(C)
     W, phik, phikl, theta = phi(c)

@@ -12,11 +12,20 @@ Units: SI (Pa, F/m, C/m^2) or any consistent non-dimensional set.
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, field
 from typing import ClassVar
 
 import numpy as np
+from debench.models import validation as v
 from debench.models.invariants import invariants, validate_state
+from debench.models.materials.constants import (  # defined once; VACUUM_PERMITTIVITY re-exported
+    TABLE_5_1_BULK_MODULUS,
+    TABLE_5_1_NH_SHEAR_MODULUS,
+    TABLE_5_1_OGDEN_ALPHAS,
+    TABLE_5_1_OGDEN_MUS,
+    VACUUM_PERMITTIVITY,
+)
 from debench.models.materials.kernel import (
     Response,
     divided_difference_power,
@@ -24,20 +33,25 @@ from debench.models.materials.kernel import (
     spectral_response,
 )
 
-VACUUM_PERMITTIVITY = 8.85e-12
-"""F/m, the value printed with eq. (3.27) (thesis p. 34)."""
-
 
 def _positive(name: str, value: float) -> None:
-    if not (isinstance(value, int | float) and math.isfinite(value)):
-        raise ValueError(f"{name} must be a finite number, got {value!r}")
-    if not value > 0:
-        raise ValueError(f"{name} must be > 0, got {value!r}")
+    v.positive(name, value)
+    if not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a real number, got {value!r}")
 
 
 def _finite(name: str, value: float) -> None:
-    if not (isinstance(value, int | float) and math.isfinite(value)):
-        raise ValueError(f"{name} must be a finite number, got {value!r}")
+    v.finite(name, value)
+    if not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a real number, got {value!r}")
+
+
+def _invariant_vector(I) -> np.ndarray:
+    """``I = [I1, ..., I6]`` of a physical state: finite, ``I3 = det C > 0``."""
+    I = v.vector("I", I, 6)
+    if not I[2] > 0:
+        raise ValueError(f"I3 = det C = {I[2]:.6g} must be > 0")
+    return I
 
 
 class _InvariantMaterial:
@@ -85,9 +99,12 @@ class GentIdealDielectric(_InvariantMaterial):
         _positive("eps", self.eps)
 
     def invariant_derivatives(self, I):
+        """``(W, W_n, W_mn)`` at ``I = [I1, ..., I6]``; ValueError past the Gent lock."""
+        I = _invariant_vector(I)
         x = (I[0] - 3.0) / self.Jm
         if not x < 1.0:
-            raise ValueError(f"I1 - 3 must be < Jm = {self.Jm} (Gent lock), got {I[0] - 3.0:.6g}")
+            raise ValueError(f"I1 - 3 = {I[0] - 3.0:.6g} is past the Gent lock: must be "
+                             f"< Jm = {self.Jm:.6g}")
         W = -0.5 * self.mu * self.Jm * math.log1p(-x) + I[4] / (2 * self.eps)
         Wn = np.zeros(6)
         Wmn = np.zeros((6, 6))
@@ -112,8 +129,8 @@ class NeoHookeanIdealDielectric(_InvariantMaterial):
     Table 5.1: mu = 156000 Pa, k = 7748003.92 Pa.
     """
 
-    mu: float = 156000.0
-    k: float = 7748003.92
+    mu: float = TABLE_5_1_NH_SHEAR_MODULUS
+    k: float = TABLE_5_1_BULK_MODULUS
     eps: float = field(default=4.7 * VACUUM_PERMITTIVITY)  # assumption ch2.assumption.eps_r
     numbering: ClassVar[str] = "iso"
     incompressible: ClassVar[bool] = False
@@ -136,6 +153,8 @@ class NeoHookeanIdealDielectric(_InvariantMaterial):
         return self.mu
 
     def invariant_derivatives(self, I):
+        """``(W, W_n, W_mn)`` at ``I = [I1, ..., I6]`` (I3 > 0)."""
+        I = _invariant_vector(I)
         I1, I3, I5 = I[0], I[2], I[4]
         C10, D1, eps = self.C10, self.D1, self.eps
         J = math.sqrt(I3)
@@ -172,6 +191,8 @@ class IdealDielectric(_InvariantMaterial):
         return 0.0
 
     def invariant_derivatives(self, I):
+        """``(W, W_n, W_mn)`` at ``I = [I1, ..., I6]`` (I3 > 0)."""
+        I = _invariant_vector(I)
         I3, I5, eps = I[2], I[4], self.eps
         Wn = np.zeros(6)
         Wmn = np.zeros((6, 6))
@@ -209,6 +230,8 @@ class DorfmannOgdenElectric(_InvariantMaterial):
         return 0.0
 
     def invariant_derivatives(self, I):
+        """``(W, W_n, W_mn)`` at ``I = [I1, ..., I6]``."""
+        I = _invariant_vector(I)
         Wn = np.zeros(6)
         Wn[3] = self.alpha / (2 * self.eps)
         Wn[4] = self.beta / (2 * self.eps)
@@ -231,15 +254,19 @@ class OgdenIdealDielectric:
     ``ch2.assumption.ogden_bulk_modulus``).
     """
 
-    alphas: tuple[float, ...] = (1.293, 2.3252, 2.561)
-    mus: tuple[float, ...] = (8580.0, 84300.0, -23300.0)
-    k: float = 7748003.92
+    alphas: tuple[float, ...] = TABLE_5_1_OGDEN_ALPHAS
+    mus: tuple[float, ...] = TABLE_5_1_OGDEN_MUS
+    k: float = TABLE_5_1_BULK_MODULUS
     eps: float = field(default=4.7 * VACUUM_PERMITTIVITY)
     numbering: ClassVar[str] = "iso"
     incompressible: ClassVar[bool] = False
 
     def __post_init__(self):
-        if len(self.alphas) != len(self.mus) or not self.alphas:
+        for name in ("alphas", "mus"):
+            seq = getattr(self, name)
+            if isinstance(seq, str | bytes) or not hasattr(seq, "__len__"):
+                raise TypeError(f"{name} must be a sequence of numbers, got {seq!r}")
+        if len(self.alphas) != len(self.mus) or not len(self.alphas):
             raise ValueError(f"alphas and mus must have equal non-zero length, got "
                              f"{len(self.alphas)} and {len(self.mus)}")
         for a in self.alphas:
@@ -334,9 +361,7 @@ class TransverselyIsotropicNeoHookean(_InvariantMaterial):
         _finite("alpha", self.alpha)
         _finite("beta", self.beta)
         _positive("eps", self.eps)
-        a = np.asarray(self.A, dtype=float)
-        if a.shape != (3,) or abs(np.linalg.norm(a) - 1) > 1e-12:
-            raise ValueError(f"A must be a unit 3-vector, got {self.A!r}")
+        v.unit_vector("A", self.A)
 
     def _fibre(self):
         return np.asarray(self.A, dtype=float)
@@ -347,6 +372,8 @@ class TransverselyIsotropicNeoHookean(_InvariantMaterial):
         return self.mu
 
     def invariant_derivatives(self, I):
+        """``(W, W_n, W_mn)`` at ``I = [I1, ..., I6]`` (ti numbering)."""
+        I = _invariant_vector(I)
         mu, xi = self.mu, self.xi
         W = (0.5 * mu * (I[0] - 3) + 0.5 * mu * xi * (I[3] - 1) ** 2
              + (self.alpha * I[5] + self.beta * I[4]) / (2 * self.eps))

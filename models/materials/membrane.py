@@ -20,21 +20,25 @@ field through the thickness as a function of the in-plane stretches and
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
+from debench.models import validation as v
 from debench.models.materials.library import VACUUM_PERMITTIVITY
 
 _H = 1e-30  # complex step: no subtractive cancellation, any tiny step is exact to rounding
 
 
 def _check_stretches(l1, l2):
-    for name, v in (("lambda1", l1), ("lambda2", l2)):
-        if not np.all(np.isfinite(np.real(v))):
-            raise ValueError(f"{name} must be finite, got {v!r}")
-        if not np.all(np.real(v) > 0):
-            raise ValueError(f"{name} must be > 0, got {v!r}")
+    """In-plane stretches: finite, > 0 (complex allowed for complex-step derivatives)."""
+    v.positive("lambda1", l1, complex_ok=True)
+    v.positive("lambda2", l2, complex_ok=True)
+
+
+def _scalar(name, value, check):
+    check(name, value)
+    if not isinstance(value, int | float):
+        raise TypeError(f"{name} must be a real number, got {value!r}")
 
 
 @dataclass(frozen=True)
@@ -48,10 +52,8 @@ class ZhaoSuoPermittivity:
     c: float = 0.0
 
     def __post_init__(self):
-        if not (math.isfinite(self.eps_bar) and self.eps_bar > 0):
-            raise ValueError(f"eps_bar must be > 0, got {self.eps_bar!r}")
-        if not math.isfinite(self.c):
-            raise ValueError(f"c must be finite, got {self.c!r}")
+        _scalar("eps_bar", self.eps_bar, v.positive)
+        _scalar("c", self.c, v.finite)
 
     def __call__(self, l1, l2):
         _check_stretches(l1, l2)
@@ -81,13 +83,17 @@ class JimenezMcMeekingPermittivity:
     c0: float = 0.0
 
     def __post_init__(self):
-        if not (math.isfinite(self.eps0_bar) and self.eps0_bar > 0):
-            raise ValueError(f"eps0_bar must be > 0, got {self.eps0_bar!r}")
-        if not math.isfinite(self.c0):
-            raise ValueError(f"c0 must be finite, got {self.c0!r}")
+        _scalar("eps0_bar", self.eps0_bar, v.positive)
+        _scalar("c0", self.c0, v.finite)
 
     def components(self, l1, l2, l3):
-        """``(eps1, eps2, eps3)`` of eqs (3.24)-(3.26) for arbitrary principal stretches."""
+        """``(eps1, eps2, eps3)`` of eqs (3.24)-(3.26) for arbitrary principal stretches.
+
+        The stretches must be finite and > 0 (complex allowed).
+        """
+        v.positive("l1", l1, complex_ok=True)
+        v.positive("l2", l2, complex_ok=True)
+        v.positive("l3", l3, complex_ok=True)
         a, b, c = l1 * l1, l2 * l2, l3 * l3
         return (self.eps0_bar + self.c0 * (2 * a - b - c),
                 self.eps0_bar + self.c0 * (2 * b - a - c),
@@ -124,10 +130,10 @@ class GentMembrane:
     permittivity: ZhaoSuoPermittivity | JimenezMcMeekingPermittivity = ZhaoSuoPermittivity()
 
     def __post_init__(self):
-        for name in ("mu", "Jm"):
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v > 0):
-                raise ValueError(f"{name} must be > 0, got {v!r}")
+        _scalar("mu", self.mu, v.positive)
+        _scalar("Jm", self.Jm, v.positive)
+        v.instance("permittivity", self.permittivity,
+                   (ZhaoSuoPermittivity, JimenezMcMeekingPermittivity))
 
     # ---- energy
     def stretching_energy(self, l1, l2):
@@ -135,8 +141,9 @@ class GentMembrane:
         _check_stretches(l1, l2)
         x = (l1 * l1 + l2 * l2 + 1 / (l1 * l2) ** 2 - 3) / self.Jm
         if not np.all(np.real(x) < 1):
-            raise ValueError(f"I1 - 3 must be < Jm = {self.Jm} (Gent lock), got "
-                             f"{np.real(x) * self.Jm!r}")
+            raise ValueError(f"I1 - 3 = {np.max(np.real(x)) * self.Jm:.6g} is past the Gent "
+                             f"lock: must be < Jm = {self.Jm:.6g} (lambda1 = {l1!r:.40}, "
+                             f"lambda2 = {l2!r:.40})")
         return -0.5 * self.mu * self.Jm * np.log1p(-x)
 
     def stretching_energy_derivative(self, l1, l2):
@@ -149,8 +156,7 @@ class GentMembrane:
 
     def free_energy(self, l1, l2, I4):
         """``W(l1, l2, I4) = Ws - eps l1^2 l2^2 I4/2`` (3.20), ``I4 = E_L^2``."""
-        if not np.all(np.real(I4) >= 0):
-            raise ValueError(f"I4 = E_L^2 must be >= 0, got {I4!r}")
+        v.nonnegative("I4", I4, complex_ok=True)
         return (self.stretching_energy(l1, l2)
                 - 0.5 * self.permittivity(l1, l2) * (l1 * l2) ** 2 * I4)
 
@@ -158,18 +164,24 @@ class GentMembrane:
     def equations_of_state(self, l1, l2, E):
         """``(sigma1 - sigma3, sigma2 - sigma3, D)`` by the closed forms (3.21), (3.22), D = eps E.
 
-        ``E`` is the true field through the thickness.
+        ``E`` is the true field through the thickness (finite).
         """
+        v.finite("E", E, complex_ok=True)
         dW1, dW2 = self.stretching_energy_derivative(l1, l2)
         eps = self.permittivity(l1, l2)
         de1, de2 = self.permittivity.derivative(l1, l2)
         E2 = E * E
         s13 = l1 * dW1 - eps * E2 - 0.5 * l1 * de1 * E2
         s23 = l2 * dW2 - eps * E2 - 0.5 * l2 * de2 * E2
+        if not np.all(np.isfinite(s13) & np.isfinite(s23)):
+            raise ValueError(f"E = {E!r:.40}: the stresses overflow (E^2 is not finite)")
         return s13, s23, eps * E
 
     def equations_of_state_from_energy(self, l1, l2, E):
         """The same from (3.14)-(3.16) by complex-step differentiation of (3.20)."""
+        _check_stretches(l1, l2)
+        for name, value in (("lambda1", l1), ("lambda2", l2), ("E", E)):
+            _scalar(name, value, v.finite)
         l1 = float(l1)
         l2 = float(l2)
         E = float(E)

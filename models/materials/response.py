@@ -22,6 +22,15 @@ Conventions (thesis Sec. 2.2.4-2.2.5)
 from __future__ import annotations
 
 import numpy as np
+from debench.models import validation as v
+
+
+def _material(material):
+    """A library material: anything with ``response(F, D_L, second=...)``."""
+    if not callable(getattr(material, "response", None)):
+        raise TypeError(f"material must be a library material (with a response method), "
+                        f"got {type(material).__name__} {material!r:.60}")
+    return material
 
 
 def first_piola(material, F, D_L, p: float = 0.0) -> np.ndarray:
@@ -29,14 +38,14 @@ def first_piola(material, F, D_L, p: float = 0.0) -> np.ndarray:
 
     ``p`` must be 0 for compressible materials.
     """
-    _check_p(material, p)
+    _check_p(_material(material), p)
     P = material.response(F, D_L, second=False).P
     return P - p * np.linalg.inv(np.asarray(F, dtype=float)).T
 
 
 def cauchy_stress(material, F, D_L, p: float = 0.0) -> np.ndarray:
     """Total Cauchy stress (2.31)/(2.33): ``J^{-1} (dW/dF) F^T - p I``."""
-    _check_p(material, p)
+    _check_p(_material(material), p)
     F = np.asarray(F, dtype=float)
     P = material.response(F, D_L, second=False).P
     J = np.linalg.det(F)
@@ -45,25 +54,35 @@ def cauchy_stress(material, F, D_L, p: float = 0.0) -> np.ndarray:
 
 def electric_field(material, F, D_L) -> np.ndarray:
     """Eulerian electric field ``E = F^{-T} dW/dD_L`` (2.32)/(2.34)."""
-    F = np.asarray(F, dtype=float)
+    _material(material)
+    F = np.asarray(v.deformation_gradient("F", F), dtype=float)
     return np.linalg.solve(F.T, material.response(F, D_L, second=False).E_L)
 
 
 def eulerian_displacement(F, D_L) -> np.ndarray:
     """``D = J^{-1} F D_L``."""
-    F = np.asarray(F, dtype=float)
-    return F @ np.asarray(D_L, dtype=float) / np.linalg.det(F)
+    F = np.asarray(v.deformation_gradient("F", F), dtype=float)
+    D_L = np.asarray(v.vector("D_L", D_L), dtype=float)
+    D = F @ D_L / np.linalg.det(F)
+    return v.finite("D (overflow)", D)
 
 
 def moduli(material, F, D_L) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(AA, AAA, A)`` of (2.65)-(2.67) (index layout in the module docstring)."""
-    r = material.response(F, D_L, second=True)
+    r = _material(material).response(F, D_L, second=True)
     return r.AA, r.AAA, r.A
 
 
 def push_forward(F, AA, AAA, A) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Push-forward moduli ``(AA0, AAA0, A0)`` of (2.72)-(2.73)."""
-    F = np.asarray(F, dtype=float)
+    """Push-forward moduli ``(AA0, AAA0, A0)`` of (2.72)-(2.73).
+
+    ``F`` finite (3, 3) with ``det F > 0``; ``AA`` (3, 3, 3, 3), ``AAA`` (3, 3, 3) and
+    ``A`` (3, 3) finite arrays.
+    """
+    F = np.asarray(v.deformation_gradient("F", F), dtype=float)
+    AA = v.array("AA", AA, (3, 3, 3, 3))
+    AAA = v.array("AAA", AAA, (3, 3, 3))
+    A = v.array("A", A, (3, 3))
     J = np.linalg.det(F)
     Finv = np.linalg.inv(F)
     AA0 = np.einsum("pa,qb,iajb->ipjq", F, F, AA) / J
@@ -79,18 +98,15 @@ def pressure_from_traction_free_face(material, F, D_L, normal) -> float:
     (``n`` the unit normal in the current configuration). Only for incompressible
     materials (2.33).
     """
-    if not material.incompressible:
+    if not _material(material).incompressible:
         raise ValueError("p is only defined for incompressible materials")
-    n = np.asarray(normal, dtype=float)
-    if n.shape != (3,) or not abs(np.linalg.norm(n) - 1) < 1e-12:
-        raise ValueError(f"normal must be a unit 3-vector, got {normal!r}")
+    n = v.unit_vector("normal", normal)
     sig0 = cauchy_stress(material, F, D_L, 0.0)
     return float(n @ sig0 @ n)
 
 
 def _check_p(material, p):
-    if not np.isfinite(p):
-        raise ValueError(f"p must be finite, got {p!r}")
+    v.finite("p", p)
     if p != 0.0 and not material.incompressible:
         raise ValueError(f"p must be 0 for the compressible material "
                          f"{type(material).__name__}, got {p}")

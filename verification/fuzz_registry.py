@@ -1,0 +1,757 @@
+"""Registry of every public callable of ``debench.models`` (except Chapter 5) for fuzzing.
+
+Each :class:`Case` names one public callable (function, class constructor, method or
+property), a *valid and cheap* set of keyword arguments, and the *kind* of each argument.
+A kind maps to a list of invalid values (:data:`INVALID`: each must raise a project
+error) and of extreme but possibly admissible values (:data:`EXTREME`: each must raise a
+project error or return finite values). ``check`` applies the model's own checks to a
+result (default: every number in it is finite).
+
+Used by ``verification/test_fuzz_api.py`` (Hypothesis draws from the same lists) and by
+``tools/fuzz_report.py`` (tries every listed value once and counts the outcomes).
+
+Outcome of one call (:func:`classify`):
+
+``clear``
+    ``ValueError``, ``TypeError`` or ``ConvergenceError`` raised by debench code (the
+    innermost frame of the traceback is in ``debench``), so the message is ours.
+``foreign``
+    any other exception, or one of the above raised inside numpy/scipy.
+``silent``
+    a result returned for an invalid input, or a result with NaN or inf in it.
+``ok``
+    a finite result that passes ``check`` for an admissible (extreme or valid) input.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import importlib
+import inspect
+import math
+import pkgutil
+import traceback
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+NAN, INF = float("nan"), float("inf")
+
+#: public modules not fuzzed here, with the reason (the meta-test accepts only these)
+EXCLUDED_MODULES = {
+    "debench.models.buckling": "Chapter 5 FE model: validated and fuzzed by its owner",
+    "debench.models.materials.ngsolve_forms": (
+        "NGSolve CoefficientFunction builders (symbolic, no numbers in or out); owned "
+        "with the Chapter 5 FE model"),
+}
+
+_F_BAD = [
+    np.full((3, 3), NAN), np.where(np.eye(3) > 0, INF, 0.0), np.eye(2), np.ones(3),
+    np.diag([1.0, 1.0, -1.0]), np.zeros((3, 3)), 1e-300 * np.eye(3), "x", None,
+    [[1, 0, 0], [0, 1]],
+]
+_D_BAD = [np.array([NAN, 0.0, 0.0]), np.array([0.0, INF, 0.0]), np.zeros(2), np.zeros((3, 3)),
+          "x", None]
+
+INVALID: dict[str, list] = {
+    "real": [NAN, INF, -INF, "x", None],
+    "pos": [NAN, INF, -INF, 0.0, -1.0, "x", None],
+    "pos_or_inf": [NAN, -INF, 0.0, -1.0, "x", None],
+    "nonneg": [NAN, INF, -INF, -1.0, "x", None],
+    "stretch": [NAN, INF, -INF, 0.0, -1.0, 0.5, 1e300, "x", None],
+    "lam": [NAN, INF, -INF, 0.0, -1.0, "x", None],
+    "lam_array": [np.array([1.5, NAN]), np.array([1.5, INF]), np.array([1.5, -1.0]), "x",
+                  None],
+    "tol": [NAN, INF, -INF, 0.0, -1.0, 1e300, "x", None],
+    "count": [0, -1, 2.5, NAN, "3", None],
+    "F": _F_BAD,
+    "D": _D_BAD,
+    "A": [np.array([1.0, 1.0, 0.0]), np.array([NAN, 1.0, 0.0]), np.zeros(2), "x"],
+    "obj": ["x", None, 1.0],
+    "choice": ["bogus", None, 3],
+    "window": [(NAN, 1.0), (2.0, 1.0), (0.0, 8.0), (-1.0, 2.0), (1.0, INF), "x", (1.0,)],
+    "func": ["x", None],
+    "W6": [np.full(6, NAN), np.zeros(5), "x", None],
+    "vec3pos": [np.array([1.0, NAN, 1.0]), np.array([1.0, -1.0, 1.0]), np.zeros(3),
+                np.ones(2), "x"],
+}
+
+EXTREME: dict[str, list] = {
+    "real": [1e300, -1e300],
+    "pos": [1e300, 1e-300],
+    "pos_or_inf": [1e300],
+    "nonneg": [1e300],
+    "lam": [1e300, 1e-300],
+    "F": [1e300 * np.eye(3), np.diag([1e150, 1e150, 1e-300])],
+    "D": [np.full(3, 1e300)],
+}
+
+
+@dataclass(frozen=True)
+class Case:
+    """One public callable: ``call(**valid)`` must succeed and pass ``check``."""
+
+    name: str
+    call: Callable
+    valid: dict
+    kinds: dict
+    check: Callable | None = None
+    #: extra invalid values per argument, beyond those of its kind
+    extra: dict = field(default_factory=dict)
+    #: values of the kind lists that are admissible for this argument (not invalid)
+    allowed: dict = field(default_factory=dict)
+
+    def inputs(self):
+        """``(argument, value, invalid?)`` for every listed value of every argument."""
+        for arg, kind in self.kinds.items():
+            ok = self.allowed.get(arg, [])
+            for v in INVALID.get(kind, []) + self.extra.get(arg, []):
+                if not any(_same(v, a) for a in ok):
+                    yield arg, v, True
+            for v in EXTREME.get(kind, []):
+                yield arg, v, False
+
+
+def _same(a, b) -> bool:
+    if isinstance(a, float) and isinstance(b, float):
+        return a == b or (math.isnan(a) and math.isnan(b))
+    return a is b
+
+
+# ----------------------------------------------------------------------- result checks
+def numbers_in(x, depth: int = 0):
+    """Every number (as float arrays) found in a result: arrays, tuples, dicts,
+    dataclasses, scalars; strings and types are skipped."""
+    if depth > 4 or x is None or isinstance(x, str | bytes | type):
+        return
+    if isinstance(x, bool | np.bool_):
+        return
+    if isinstance(x, int | float | complex | np.number):
+        yield np.asarray(x)
+        return
+    if isinstance(x, np.ndarray):
+        if x.dtype.kind in "fciu":
+            yield x
+        elif x.dtype == object:
+            for v in x.ravel():
+                yield from numbers_in(v, depth + 1)
+        return
+    if isinstance(x, dict):
+        for v in x.values():
+            yield from numbers_in(v, depth + 1)
+        return
+    if isinstance(x, list | tuple):
+        for v in x:
+            yield from numbers_in(v, depth + 1)
+        return
+    if dataclasses.is_dataclass(x):
+        for f in dataclasses.fields(x):
+            yield from numbers_in(getattr(x, f.name), depth + 1)
+
+
+def all_finite(result) -> None:
+    for a in numbers_in(result):
+        if not np.all(np.isfinite(a)):
+            raise AssertionError(f"non-finite value in the result: {a!r:.200}")
+
+
+def classify(case: Case, arg: str | None, value, invalid: bool) -> tuple[str, str]:
+    """Run one call (``arg`` replaced by ``value``) and return (outcome, detail)."""
+    from debench.models.errors import ConvergenceError
+
+    kw = dict(case.valid)
+    if arg is not None:
+        kw[arg] = value
+    try:
+        with np.errstate(all="ignore"):
+            res = case.call(**kw)
+    except (ValueError, TypeError, ConvergenceError) as exc:
+        tb = traceback.extract_tb(exc.__traceback__)
+        where = tb[-1].filename if tb else ""
+        if "debench" in where or "/models/" in where:
+            return "clear", f"{type(exc).__name__}: {exc}"[:200]
+        return "foreign", f"{type(exc).__name__} from {where.split('/')[-1]}: {exc}"[:200]
+    except Exception as exc:  # noqa: BLE001 - classified, not swallowed
+        return "foreign", f"{type(exc).__name__}: {exc}"[:200]
+    try:
+        (case.check or all_finite)(res)
+    except AssertionError as exc:
+        return "silent", str(exc)[:200]
+    if invalid:
+        return "silent", f"accepted: returned {type(res).__name__}"
+    return "ok", ""
+
+
+# --------------------------------------------------------------------------- fixtures
+@functools.cache
+def _annulus():
+    from debench.models.circular.params import Annulus
+    return Annulus(2.0, 15.0)
+
+
+@functools.cache
+def _branch():
+    from debench.models.circular.actuator import branch
+    return branch(_annulus(), n=40)
+
+
+@functools.cache
+def _curve():
+    from debench.models.circular.actuator import curves
+    return curves(_branch(), [0.0])[0]
+
+
+@functools.cache
+def _plate():
+    from debench.models.plate.coefficients import PlateParams
+    return PlateParams(xi=0.0, Dhat=0.0)
+
+
+_F0 = np.array([[1.2, 0.1, 0.0], [0.05, 0.9, 0.02], [0.0, 0.03, 1.0 / 1.08]])
+_D0 = np.array([0.1, 0.2, 0.3])
+_A0 = np.array([0.0, 1.0, 0.0])
+
+
+# ------------------------------------------------------------------------- the cases
+def _invariant_cases():
+    from debench.models.invariants import closed_form as cf
+    from debench.models.invariants import numerical as nm
+    from debench.models.invariants import printed as pr
+
+    out = [
+        Case("debench.models.invariants.closed_form.validate_state", cf.validate_state,
+             {"F": _F0, "D_L": _D0}, {"F": "F", "D_L": "D"}),
+        Case("debench.models.invariants.closed_form.invariants", cf.invariants,
+             {"F": _F0, "D_L": _D0, "A": _A0, "numbering": "ti"},
+             {"F": "F", "D_L": "D", "A": "A", "numbering": "choice"}),
+        Case("debench.models.invariants.closed_form.derivatives", cf.derivatives,
+             {"F": _F0, "D_L": _D0}, {"F": "F", "D_L": "D", "numbering": "choice"}),
+        Case("debench.models.invariants.closed_form.InvariantDerivatives",
+             lambda F, D_L: cf.derivatives(F, D_L), {"F": _F0, "D_L": _D0},
+             {"F": "F", "D_L": "D"}),
+        Case("debench.models.invariants.numerical.derivatives", nm.derivatives,
+             {"F": _F0, "D_L": _D0, "h2": 1e-4},
+             {"F": "F", "D_L": "D", "h2": "tol", "numbering": "choice"}),
+        Case("debench.models.invariants.numerical.central_difference_F",
+             nm.central_difference_F, {"fun": lambda F: F @ F, "F": _F0, "h": 1e-4},
+             {"fun": "func", "F": "F", "h": "tol"}),
+    ]
+    for name, f in vars(pr).items():
+        if name.startswith("_") or not inspect.isfunction(f) or f.__module__ != pr.__name__:
+            continue
+        params = list(inspect.signature(f).parameters)
+        valid = {"F": _F0, "D": _D0, "D_L": _D0, "E_L": _D0, "A": _A0, "p": 0.3,
+                 "W": np.array([0.5, 0.1, 0.2, 0.3, 0.4, 0.05]), "C10": 0.5, "D1": 0.1,
+                 "eps": 1.0, "k": 10.0, "alphas": (1.3, 2.3), "mus": (0.5, 0.4),
+                 "lam": np.array([1.2, 0.9, 1 / 1.08])}
+        kinds = {"F": "F", "D": "D", "D_L": "D", "E_L": "D", "A": "A", "p": "real",
+                 "W": "W6", "C10": "pos", "D1": "pos", "eps": "pos", "k": "pos",
+                 "lam": "vec3pos", "alphas": "obj", "mus": "obj"}
+        if "A" in params and "ti" not in name:
+            params.remove("A")  # the iso formulas ignore the fibre
+        out.append(Case(f"debench.models.invariants.printed.{name}", f,
+                        {p: valid[p] for p in params}, {p: kinds[p] for p in params}))
+    return out
+
+
+def _material_cases():
+    from debench.models.materials import kernel, library, membrane, response
+
+    out = []
+    mats = {
+        "GentIdealDielectric": ({"mu": 51e3, "Jm": 120.0, "eps": 4e-11},
+                                {"mu": "pos", "Jm": "pos", "eps": "pos"}),
+        "NeoHookeanIdealDielectric": ({"mu": 156e3, "k": 7.7e6, "eps": 4e-11},
+                                      {"mu": "pos", "k": "pos", "eps": "pos"}),
+        "IdealDielectric": ({"eps": 4e-11}, {"eps": "pos"}),
+        "DorfmannOgdenElectric": ({"alpha": 0.3, "beta": 0.5, "eps": 1.0},
+                                  {"alpha": "real", "beta": "real", "eps": "pos"}),
+        "OgdenIdealDielectric": ({"k": 7.7e6, "eps": 4e-11}, {"k": "pos", "eps": "pos"}),
+        "TransverselyIsotropicNeoHookean": (
+            {"mu": 1.0, "xi": 5.0, "alpha": 0.0, "beta": 0.5, "eps": 1.0},
+            {"mu": "pos", "xi": "nonneg", "alpha": "real", "beta": "real", "eps": "pos"}),
+    }
+    for cname, (valid, kinds) in mats.items():
+        cls = getattr(library, cname)
+        base = f"debench.models.materials.library.{cname}"
+        out.append(Case(base, cls, valid, kinds))
+        m0 = cls(**valid)
+        # Gent: a state below the lock; the others: a general state
+        F = _F0 if cname != "OgdenIdealDielectric" else _F0
+        D = _D0 * (1e-3 if "eps" in valid and valid["eps"] < 1e-6 else 1.0)
+        for meth in ("energy", "response"):
+            out.append(Case(f"{base}.{meth}", lambda F, D_L, m0=m0, meth=meth:
+                            getattr(m0, meth)(F, D_L), {"F": F, "D_L": D},
+                            {"F": "F", "D_L": "D"}))
+        out.append(Case(f"{base}.shear_modulus", lambda m0=m0: m0.shear_modulus, {}, {}))
+        if hasattr(cls, "invariant_derivatives"):
+            from debench.models.invariants import invariants
+            I0 = invariants(_F0, D, np.asarray(getattr(m0, "A", _A0), float),
+                            numbering=cls.numbering)
+            out.append(Case(f"{base}.invariant_derivatives", m0.invariant_derivatives,
+                            {"I": I0}, {"I": "W6"}))
+    nh = library.NeoHookeanIdealDielectric()
+    out += [
+        Case("debench.models.materials.library.NeoHookeanIdealDielectric.C10",
+             lambda: nh.C10, {}, {}),
+        Case("debench.models.materials.library.NeoHookeanIdealDielectric.D1",
+             lambda: nh.D1, {}, {}),
+    ]
+    Dsi = _D0 * 1e-3
+    gent = library.GentIdealDielectric()
+    out += [
+        Case("debench.models.materials.response.first_piola", response.first_piola,
+             {"material": gent, "F": _F0, "D_L": Dsi, "p": 1e3},
+             {"material": "obj", "F": "F", "D_L": "D", "p": "real"}),
+        Case("debench.models.materials.response.cauchy_stress", response.cauchy_stress,
+             {"material": gent, "F": _F0, "D_L": Dsi, "p": 1e3},
+             {"material": "obj", "F": "F", "D_L": "D", "p": "real"}),
+        Case("debench.models.materials.response.electric_field", response.electric_field,
+             {"material": nh, "F": _F0, "D_L": Dsi},
+             {"material": "obj", "F": "F", "D_L": "D"}),
+        Case("debench.models.materials.response.eulerian_displacement",
+             response.eulerian_displacement, {"F": _F0, "D_L": Dsi}, {"F": "F", "D_L": "D"}),
+        Case("debench.models.materials.response.moduli", response.moduli,
+             {"material": nh, "F": _F0, "D_L": Dsi},
+             {"material": "obj", "F": "F", "D_L": "D"}),
+        Case("debench.models.materials.response.push_forward", response.push_forward,
+             {"F": _F0, "AA": np.ones((3, 3, 3, 3)), "AAA": np.ones((3, 3, 3)),
+              "A": np.eye(3)}, {"F": "F", "AA": "obj", "AAA": "obj", "A": "obj"}),
+        Case("debench.models.materials.response.pressure_from_traction_free_face",
+             response.pressure_from_traction_free_face,
+             {"material": gent, "F": _F0, "D_L": Dsi, "normal": np.array([0.0, 0.0, 1.0])},
+             {"material": "obj", "F": "F", "D_L": "D", "normal": "A"}),
+        Case("debench.models.materials.kernel.Response",
+             lambda W: kernel.Response(W, np.eye(3), np.zeros(3), np.zeros((3, 3, 3, 3)),
+                                       np.zeros((3, 3, 3)), np.eye(3)),
+             {"W": 1.0}, {"W": "real"}),
+        Case("debench.models.materials.kernel.invariant_chain_rule",
+             kernel.invariant_chain_rule,
+             {"W": 1.0, "W_n": np.ones(6), "W_mn": np.eye(6), "F": _F0, "D_L": _D0,
+              "numbering": "iso"},
+             {"W": "real", "W_n": "W6", "W_mn": "obj", "F": "F", "D_L": "D",
+              "numbering": "choice"}),
+        Case("debench.models.materials.kernel.divided_difference_power",
+             kernel.divided_difference_power, {"x": 1.2, "y": 1.1, "q": 0.5},
+             {"x": "lam", "y": "lam", "q": "real"}),
+        Case("debench.models.materials.kernel.spectral_response", kernel.spectral_response,
+             {"phi": library.OgdenIdealDielectric()._phi, "F": _F0},
+             {"phi": "func", "F": "F"}),
+    ]
+    zs = membrane.ZhaoSuoPermittivity
+    jm = membrane.JimenezMcMeekingPermittivity
+    gm = membrane.GentMembrane
+    m = "debench.models.materials.membrane"
+    l12 = {"l1": 1.5, "l2": 1.3}
+    lk = {"l1": "lam", "l2": "lam"}
+    out += [
+        Case(f"{m}.ZhaoSuoPermittivity", zs, {"eps_bar": 4e-11, "c": -0.05},
+             {"eps_bar": "pos", "c": "real"}),
+        Case(f"{m}.ZhaoSuoPermittivity.__call__", lambda l1, l2: zs(c=-0.05)(l1, l2),
+             l12, lk),
+        Case(f"{m}.ZhaoSuoPermittivity.derivative",
+             lambda l1, l2: zs(c=-0.05).derivative(l1, l2), l12, lk),
+        Case(f"{m}.JimenezMcMeekingPermittivity", jm, {"eps0_bar": 4e-11, "c0": 1e-13},
+             {"eps0_bar": "pos", "c0": "real"}),
+        Case(f"{m}.JimenezMcMeekingPermittivity.__call__",
+             lambda l1, l2: jm(c0=1e-13)(l1, l2), l12, lk),
+        Case(f"{m}.JimenezMcMeekingPermittivity.components",
+             lambda l1, l2, l3: jm(c0=1e-13).components(l1, l2, l3),
+             {"l1": 1.5, "l2": 1.3, "l3": 0.5}, {"l1": "lam", "l2": "lam", "l3": "lam"}),
+        Case(f"{m}.JimenezMcMeekingPermittivity.derivative",
+             lambda l1, l2: jm(c0=1e-13).derivative(l1, l2), l12, lk),
+        Case(f"{m}.JimenezMcMeekingPermittivity.zhao_suo_linearisation",
+             lambda c0: jm(c0=c0).zhao_suo_linearisation(), {"c0": 1e-13}, {"c0": "real"}),
+        Case(f"{m}.GentMembrane", gm, {"mu": 51e3, "Jm": 120.0, "permittivity": zs()},
+             {"mu": "pos", "Jm": "pos", "permittivity": "obj"}),
+        Case(f"{m}.GentMembrane.stretching_energy",
+             lambda l1, l2: gm().stretching_energy(l1, l2), l12, lk,
+             extra={"l1": [20.0]}),
+        Case(f"{m}.GentMembrane.stretching_energy_derivative",
+             lambda l1, l2: gm().stretching_energy_derivative(l1, l2), l12, lk,
+             extra={"l1": [20.0]}),
+        Case(f"{m}.GentMembrane.free_energy",
+             lambda l1, l2, I4: gm().free_energy(l1, l2, I4), {**l12, "I4": 1e12},
+             {**lk, "I4": "nonneg"}),
+        Case(f"{m}.GentMembrane.equations_of_state",
+             lambda l1, l2, E: gm().equations_of_state(l1, l2, E), {**l12, "E": 1e7},
+             {**lk, "E": "real"}),
+        Case(f"{m}.GentMembrane.equations_of_state_from_energy",
+             lambda l1, l2, E: gm().equations_of_state_from_energy(l1, l2, E),
+             {**l12, "E": 1e7}, {**lk, "E": "real"}),
+    ]
+    return out
+
+
+def _circular_cases():
+    from debench.models.circular import actuator, analysis, circle_a, collocation, params, shooting
+
+    c = "debench.models.circular"
+    an = _annulus
+    return [
+        Case(f"{c}.params.Annulus", params.Annulus,
+             {"lamP": 2.0, "radius_ratio": 15.0, "Jm": 120.0, "equilibrium": "printed"},
+             {"lamP": "stretch", "radius_ratio": "pos", "Jm": "pos_or_inf",
+              "equilibrium": "choice"}, extra={"radius_ratio": [1.0, 0.5]}),
+        Case(f"{c}.params.Annulus.kappa", lambda Jm: params.Annulus(2.0, Jm=Jm).kappa,
+             {"Jm": 120.0}, {"Jm": "pos_or_inf"}),
+        Case(f"{c}.params.CircularActuator", params.CircularActuator,
+             {"annulus": params.Annulus(2.0), "c": -0.05, "eps_r": 4.7, "mu": 51e3},
+             {"annulus": "obj", "c": "real", "eps_r": "pos", "mu": "pos"},
+             extra={"c": [-0.9, -10.0]}),
+        Case(f"{c}.params.locking_stretch_equibiaxial", params.locking_stretch_equibiaxial,
+             {"Jm": 120.0}, {"Jm": "pos_or_inf"}),
+        Case(f"{c}.circle_a.gent_equibiaxial_stress", circle_a.gent_equibiaxial_stress,
+             {"lam": 2.0, "kappa": 1 / 120}, {"lam": "lam", "kappa": "nonneg"},
+             extra={"lam": [12.0]}),
+        Case(f"{c}.circle_a.electrostriction_factor", circle_a.electrostriction_factor,
+             {"lam": 2.0, "c": -0.05}, {"lam": "lam", "c": "real"}),
+        Case(f"{c}.circle_a.permittivity_ratio", circle_a.permittivity_ratio,
+             {"lam": 2.0, "c": -0.05}, {"lam": "lam", "c": "real"}),
+        Case(f"{c}.circle_a.phibar_squared", circle_a.phibar_squared,
+             {"lam": 2.0, "T1B": 0.5, "c": -0.05, "kappa": 1 / 120},
+             {"lam": "lam", "T1B": "real", "c": "real", "kappa": "nonneg"},
+             extra={"lam": [12.0], "c": [-10.0]}),
+        Case(f"{c}.circle_a.sigma1_circle_a", circle_a.sigma1_circle_a,
+             {"lam": 2.0, "phibar": 0.3, "c": -0.05, "kappa": 1 / 120},
+             {"lam": "lam", "phibar": "real", "c": "real", "kappa": "nonneg"},
+             extra={"lam": [12.0]}),
+        Case(f"{c}.circle_a.breakdown_phibar", circle_a.breakdown_phibar,
+             {"lam": 2.0, "eps_r": 4.7, "mu": 51e3}, {"lam": "lam", "eps_r": "pos", "mu": "pos"}),
+        Case(f"{c}.circle_a.free_membrane_phibar", circle_a.free_membrane_phibar,
+             {"lam": 2.0, "c": -0.05, "kappa": 1 / 120},
+             {"lam": "lam", "c": "real", "kappa": "nonneg"}, extra={"lam": [12.0, 0.5]}),
+        Case(f"{c}.shooting.integrate_inward", shooting.integrate_inward,
+             {"annulus": params.Annulus(2.0), "q": np.array([1.9]), "steps": 20},
+             {"annulus": "obj", "q": "lam_array", "steps": "count"},
+             extra={"q": [np.array([1e-3])]}),
+        Case(f"{c}.shooting.interface_state", shooting.interface_state,
+             {"annulus": params.Annulus(2.0), "q": np.array([1.9]), "steps": 20},
+             {"annulus": "obj", "q": "lam_array", "steps": "count"},
+             extra={"q": [np.array([1e-3])]}),
+        Case(f"{c}.shooting.InterfaceState",
+             lambda q: shooting.interface_state(params.Annulus(2.0), q, steps=20),
+             {"q": np.array([1.9])}, {"q": "lam_array"}),
+        Case(f"{c}.shooting.q_for_stretch", shooting.q_for_stretch,
+             {"annulus": params.Annulus(2.0), "lam": np.array([2.5]), "q0": 1.9,
+              "steps": 20, "rtol": 1e-13, "maxiter": 30},
+             {"annulus": "obj", "lam": "lam_array", "q0": "lam", "steps": "count",
+              "rtol": "tol", "maxiter": "count"}),
+        Case(f"{c}.collocation.nominal_radial_stress", collocation.nominal_radial_stress,
+             {"l1": 1.5, "l2": 1.3, "kappa": 1 / 120},
+             {"l1": "lam", "l2": "lam", "kappa": "nonneg"}, extra={"l1": [20.0]}),
+        Case(f"{c}.collocation.solve", collocation.solve,
+             {"annulus": params.Annulus(2.0), "lam": 2.5, "tol": 1e-6},
+             {"annulus": "obj", "lam": "stretch", "tol": "tol", "guess": "obj"},
+             allowed={"guess": [None]}),
+        Case(f"{c}.collocation.CollocationSolution",
+             lambda lam: collocation.solve(params.Annulus(2.0), lam, tol=1e-6),
+             {"lam": 2.5}, {"lam": "stretch"}),
+        Case(f"{c}.collocation.branch", collocation.branch,
+             {"annulus": params.Annulus(2.0), "lam": np.array([2.2, 2.5]), "tol": 1e-6,
+              "substeps": 1},
+             {"annulus": "obj", "lam": "lam_array", "tol": "tol", "substeps": "count"}),
+        Case(f"{c}.collocation.CollocationBranch",
+             lambda lam: collocation.branch(params.Annulus(2.0), lam, tol=1e-6),
+             {"lam": np.array([2.2, 2.5])}, {"lam": "lam_array"}),
+        Case(f"{c}.actuator.branch", actuator.branch,
+             {"annulus": params.Annulus(2.0), "n": 20, "steps": 40},
+             {"annulus": "obj", "n": "count", "steps": "count", "lam_end": "lam",
+              "lam": "lam_array"}, allowed={"lam_end": [None], "lam": [None]}),
+        Case(f"{c}.actuator.Branch", lambda n: actuator.branch(an(), n=n, steps=40),
+             {"n": 20}, {"n": "count"}),
+        Case(f"{c}.actuator.Branch.dT1_dlam", lambda: _branch().dT1_dlam, {}, {}),
+        Case(f"{c}.actuator.branches", actuator.branches,
+             {"annuli": [params.Annulus(2.0), params.Annulus(2.5)], "n": 20, "steps": 40},
+             {"annuli": "obj", "n": "count", "steps": "count"}),
+        Case(f"{c}.actuator.locate", actuator.locate,
+             {"kinds": np.array(["loss_of_tension"]), "annulus": params.Annulus(2.0),
+              "qa": [float(_branch().q[0])], "qb": [float(_branch().q[-1])], "c": [0.0],
+              "eps_r": [4.7], "mu": 51e3, "steps": 200, "xtol": 1e-12, "maxiter": 100},
+             {"kinds": "choice", "annulus": "obj", "c": "real", "eps_r": "pos", "mu": "pos",
+              "steps": "count", "xtol": "tol", "maxiter": "count"}),
+        Case(f"{c}.actuator.curves", actuator.curves,
+             {"br": _branch(), "cs": [0.0, -0.05], "eps_r": 4.7, "mu": 51e3},
+             {"br": "obj", "cs": "obj", "eps_r": "pos", "mu": "pos", "steps": "count"},
+             check=_check_curves, allowed={"steps": [None]}, extra={"cs": [[NAN], [-10.0]]}),
+        Case(f"{c}.actuator.curves_many", actuator.curves_many,
+             {"jobs": [(_branch(), [0.0], 4.7)], "mu": 51e3},
+             {"jobs": "obj", "mu": "pos", "steps": "count"},
+             check=lambda r: [_check_curves(x) for x in r], allowed={"steps": [None]},
+             extra={"jobs": [[("x", [0.0], 4.7)], [(_branch(), [NAN], 4.7)]]}),
+        Case(f"{c}.actuator.curve", actuator.curve,
+             {"actuator": params.CircularActuator(params.Annulus(2.0)), "n": 40,
+              "steps": 40}, {"actuator": "obj", "n": "count", "steps": "count"},
+             check=lambda r: _check_curves([r])),
+        Case(f"{c}.actuator.Curve", lambda c: actuator.curves(_branch(), [c])[0],
+             {"c": 0.0}, {"c": "real"}, check=lambda r: _check_curves([r])),
+        Case(f"{c}.actuator.Event", lambda: _curve().failure, {}, {}),
+        Case(f"{c}.actuator.Curve.lam_max", lambda: _curve().lam_max, {}, {}),
+        Case(f"{c}.actuator.Curve.phibar_max", lambda: _curve().phibar_max, {}, {}),
+        Case(f"{c}.actuator.Curve.pullin_suppressed", lambda: _curve().pullin_suppressed,
+             {}, {}),
+        Case(f"{c}.analysis.dphibar2_dlam", analysis.dphibar2_dlam,
+             {"br": _branch(), "c": -0.05}, {"br": "obj", "c": "real"},
+             extra={"c": [-10.0]}),
+        Case(f"{c}.analysis.state_at_voltage", analysis.state_at_voltage,
+             {"br": _branch(), "c": 0.0, "phibar": 0.2},
+             {"br": "obj", "c": "real", "phibar": "nonneg"}, extra={"phibar": [5.0]}),
+        Case(f"{c}.analysis.loss_of_tension_stretch", analysis.loss_of_tension_stretch,
+             {"br": _branch()}, {"br": "obj"}),
+        Case(f"{c}.analysis.pullin_c_threshold", analysis.pullin_c_threshold,
+             {"annulus": params.Annulus(1.5), "n": 200},
+             {"annulus": "obj", "n": "count", "definition": "choice", "c_range": "window"},
+             extra={"c_range": [(-0.2, 0.0)]}),
+        Case(f"{c}.analysis.pullin_c_threshold_closed_form",
+             analysis.pullin_c_threshold_closed_form, {"annulus": params.Annulus(1.5)},
+             {"annulus": "obj"}),
+        Case(f"{c}.analysis.pullin_suppression_prestretch",
+             analysis.pullin_suppression_prestretch, {"c": 0.0, "n": 100, "xtol": 1e-6},
+             {"c": "real", "radius_ratio": "pos", "Jm": "pos_or_inf",
+              "equilibrium": "choice", "definition": "choice", "bracket": "window",
+              "n": "count", "xtol": "tol"}),
+    ]
+
+
+def _check_curves(curves) -> None:
+    """A curve is finite up to its failure point; events are finite points."""
+    for cv in curves:
+        fail = cv.failure
+        assert fail is not None, "curve without a failure event"
+        assert math.isfinite(fail.lam), f"failure stretch {fail.lam}"
+        upto = cv.lam <= fail.lam
+        all_finite((cv.lam, cv.phibar[upto], cv.sigma1A[upto], cv.phibar_breakdown[upto]))
+        for ev in cv.events.values():
+            if ev is not None:
+                all_finite((ev.lam, ev.phibar, ev.q))
+
+
+def _check_padded(res) -> None:
+    """(lam, parity) arrays: NaN exactly where the parity code is -1 (padding)."""
+    lam, par = res
+    assert np.array_equal(np.isnan(lam), par == -1), "NaN outside the padding"
+
+
+def _plate_cases():
+    from debench.models.plate import analysis, ansatz, fem, voltage
+
+    # the package re-exports the function ``coefficients``, which shadows the module
+    coefficients = importlib.import_module("debench.models.plate.coefficients")
+
+    p = "debench.models.plate"
+    P0 = _plate()
+    PP = coefficients.PlateParams
+    pk = {"params": "obj"}
+    return [
+        Case(f"{p}.coefficients.PlateParams", PP,
+             {"xi": 3.0, "Dhat": 0.5, "beta": 0.5, "alpha": 0.0, "variant": "derived"},
+             {"xi": "nonneg", "Dhat": "nonneg", "beta": "pos", "alpha": "nonneg",
+              "variant": "choice"}),
+        Case(f"{p}.coefficients.printed_coefficients", coefficients.printed_coefficients,
+             {"lam": 1.2, "xi": 3.0, "alpha": 0.0, "beta": 0.5, "Dhat": 0.5},
+             {"lam": "lam", "xi": "nonneg", "alpha": "nonneg", "beta": "pos",
+              "Dhat": "nonneg"}),
+        Case(f"{p}.coefficients.coefficients", coefficients.coefficients,
+             {"lam": 1.2, "params": P0}, {"lam": "lam", **pk}),
+        Case(f"{p}.coefficients.energy_matrix", coefficients.energy_matrix,
+             {"lam": 1.2, "params": P0}, {"lam": "lam", **pk}),
+        Case(f"{p}.coefficients.base_state", coefficients.base_state,
+             {"lam": 1.2, "params": P0}, {"lam": "lam", **pk}),
+        Case(f"{p}.coefficients.reduced_quartic", coefficients.reduced_quartic,
+             {"lam": 1.2, "params": P0}, {"lam": "lam", **pk}),
+        Case(f"{p}.coefficients.strongly_elliptic", coefficients.strongly_elliptic,
+             {"lam": 1.2, "params": P0}, {"lam": "lam", **pk}),
+        Case(f"{p}.coefficients.ellipticity_limit_stretch",
+             coefficients.ellipticity_limit_stretch, {"params": P0}, pk,
+             check=lambda r: None if r > 1 else (_ for _ in ()).throw(AssertionError(r))),
+        Case(f"{p}.ansatz.determinant", ansatz.determinant,
+             {"lam": 1.2, "kH": 1.0, "params": P0, "parity": "E"},
+             {"lam": "lam", "kH": "pos", "params": "obj", "parity": "choice"}),
+        Case(f"{p}.ansatz.scan_grid", ansatz.scan_grid,
+             {"window": (0.4, 8.0), "n": 10}, {"window": "window", "n": "count"},
+             extra={"n": [1]}),
+        Case(f"{p}.ansatz.critical_stretches", ansatz.critical_stretches,
+             {"kH": 1.0, "params": P0, "n_scan": 40},
+             {"kH": "pos", "params": "obj", "window": "window", "n_scan": "count",
+              "parities": "obj"}, extra={"n_scan": [1]}),
+        Case(f"{p}.ansatz.Roots", lambda kH: ansatz.critical_stretches(kH, P0, n_scan=40),
+             {"kH": 1.0}, {"kH": "pos"}),
+        Case(f"{p}.ansatz.curves", ansatz.curves,
+             {"kH_values": np.array([0.5, 1.0]), "params": P0, "n_scan": 40},
+             {"kH_values": "lam_array", "params": "obj", "window": "window",
+              "n_scan": "count", "max_roots": "count"}, check=_check_padded),
+        Case(f"{p}.ansatz.curves_vectorised", ansatz.curves_vectorised,
+             {"kH_values": np.array([0.5, 1.0]), "params": P0, "n_scan": 40},
+             {"kH_values": "lam_array", "params": "obj", "window": "window",
+              "n_scan": "count", "max_roots": "count", "xtol": "tol", "max_iter": "count"},
+             check=_check_padded),
+        Case(f"{p}.fem.elements_for", fem.elements_for, {"t": 1.0}, {"t": "pos"}),
+        Case(f"{p}.fem.grading", fem.grading, {"t": 1.0}, {"t": "pos"}),
+        Case(f"{p}.fem.stiffness", fem.stiffness,
+             {"lam": 1.2, "kH": 1.0, "params": P0, "n": 4},
+             {"lam": "lam", "kH": "pos", "params": "obj", "n": "count"}),
+        Case(f"{p}.fem.eigenvalues", fem.eigenvalues,
+             {"lam": 1.2, "kH": 1.0, "params": P0, "n": 4, "count": 3},
+             {"lam": "lam", "kH": "pos", "params": "obj", "n": "count", "count": "count"},
+             allowed={"count": [None]}, extra={"count": [10**6]}),
+        Case(f"{p}.fem.critical_stretches", fem.critical_stretches,
+             {"kH": 1.0, "params": P0, "n_scan": 12, "n": 4, "max_index": 3},
+             {"kH": "pos", "params": "obj", "window": "window", "n_scan": "count",
+              "n": "count", "max_index": "count"}),
+        Case(f"{p}.fem.FemRoots",
+             lambda kH: fem.critical_stretches(kH, P0, n_scan=12, n=4, max_index=3),
+             {"kH": 1.0}, {"kH": "pos"}),
+        Case(f"{p}.fem.refine_root", fem.refine_root,
+             {"lam0": 0.97, "kH": 1.0, "params": P0, "n": 6, "index": 0, "rel": 0.05},
+             {"lam0": "lam", "kH": "pos", "params": "obj", "n": "count", "index": "count",
+              "rel": "tol"}, allowed={"index": [0]}),
+        Case(f"{p}.voltage.dhat_at_voltage", voltage.dhat_at_voltage,
+             {"lam": 1.2, "Vhat": 0.5, "params": P0},
+             {"lam": "lam", "Vhat": "nonneg", "params": "obj"}),
+        Case(f"{p}.voltage.determinant_at_voltage", voltage.determinant_at_voltage,
+             {"lam": 1.2, "kH": 1.0, "Vhat": 0.5, "params": P0, "parity": "E"},
+             {"lam": "lam", "kH": "pos", "Vhat": "nonneg", "params": "obj",
+              "parity": "choice"}),
+        Case(f"{p}.voltage.critical_stretches_at_voltage",
+             voltage.critical_stretches_at_voltage,
+             {"kH": 1.0, "Vhat": 0.5, "params": P0, "n_scan": 40},
+             {"kH": "pos", "Vhat": "nonneg", "params": "obj", "window": "window",
+              "n_scan": "count"}),
+        Case(f"{p}.voltage.fe_root_at_voltage", voltage.fe_root_at_voltage,
+             {"lam0": 0.97, "kH": 1.0, "Vhat": 0.0, "params": P0, "n": 6, "rel": 0.05},
+             {"lam0": "lam", "kH": "pos", "Vhat": "nonneg", "params": "obj", "n": "count",
+              "rel": "tol"}),
+        Case(f"{p}.analysis.membrane_stress", analysis.membrane_stress,
+             {"lam": 1.2, "params": P0}, {"lam": "lam", **pk}),
+        Case(f"{p}.analysis.thin_limit", analysis.thin_limit, {"params": P0, "n": 200},
+             {"params": "obj", "window": "window", "n": "count"}),
+        Case(f"{p}.analysis.euler_coefficient_isotropic",
+             analysis.euler_coefficient_isotropic, {}, {}),
+        Case(f"{p}.analysis.half_space_determinant", analysis.half_space_determinant,
+             {"lam": 0.7, "params": P0}, {"lam": "lam", **pk}),
+        Case(f"{p}.analysis.half_space_limit", analysis.half_space_limit, {"params": P0},
+             {"params": "obj", "window": "window"}),
+        Case(f"{p}.analysis.biot_equibiaxial_closed_form",
+             analysis.biot_equibiaxial_closed_form, {}, {}),
+        Case(f"{p}.analysis.region", analysis.region,
+             {"params": P0, "kH": np.array([0.5, 1.0]), "lam": np.array([0.8, 1.0, 1.2])},
+             {"params": "obj", "kH": "lam_array", "lam": "lam_array"}),
+        Case(f"{p}.analysis.Region",
+             lambda kH: analysis.region(P0, kH, np.array([0.8, 1.0, 1.2])),
+             {"kH": np.array([0.5, 1.0])}, {"kH": "lam_array"}),
+        Case(f"{p}.analysis.Region.area",
+             lambda which: analysis.region(P0, np.array([0.5, 1.0]),
+                                           np.array([0.8, 1.0, 1.2])).area(which),
+             {"which": "thesis"}, {"which": "choice"}),
+        Case(f"{p}.analysis.area_curve", analysis.area_curve,
+             {"params": P0, "Dhats": np.array([0.0, 0.5]), "kH": np.array([0.5, 1.0]),
+              "lam": np.array([0.8, 1.0, 1.2])},
+             {"params": "obj", "Dhats": "lam_array", "kH": "lam_array", "lam": "lam_array",
+              "which": "choice"}, allowed={"Dhats": []}),
+        Case(f"{p}.analysis.critical_D_max_area", analysis.critical_D_max_area,
+             {"params": PP(xi=0.0), "Dhats": np.linspace(0.0, 3.0, 7),
+              "kH": np.geomspace(0.1, 10, 8), "lam": np.linspace(0.5, 3.0, 30)},
+             {"params": "obj", "Dhats": "lam_array", "kH": "lam_array", "lam": "lam_array",
+              "which": "choice"}),
+        Case(f"{p}.analysis.critical_D_thin_extensional",
+             analysis.critical_D_thin_extensional, {"params": PP(xi=0.0)},
+             {"params": "obj", "D_window": "window", "kH": "pos", "lam_window": "window"}),
+    ]
+
+
+def _error_cases():
+    from debench.models import errors
+
+    return [
+        Case("debench.models.errors.ConvergenceError",
+             lambda message: errors.ConvergenceError(message), {"message": "m"}, {}),
+        Case("debench.models.errors.require", errors.require,
+             {"condition": True, "message": "m"}, {}),
+    ]
+
+
+def _validation_cases():
+    from debench.models import validation as v
+
+    m = "debench.models.validation"
+    return [
+        Case(f"{m}.finite", v.finite, {"name": "x", "x": 1.0}, {"x": "real"}),
+        Case(f"{m}.positive", v.positive, {"name": "x", "x": 1.0}, {"x": "pos"}),
+        Case(f"{m}.nonnegative", v.nonnegative, {"name": "x", "x": 1.0}, {"x": "nonneg"}),
+        Case(f"{m}.at_least", v.at_least, {"name": "x", "x": 1.0, "lo": 1.0},
+             {"x": "stretch"}, allowed={"x": [1e300]}),
+        Case(f"{m}.in_range", v.in_range, {"name": "x", "x": 1.0, "lo": 0.0, "hi": 2.0},
+             {"x": "lam"}, allowed={"x": [0.0]}, extra={"x": [3.0]}),
+        Case(f"{m}.integer_at_least", v.integer_at_least, {"name": "n", "n": 3, "k": 1},
+             {"n": "count"}),
+        Case(f"{m}.tolerance", v.tolerance, {"name": "tol", "tol": 1e-8}, {"tol": "tol"}),
+        Case(f"{m}.choice", v.choice, {"name": "c", "value": "a", "options": ("a", "b")},
+             {"value": "choice"}),
+        Case(f"{m}.instance", v.instance, {"name": "o", "value": 1.0, "cls": float},
+             {"value": "obj"}, allowed={"value": [1.0]}),
+        Case(f"{m}.array", v.array, {"name": "a", "x": np.ones(3)}, {"x": "D"},
+             allowed={"x": [_D_BAD[2], _D_BAD[3]]}),
+        Case(f"{m}.vector", v.vector, {"name": "a", "v": np.ones(3)}, {"v": "D"}),
+        Case(f"{m}.unit_vector", v.unit_vector, {"name": "a", "v": _A0}, {"v": "A"}),
+        Case(f"{m}.deformation_gradient", v.deformation_gradient,
+             {"name": "F", "F": _F0}, {"F": "F"}),
+        Case(f"{m}.window", v.window, {"name": "w", "w": (0.4, 8.0)}, {"w": "window"},
+             allowed={"w": [INVALID["window"][2]]}),
+    ]
+
+
+@functools.cache
+def cases() -> tuple[Case, ...]:
+    """Every registered case (built once; fixtures are computed lazily)."""
+    out = (_invariant_cases() + _material_cases() + _circular_cases() + _plate_cases()
+           + _error_cases())
+    try:
+        out += _validation_cases()
+    except ImportError:
+        pass
+    return tuple(out)
+
+
+def public_names() -> set[str]:
+    """Qualified names of every public callable of ``debench.models`` that is fuzzed.
+
+    Public modules (no underscore in the path, not in :data:`EXCLUDED_MODULES`); in each,
+    the non-underscore callables defined there (``__all__`` when present), and the public
+    methods and properties of its classes (inherited ones included; ``__call__`` counts).
+    """
+    import debench.models as pkg
+
+    names = set()
+    for info in pkgutil.walk_packages(pkg.__path__, "debench.models."):
+        mod_name = info.name
+        if any(part.startswith("_") for part in mod_name.split(".")):
+            continue
+        if any(mod_name == ex or mod_name.startswith(ex + ".") for ex in EXCLUDED_MODULES):
+            continue
+        mod = importlib.import_module(mod_name)
+        listed = getattr(mod, "__all__", None)
+        for n, obj in vars(mod).items():
+            if n.startswith("_") or not callable(obj):
+                continue
+            if getattr(obj, "__module__", None) != mod_name:
+                continue
+            if listed is not None and n not in listed:
+                continue
+            names.add(f"{mod_name}.{n}")
+            if inspect.isclass(obj):
+                for k in dir(obj):
+                    if k.startswith("_") and k != "__call__":
+                        continue
+                    if k == "__call__" and "__call__" not in vars(obj):
+                        continue
+                    a = inspect.getattr_static(obj, k)
+                    if isinstance(a, property) or inspect.isfunction(a):
+                        if dataclasses.is_dataclass(obj) and k in {
+                                f.name for f in dataclasses.fields(obj)}:
+                            continue
+                        if issubclass(obj, BaseException):
+                            continue
+                        names.add(f"{mod_name}.{n}.{k}")
+    return names
