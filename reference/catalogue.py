@@ -22,7 +22,8 @@ chapter plus ``literature.toml``). Each ``[[entry]]`` has
 ``diagnosis``             why a value does not reproduce (errata, missing parameter ...)
 ``evidence``              test node id that shows the status (errata: required)
 ``as_printed``            errata: the printed form;  ``corrected``: the consistent form
-``reference``             literature: the citation
+``reference``             literature: the citation (derived: the closed form used)
+``replaces``              an earlier id of the same entry (still resolved by ``by_id``)
 ========================  ==============================================================
 
 A producer is a function ``f(entry) -> Outcome``. It must be quick (seconds) so that
@@ -49,7 +50,12 @@ from pathlib import Path
 from typing import Any
 
 CATALOGUE_DIR = Path(__file__).resolve().parent / "catalogue"
-KINDS = ("claim", "erratum", "assumption", "literature")
+#: claim: a number or statement printed in the thesis; erratum: a printed equation or text
+#: that is wrong (or checked and right); assumption: a value the thesis does not state;
+#: literature: a number printed in a cited source (``lit.*``, only in literature.toml);
+#: derived: a value implied by stated inputs or closed forms but printed nowhere (checked,
+#: never presented as a thesis or literature number).
+KINDS = ("claim", "erratum", "assumption", "literature", "derived")
 STATUSES = (
     "reproduced",        # our value agrees within the tolerance the printed digits imply
     "not_reproduced",    # our value differs; diagnosis says why
@@ -133,6 +139,7 @@ class Entry:
     as_printed: str = ""
     corrected: str = ""
     reference: str = ""
+    replaces: str = ""
     notes: str = ""
     file: str = ""
 
@@ -238,12 +245,22 @@ def _validate(e: Entry) -> None:
         raise CatalogueError(f"{where}: an erratum with a status needs evidence (a test)")
     if e.kind == "literature" and not e.reference:
         raise CatalogueError(f"{where}: a literature value needs a reference")
+    if (e.kind == "literature") != e.id.startswith("lit."):
+        raise CatalogueError(f"{where}: ids lit.* are exactly the literature entries")
+    if e.kind == "literature" and e.file != "literature.toml":
+        raise CatalogueError(f"{where}: literature entries live in literature.toml")
+    if e.kind == "derived" and not (e.reference or e.source):
+        raise CatalogueError(f"{where}: a derived value needs its reference or source")
     if e.kind == "assumption" and not e.diagnosis and not e.notes:
         raise CatalogueError(f"{where}: an assumption must say why (diagnosis or notes)")
 
 
 def by_id(entries: Iterable[Entry] | None = None) -> dict[str, Entry]:
-    return {e.id: e for e in (entries if entries is not None else load())}
+    """Entries by id; an entry's earlier id (``replaces``) resolves to it too."""
+    entries = list(entries if entries is not None else load())
+    out = {e.replaces: e for e in entries if e.replaces}
+    out.update({e.id: e for e in entries})
+    return out
 
 
 # --------------------------------------------------------------------------- status
@@ -320,6 +337,15 @@ def judge(entry: Entry, outcome: Outcome) -> Result:
         return Result(entry, outcome.value, outcome.status, diagnosis, outcome.evidence,
                       outcome.details)
     value = outcome.value
+    if entry.value is None and (value is not None or outcome.details):
+        # the thesis states no number here (e.g. only in a figure image): our value is
+        # reported, and the status says that nothing printed can be compared with it
+        return Result(entry, value, "not_reproducible", diagnosis, outcome.evidence,
+                      outcome.details)
+    if entry.kind == "erratum" and isinstance(value, bool):
+        # an erratum's value: the printed form is wrong (and the correction holds)
+        return Result(entry, value, "confirmed" if value else "refuted", diagnosis,
+                      outcome.evidence, outcome.details)
     if isinstance(value, bool):
         status = "reproduced" if value else "not_reproduced"
         return Result(entry, value, status, "" if value else diagnosis, outcome.evidence,

@@ -20,6 +20,7 @@ STATUS_MARK = {
     "reproduced": "✅ reproduced", "not_reproduced": "❌ not reproduced",
     "not_reproducible": "⚠️ not reproducible", "pending": "⏳ pending",
     "confirmed": "📝 erratum confirmed", "refuted": "erratum refuted",
+    "editorial": "✏️ editorial erratum",
     "assumed": "assumed", "input": "input (stated parameter)", "error": "💥 error",
 }
 CHAPTER_TITLES = {
@@ -86,16 +87,17 @@ def errata_table(results: Iterable[Result]) -> str:
 def summary_line(results: list[Result]) -> str:
     counts = status_counts(results)
     order = ["reproduced", "not_reproduced", "not_reproducible", "pending", "confirmed",
-             "refuted", "assumed", "input", "error"]
+             "refuted", "editorial", "assumed", "input", "error"]
     return ", ".join(f"{counts[s]} {s.replace('_', ' ')}" for s in order if counts[s])
 
 
 def chapter_summary(results: list[Result]) -> str:
     """Markdown table of status counts per chapter."""
     cols = ["reproduced", "not_reproduced", "not_reproducible", "pending", "confirmed",
-            "refuted", "assumed", "input", "error"]
+            "refuted", "editorial", "assumed", "input", "error"]
     present = [c for c in cols if any(r.status == c for r in results)]
-    names = {"confirmed": "errata confirmed", "refuted": "errata refuted"}
+    names = {"confirmed": "errata confirmed", "refuted": "errata refuted",
+             "editorial": "editorial errata"}
     head = "| chapter | " + " | ".join(names.get(c, c.replace("_", " "))
                                        for c in present) + " |"
     rows = [head, "|---|" + "---|" * len(present)]

@@ -82,6 +82,49 @@ def test_status_is_computed_not_declared(results):
             assert r.entry.producer, r.entry.id
 
 
+#: statuses a producer may name unconditionally: ``input`` is checked by ``judge`` against
+#: the stated value (a mismatch becomes not_reproduced); ``assumed`` labels an assumption
+#: whose producer computes the sensitivity.
+_LABEL_STATUSES = {"input", "assumed"}
+
+
+def _declared_statuses(path: Path) -> list[str]:
+    """``Outcome(..., status="<literal>")`` calls that are not under an if/else/match."""
+    tree = ast.parse(path.read_text())
+    out = []
+
+    def visit(node, conditional):
+        if isinstance(node, ast.Call) and getattr(node.func, "id", "") == "Outcome":
+            for kw in node.keywords:
+                if (kw.arg == "status" and isinstance(kw.value, ast.Constant)
+                        and kw.value.value not in _LABEL_STATUSES and not conditional):
+                    out.append(f"{path.name}:{node.lineno} status={kw.value.value!r}")
+        cond = conditional or isinstance(node, ast.If | ast.IfExp | ast.Match | ast.Try)
+        for child in ast.iter_child_nodes(node):
+            visit(child, cond)
+
+    visit(tree, False)
+    return out
+
+
+def test_no_producer_declares_a_status_unconditionally():
+    """A status is computed: a producer names a status literal only on a branch that a
+    computed condition selects (or lets ``judge`` compare its value with the thesis)."""
+    declared = [d for p in sorted((ROOT / "reference" / "producers").glob("*.py"))
+                for d in _declared_statuses(p)]
+    assert not declared, declared
+
+
+def test_declared_status_detector_can_fail(tmp_path):
+    bad = tmp_path / "p.py"
+    bad.write_text("def f(e):\n    return Outcome(1.0, status='confirmed')\n")
+    assert _declared_statuses(bad) == ["p.py:2 status='confirmed'"]
+    ok = tmp_path / "q.py"
+    ok.write_text("def f(e, x):\n    if x:\n        return Outcome(1.0, status='refuted')\n"
+                  "    return Outcome(1.0, status='input')\n")
+    assert _declared_statuses(ok) == []
+
+
 def _test_functions(path: Path) -> set[str]:
     tree = ast.parse(path.read_text())
     names = set()

@@ -39,10 +39,20 @@ ACCURACY = Accuracy(rtol=1e-7, atol=1e-10, reason="ch3 shooting: events to 1e-14
 SUPPRESSION_XTOL = 1e-6
 
 
-@lru_cache(maxsize=64)
+def _model_key() -> tuple:
+    """The model constants every cached Chapter 3 result depends on (read at call time,
+    so that the caches below are keyed on them and never serve a stale result)."""
+    return (params.JM_VHB, params.MU_VHB, params.EPS0, params.EB_COEFF, params.EB_EXPONENT)
+
+
 def _branch(lamP: float, equilibrium: str = "printed", radius_ratio: float = 15.0,
             n: int = 400):
-    return branch(Annulus(lamP, radius_ratio, params.JM_VHB, equilibrium), n=n)
+    return _branch_cached(float(lamP), equilibrium, float(radius_ratio), int(n), _model_key())
+
+
+@lru_cache(maxsize=64)
+def _branch_cached(lamP, equilibrium, radius_ratio, n, model_key):
+    return branch(Annulus(lamP, radius_ratio, model_key[0], equilibrium), n=n)
 
 
 _CURVES: dict = {}
@@ -53,14 +63,16 @@ def _curves(lamP: float, cs: tuple, eps_r: float = params.EPS_R_ASSUMED,
     """Curves for the c values ``cs`` (cached). On a miss, all eps_r of the sensitivity
     study are computed in the same batch (one event location for all of them)."""
     cs = tuple(float(c) for c in cs)
-    key = (float(lamP), cs, float(eps_r), equilibrium)
+    mk = _model_key()
+    key = (float(lamP), cs, float(eps_r), equilibrium, mk)
     if key not in _CURVES:
         eps_all = sorted(set(EPS_R_SENSITIVITY) | {float(eps_r)})
         allc = [c for _ in eps_all for c in cs]
         alle = [e for e in eps_all for _ in cs]
         res = curves(_branch(float(lamP), equilibrium), allc, eps_r=alle)
         for k, e in enumerate(eps_all):
-            _CURVES[(float(lamP), cs, float(e), equilibrium)] = res[k * len(cs):(k + 1) * len(cs)]
+            _CURVES[(float(lamP), cs, float(e), equilibrium, mk)] = \
+                res[k * len(cs):(k + 1) * len(cs)]
     return _CURVES[key]
 
 
@@ -69,8 +81,12 @@ def _p(entry: Entry, key: str, default=None):
 
 
 # ------------------------------------------------------------------ Sec. 3.5.1 (Figs 3.2-3.3)
-@lru_cache(maxsize=32)
 def _interface_changes(lamP, phibar, c, equilibrium="printed"):
+    return _interface_changes_cached(lamP, phibar, c, equilibrium, _model_key())
+
+
+@lru_cache(maxsize=32)
+def _interface_changes_cached(lamP, phibar, c, equilibrium, model_key):
     br = _branch(lamP, equilibrium)
     s0 = analysis.state_at_voltage(br, 0.0, phibar)
     s1 = analysis.state_at_voltage(br, c, phibar)

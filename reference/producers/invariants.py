@@ -254,12 +254,18 @@ def eq5_27_agrees(entry: Entry) -> Outcome:
 
 
 def ogden_initial_shear_modulus(entry: Entry) -> Outcome:
-    """Initial shear modulus of (5.26) with Table 5.1 (simple shear, gamma = 1e-6)."""
-    mat = OgdenIdealDielectric()
+    """Initial shear modulus of (5.26) with the entry's Table 5.1 parameters (simple shear,
+    gamma = 1e-6); details say whether the library's default Ogden material is that table."""
+    p = entry.parameters
+    mat = OgdenIdealDielectric(alphas=tuple(p["alpha"]), mus=tuple(p["mu"]))
+    default = OgdenIdealDielectric()
     F = np.eye(3)
     F[0, 1] = 1e-6
     mu0 = cauchy_stress(mat, F, np.zeros(3))[0, 1] / 1e-6
     return Outcome(value=float(mu0), details={"sum_mu_p": mat.shear_modulus,
+                                              "library_default_is_table_5_1": bool(
+                                                  default.alphas == mat.alphas
+                                                  and default.mus == mat.mus),
                                               "half_sum_mu_alpha": 0.5 * sum(
                                                   m * a for a, m in zip(mat.alphas, mat.mus,
                                                                         strict=True))},

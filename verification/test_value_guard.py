@@ -1,0 +1,148 @@
+"""Values are guarded: the store ``our_values.nc`` holds every computed value with the
+tolerance its method supports, a recomputation stays inside it, and a change of a model
+parameter leaves it (one mutation per chapter, through the public API).
+
+The mutations are small on purpose (1e-4 relative for Chapters 3 and 4, 1 % for the Ogden
+moduli of Chapters 2 and 5): each must move at least one guarded value of its chapter
+beyond the tolerance the producer module states, so that ``debench verify`` would fail.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import pytest
+from debench.reference import catalogue, values
+from debench.reference.catalogue import Accuracy
+
+#: a mutation of a model parameter by this relative amount must be seen (Chapters 3, 4)
+SMALL = 1e-4
+
+
+def _guards(entries) -> dict[str, values.Guarded]:
+    results = [catalogue.evaluate(e) for e in entries]
+    assert all(r.status != "error" for r in results), [r.diagnosis for r in results]
+    return {g.key: g for g in values.guarded_from_results(results)}
+
+
+def _moved(base: dict, entries) -> set[str]:
+    """Keys of ``entries``' guarded values that left the tolerance of ``base``."""
+    return {d.key for d in values.check(_guards(entries).values(), base, complete=False)
+            if d.what in ("value", "status")}
+
+
+def _scaled(entry, key, factor, index=None):
+    p = dict(entry.parameters)
+    if index is None:
+        p[key] = p[key] * factor
+    else:
+        seq = list(p[key])
+        seq[index] = seq[index] * factor
+        p[key] = seq
+    return replace(entry, parameters=p)
+
+
+@pytest.fixture(scope="module")
+def ids():
+    return catalogue.by_id()
+
+
+# --------------------------------------------------------------------------- mechanism
+def test_accuracy_rejects_meaningless_tolerances():
+    for bad in ({"rtol": -1.0, "atol": 0.0}, {"rtol": float("nan"), "atol": 1.0},
+                {"rtol": 0.0, "atol": 0.0}):
+        with pytest.raises(ValueError):
+            Accuracy(**bad, reason="r")
+    with pytest.raises(ValueError, match="reason"):
+        Accuracy(1e-6, 0.0, "")
+    assert Accuracy(1e-6, 1e-9, "r").tolerance(-2.0) == pytest.approx(2e-6 + 1e-9)
+
+
+def test_check_reports_value_status_missing_and_new():
+    stored = {"a": values.Guarded("a", 1.0, 1e-6, "r", "reproduced"),
+              "b": values.Guarded("b", "True", 0.0, "r"),
+              "c": values.Guarded("c", 2.0, 1e-6, "r")}
+    recomputed = [values.Guarded("a", 1.0 + 2e-6, 1e-6, "r", "not_reproduced"),
+                  values.Guarded("b", "False", 0.0, "r"),
+                  values.Guarded("d", 3.0, 1e-6, "r")]
+    got = {(d.key, d.what) for d in values.check(recomputed, stored)}
+    assert got == {("a", "value"), ("a", "status"), ("b", "value"), ("c", "missing"),
+                   ("d", "new")}
+    inside = [values.Guarded("a", 1.0 + 0.5e-6, 1e-6, "r", "reproduced")]
+    assert values.check(inside, stored, complete=False) == []
+    assert "| `a` | value |" in values.table(values.check(recomputed, stored))
+
+
+def test_every_producer_module_states_its_accuracy():
+    for e in catalogue.load():
+        if e.producer:
+            assert isinstance(e.producer_accuracy(), Accuracy), e.id
+
+
+def test_store_holds_every_entry_and_its_tolerance_reason():
+    stored = values.read_store()
+    assert {e.id for e in catalogue.load()} <= set(stored)
+    assert all(g.reason for g in stored.values())
+    assert any(k.startswith("ch5.guard.") for k in stored), "ch5 model guard not stored"
+
+
+# --------------------------------------------------------------------------- mutations
+def test_ch3_value_guard_sees_a_1e_4_change_of_the_gent_locking_parameter(monkeypatch, ids):
+    """Chapter 3: Jm = 120 (Sec. 3.3.3) changed by 1e-4 moves the loss-of-tension stretch
+    (Fig. 3.6) and the interface changes (Figs 3.2-3.3) beyond their stored tolerance."""
+    from debench.models.circular import params
+
+    entries = [ids["ch3.loss_of_tension.stretch_lamP_3"],
+               ids["ch3.annulus.thickness_A_increase"]]
+    base = _guards(entries)
+    monkeypatch.setattr(params, "JM_VHB", params.JM_VHB * (1 + SMALL))
+    moved = _moved(base, entries)
+    assert {e.id for e in entries} <= moved, moved
+
+
+def test_ch3_value_guard_sees_a_1e_4_change_of_c(ids):
+    """Chapter 3: the electrostriction parameter c changed by 1e-4 moves the voltage
+    increase at stretch 4.5 (Sec. 3.5.4)."""
+    e = ids["ch3.voltage_increase.lamP_3_stretch_4p5"]
+    assert e.id in _moved(_guards([e]), [_scaled(e, "c", 1 + SMALL)])
+
+
+def test_ch4_value_guard_sees_a_1e_4_change_of_xi(ids):
+    """Chapter 4: the anisotropy xi = 5 changed by 1e-4 moves the thin-plate critical
+    stretch of the transversely isotropic plate (Fig. 4.4)."""
+    e = ids["ch4.fig4_4.lam_cr_thin_ti_D1"]
+    assert e.id in _moved(_guards([e]), [_scaled(e, "xi", 1 + SMALL)])
+
+
+def test_kernel_value_guard_sees_a_1_percent_change_of_an_ogden_modulus(ids):
+    """Chapter 2/5 kernel: Ogden mu_1 of Table 5.1 changed by 1 % moves the initial shear
+    modulus of (5.26) and its status."""
+    e = ids["ch5.kernel.ogden_initial_shear_modulus"]
+    moved = _moved(_guards([e]), [_scaled(e, "mu", 1.01, index=1)])
+    assert e.id in moved
+
+
+def test_ch5_model_guard_sees_a_1_percent_change_of_an_ogden_modulus():
+    """Chapter 5: the finite-element model recomputed on the coarsest mesh with Ogden
+    mu_2 of Table 5.1 changed by 1 % leaves the stored critical voltage; unchanged, it
+    stays inside (the stored value was made by this code)."""
+    from dataclasses import replace as dc_replace
+
+    from debench.reference.builders.ch5 import _material
+    from debench.reference.producers.ch5 import coarse_guards
+
+    stored = values.read_store()
+
+    def perturbed(name):
+        m = _material(name)
+        if name != "ogden":
+            return m
+        mus = list(m.mus)
+        mus[1] *= 1.01
+        return dc_replace(m, mus=tuple(mus))
+
+    same = coarse_guards(cases=["ogden_t1"])
+    assert values.check(same, stored, complete=False) == []
+    moved = {d.key for d in values.check(coarse_guards(perturbed, cases=["ogden_t1"]),
+                                         stored, complete=False)}
+    assert "ch5.guard.ogden_t1.v_cr_coarse" in moved
