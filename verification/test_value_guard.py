@@ -86,6 +86,27 @@ def test_store_holds_every_entry_and_its_tolerance_reason():
     assert any(k.startswith("ch5.guard.") for k in stored), "ch5 model guard not stored"
 
 
+def test_diagnoses_quote_our_numbers_only_through_placeholders():
+    """A catalogue diagnosis never holds our computed value as a literal (it would drift
+    silently): numbers of ours enter through ``{value}``/``{details[...]}`` placeholders."""
+    from debench.reference.values import _flatten
+
+    offenders = []
+    for e in catalogue.load():
+        if not (e.producer and e.diagnosis):
+            continue
+        r = catalogue.evaluate(e) if e.id.startswith(("ch3.", "ch5.")) else None
+        if r is None or r.status == "error":
+            continue
+        ours = [r.value] + [x for _, x in _flatten("", r.details)]
+        for x in ours:
+            if isinstance(x, float) and abs(x) > 1e-3 and x != e.value:
+                for text in (f"{x:.4g}", f"{x:.5g}"):
+                    if len(text) >= 4 and text in e.diagnosis:
+                        offenders.append((e.id, text))
+    assert not offenders, offenders
+
+
 # --------------------------------------------------------------------------- mutations
 def test_ch3_value_guard_sees_a_1e_4_change_of_the_gent_locking_parameter(monkeypatch, ids):
     """Chapter 3: Jm = 120 (Sec. 3.3.3) changed by 1e-4 moves the loss-of-tension stretch

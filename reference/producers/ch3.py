@@ -182,7 +182,8 @@ def max_stretch_change(entry: Entry) -> Outcome:
         return sign * 100 * (f1.lam / f0.lam - 1), f0.kind, f1.kind
 
     val, k0, k1 = pct(params.EPS_R_ASSUMED, "printed")
-    details = {"failure_modes": [k0, k1],
+    f0, f1 = _lam_max(lamP, c, params.EPS_R_ASSUMED, "printed")
+    details = {"failure_modes": [k0, k1], "max_stretch": [f0.lam, f1.lam],
                "membrane": pct(params.EPS_R_ASSUMED, "membrane")[0],
                "eps_r_sensitivity": {str(e): pct(e, "printed")[0] for e in EPS_R_SENSITIVITY}}
     return Outcome(value=val, details=details, diagnosis=entry.diagnosis,
@@ -273,12 +274,13 @@ def _check_failure_modes(entry, eps_r, eq):
     lamP = _p(entry, "lamP")
     cs = _p(entry, "c_values")
     want = _p(entry, "modes")
-    got = [f.kind if f else None for f in _modes(lamP, cs, eps_r, eq)]
+    fails = _modes(lamP, cs, eps_r, eq)
+    got = [f.kind if f else None for f in fails]
     ok = got == want
+    lams = [f.lam for f in fails if f]
     if _p(entry, "same_stretch", False):
-        lams = [f.lam for f in _modes(lamP, cs, eps_r, eq)]
         ok = ok and max(lams) - min(lams) < 1e-9
-    return ok, f"lamP={lamP}, c={cs}: modes {got}"
+    return ok, f"lamP={lamP}, c={cs}: modes {got} at stretches {[round(x, 4) for x in lams]}"
 
 
 def _check_annulus_profile(entry, eps_r, eq):
@@ -389,7 +391,8 @@ def _check_fig39(entry, eps_r, eq):
                "flat": bool(np.all(np.abs(d) < 1e-9))}[want]
     if _p(entry, "phibar_increases", False):
         ok &= bool(np.all(np.diff(phi) > 0))
-    return ok, f"lamP={lamP}: modes along c=0..-0.1 {seq}"
+    return ok, (f"lamP={lamP}: modes along c=0..-0.1 {seq}, failure stretch from "
+                f"{lam[0]:.4f} to {lam[-1]:.4f}")
 
 
 _CHECKS = {
