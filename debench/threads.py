@@ -71,5 +71,5 @@ def thread_report() -> list[dict]:
     """The loaded thread pools and their sizes (threadpoolctl), for logs and benchmarks."""
     from threadpoolctl import threadpool_info
 
-    return [{k: p.get(k) for k in ("user_api", "internal_api", "num_threads", "version")}
-            for p in threadpool_info()]
+    keys = ("user_api", "internal_api", "num_threads", "version", "architecture")
+    return [{k: p.get(k) for k in keys} for p in threadpool_info()]

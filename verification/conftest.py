@@ -33,6 +33,15 @@ settings.register_profile("explore", deadline=None, max_examples=1000)
 settings.load_profile("debench")
 
 
+def pytest_report_header(config: pytest.Config) -> list[str]:
+    """The BLAS kernels and thread counts in use (results must not depend on them)."""
+    from debench.threads import thread_report
+
+    return [f"debench threads: {p['internal_api']} {p['version']} "
+            f"({p.get('architecture') or p.get('user_api')}), {p['num_threads']} thread(s)"
+            for p in thread_report()]
+
+
 def pytest_addoption(parser: pytest.Parser) -> None:
     parser.addoption(
         "--full", action="store_true", default=False,
