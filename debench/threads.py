@@ -68,7 +68,9 @@ def apply_to_ngsolve(ngsolve_module) -> None:
 
 
 def thread_report() -> list[dict]:
-    """The loaded thread pools and their sizes (threadpoolctl), for logs and benchmarks."""
+    """The thread pools of numpy's BLAS (loaded here if needed) and of every other loaded
+    library, with their sizes and kernels (threadpoolctl), for logs and benchmarks."""
+    import numpy  # noqa: F401 - loads the BLAS whose kernel is reported
     from threadpoolctl import threadpool_info
 
     keys = ("user_api", "internal_api", "num_threads", "version", "architecture")
