@@ -306,8 +306,11 @@ def coarse_guards(material=None, cases=None) -> list:
     make = _material if material is None else material
     for case in (crit.case.values.tolist() if cases is None else cases):
         name, t0 = CASES[case]
-        v = critical_voltage(Plate(thickness=t0), make(name), disc).v
+        res = critical_voltage(Plate(thickness=t0), make(name), disc)
+        v = res.v
         stored = float(crit.v_cr.sel(case=case).values[0])
+        out.append(Guarded(f"ch5.guard.{case}.ndof_coarse", float(res.ndof), 0.5,
+                           "degrees of freedom of the coarsest mesh (an integer)"))
         out.append(Guarded(f"ch5.guard.{case}.v_cr_coarse", float(v), COARSE_ATOL, reason))
         out.append(Guarded(f"ch5.guard.{case}.v_cr_coarse_minus_curated", float(v) - stored,
                            COARSE_ATOL, reason))

@@ -1,0 +1,47 @@
+"""Curated data carry provenance one can check: made by `debench reproduce --write-data`
+from a clean tree, and holding no curve that is all missing values without a cause."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from debench.reference.datasets import data_dir, read_dataset, read_manifest
+
+MANIFEST = read_manifest(data_dir())
+NAMES = sorted(n.removesuffix(".nc") for n in MANIFEST)
+
+
+def provenance_problems(attrs: dict) -> list[str]:
+    """What is wrong with a dataset's provenance (empty when it is checkable)."""
+    out = []
+    commit = str(attrs.get("git_commit", ""))
+    if commit.endswith("-dirty") or commit in ("", "unknown"):
+        out.append(f"git_commit {commit!r} (not a clean commit)")
+    command = str(attrs.get("command", ""))
+    if not command.startswith("debench reproduce") or "--write-data" not in command:
+        out.append(f"command {command!r} (not `debench reproduce ... --write-data`)")
+    return out
+
+
+def test_provenance_check_can_fail():
+    assert provenance_problems({"git_commit": "abc-dirty", "command": "-c"})
+    assert provenance_problems({"git_commit": "abc", "command": "debench reproduce ch3"})
+    assert not provenance_problems({"git_commit": "abc", "command":
+                                    "debench reproduce --write-data"})
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_curated_dataset_was_made_by_reproduce_write_data_from_a_clean_tree(name):
+    ds = read_dataset(name)
+    assert not provenance_problems(ds.attrs), provenance_problems(ds.attrs)
+    assert not provenance_problems(MANIFEST[f"{name}.nc"]), name
+
+
+def test_every_stored_voltage_stretch_curve_has_values():
+    """A curve of ch3_voltage_stretch is either computed (finite values up to its failure
+    point) or absent from the grid: never a row of NaN labelled as a result."""
+    ds = read_dataset("ch3_voltage_stretch")
+    finite = np.isfinite(ds.phibar.values).sum(axis=-1)
+    empty = [(float(ds.lamP[i]), float(ds.c[j])) for i, j in zip(*np.nonzero(finite < 2),
+                                                                   strict=True)]
+    assert not empty, f"(lamP, c) curves without values: {empty}"
