@@ -217,7 +217,7 @@ def test_failure_events_satisfy_their_definitions(c, lamP):
     res = _event_function(np.array([f.kind]), br.annulus, np.array([f.q]), np.array([c]),
                           np.array([params.EPS_R_ASSUMED]), params.MU_VHB, br.steps)
     scale = 1.0 if f.kind != "pullin" else max(1.0, abs(float(np.max(
-        analysis.dphibar2_dlam(br, c)[np.isfinite(analysis.dphibar2_dlam(br, c))]))))
+        analysis._dphibar2_dlam(br, c)[np.isfinite(analysis._dphibar2_dlam(br, c))]))))
     assert abs(res[0]) < EVENT_RESIDUAL * scale
     others = [e.lam for k, e in cv.events.items() if e is not None and k != "minimum"]
     assert f.lam == min(others)

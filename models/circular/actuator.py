@@ -19,7 +19,9 @@ the shooting parameter, to ``EVENT_XTOL`` relative, with exact complex-step deri
 * ``locking``: the Gent locking stretch of circle A, 2 lam^2 + lam^-4 - 3 = Jm (3.23)
   (bisection to machine precision), reported as the failure only when none of the
   above occurs first (Phibar -> inf there, so breakdown normally precedes it);
-* ``end``: the end of the admissible annulus branch, likewise.
+* ``end``: the end of the admissible annulus branch, likewise;
+* ``permittivity``: the stretch where the factor K = 1 + c(5 lam/2 - 2) of (3.30) reaches
+  0 (c < 0; Phibar undefined beyond), likewise (breakdown normally precedes it).
 
 The *failure* is the first of pullin, loss_of_tension, breakdown along increasing lambda
 (the thesis terminates its curves there, Sec. 3.5.3-3.5.5); ``lam_max`` and its Phibar are
@@ -32,12 +34,13 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from debench.models import validation as v
 from debench.models.errors import ConvergenceError
 from scipy.interpolate import PchipInterpolator
 
 from . import circle_a
 from .params import Annulus, CircularActuator, locking_stretch_equibiaxial
-from .shooting import DEFAULT_STEPS, interface_state, q_for_stretch
+from .shooting import DEFAULT_STEPS, _interface_state, q_for_stretch
 
 #: relative tolerance on the shooting parameter q for event location: machine precision
 #: level (q ~ 1, |d lambda/dq| ~ 1e2, so lambda is located to ~1e-12)
@@ -73,7 +76,7 @@ class Branch:
 def _scan(annulus: Annulus, steps: int, n: int = 160):
     """Coarse scan of the shooting parameter: q = lamP - delta, delta geometric."""
     delta = np.concatenate([[0.0], np.geomspace(1e-8, 0.95, n - 1) * annulus.lamP])
-    st = interface_state(annulus, annulus.lamP - delta, steps=steps)
+    st = _interface_state(annulus, annulus.lamP - delta, steps=steps)
     ok = np.isfinite(st.lam) & np.isfinite(st.T1)
     first_bad = np.argmin(ok) if not ok.all() else len(ok)
     keep = slice(0, first_bad)
@@ -97,7 +100,20 @@ def branch(annulus: Annulus, lam=None, *, n: int = 300, lam_end: float | None = 
         interpolated from a coarse scan so that the stretches are nearly uniform from lamP
         to ``lam_end`` (default: the last admissible stretch, at most 0.999 of the
         circle-A Gent locking stretch); the points are exact solutions either way.
+    n, steps
+        Grid points (>= 4) and RK4 steps (>= 4).
+    lam_end
+        None or a finite stretch > lamP.
     """
+    v.instance("annulus", annulus, Annulus)
+    v.integer_at_least("n", n, 4)
+    v.integer_at_least("steps", steps, 4)
+    if lam_end is not None:
+        v.in_range("lam_end", lam_end, annulus.lamP, math.inf, lo_open=True, hi_open=True)
+    if lam is not None:
+        lam = v.array("lam", lam)
+        if lam.ndim != 1 or lam.size < 1:
+            raise ValueError(f"lam must be a non-empty 1-D array, got shape {lam.shape}")
     lam_scan, q_scan = _scan(annulus, steps)
     top = min(lam_scan[-1], 0.999 * locking_stretch_equibiaxial(annulus.Jm))
     if lam_end is None:
@@ -115,7 +131,7 @@ def branch(annulus: Annulus, lam=None, *, n: int = 300, lam_end: float | None = 
                 f"[{lam.min():.6g}, {lam.max():.6g}]")
         q0 = PchipInterpolator(lam_scan, q_scan)(lam)
         q = q_for_stretch(annulus, lam, q0, steps=steps)
-    st = interface_state(annulus, q, steps=steps)
+    st = _interface_state(annulus, q, steps=steps)
     if not np.all(np.isfinite(st.lam)) or np.any(np.diff(st.lam) <= 0):
         raise ConvergenceError(f"annulus branch of {annulus}: non-monotone or inadmissible "
                                "points on the interpolated grid")
@@ -125,7 +141,13 @@ def branch(annulus: Annulus, lam=None, *, n: int = 300, lam_end: float | None = 
 
 def branches(annuli, *, n: int = 300, steps: int = DEFAULT_STEPS) -> list[Branch]:
     """Batched :func:`branch` (default grids) for annuli differing only in lamP."""
+    if isinstance(annuli, str | bytes) or not hasattr(annuli, "__iter__"):
+        raise TypeError(f"annuli must be an iterable of Annulus, got {annuli!r}")
     annuli = list(annuli)
+    for a in annuli:
+        v.instance("annuli[i]", a, Annulus)
+    v.integer_at_least("n", n, 4)
+    v.integer_at_least("steps", steps, 4)
     if not annuli:
         return []
     a0 = annuli[0]
@@ -135,7 +157,7 @@ def branches(annuli, *, n: int = 300, steps: int = DEFAULT_STEPS) -> list[Branch
     m = 160
     delta = np.concatenate([[0.0], np.geomspace(1e-8, 0.95, m - 1)])
     lamP = np.repeat([a.lamP for a in annuli], m)
-    st = interface_state(a0, lamP - np.tile(delta, len(annuli)) * lamP, steps=steps,
+    st = _interface_state(a0, lamP - np.tile(delta, len(annuli)) * lamP, steps=steps,
                          lamP=lamP)
     qs, lps = [], []
     tops = []
@@ -156,7 +178,7 @@ def branches(annuli, *, n: int = 300, steps: int = DEFAULT_STEPS) -> list[Branch
         lps.append(np.full(n, a.lamP))
         tops.append(top)
     q = np.concatenate(qs)
-    st = interface_state(a0, q, steps=steps, lamP=np.concatenate(lps))
+    st = _interface_state(a0, q, steps=steps, lamP=np.concatenate(lps))
     out = []
     for k, a in enumerate(annuli):
         sl = slice(k * n, (k + 1) * n)
@@ -220,10 +242,10 @@ def _event_function(kinds, annulus, q, c, eps_r, mu, steps, lamP=None):
     bad = ~np.isin(kinds, EVENT_KINDS)
     if bad.any():
         raise ValueError(f"unknown event kind {kinds[bad][0]!r}; expected one of {EVENT_KINDS}")
-    st = interface_state(annulus, q, steps=steps, lamP=lamP)
-    p2c = circle_a.phibar_squared(st.lam_c, st.T1_c, c, annulus.kappa)
+    st = _interface_state(annulus, q, steps=steps, lamP=lamP)
+    p2c = circle_a._p2(st.lam_c, st.T1_c, c, annulus.kappa)
     deriv = (p2c.imag / 1e-30) / st.dlam
-    brk = p2c.real - circle_a.breakdown_phibar(st.lam, eps_r, mu) ** 2
+    brk = p2c.real - circle_a._breakdown(st.lam, eps_r, mu) ** 2
     return np.where(kinds == "loss_of_tension", st.T1,
                     np.where(kinds == "breakdown", brk, deriv))
 
@@ -236,7 +258,20 @@ def locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
     shooting integration per iteration. ``fa``/``fb`` (the event functions at the bracket
     ends, if already known) and ``x0`` (an interpolated estimate of the root) save
     iterations: the bracket is first shrunk to [x0 - d, x0 + d] when it contains the root.
+    Converged when ``|b - a| <= xtol |b|`` (``xtol`` a finite tolerance in (0, 1)) or the
+    event function vanishes exactly; else ConvergenceError (with the bracket reached).
     """
+    v.instance("annulus", annulus, Annulus)
+    v.integer_at_least("steps", steps, 4)
+    v.tolerance("xtol", xtol)
+    v.integer_at_least("maxiter", maxiter, 1)
+    v.positive("mu", mu)
+    v.finite("c", c)
+    v.positive("eps_r", eps_r)
+    v.positive("qa", qa)
+    v.positive("qb", qb)
+    if np.any(~np.isin(np.asarray(kinds), EVENT_KINDS)):
+        raise ValueError(f"kinds must be among {EVENT_KINDS}, got {kinds!r}")
     a = np.array(qa, float)
     b = np.array(qb, float)
     kinds = np.broadcast_to(np.asarray(kinds), a.shape)
@@ -316,11 +351,38 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
     Branches that differ only in the pre-stretch (same Jm, R_B/R_A, equilibrium, steps)
     share one vectorised event location: one shooting integration per Illinois iteration
     for all their events.
+
+    Every (branch, c, eps_r) must make a valid :class:`CircularActuator` (c finite with
+    K(lamP) > 0, eps_r > 0); ``mu > 0``; ``steps`` None or >= 4. Where the permittivity
+    factor K = 1 + c(5 lam/2 - 2) of (3.30) vanishes on the branch, Phibar is undefined
+    beyond it (NaN in ``phibar``); if no other failure occurs first, the curve ends there
+    with the failure kind ``"permittivity"``.
     """
     from .params import EPS_R_ASSUMED, MU_VHB
-    mu = MU_VHB if mu is None else mu
+    mu = MU_VHB if mu is None else v.positive("mu", mu)
+    if steps is not None:
+        v.integer_at_least("steps", steps, 4)
+    if isinstance(jobs, str | bytes) or not hasattr(jobs, "__iter__"):
+        raise TypeError(f"jobs must be a list of (branch, cs, eps_r), got {jobs!r}")
+    checked = []
+    for job in jobs:
+        if not (isinstance(job, tuple | list) and len(job) == 3):
+            raise TypeError(f"each job must be a tuple (branch, cs, eps_r), got {job!r:.80}")
+        br, cs, eps_r = job
+        v.instance("branch", br, Branch)
+        if isinstance(cs, str | bytes) or not hasattr(cs, "__iter__"):
+            raise TypeError(f"cs must be a sequence of numbers, got {cs!r}")
+        cs = list(cs)
+        cs_ = np.atleast_1d(v.finite("cs", cs)) if cs else []
+        eps_r_ = EPS_R_ASSUMED if eps_r is None else eps_r
+        eps_rs = np.broadcast_to(v.positive("eps_r", eps_r_), (len(cs_),))
+        for c, e in zip(cs_, eps_rs, strict=True):
+            CircularActuator(br.annulus, c=float(c), eps_r=float(e), mu=mu)
+        checked.append((br, cs, eps_r))
+    jobs = checked
     results = [None] * len(jobs)
     pending = []  # (job index, curve index, kind, qa, qb, c, eps_r, lamP)
+    located = {}
     prepared = []
     for jb, (br, cs, eps_r) in enumerate(jobs):
         eps_r = EPS_R_ASSUMED if eps_r is None else eps_r
@@ -331,20 +393,25 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
         lam = br.lam
         data = []
         for i, c in enumerate(cs):
-            pb = circle_a.breakdown_phibar(lam, eps_rs[i], mu)
-            K = circle_a.electrostriction_factor(lam, c)
+            pb = circle_a._breakdown(lam, eps_rs[i], mu)
+            K = circle_a._K(lam, c)
             valid = K > 0
             Ks = np.where(valid, K, 1.0)  # Phibar is undefined where K <= 0 (masked below)
-            p2 = np.where(valid, circle_a.phibar_squared(lam, br.T1, c, kappa) * K / Ks,
+            p2 = np.where(valid, circle_a._p2(lam, br.T1, c, kappa) * K / Ks,
                           np.nan)
             h = 1e-30
             with np.errstate(divide="ignore", invalid="ignore"):
-                p2c = circle_a.phibar_squared(lam + 1j * h * br.dlam,
+                p2c = circle_a._p2(lam + 1j * h * br.dlam,
                                               br.T1 + 1j * h * br.dT1, c, kappa)
             dp2 = np.where(valid, (p2c.imag / h) / br.dlam, np.nan)
             fun = {"pullin": dp2, "minimum": dp2, "loss_of_tension": br.T1,
                    "breakdown": p2 - pb**2}
             for kind in EVENT_KINDS:
+                if kind == "loss_of_tension" and an.lamP == 1.0:
+                    # unstretched membrane: T1 = 0 at lamP exactly (rounding leaves
+                    # ~1e-56, which no bracketing can resolve), compressive beyond it
+                    located[(jb, i, kind)] = Event(kind, 1.0, 0.0, 1.0)
+                    continue
                 f = fun[kind]
                 if kind in ("minimum", "breakdown"):   # crossing from below
                     idx = np.nonzero((f[:-1] < 0) & (f[1:] >= 0))[0]
@@ -367,7 +434,6 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
             data.append((np.sqrt(np.maximum(p2, 0.0)), pb))
         prepared.append((br, cs, eps_rs, data))
     # one location per group of compatible annuli
-    located = {}
     groups = {}
     for row in pending:
         an = jobs[row[0]][0].annulus
@@ -382,9 +448,9 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
                        [r[5] for r in rows], [r[6] for r in rows], mu, steps=st,
                        lamP=lamPs, fa=[r[8] for r in rows], fb=[r[9] for r in rows],
                        x0=[r[10] for r in rows])
-        state = interface_state(an0, qroot, steps=st, lamP=lamPs)
+        state = _interface_state(an0, qroot, steps=st, lamP=lamPs)
         for k, r in enumerate(rows):
-            p2 = circle_a.phibar_squared(state.lam[k], state.T1[k], r[5], an0.kappa)
+            p2 = circle_a._p2(state.lam[k], state.T1[k], r[5], an0.kappa)
             located[(r[0], r[1], r[2])] = Event(r[2], float(state.lam[k]),
                                                 float(np.sqrt(max(p2, 0.0))),
                                                 float(qroot[k]))
@@ -396,6 +462,11 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
             events = {k: located.get((jb, i, k)) for k in EVENT_KINDS}
             cands = [e for k, e in events.items() if k in FAILURE_KINDS and e is not None]
             failure = min(cands, key=lambda e: e.lam) if cands else None
+            lam_K = _zero_of_K(c)
+            if failure is None and lam_K < br.lam_end:
+                # the permittivity factor K of (3.30) reaches 0 on the branch before any
+                # other failure: Phibar is undefined beyond, the model ends there
+                failure = Event("permittivity", lam_K, math.nan, math.nan)
             if failure is None:
                 # nothing before the end of the traced branch: Gent locking of circle A
                 # (3.23) if the branch reaches it (Phibar -> inf there), else the end of
@@ -404,14 +475,21 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
                 kind = "locking" if br.lam_end >= 0.999 * lock * (1 - 1e-12) else "end"
                 failure = Event(kind, float(lock if kind == "locking" else br.lam_end),
                                 float("nan"), float("nan"))
-            sigma1A = circle_a.sigma1_circle_a(br.lam, phibar, c, br.annulus.kappa)
+            sigma1A = (circle_a._s(br.lam, br.annulus.kappa)
+                       - phibar**2 * br.lam**4 * circle_a._K(br.lam, c))
             out.append(Curve(actuator=act, lam=br.lam, phibar=phibar, sigma1A=sigma1A,
                              phibar_breakdown=pb, events=events, failure=failure))
         results[jb] = out
     return results
 
 
+def _zero_of_K(c: float) -> float:
+    """Stretch at which K = 1 + c(5 lam/2 - 2) of (3.30) vanishes (inf if never, c >= 0)."""
+    return (2 - 1 / c) / 2.5 if c < 0 else math.inf
+
+
 def curve(actuator: CircularActuator, *, n: int = 400, steps: int = DEFAULT_STEPS) -> Curve:
     """One voltage-stretch curve (convenience wrapper around :func:`branch`/:func:`curves`)."""
+    v.instance("actuator", actuator, CircularActuator)
     br = branch(actuator.annulus, n=n, steps=steps)
     return curves(br, [actuator.c], eps_r=actuator.eps_r, mu=actuator.mu)[0]

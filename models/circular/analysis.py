@@ -12,14 +12,17 @@ Definitions (catalogued as ch3.assumption.* entries):
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+from debench.models import validation as v
 from debench.models.errors import ConvergenceError
 from scipy.optimize import brentq
 
 from . import circle_a
 from .actuator import Branch, branch, curves
-from .params import Annulus
-from .shooting import interface_state, q_for_stretch
+from .params import Annulus, CircularActuator
+from .shooting import _interface_state, q_for_stretch
 
 DEFINITIONS = ("before_loss_of_tension", "monotonic")
 #: absolute tolerance of the outer brentq searches over lamP or c (values printed to
@@ -29,10 +32,25 @@ OUTER_XTOL = 1e-10
 
 
 def dphibar2_dlam(br: Branch, c: float) -> np.ndarray:
-    """d(Phibar^2)/d lambda on the branch grid (exact q-derivatives, complex step)."""
+    """d(Phibar^2)/d lambda on the branch grid (exact q-derivatives, complex step).
+
+    ``c`` finite, with the factor K = 1 + c(5 lam/2 - 2) of (3.30) > 0 on the whole
+    branch (trace the branch with a smaller ``lam_end`` otherwise).
+    """
+    v.instance("br", br, Branch)
+    v.finite("c", c)
+    K = circle_a._K(br.lam, c)
+    if not np.all(K > 0):
+        raise ValueError(f"c = {c} makes K = 1 + c(5 lam/2 - 2) of (3.30) non-positive at "
+                         f"lam >= {(2 - 1 / c) / 2.5:.6g} on this branch (Phibar undefined "
+                         f"there): trace the branch with lam_end below it")
+    return _dphibar2_dlam(br, c)
+
+
+def _dphibar2_dlam(br: Branch, c: float) -> np.ndarray:
     h = 1e-30
     with np.errstate(divide="ignore", invalid="ignore"):  # K = 0 -> inf, masked by callers
-        p2c = circle_a.phibar_squared(br.lam + 1j * h * br.dlam, br.T1 + 1j * h * br.dT1,
+        p2c = circle_a._p2(br.lam + 1j * h * br.dlam, br.T1 + 1j * h * br.dT1,
                                       c, br.annulus.kappa)
     return (p2c.imag / h) / br.dlam
 
@@ -41,10 +59,16 @@ def state_at_voltage(br: Branch, c: float, phibar: float) -> dict:
     """Circle-A stretch and interface state at a given Phibar on the rising branch.
 
     Returns a dict with lam (= lambda^(A) = lambda_2^(B)(R_A)), lam1B (lambda_1^(B)(R_A)),
-    lam3A = lam^-2, lam3B = 1/(lam1B lam), q.
+    lam3A = lam^-2, lam3B = 1/(lam1B lam), q. ``c`` finite (K(lamP) > 0), ``phibar``
+    finite and >= 0; ValueError if Phibar is not reached on the branch.
     """
+    v.instance("br", br, Branch)
+    v.nonnegative("phibar", phibar)
+    CircularActuator(br.annulus, c=v.finite("c", c))
     kappa = br.annulus.kappa
-    p2 = circle_a.phibar_squared(br.lam, br.T1, c, kappa)
+    with np.errstate(divide="ignore", invalid="ignore"):  # K <= 0: NaN, never a crossing
+        p2 = np.where(circle_a._K(br.lam, c) > 0, circle_a._p2(br.lam, br.T1, c, kappa),
+                      np.nan)
     f = p2 - phibar**2
     idx = np.nonzero((f[:-1] < 0) & (f[1:] >= 0))[0]
     if idx.size == 0:
@@ -56,8 +80,8 @@ def state_at_voltage(br: Branch, c: float, phibar: float) -> dict:
     fa, fb = f[j + 1], f[j]
     q = b - fb * (b - a) / (fb - fa)
     for _ in range(60):
-        st = interface_state(br.annulus, np.array([q]), steps=br.steps)
-        p2c = circle_a.phibar_squared(st.lam_c[0], st.T1_c[0], c, kappa)
+        st = _interface_state(br.annulus, np.array([q]), steps=br.steps)
+        p2c = circle_a._p2(st.lam_c[0], st.T1_c[0], c, kappa)
         r, dr = p2c.real - phibar**2, p2c.imag / 1e-30
         if r == 0:
             break
@@ -74,13 +98,14 @@ def state_at_voltage(br: Branch, c: float, phibar: float) -> dict:
         q = qn
     else:
         raise ConvergenceError(f"state_at_voltage: no convergence for Phibar = {phibar}")
-    st = interface_state(br.annulus, np.array([q]), steps=br.steps)
+    st = _interface_state(br.annulus, np.array([q]), steps=br.steps)
     lam, lam1 = float(st.lam[0]), float(st.lam1[0])
     return {"lam": lam, "lam1B": lam1, "lam3A": lam**-2, "lam3B": 1 / (lam1 * lam), "q": q}
 
 
 def loss_of_tension_stretch(br: Branch) -> float:
     """Stretch at which T1^(B)(R_A) = 0 (sigma1^(A) = 0); independent of c."""
+    v.instance("br", br, Branch)
     cv = curves(br, [0.0])[0]
     ev = cv.events["loss_of_tension"]
     if ev is None:
@@ -89,10 +114,11 @@ def loss_of_tension_stretch(br: Branch) -> float:
 
 
 def _min_slope(br: Branch, c: float, definition: str, lam_lot: float | None) -> float:
-    d = dphibar2_dlam(br, c)
+    with np.errstate(divide="ignore", invalid="ignore"):  # K = 0 -> inf, masked below
+        d = _dphibar2_dlam(br, c)
     # only where the permittivity factor K of (3.30) is positive (Phibar finite)
     mask = np.isfinite(d) & (br.lam > br.annulus.lamP) & (
-        circle_a.electrostriction_factor(br.lam, c) > 0)
+        circle_a._K(br.lam, c) > 0)
     if definition == "before_loss_of_tension":
         if lam_lot is not None:   # branch traced up to the located loss of tension
             mask &= br.lam <= lam_lot * (1 + 1e-12)
@@ -110,7 +136,12 @@ def pullin_c_threshold(annulus: Annulus, *, definition: str = "before_loss_of_te
     Method: brentq on c of the minimum slope of Phibar^2 over the relevant stretch range
     (dense branch, ``n`` points, refined by the branch being fixed: only circle A depends
     on c). See :func:`pullin_c_threshold_closed_form` for the independent check.
+    ``c_range`` a finite window (lo < hi), ``n >= 4``; brentq to ``OUTER_XTOL``.
     """
+    v.instance("annulus", annulus, Annulus)
+    v.choice("definition", definition, DEFINITIONS)
+    v.window("c_range", c_range, lo=-math.inf)
+    v.integer_at_least("n", n, 4)
     lam_lot = None
     br = branch(annulus, n=n)
     if definition == "before_loss_of_tension":
@@ -120,7 +151,19 @@ def pullin_c_threshold(annulus: Annulus, *, definition: str = "before_loss_of_te
     lo, hi = c_range
     if not (f(lo) > 0 > f(hi)):
         raise ConvergenceError(f"pull-in c threshold not bracketed in {c_range} for {annulus}")
-    return brentq(f, lo, hi, xtol=OUTER_XTOL)
+    return _brentq(f, lo, hi, OUTER_XTOL, "pull-in c threshold")
+
+
+def _brentq(f, lo, hi, xtol, what):
+    """brentq on a checked bracket; its failures become ConvergenceError."""
+    try:
+        root, info = brentq(f, lo, hi, xtol=xtol, full_output=True)
+    except (ValueError, RuntimeError) as exc:
+        raise ConvergenceError(f"{what}: brentq failed on [{lo}, {hi}]: {exc}") from exc
+    if not info.converged:
+        raise ConvergenceError(f"{what}: brentq did not converge on [{lo}, {hi}] "
+                               f"({info.iterations} iterations, {info.flag})")
+    return root
 
 
 def pullin_c_threshold_closed_form(annulus: Annulus) -> float:
@@ -131,16 +174,17 @@ def pullin_c_threshold_closed_form(annulus: Annulus) -> float:
     c = (4s/lam - s' + lam T1') / ((s' - lam T1') A - 4 s A/lam - 5 s/2).
     Valid when the slope first vanishes at the loss-of-tension end (checked in tests).
     """
+    v.instance("annulus", annulus, Annulus)
     br = branch(annulus, n=200)
     lam_L = loss_of_tension_stretch(br)
     q = q_for_stretch(annulus, np.array([lam_L]),
                       np.interp(lam_L, br.lam, br.q))
-    st = interface_state(annulus, q, steps=br.steps)
+    st = _interface_state(annulus, q, steps=br.steps)
     dT1 = float(st.dT1[0] / st.dlam[0])
     kappa = annulus.kappa
     h = 1e-30
-    s = float(circle_a.gent_equibiaxial_stress(lam_L, kappa))
-    ds = float(circle_a.gent_equibiaxial_stress(lam_L + 1j * h, kappa).imag / h)
+    s = float(circle_a._s(lam_L, kappa))
+    ds = float(circle_a._s(lam_L + 1j * h, kappa).imag / h)
     A = 2.5 * lam_L - 2
     num = 4 * s / lam_L - ds + lam_L * dT1
     den = (ds - lam_L * dT1) * A - 4 * s * A / lam_L - 2.5 * s
@@ -152,14 +196,25 @@ def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
                                   definition: str = "before_loss_of_tension",
                                   bracket=(2.0, 3.2), n: int = 800,
                                   xtol: float = 1e-8) -> float:
-    """The pre-stretch above which pull-in is suppressed (Sec. 3.5.2: 2.53 for c = 0)."""
+    """The pre-stretch above which pull-in is suppressed (Sec. 3.5.2: 2.53 for c = 0).
+
+    ``bracket`` a window of pre-stretches >= 1 (each builds an :class:`Annulus`, so the
+    geometry and material arguments are validated there), ``n >= 4``, ``xtol`` a finite
+    tolerance in (0, 1) on lamP; brentq failures raise ConvergenceError.
+    """
+    v.finite("c", c)
+    v.choice("definition", definition, DEFINITIONS)
+    lo, hi = v.window("bracket", bracket, lo=-math.inf)
+    v.integer_at_least("n", n, 4)
+    v.tolerance("xtol", xtol)
+    Annulus(lo, radius_ratio, Jm, equilibrium)
+    Annulus(hi, radius_ratio, Jm, equilibrium)
 
     def f(lamP):
         an = Annulus(lamP, radius_ratio, Jm, equilibrium)
         br = branch(an, n=n)
         return _min_slope(br, c, definition, None)
 
-    lo, hi = bracket
     if not (f(lo) < 0 < f(hi)):
         raise ConvergenceError(f"suppression pre-stretch not bracketed in {bracket}")
-    return brentq(f, lo, hi, xtol=xtol)
+    return _brentq(f, lo, hi, xtol, "suppression pre-stretch")

@@ -17,30 +17,67 @@ Force balance at the interface (3.32) with T1 = sigma1/lambda1 (3.17) gives
 
     Phibar^2 = (s(lam) - lam T1B) / (lam^4 K(lam)).
 
-Every function is complex-safe (used with complex-step sensitivities).
+Every function is complex-safe (used with complex-step sensitivities). Public functions
+validate their arguments (ValueError naming the bound: lam <= 0, past the Gent locking
+stretch, K <= 0); the models call the private kernels ``_s``, ``_K``, ``_p2``.
 """
 
 from __future__ import annotations
 
 import numpy as np
+from debench.models import validation as v
 
-from .params import EB_COEFF, EB_EXPONENT, EPS0
+from .params import EB_COEFF, EB_EXPONENT, EPS0, locking_stretch_equibiaxial
+
+
+def _s(lam, kappa):
+    return (lam**2 - lam**-4) / (1 - kappa * (2 * lam**2 + lam**-4 - 3))
+
+
+def _K(lam, c):
+    return 1 + c * (2.5 * lam - 2)
+
+
+def _p2(lam, T1B, c, kappa):
+    return (_s(lam, kappa) - lam * T1B) / (lam**4 * _K(lam, c))
+
+
+def _check_lam(lam, kappa=None):
+    """lam finite and > 0 (complex allowed); below the Gent lock when kappa is given."""
+    lam = np.asarray(v.positive("lam", lam, complex_ok=True))
+    if kappa is not None:
+        kappa = v.nonnegative("kappa", kappa)
+        lr = np.real(lam)
+        if not np.all(1 - kappa * (2 * lr**2 + lr**-4 - 3) > 0):
+            lock = locking_stretch_equibiaxial(1 / kappa)
+            raise ValueError(f"lam = {v._show(lr)} is past the Gent locking stretch "
+                             f"{lock:.6g} (Jm = {1 / kappa:.6g})")
+    return lam
+
+
+def _check_K(lam, c):
+    K = _K(np.real(lam), c)
+    if not np.all(K > 0):
+        raise ValueError(f"c = {c} makes the permittivity factor K = 1 + c(5 lam/2 - 2) of "
+                         f"(3.30) non-positive at lam = {v._show(np.real(lam))}: need K > 0")
 
 
 def gent_equibiaxial_stress(lam, kappa: float):
-    """Mechanical part of (3.30), ``s(lam)`` per unit mu; kappa = 1/Jm."""
-    lam = np.asarray(lam)
-    return (lam**2 - lam**-4) / (1 - kappa * (2 * lam**2 + lam**-4 - 3))
+    """Mechanical part of (3.30), ``s(lam)`` per unit mu; kappa = 1/Jm.
+
+    ``lam`` finite, > 0 and below the Gent locking stretch; ``kappa >= 0``.
+    """
+    return _s(_check_lam(lam, kappa), kappa)
 
 
 def electrostriction_factor(lam, c: float):
     """``K(lam) = 1 + c (5 lam/2 - 2)``, the coefficient of -eps_bar E^2 in (3.30)."""
-    return 1 + c * (2.5 * np.asarray(lam) - 2)
+    return _K(_check_lam(lam), v.finite("c", c))
 
 
 def permittivity_ratio(lam, c: float):
     """``eps/eps_bar = 1 + c (2 lam - 2)`` (3.27) at l1 = l2 = lam."""
-    return 1 + c * (2 * np.asarray(lam) - 2)
+    return 1 + v.finite("c", c) * (2 * _check_lam(lam) - 2)
 
 
 def phibar_squared(lam, T1B, c: float, kappa: float):
@@ -49,21 +86,28 @@ def phibar_squared(lam, T1B, c: float, kappa: float):
     Parameters
     ----------
     lam
-        Stretch of circle A (= hoop stretch of B at R_A, Eq. 3.31).
+        Stretch of circle A (= hoop stretch of B at R_A, Eq. 3.31); finite, > 0, below
+        the Gent locking stretch.
     T1B
         Nominal radial stress of annulus B at R_A per unit mu (3.17, 3.32); 0 for a free
         membrane.
+    c, kappa
+        Zhao-Suo factor (3.27) (the factor K of (3.30) must stay > 0) and 1/Jm >= 0.
+
+    A negative value means no real voltage holds circle A at ``lam``.
     """
-    lam = np.asarray(lam)
-    return (gent_equibiaxial_stress(lam, kappa) - lam * T1B) / (
-        lam**4 * electrostriction_factor(lam, c))
+    lam = _check_lam(lam, kappa)
+    v.finite("T1B", T1B, complex_ok=True)
+    _check_K(lam, v.finite("c", c))
+    return _p2(lam, T1B, c, kappa)
 
 
 def sigma1_circle_a(lam, phibar, c: float, kappa: float):
     """True radial stress of circle A per unit mu, Eq. (3.30) with E^2 = (Phi/H)^2 lam^4."""
-    lam = np.asarray(lam)
-    return gent_equibiaxial_stress(lam, kappa) - np.asarray(phibar) ** 2 * lam**4 * (
-        electrostriction_factor(lam, c))
+    lam = _check_lam(lam, kappa)
+    phibar = v.finite("phibar", phibar)
+    v.finite("c", c)
+    return _s(lam, kappa) - np.asarray(phibar) ** 2 * lam**4 * _K(lam, c)
 
 
 def breakdown_phibar(lam, eps_r: float, mu: float):
@@ -71,14 +115,21 @@ def breakdown_phibar(lam, eps_r: float, mu: float):
 
     E_B = 51 lam^1.13 MV/m (Huang et al.), eps_bar = eps_r eps0 (3.27).
     """
-    lam = np.asarray(lam)
+    lam = _check_lam(lam)
+    v.positive("eps_r", eps_r)
+    v.positive("mu", mu)
+    return _breakdown(lam, eps_r, mu)
+
+
+def _breakdown(lam, eps_r, mu):
     return np.sqrt(np.asarray(eps_r) * EPS0 / mu) * EB_COEFF * lam**EB_EXPONENT / lam**2
 
 
 def free_membrane_phibar(lam, c: float, kappa: float):
-    """Free equibiaxial membrane (annulus removed, T1B = 0): Phibar(lam).
+    """Free equibiaxial membrane (annulus removed, T1B = 0): Phibar(lam), lam >= 1.
 
     Neo-Hookean ideal dielectric: ``sqrt(lam^-2 - lam^-8)``, maximum at lam = 2^(1/3)
     (Zhao & Suo 2007).
     """
+    v.at_least("lam", lam, 1.0)
     return np.sqrt(phibar_squared(lam, 0.0, c, kappa))

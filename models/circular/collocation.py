@@ -17,11 +17,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from debench.models import validation as v
 from debench.models.errors import ConvergenceError
 from scipy.integrate import solve_bvp
 
 from . import _generated as gen
-from .params import Annulus
+from .params import Annulus, locking_stretch_equibiaxial
 
 #: solve_bvp tolerance on the relative collocation residual; gives <= ~1e-7 relative
 #: agreement with the shooting solver (test_ch3_solvers)
@@ -37,7 +38,18 @@ def _gent_energy(l1, l2, kappa):
 
 
 def nominal_radial_stress(l1, l2, kappa):
-    """T1 = dWs/dl1 per unit mu (3.17, 3.36), by complex step of the energy (3.23)."""
+    """T1 = dWs/dl1 per unit mu (3.17, 3.36), by complex step of the energy (3.23).
+
+    ``l1``, ``l2`` finite and > 0, ``kappa = 1/Jm >= 0``, the state below the Gent lock.
+    """
+    l1 = v.positive("l1", l1)
+    l2 = v.positive("l2", l2)
+    kappa = v.nonnegative("kappa", kappa)
+    I1 = l1**2 + l2**2 + 1.0 / (l1**2 * l2**2)
+    with np.errstate(over="ignore"):
+        if not np.all(np.isfinite(I1) & (1.0 - kappa * (I1 - 3.0) > 0)):
+            raise ValueError(f"l1 = {v._show(l1)}, l2 = {v._show(l2)}: I1 - 3 is past the "
+                             f"Gent lock (must be < Jm = 1/kappa) or overflows")
     h = 1e-30
     return _gent_energy(np.asarray(l1) + 1j * h, l2, kappa).imag / h
 
@@ -77,10 +89,18 @@ def solve(annulus: Annulus, lam: float, guess=None, *, tol: float = BVP_TOL):
     """One annulus BVP at circle-A stretch ``lam``; raises ConvergenceError on failure.
 
     ``guess``: a previous :class:`CollocationSolution` (continuation) or None (the uniform
-    pre-stretched state lambda_1 = lambda_2 = lamP, a naive cold start).
+    pre-stretched state lambda_1 = lambda_2 = lamP, a naive cold start). ``lam`` lies in
+    [lamP, circle-A Gent locking stretch); ``tol`` a finite tolerance in (0, 1).
+    Converged means ``solve_bvp`` reports success (relative collocation residuals below
+    ``tol``) with finite, positive stretches; otherwise ConvergenceError.
     """
-    if lam < annulus.lamP:
-        raise ValueError(f"lam must be >= lamP = {annulus.lamP}, got {lam}")
+    v.instance("annulus", annulus, Annulus)
+    lock = locking_stretch_equibiaxial(annulus.Jm)
+    lam = v.in_range("lam", lam, annulus.lamP, lock, hi_open=True,
+                     bound=f"past the Gent locking stretch {lock:.6g} (Jm = {annulus.Jm:.6g})")
+    v.tolerance("tol", tol)
+    if guess is not None:
+        v.instance("guess", guess, CollocationSolution)
     T = float(np.log(annulus.radius_ratio))
     fun, fun_jac = _funcs(annulus)
 
@@ -124,8 +144,15 @@ def branch(annulus: Annulus, lam, *, tol: float = BVP_TOL, substeps: int = 1,
            warm: bool = True) -> CollocationBranch:
     """Natural-parameter continuation over increasing ``lam`` (``warm=False``: naive cold
     start at every point, the benchmark baseline). ``substeps`` intermediate solves per
-    interval make the continuation steps smaller where needed."""
-    lam = np.asarray(lam, dtype=float)
+    interval make the continuation steps smaller where needed. ``lam`` a non-empty 1-D
+    array in [lamP, locking stretch), ``substeps >= 1``."""
+    v.instance("annulus", annulus, Annulus)
+    lam = np.asarray(v.array("lam", lam), dtype=float)
+    if lam.ndim != 1 or lam.size == 0:
+        raise ValueError(f"lam must be a non-empty 1-D array, got shape {lam.shape}")
+    v.at_least("lam", lam, annulus.lamP)
+    v.tolerance("tol", tol)
+    v.integer_at_least("substeps", substeps, 1)
     if np.any(np.diff(lam) <= 0):
         raise ValueError("lam must be strictly increasing for continuation")
     sols = []

@@ -10,8 +10,10 @@ E_B = 51 lam^1.13 MV/m (Huang et al., Sec. 3.5.5).
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 
+from debench.models import validation as v
 from debench.models.errors import require
 
 MU_VHB = 51e3            # Pa, shear modulus, Sec. 3.3.3
@@ -57,20 +59,21 @@ class Annulus:
 
     def __post_init__(self):
         for name in ("lamP", "radius_ratio", "Jm"):
-            v = getattr(self, name)
-            require(isinstance(v, int | float) and not math.isnan(v),
-                    f"{name} must be a real number, got {v!r}")
-        require(self.lamP >= 1.0, f"lamP must be >= 1, got {self.lamP}")
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, numbers.Real):
+                raise TypeError(f"{name} must be a real number, got {value!r}")
+            require(not math.isnan(value), f"{name} must be a real number, got {value!r}")
+        v.at_least("lamP", self.lamP, 1.0)
         require(self.radius_ratio > 1.0,
                 f"radius_ratio RB/RA must be > 1, got {self.radius_ratio}")
         require(math.isfinite(self.radius_ratio),
                 f"radius_ratio RB/RA must be finite, got {self.radius_ratio}")
-        require(self.Jm > 0, f"Jm must be > 0, got {self.Jm}")
-        require(self.equilibrium in EQUILIBRIUM_VARIANTS,
-                f"equilibrium must be one of {EQUILIBRIUM_VARIANTS}, got {self.equilibrium!r}")
-        require(self.lamP < locking_stretch_equibiaxial(self.Jm),
-                f"lamP must be < the Gent locking stretch "
-                f"{locking_stretch_equibiaxial(self.Jm):.6g}, got {self.lamP}")
+        _check_Jm(self.Jm)
+        v.choice("equilibrium", self.equilibrium, EQUILIBRIUM_VARIANTS)
+        lock = locking_stretch_equibiaxial(self.Jm)
+        if not self.lamP < lock:
+            raise ValueError(f"lamP = {self.lamP:.6g} is past the Gent locking stretch "
+                             f"{lock:.6g} (Jm = {self.Jm:.6g})")
 
     @property
     def kappa(self) -> float:
@@ -100,23 +103,52 @@ class CircularActuator:
     mu: float = MU_VHB
 
     def __post_init__(self):
-        require(isinstance(self.c, int | float) and math.isfinite(self.c),
-                f"c must be a finite real number, got {self.c!r}")
-        require(self.eps_r > 0, f"eps_r must be > 0, got {self.eps_r}")
-        require(self.mu > 0, f"mu must be > 0, got {self.mu}")
-        # permittivity (3.27) must be positive at the pre-stretched state
-        require(1 + self.c * (2 * self.annulus.lamP - 2) > 0,
+        v.instance("annulus", self.annulus, Annulus)
+        for name in ("c", "eps_r", "mu"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, numbers.Real):
+                raise TypeError(f"{name} must be a real number, got {value!r}")
+        v.finite("c", self.c)
+        v.positive("eps_r", self.eps_r)
+        v.positive("mu", self.mu)
+        # permittivity (3.27) and the factor K of (3.30) must be positive at the
+        # pre-stretched state (where every curve starts); along a curve the stretch at
+        # which K reaches 0 ends it (failure kind "permittivity", see actuator.curves)
+        lamP = self.annulus.lamP
+        require(1 + self.c * (2 * lamP - 2) > 0,
                 f"c = {self.c} makes the permittivity (3.27) non-positive at "
-                f"lamP = {self.annulus.lamP}: need 1 + c(2 lamP - 2) > 0")
+                f"lamP = {lamP}: need 1 + c(2 lamP - 2) > 0")
+        require(1 + self.c * (2.5 * lamP - 2) > 0,
+                f"c = {self.c} makes the factor K = 1 + c(5 lam/2 - 2) of (3.30) "
+                f"non-positive at lamP = {lamP}: need K(lamP) > 0")
+
+
+#: above this Jm the cubic of the locking condition would overflow in double precision
+_JM_HUGE = 1e100
+
+
+def _check_Jm(Jm) -> float:
+    """Jm > 0; ``math.inf`` (neo-Hookean) allowed."""
+    if isinstance(Jm, bool) or not isinstance(Jm, numbers.Real):
+        raise TypeError(f"Jm must be a real number, got {Jm!r}")
+    if math.isinf(Jm) and Jm > 0:
+        return math.inf
+    return v.positive("Jm", Jm)
 
 
 def locking_stretch_equibiaxial(Jm: float) -> float:
-    """Equibiaxial stretch at which the Gent energy (3.23) locks: 2 l^2 + l^-4 - 3 = Jm."""
+    """Equibiaxial stretch at which the Gent energy (3.23) locks: 2 l^2 + l^-4 - 3 = Jm.
+
+    ``Jm > 0`` (``math.inf``: neo-Hookean, no lock).
+    """
+    Jm = _check_Jm(Jm)
     if math.isinf(Jm):
         return math.inf
     # x = l^2: 2 x^3 - (Jm + 3) x^2 + 1 = 0, largest root
     lo, hi = 1.0, math.sqrt((Jm + 3) / 2) + 1.0
     f = lambda x: 2 * x**3 - (Jm + 3) * x**2 + 1  # noqa: E731
+    if Jm > _JM_HUGE:  # same sign, divided by x^2 > 0, so that x^3 cannot overflow
+        f = lambda x: 2 * x - (Jm + 3) + 1 / x / x  # noqa: E731
     for _ in range(200):
         mid = 0.5 * (lo + hi)
         if f(mid * mid) > 0:

@@ -23,6 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from debench.models import validation as v
 from debench.models.errors import ConvergenceError
 
 from .params import Annulus
@@ -77,16 +78,46 @@ def _rhs(l1, l2, kappa, membrane):
     return f1, d12, den, slope
 
 
+def _check(annulus, q, steps, lamP):
+    v.instance("annulus", annulus, Annulus)
+    v.integer_at_least("steps", steps, 4)
+    q = v.positive("q", q, complex_ok=True)
+    if lamP is not None:
+        v.positive("lamP", lamP)
+    return q
+
+
 def integrate_inward(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
                      profile: bool = False, lamP=None):
     """RK4 from t = T (lambda_1 = q, lambda_2 = lamP) to t = 0.
 
-    Returns (l1, l2) at t = 0 (arrays like q, complex if q is), NaN where the trajectory
-    left the admissible set (lambda_1 <= 0, Gent locking, loss of ellipticity of the
-    radial equation). With ``profile=True`` also returns t and the (steps+1, ...) arrays.
+    Returns (l1, l2) at t = 0 (arrays like q, complex if q is). With ``profile=True``
+    also returns t and the (steps+1, ...) arrays.
+
+    Raises
+    ------
+    ValueError
+        for bad arguments (q <= 0 or not finite, steps < 4), or when a trajectory leaves
+        the admissible set (lambda_1 <= 0, Gent locking, loss of ellipticity of the radial
+        equation) before R_A: no annulus state exists for that q.
     """
-    if steps < 4:
-        raise ValueError(f"steps must be >= 4, got {steps}")
+    _check(annulus, q, steps, lamP)
+    out = _integrate_inward(annulus, q, steps=steps, profile=profile, lamP=lamP)
+    _require_admissible(annulus, q, out[0])
+    return out
+
+
+def _require_admissible(annulus, q, l1):
+    bad = ~np.isfinite(np.real(l1))
+    if np.any(bad):
+        raise ValueError(f"q = {v._show(np.real(np.asarray(q))[bad])} gives a trajectory that "
+                         f"leaves the admissible set (Gent locking, lambda_1 <= 0 or loss "
+                         f"of ellipticity) before R_A for {annulus}")
+
+
+def _integrate_inward(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
+                      profile: bool = False, lamP=None):
+    """:func:`integrate_inward` without checks: NaN marks inadmissible trajectories."""
     q = np.asarray(q)
     dtype = np.complex128 if np.iscomplexobj(q) else np.float64
     l1 = q.astype(dtype, copy=True)
@@ -154,9 +185,21 @@ def interface_state(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
     """Interface state and its exact q-sensitivities (complex step through RK4).
 
     ``lamP`` (optional, broadcast with q) overrides ``annulus.lamP`` per trajectory.
+    Raises ValueError for bad arguments or an inadmissible trajectory (see
+    :func:`integrate_inward`).
     """
+    v.finite("q", q)
+    _check(annulus, q, steps, lamP)
+    st = _interface_state(annulus, q, steps=steps, lamP=lamP)
+    _require_admissible(annulus, q, st.lam1 + st.lam + st.T1)
+    return st
+
+
+def _interface_state(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
+                     lamP=None) -> InterfaceState:
+    """:func:`interface_state` without checks: NaN marks inadmissible trajectories."""
     q = np.asarray(q, dtype=float)
-    l1, l2 = integrate_inward(annulus, q + 1j * CSTEP, steps=steps, lamP=lamP)
+    l1, l2 = _integrate_inward(annulus, q + 1j * CSTEP, steps=steps, lamP=lamP)
     with np.errstate(all="ignore"):  # NaN marks inadmissible trajectories, by design
         s1, *_ = _stresses(l1, l2, annulus.kappa)
         T1 = s1 / l1
@@ -167,11 +210,20 @@ def interface_state(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
 
 def q_for_stretch(annulus: Annulus, lam, q0, *, steps: int = DEFAULT_STEPS,
                   rtol: float = 1e-13, maxiter: int = 30) -> np.ndarray:
-    """Newton on q so that lambda_2(R_A) = lam (vectorised); raises ConvergenceError."""
-    lam = np.asarray(lam, dtype=float)
+    """Newton on q so that lambda_2(R_A) = lam (vectorised); raises ConvergenceError.
+
+    Converged when every Newton step satisfies ``|dq| <= rtol |q|`` (``rtol`` a finite
+    tolerance in (0, 1), ``maxiter >= 1``); ``lam >= 1`` and ``q0 > 0`` finite.
+    """
+    v.instance("annulus", annulus, Annulus)
+    lam = np.asarray(v.at_least("lam", lam, 1.0), dtype=float)
+    q0 = v.positive("q0", q0)
+    v.integer_at_least("steps", steps, 4)
+    v.tolerance("rtol", rtol)
+    v.integer_at_least("maxiter", maxiter, 1)
     q = np.array(q0, dtype=float) * np.ones_like(lam)
     for _ in range(maxiter):
-        st = interface_state(annulus, q, steps=steps)
+        st = _interface_state(annulus, q, steps=steps)
         r = st.lam - lam
         if np.any(~np.isfinite(r)):
             raise ConvergenceError(
