@@ -54,8 +54,10 @@ CATALOGUE_DIR = Path(__file__).resolve().parent / "catalogue"
 #: that is wrong (or checked and right); assumption: a value the thesis does not state;
 #: literature: a number printed in a cited source (``lit.*``, only in literature.toml);
 #: derived: a value implied by stated inputs or closed forms but printed nowhere (checked,
-#: never presented as a thesis or literature number).
-KINDS = ("claim", "erratum", "assumption", "literature", "derived")
+#: never presented as a thesis or literature number); diagnosis: a hypothesis about why
+#: a thesis number does not reproduce, tested against that number (ids
+#: ``<chapter>.hypothesis.<name>.<quantity>``; parameter ``target`` names the claim).
+KINDS = ("claim", "erratum", "assumption", "literature", "derived", "diagnosis")
 STATUSES = (
     "reproduced",        # our value agrees within the tolerance the printed digits imply
     "not_reproduced",    # our value differs; diagnosis says why
@@ -64,6 +66,8 @@ STATUSES = (
     "confirmed",         # erratum: the printed form is wrong, evidence shows it
     "refuted",           # erratum: on checking, the printed form is right after all
     "editorial",         # erratum: a wrong cross-reference or label, no effect on results
+    "explained",         # diagnosis: the hypothesis gives the thesis number to its digits
+    "unexplained",       # diagnosis: it does not
     "assumed",           # assumption: the value we use where the thesis is silent
     "input",             # a stated parameter; the models use exactly it (transcription
                          # checked), so there is nothing to reproduce
@@ -249,6 +253,8 @@ def _validate(e: Entry) -> None:
         raise CatalogueError(f"{where}: ids lit.* are exactly the literature entries")
     if e.kind == "literature" and e.file != "literature.toml":
         raise CatalogueError(f"{where}: literature entries live in literature.toml")
+    if e.kind == "diagnosis" and not e.parameters.get("target"):
+        raise CatalogueError(f"{where}: a diagnosis names its target claim (parameters.target)")
     if e.kind == "derived" and not (e.reference or e.source):
         raise CatalogueError(f"{where}: a derived value needs its reference or source")
     if e.kind == "assumption" and not e.diagnosis and not e.notes:

@@ -21,6 +21,7 @@ STATUS_MARK = {
     "not_reproducible": "⚠️ not reproducible", "pending": "⏳ pending",
     "confirmed": "📝 erratum confirmed", "refuted": "erratum refuted",
     "editorial": "✏️ editorial erratum",
+    "explained": "🔎 explained", "unexplained": "🔎 unexplained",
     "assumed": "assumed", "input": "input (stated parameter)", "error": "💥 error",
 }
 CHAPTER_TITLES = {
@@ -87,14 +88,16 @@ def errata_table(results: Iterable[Result]) -> str:
 def summary_line(results: list[Result]) -> str:
     counts = status_counts(results)
     order = ["reproduced", "not_reproduced", "not_reproducible", "pending", "confirmed",
-             "refuted", "editorial", "assumed", "input", "error"]
+             "refuted", "editorial", "explained", "unexplained", "assumed", "input",
+             "error"]
     return ", ".join(f"{counts[s]} {s.replace('_', ' ')}" for s in order if counts[s])
 
 
 def chapter_summary(results: list[Result]) -> str:
     """Markdown table of status counts per chapter."""
     cols = ["reproduced", "not_reproduced", "not_reproducible", "pending", "confirmed",
-            "refuted", "editorial", "assumed", "input", "error"]
+            "refuted", "editorial", "explained", "unexplained", "assumed", "input",
+             "error"]
     present = [c for c in cols if any(r.status == c for r in results)]
     names = {"confirmed": "errata confirmed", "refuted": "errata refuted",
              "editorial": "editorial errata"}

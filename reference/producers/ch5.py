@@ -315,3 +315,80 @@ def coarse_guards(material=None, cases=None) -> list:
         out.append(Guarded(f"ch5.guard.{case}.v_cr_coarse_minus_curated", float(v) - stored,
                            COARSE_ATOL, reason))
     return out
+
+
+# ------------------------------------------------------------------ hypotheses (diagnoses)
+#: The modulus the thesis states for the normalisation (Table 5.1) and the one the
+#: hypothesis "mu in MPa" says was used instead: 1 MPa for 0.156 MPa, a units slip.
+MU_HYPOTHESIS = 1.0e6
+#: how each quantity transforms under a change of the normalising modulus: normalised
+#: voltages scale with sqrt(mu_ref/mu_used); deflections and physical fields do not
+#: depend on the normalisation at all
+_SCALING = {"voltage": math.sqrt(MU_REF / MU_HYPOTHESIS), "displacement": 1.0, "field": 1.0}
+
+
+def _target(entry: Entry):
+    from debench.reference import catalogue
+
+    target = catalogue.by_id()[entry.parameters["target"]]
+    return target, catalogue.evaluate(target)
+
+
+def hypothesis_mu_in_mpa(entry: Entry) -> Outcome:
+    """Our value of the target claim converted as the thesis would print it had it
+    normalised with mu = 1 MPa instead of 0.156 MPa; ``explained`` when that gives the
+    printed number within half a unit of its last digit."""
+    target, ours = _target(entry)
+    if isinstance(ours.value, bool | str):
+        raise ValueError(f"{entry.id}: target {target.id} is not a numeric claim")
+    if ours.value is None:
+        return Outcome(None, status="unexplained" if ours.value is None else None,
+                       diagnosis=f"{target.id}: we compute no number to convert "
+                                 f"({ours.diagnosis})")
+    factor = _SCALING[entry.parameters["quantity"]]
+    predicted = float(ours.value) * factor
+    tol = target.implied_tolerance()
+    explained = abs(predicted - float(target.value)) <= tol * (1 + 1e-12)
+    return Outcome(predicted, status="explained" if explained else "unexplained",
+                   details={"ours": float(ours.value), "factor": factor,
+                            "thesis": float(target.value), "tolerance": tol,
+                            "thesis_over_prediction": float(target.value) / predicted})
+
+
+def _w_at_voltage(case: str, v: float) -> float:
+    """Centre deflection / t0 of the imperfect ramp at normalised voltage ``v`` (before the
+    voltage maximum; linear interpolation between ramp steps)."""
+    r = _ramps().sel(case=case)
+    vv, ww = r.v.values, r.w_mid.values
+    ok = np.isfinite(vv) & np.isfinite(ww)
+    vv, ww = vv[ok], ww[ok]
+    top = int(np.argmax(vv)) + 1
+    if not vv[0] <= v <= vv[top - 1]:
+        raise ValueError(f"v = {v} outside the ramp of {case} [{vv[0]}, {vv[top - 1]}]")
+    return float(np.interp(v, vv[:top], ww[:top]))
+
+
+def hypothesis_read_off(entry: Entry) -> Outcome:
+    """Were the printed critical voltages read off the imperfect ramps at one deflection?
+
+    Under the "mu in MPa" normalisation each printed critical voltage (with its printed
+    precision) maps to an interval of voltages of our imperfect ramp, hence to an interval
+    of centre deflections. ``explained`` when the intervals of the two materials overlap:
+    one deflection threshold w* then gives both printed numbers. Value: the deflection
+    (/ t0) at the NH value."""
+    from debench.reference import catalogue
+
+    ids = catalogue.by_id()
+    out = {}
+    for key in ("target", "other"):
+        e = ids[entry.parameters[key]]
+        case = _case(e)
+        tol = e.implied_tolerance()
+        k = _SCALING["voltage"]
+        lo, hi = ((float(e.value) - tol) / k, (float(e.value) + tol) / k)
+        out[case] = (_w_at_voltage(case, lo), _w_at_voltage(case, hi))
+    (a0, a1), (b0, b1) = out.values()
+    overlap = max(a0, b0) <= min(a1, b1)
+    return Outcome(0.5 * (a0 + a1), status="explained" if overlap else "unexplained",
+                   details={f"w_interval_over_t0.{c}": list(v) for c, v in out.items()}
+                   | {"imperfection_over_t0": 1e-3})
