@@ -1,7 +1,9 @@
 """Closed-form references for the Chapter 5 model (numpy only, no ngsolve).
 
-* Mechanical energies (5.15) and (5.26) in numpy (principal stretches via ``eigvalsh``),
-  their Kirchhoff stresses in principal form (Eq. 5.27 and its neo-Hookean analogue).
+* The Kirchhoff stresses of (5.15) and (5.26) in principal form, written out
+  independently of the constitutive library (Eq. 5.27 and its neo-Hookean analogue): the
+  closed-form check of the library and of the finite-element model.  The energies
+  themselves come from the library (:mod:`debench.models.materials`).
 * The ideal dielectric (5.9) ``W_ele = D_L.C D_L/(2 eps J)`` and its partial Legendre
   transform ``Omega = W_mech - eps/2 J C^-1:(E_L x E_L)``.
 * The homogeneous pre-buckled state of the clamped film: in-plane stretches 1, thickness
@@ -23,12 +25,16 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from debench.models import validation as val
 from debench.models.buckling.parameters import MU_REF, NeoHookean, Ogden
+from debench.models.errors import ConvergenceError
 from scipy.optimize import brentq
 from scipy.special import jn_zeros
 
 J11_SQ = float(jn_zeros(1, 1)[0] ** 2)   # 14.6820, clamped circular plate coefficient
 KAPPA_MINDLIN = 5.0 / 6.0
+S_MIN = 0.3          # smallest thickness stretch of the flat film searched (70 % thinning)
+V_PLATE_MAX = 1.5    # largest normalised voltage searched for the plate-theory estimate
 
 
 def _check_F(F):
@@ -39,16 +45,9 @@ def _check_F(F):
 
 
 def mechanical_energy_numpy(F: np.ndarray, mat: NeoHookean | Ogden) -> float:
-    """W_mech(F) [Pa], Eq. (5.15) or (5.26) + k/2 (J-1)^2, principal stretches by eigvalsh."""
-    J = _check_F(F)
-    C = F.T @ F
-    vol = mat.k / 2 * (J - 1) ** 2
-    if isinstance(mat, NeoHookean):
-        return mat.mu / 2 * (J ** (-2 / 3) * np.trace(C) - 3) + vol
-    lb2 = np.linalg.eigvalsh(J ** (-2 / 3) * C)
-    iso = sum(2 * m / a**2 * (np.sum(lb2 ** (a / 2)) - 3)
-              for a, m in zip(mat.alphas, mat.mus, strict=True))
-    return iso + vol
+    """W_mech(F) [Pa] of (5.15) or (5.26) + k/2 (J-1)^2: the library energy at D_L = 0."""
+    _check_F(F)
+    return float(mat.energy(np.asarray(F, dtype=float), np.zeros(3)))
 
 
 def kirchhoff_principal(stretches, mat: NeoHookean | Ogden) -> np.ndarray:
@@ -64,14 +63,6 @@ def kirchhoff_principal(stretches, mat: NeoHookean | Ogden) -> np.ndarray:
     for a, m in zip(mat.alphas, mat.mus, strict=True):
         tau = tau + 2 * m / a * (lb**a - np.sum(lb**a) / 3)
     return tau
-
-
-def cauchy_mech_numpy(F: np.ndarray, mat) -> np.ndarray:
-    """Mechanical Cauchy stress [Pa] from principal Kirchhoff stresses and eigenvectors of B."""
-    J = _check_F(F)
-    b, n = np.linalg.eigh(F @ F.T)
-    tau = kirchhoff_principal(np.sqrt(b), mat)
-    return (n * tau) @ n.T / J
 
 
 def ideal_dielectric_energy(F, DL, eps) -> float:
@@ -97,11 +88,15 @@ def homogeneous_film(v: float, mat: NeoHookean | Ogden, mu_ref: float = MU_REF) 
     """
     if not (v >= 0 and math.isfinite(v)):
         raise ValueError(f"v must be finite and >= 0, got {v}")
+    mu_ref = val.positive("mu_ref", mu_ref)
 
     def g(s):
         return kirchhoff_principal([1, 1, s], mat)[2] / s / mu_ref + 0.5 * (v / s) ** 2
 
-    s = brentq(g, 0.3, 1.0 + 1e-12, xtol=1e-15, rtol=1e-15) if v > 0 else 1.0
+    if v > 0 and not g(S_MIN) < 0:
+        raise ValueError(f"v = {v:.6g} is past the thinning limit of the clamped film "
+                         f"(no traction-free thickness stretch above {S_MIN})")
+    s = brentq(g, S_MIN, 1.0 + 1e-12, xtol=1e-15, rtol=1e-15) if v > 0 else 1.0
     e = v / s
     tau = kirchhoff_principal([1, 1, s], mat)
     sig11 = tau[0] / s / mu_ref - 0.5 * e**2
@@ -111,7 +106,7 @@ def homogeneous_film(v: float, mat: NeoHookean | Ogden, mu_ref: float = MU_REF) 
 # --------------------------------------------------------------------------- plates
 def plate_constants(mat: NeoHookean | Ogden):
     """Small-strain E, nu, G of the material (G = initial shear modulus)."""
-    G, k = mat.mu0, mat.k
+    G, k = mat.shear_modulus, mat.k
     E = 9 * k * G / (3 * k + G)
     nu = (3 * k - 2 * G) / (2 * (3 * k + G))
     return E, nu, G
@@ -135,9 +130,27 @@ def critical_voltage_plate(mat, aspect: float, *, mindlin: bool = True,
                            mu_ref: float = MU_REF) -> float:
     """Normalised voltage at which the homogeneous film's in-plane compression reaches
     the clamped-plate critical stress (plate theory estimate of the FE eigen-analysis)."""
+    mu_ref = val.positive("mu_ref", mu_ref)
     target = -clamped_plate_critical_stress(mat, aspect, mindlin=mindlin) / mu_ref
-    return brentq(lambda v: homogeneous_film(v, mat, mu_ref)["sigma11"] - target, 1e-6, 1.5,
-                  xtol=1e-14)
+
+    def gap(v):
+        try:
+            return homogeneous_film(v, mat, mu_ref)["sigma11"] - target
+        except ValueError:          # past the thinning limit: the film is crushed
+            return -np.inf
+
+    if not gap(1e-6) > 0:
+        raise ValueError(f"the plate is unstable at zero voltage (critical in-plane stress "
+                         f"{target:.3g} mu_ref >= 0)")
+    hi = V_PLATE_MAX
+    if not gap(hi) < 0:
+        raise ConvergenceError(
+            f"critical_voltage_plate: the flat film's compression does not reach the plate's "
+            f"critical stress {-target:.3g} mu_ref for v up to {hi} (material "
+            f"{type(mat).__name__} with shear modulus {mat.shear_modulus:.6g} Pa, k = "
+            f"{mat.k:.6g} Pa: a bulk modulus this close to the shear modulus thins the film "
+            "instead of compressing it in-plane)")
+    return brentq(gap, 1e-6, hi, xtol=1e-14)
 
 
 def membrane_pullin_nh() -> tuple[float, float]:

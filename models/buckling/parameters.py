@@ -1,74 +1,62 @@
 """Parameters of the Chapter 5 buckling-membrane model (thesis Table 5.1, §5.2.3).
 
-Frozen dataclasses, SI units. Every default is either a value the thesis states
-(Table 5.1, §5.2.3) or a catalogued assumption (``reference/catalogue/ch5.toml``):
+Frozen dataclasses, SI units, validated on construction. The materials are those of the
+constitutive library (:mod:`debench.models.materials`), re-exported under their Chapter 5
+names; their defaults are Table 5.1 (:mod:`debench.models.materials.constants`):
 
-* ``NeoHookean``: mu = 156000 Pa, k = 7748003.92 Pa (Table 5.1), energy (5.15)-(5.17).
-* ``Ogden``: alpha = (1.293, 2.3252, 2.561), mu_p = (8580, 84300, -23300) Pa (Table 5.1),
-  energy (5.26) read as ``sum 2 mu_p / alpha_p**2 (lam1b**a + lam2b**a + lam3b**a - 3)``
-  (the Abaqus convention, consistent with the Kirchhoff stress (5.27)); initial shear
-  modulus ``sum(mu_p)`` = 69580 Pa. The bulk modulus is that of the neo-Hookean row
-  (Table 5.1 gives one k; assumption ``ch5.assumption.ogden_bulk_modulus``).
+* ``NeoHookean`` = :class:`~debench.models.materials.NeoHookeanIdealDielectric`:
+  mu = 156000 Pa, k = 7748003.92 Pa, energy (5.15)-(5.17) + ideal dielectric (5.9).
+* ``Ogden`` = :class:`~debench.models.materials.OgdenIdealDielectric`:
+  alpha = (1.293, 2.3252, 2.561), mu_p = (8580, 84300, -23300) Pa, energy (5.26) read as
+  ``sum 2 mu_p / alpha_p**2 (lam1b**a + lam2b**a + lam3b**a - 3)`` (consistent with the
+  Kirchhoff stress (5.27)); initial shear modulus ``shear_modulus = sum(mu_p)`` = 69580 Pa;
+  bulk modulus of the neo-Hookean row (assumption ``ch5.assumption.ogden_bulk_modulus``).
 * ``Plate``: radius/thickness = 10, t0 = 1 mm or 0.5 mm, imperfection amplitude
-  1e-3 t0 (§5.2.3), relative permittivity 4.7 (assumption: not stated in Ch. 5).
+  1e-3 t0 (§5.2.3), relative permittivity 4.7 (assumption: not stated in Ch. 5; it only
+  converts normalised voltages to volts, the finite-element problem does not depend on it).
+* ``Discretisation``: mesh size, layers, polynomial order and the numerical parameter of
+  the Ogden spectral evaluation (``ogden_delta``, see
+  :mod:`debench.models.materials.ngsolve_forms`).
+
+The permittivity of the library materials (``eps``) does not enter the normalised
+finite-element problem either (normalised voltage ``v = Phi/t0 sqrt(eps/mu_ref)``).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import math
+from dataclasses import dataclass
 
-from debench.models.errors import require
+from debench.models import validation as val
+from debench.models.materials.constants import (
+    EPS_R_ASSUMED,
+    OGDEN_DELTA,
+    TABLE_5_1_BULK_MODULUS,
+    TABLE_5_1_NH_SHEAR_MODULUS,
+    VACUUM_PERMITTIVITY,
+)
+from debench.models.materials.library import NeoHookeanIdealDielectric as NeoHookean
+from debench.models.materials.library import OgdenIdealDielectric as Ogden
 
-EPS0 = 8.8541878128e-12  # F/m, vacuum permittivity (CODATA 2018)
-MU_REF = 156000.0        # Pa, Table 5.1 shear modulus: the normalising modulus (assumption)
-K_TABLE = 7748003.92     # Pa, Table 5.1 bulk modulus
+MU_REF = TABLE_5_1_NH_SHEAR_MODULUS
+"""Pa, the normalising modulus: Table 5.1 shear modulus (assumption
+``ch5.assumption.normalisation``)."""
+K_TABLE = TABLE_5_1_BULK_MODULUS
+"""Pa, Table 5.1 bulk modulus."""
 
+__all__ = ["COARSE", "Discretisation", "K_TABLE", "MU_REF", "NeoHookean", "Ogden", "Plate"]
 
-@dataclass(frozen=True)
-class NeoHookean:
-    """Compressible neo-Hookean mechanical part, Eq. (5.15) with C10 = mu/2, D1 = 2/k."""
-
-    mu: float = MU_REF
-    k: float = K_TABLE
-    name: str = field(default="nh", init=False)
-
-    def __post_init__(self):
-        require(self.mu > 0, f"mu must be > 0, got {self.mu}")
-        require(self.k > 0, f"k must be > 0, got {self.k}")
-
-    @property
-    def mu0(self) -> float:
-        """Initial shear modulus."""
-        return self.mu
-
-
-@dataclass(frozen=True)
-class Ogden:
-    """Three-term Ogden mechanical part, Eq. (5.26)-(5.27), plus k/2 (J-1)^2.
-
-    ``delta`` is the size of the symmetric spectral perturbation used to evaluate the
-    principal stretches without the equal-eigenvalue singularity (see
-    :mod:`debench.models.buckling.fem`); the energy error it causes is O(delta**2).
-    """
-
-    alphas: tuple[float, ...] = (1.293, 2.3252, 2.561)
-    mus: tuple[float, ...] = (8580.0, 84300.0, -23300.0)
-    k: float = K_TABLE
-    delta: float = 1e-3
-    name: str = field(default="ogden", init=False)
-
-    def __post_init__(self):
-        require(len(self.alphas) == len(self.mus) and len(self.mus) > 0,
-                "alphas and mus must have the same non-zero length")
-        require(all(a != 0 for a in self.alphas), "alphas must be non-zero")
-        require(self.k > 0, f"k must be > 0, got {self.k}")
-        require(self.mu0 > 0, f"initial shear modulus sum(mus) must be > 0, got {self.mu0}")
-        require(0 < self.delta < 0.1, f"delta must be in (0, 0.1), got {self.delta}")
-
-    @property
-    def mu0(self) -> float:
-        """Initial shear modulus ``sum(mu_p)`` (small-strain limit of (5.26))."""
-        return float(sum(self.mus))
+# Plate: an aspect below 2 is no plate; the imperfection lifts the reference geometry by
+# w0 = imperfection t0 (1 - r^2/a^2)^2, which the prism mesh (vertical lines) represents
+# without inverted elements for amplitudes well below the thickness; 0.1 t0 is 100x the
+# thesis value 1e-3 t0 and still leaves the centre points locatable on coarse meshes.
+MAX_IMPERFECTION = 0.1
+# Discretisation: h_rel = 0.25 t0 with one layer of quadratic prisms is ~300k DOFs (the
+# largest problem a sparse direct solve handles in minutes on one core); below that the
+# mesher and the factorisation run for hours.
+MIN_H_REL = 0.25
+MAX_LAYERS = 16
+MAX_ORDER = 4
 
 
 @dataclass(frozen=True)
@@ -78,14 +66,15 @@ class Plate:
     thickness: float = 1e-3
     aspect: float = 10.0
     imperfection: float = 1e-3
-    eps_r: float = 4.7
+    eps_r: float = EPS_R_ASSUMED
 
     def __post_init__(self):
-        require(self.thickness > 0, f"thickness must be > 0, got {self.thickness}")
-        require(self.aspect >= 2, f"aspect (radius/thickness) must be >= 2, got {self.aspect}")
-        require(0 <= self.imperfection < 0.5,
-                f"imperfection (fraction of t0) must be in [0, 0.5), got {self.imperfection}")
-        require(self.eps_r >= 1, f"eps_r must be >= 1, got {self.eps_r}")
+        val.positive("thickness", self.thickness)
+        val.in_range("aspect", self.aspect, 2.0, 1e3)
+        val.in_range("imperfection", self.imperfection, 0.0, MAX_IMPERFECTION,
+                     bound=f"above {MAX_IMPERFECTION} t0: the lifted prism mesh no longer "
+                           "represents the plate (fraction of t0)")
+        val.in_range("eps_r", self.eps_r, 1.0, 1e4)
 
     @property
     def radius(self) -> float:
@@ -93,27 +82,43 @@ class Plate:
 
     @property
     def eps(self) -> float:
-        return self.eps_r * EPS0
+        return self.eps_r * VACUUM_PERMITTIVITY
 
     def volts(self, v: float, mu_ref: float = MU_REF) -> float:
         """Voltage of the normalised voltage ``v = Phi/t0 sqrt(eps/mu_ref)``."""
-        return v * self.thickness * (mu_ref / self.eps) ** 0.5
+        v = val.finite("v", v)
+        mu_ref = val.positive("mu_ref", mu_ref)
+        return v * self.thickness * math.sqrt(mu_ref / self.eps)
 
     def field_V_per_um(self, e_hat: float, mu_ref: float = MU_REF) -> float:
         """True field in V/um of the normalised field ``e = E sqrt(eps/mu_ref)``."""
-        return e_hat * (mu_ref / self.eps) ** 0.5 * 1e-6
+        e_hat = val.finite("e_hat", e_hat)
+        mu_ref = val.positive("mu_ref", mu_ref)
+        return e_hat * math.sqrt(mu_ref / self.eps) * 1e-6
 
 
 @dataclass(frozen=True)
 class Discretisation:
     """Extruded prism mesh: in-plane size ``h_rel * t0``, ``layers`` through thickness,
-    polynomial ``order`` for displacement and potential."""
+    polynomial ``order`` for displacement and potential; ``ogden_delta`` is the half-width
+    of the averaged spectral perturbation of the Ogden energy (error O(delta^2))."""
 
     h_rel: float = 1.5
     layers: int = 2
     order: int = 2
+    ogden_delta: float = OGDEN_DELTA
 
     def __post_init__(self):
-        require(self.h_rel > 0, f"h_rel must be > 0, got {self.h_rel}")
-        require(self.layers >= 1, f"layers must be >= 1, got {self.layers}")
-        require(self.order >= 1, f"order must be >= 1, got {self.order}")
+        val.in_range("h_rel", self.h_rel, MIN_H_REL, 100.0)
+        val.integer_at_least("layers", self.layers, 1)
+        if self.layers > MAX_LAYERS:
+            raise ValueError(f"layers = {self.layers} must be <= {MAX_LAYERS}")
+        val.integer_at_least("order", self.order, 1)
+        if self.order > MAX_ORDER:
+            raise ValueError(f"order = {self.order} must be <= {MAX_ORDER}")
+        val.in_range("ogden_delta", self.ogden_delta, 0.0, 0.1, lo_open=True, hi_open=True)
+
+
+COARSE = Discretisation(h_rel=3.0, layers=1, order=2)
+"""The coarsest mesh of the studies: in-plane size 3 t0, one layer of quadratic prisms
+(1,644 DOFs); what ``debench verify`` recomputes."""

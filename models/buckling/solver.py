@@ -11,49 +11,98 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from debench.models import validation as val
 from debench.models.buckling.analytic import critical_voltage_plate
 from debench.models.buckling.fem import MembraneModel, mode_axisymmetry
 from debench.models.buckling.parameters import Discretisation, NeoHookean, Ogden, Plate
 from debench.models.errors import ConvergenceError, require
 
-CRITICAL_VTOL = 1e-6     # secant on lambda_1(v^2) = 0 stops when |dv| < this
+CRITICAL_VTOL = 1e-6
+"""The secant on lambda_1(v^2) = 0 stops when its step |dv| < CRITICAL_VTOL (normalised
+voltage; v_cr ~ 0.2, so 5e-6 relative)."""
 
 
 @dataclass(frozen=True)
 class CriticalResult:
-    """Bifurcation of the perfect flat film: lambda_1(S(v_cr)) = 0."""
+    """Bifurcation of the perfect flat film: lambda_1(S(v_cr)) = 0, with what was achieved.
 
-    v: float                      # normalised critical voltage
-    e: float                      # normalised true field at v (flat film)
-    thickness: float              # thickness stretch of the flat film at v
+    ``v``: normalised critical voltage of this mesh (to ``vtol``, see
+    :func:`critical_voltage`); ``e``, ``thickness``: true field and thickness stretch of
+    the flat film at ``v``; ``lam``: the lowest eigenvalue at ``v`` (zero up to the secant
+    tolerance); ``eig_residual``: largest relative eigen-residual ``||S x - lam M x||/||M x||``
+    of the last eigen-analysis; ``newton_residual``, ``newton_residual_rel``,
+    ``newton_iterations``: residual norm reached by the last Newton solve, relative to its
+    first residual, and its iterations; ``vtol``: the secant step at which it stopped;
+    ``ndof``, ``nelements``, ``h_rel`` (in-plane mesh size / t0), ``layers``, ``order``:
+    the mesh; ``stats``: timings and counts (factorisations, Newton steps, eigen-analyses).
+    """
+
+    v: float
+    e: float
+    thickness: float
     ndof: int
     nelements: int
     iterations: int
     history: tuple = field(default=())
+    lam: float = float("nan")
+    eig_residual: float = float("nan")
+    newton_residual: float = float("nan")
+    newton_residual_rel: float = float("nan")
+    newton_iterations: int = 0
+    vtol: float = CRITICAL_VTOL
+    h_rel: float = float("nan")
+    layers: int = 0
+    order: int = 0
+    stats: dict = field(default_factory=dict)
 
 
 def critical_voltage(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation,
-                     *, inverse: str = "umfpack", maxit: int = 20) -> CriticalResult:
+                     *, inverse: str = "sparsecholesky", reuse: bool = True,
+                     eigensolver: str = "lobpcg", maxit: int = 20,
+                     vtol: float = CRITICAL_VTOL) -> CriticalResult:
     """Critical normalised voltage of the perfect clamped film by linearised eigen-analysis.
 
-    The flat pre-buckled state is equilibrated at each trial voltage (Newton); the
+    The flat pre-buckled state is equilibrated at each trial voltage (Newton, stopping on
+    a residual relative to its first or at its round-off floor); the algebraically
     smallest eigenvalue of the condensed tangent stiffness at fixed voltage is driven to
-    zero by the secant method in ``v^2`` (the prestress is proportional to v^2).  Raises
-    ConvergenceError if the secant does not converge in ``maxit`` steps.
+    zero by the secant method in ``v^2`` (the prestress is proportional to v^2), started
+    at 0.8 and 0.95 times the plate-theory estimate.
+
+    Accuracy contract: the returned ``v`` is the zero of the lowest eigenvalue *of this
+    mesh* to the secant's last step ``|dv| < vtol`` (default 1e-6, i.e. ~5e-6 relative);
+    each eigenvalue is converged to a relative eigen-residual below ``fem.EIG_RTOL`` (the
+    achieved value is ``eig_residual``) at a Newton state whose residual is reported
+    (``newton_residual``).  The discretisation error is *not* included: it is measured by
+    the mesh sequence of ``reference/builders/ch5.py`` (about 4 % at h = 3 t0, 0.6 % at
+    h = 1 t0 for one layer of quadratic prisms).
+
+    ``inverse``, ``reuse``, ``eigensolver``: linear algebra of
+    :class:`~debench.models.buckling.fem.MembraneModel` (``"umfpack", reuse=False,
+    eigensolver="subspace"`` is the engine before the measured choice).  Raises
+    ConvergenceError if the secant does not converge in ``maxit`` steps, ValueError on bad
+    input.
     """
-    model = MembraneModel(plate, mat, disc, with_imperfection=False, inverse=inverse)
+    maxit = val.integer_at_least("maxit", maxit, 1)
+    vtol = val.tolerance("vtol", vtol)
+    model = MembraneModel(plate, mat, disc, with_imperfection=False, inverse=inverse,
+                          reuse=reuse, eigensolver=eigensolver)
     v_est = critical_voltage_plate(mat, plate.aspect)
+    mode = [None]
 
     def lam_at(v):
         model.set_voltage(v)
         model.newton()
-        w, _ = model.lowest_eigenvalues(nev=1)
+        w, modes = model.lowest_eigenvalues(nev=1, x0=mode[0])
+        mode[0] = modes
         return float(w[0])
 
     xs = [(0.8 * v_est) ** 2, (0.95 * v_est) ** 2]
     ls = [lam_at(math.sqrt(x)) for x in xs]
     hist = [(math.sqrt(x), lv) for x, lv in zip(xs, ls, strict=True)]
     for it in range(maxit):
+        if ls[-1] == ls[-2]:
+            raise ConvergenceError(f"critical_voltage: flat secant (lambda {ls[-1]}) at "
+                                   f"v = {math.sqrt(xs[-1]):.6g}: {hist}")
         x_new = xs[-1] - ls[-1] * (xs[-1] - xs[-2]) / (ls[-1] - ls[-2])
         if not (x_new > 0 and math.isfinite(x_new)):
             raise ConvergenceError(f"critical_voltage: secant left the domain (v^2={x_new})")
@@ -62,12 +111,17 @@ def critical_voltage(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation
         dv = abs(math.sqrt(x_new) - math.sqrt(xs[-1]))
         xs.append(x_new)
         ls.append(l_new)
-        if dv < CRITICAL_VTOL or l_new == 0.0:
+        if dv < vtol or l_new == 0.0:
             v = math.sqrt(x_new)
-            return CriticalResult(v=v, e=v / model.centre_thickness(),
-                                  thickness=model.centre_thickness(), ndof=model.ndof,
-                                  nelements=model.nelements, iterations=it + 3,
-                                  history=tuple(hist))
+            th = model.centre_thickness()
+            ln = model.last_newton
+            return CriticalResult(
+                v=v, e=v / th, thickness=th, ndof=model.ndof, nelements=model.nelements,
+                iterations=it + 3, history=tuple(hist), lam=l_new,
+                eig_residual=model.last_eig["residual"], newton_residual=ln["residual"],
+                newton_residual_rel=ln["residual_rel"], newton_iterations=ln["iterations"],
+                vtol=vtol, h_rel=disc.h_rel, layers=disc.layers, order=disc.order,
+                stats=dict(model.stats))
     raise ConvergenceError(f"critical_voltage: secant did not converge in {maxit} steps: {hist}")
 
 
@@ -81,6 +135,10 @@ class RampResult:
     little past the voltage maximum (deflection control).  ``v_pullin``, ``w_pullin``: the
     limit point (vertex of the parabola v(w) through the three points around the maximum;
     None if not reached); ``pullin_bracket`` = (largest computed v, v_pullin).
+    What was achieved: ``newton_its`` and ``newton_residual`` (residual norm reached) per
+    point, ``eig_residual`` per eigen-record, the mesh (``ndof``, ``nelements``,
+    ``h_rel``, ``layers``, ``order``) and ``stats`` (timings, factorisations, Newton
+    steps, eigen-analyses).
     """
 
     v: np.ndarray
@@ -100,6 +158,11 @@ class RampResult:
     eig_w: np.ndarray = field(default_factory=lambda: np.zeros(0))
     eig_lam: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     eig_axisym: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    newton_residual: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    eig_residual: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    h_rel: float = float("nan")
+    layers: int = 0
+    order: int = 0
 
     def wrinkling_onset(self, axisym_max: float = 0.5):
         """First recorded state where a non-axisymmetric mode (n = 0 fraction below
@@ -121,13 +184,12 @@ class RampResult:
         return None
 
 
-EIG_SHIFT = 0.05   # shift of the path eigen-analysis: returns the algebraically smallest
-                   # eigenvalues of S when they exceed -0.05 (lambda ~ 1e-2 here)
 
 
 def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
                  v_max: float = 1.5, dv0: float = 0.02, dv_max: float = 0.02,
-                 dw_max: float = 0.5, inverse: str = "umfpack", progress=None,
+                 dw_max: float = 0.5, inverse: str = "sparsecholesky", reuse: bool = True,
+                 eigensolver: str = "lobpcg", progress=None,
                  max_steps: int = 2000, eig_every: int = 0, v_switch: float | None = None,
                  dc: float = 0.2, c_max: float = 12.0, drop: float = 0.01) -> RampResult:
     """Continuation of the imperfect film to and past pull-in.
@@ -142,16 +204,31 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
     dropped by ``drop`` below its maximum (pull-in = the voltage limit point, passed) or
     ``c_max``.  The pull-in voltage is the vertex of the parabola through the three points
     around the maximum.  With ``eig_every > 0`` the three algebraically smallest
-    eigenvalues of the condensed tangent (shift EIG_SHIFT) and the axisymmetric fraction of
-    their modes are recorded every ``eig_every`` steps (stability, wrinkling detection).
+    eigenvalues of the condensed tangent (LOBPCG: negative ones at any depth) and the
+    axisymmetric fraction of their modes are recorded every ``eig_every`` steps and at the
+    first point past the limit point (stability, wrinkling detection).
+
+    Accuracy contract: every recorded point is an equilibrium of this mesh whose residual
+    is reported (``newton_residual``: Newton stopped on ``max|du| < 1e-9 t0``, a residual
+    1e-10 times its first, or the round-off floor); the pull-in voltage is the vertex of a
+    parabola through three path points around the maximum, so its error is that of the
+    quadratic interpolation over steps of at most ``dc`` t0 (the bracket
+    ``pullin_bracket`` = (largest computed v, v_pullin) bounds it from below; measured
+    < 1e-3 relative on the coarse mesh) plus the discretisation error of the mesh (not
+    included; h = 2 t0 vs 1 t0 is measured in ``reference/builders/ch5.py``).  Eigenvalues
+    carry their relative eigen-residual (``eig_residual``).  A step whose tangent is
+    singular (the iterate landed on a bifurcation or on the limit point) is rejected and
+    retried with half the step, never passed silently.
     """
     require(v_max > 0, f"v_max must be > 0, got {v_max}")
     require(0 < dv0 <= dv_max, f"need 0 < dv0 <= dv_max, got {dv0}, {dv_max}")
     require(dc > 0, f"dc must be > 0, got {dc}")
     from debench.models.buckling.fem import control_deflection, newton_deflection
-    model = MembraneModel(plate, mat, disc, with_imperfection=True, inverse=inverse)
-    rec = {k: [] for k in ("v", "w", "w_mid", "thickness", "e_centre", "e_max", "its")}
-    eig = {"v": [], "w": [], "lam": [], "ax": []}
+    model = MembraneModel(plate, mat, disc, with_imperfection=True, inverse=inverse,
+                          reuse=reuse, eigensolver=eigensolver)
+    rec = {k: [] for k in ("v", "w", "w_mid", "thickness", "e_centre", "e_max", "its", "res")}
+    eig = {"v": [], "w": [], "lam": [], "ax": [], "res": []}
+    last_modes = [None]
     if v_switch is None:
         v_switch = 1.3 * critical_voltage_plate(mat, plate.aspect)
     v_switch = min(v_switch, v_max)
@@ -164,13 +241,16 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
         rec["e_centre"].append(model.v / rec["thickness"][-1])
         rec["e_max"].append(model.max_true_field())
         rec["its"].append(its)
+        rec["res"].append(model.last_newton["residual"] if its else 0.0)
         if eig_every and len(rec["v"]) % eig_every == 0:
             eig_record()
         if progress is not None:
             progress(model.v, rec["w"][-1])
 
     def eig_record():
-        lam, modes = model.lowest_eigenvalues(nev=3, shift=EIG_SHIFT)
+        lam, modes = model.lowest_eigenvalues(nev=3, x0=last_modes[0])
+        last_modes[0] = modes
+        eig["res"].append(model.last_eig["residual"])
         eig["v"].append(model.v)
         eig["w"].append(rec["w"][-1])
         eig["lam"].append(lam)
@@ -262,7 +342,9 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
                       ndof=model.ndof, nelements=model.nelements, stats=dict(model.stats),
                       eig_v=np.array(eig["v"]), eig_w=np.array(eig["w"]),
                       eig_lam=np.array(eig["lam"]).reshape(-1, 3),
-                      eig_axisym=np.array(eig["ax"]).reshape(-1, 3))
+                      eig_axisym=np.array(eig["ax"]).reshape(-1, 3),
+                      newton_residual=arr["res"], eig_residual=np.array(eig["res"]),
+                      h_rel=disc.h_rel, layers=disc.layers, order=disc.order)
 
 
 def southwell(v: np.ndarray, w_mid: np.ndarray, *, v_guess: float, window=(0.4, 0.9)) -> float:

@@ -12,8 +12,11 @@
   fraction (wrinkling detection);
 * figures mirroring Figs 5.4 and 5.6 and the mesh-convergence of the critical voltage.
 
-``full=False``: coarse meshes (in-plane size 3, 2, 1.4, 1 t0; ramps at 2 t0), minutes on
-one core.  ``full=True``: refined meshes (down to 0.5 t0; ramps at 1 t0), hours.
+``full=False``: coarse meshes (in-plane size 3, 2, 1.4 t0; ramps at 3 t0), about a minute
+on one core.  ``full=True``: refined meshes (down to 0.5 t0; ramps at 1 t0), hours, run as
+independent tasks on Dask ``distributed`` (:func:`run_tasks`).  The 0.5 mm Ogden case is
+the 1 mm case by scale invariance (:data:`SCALE_COPIES`).  :func:`coarse_values` recomputes
+the coarsest level of every case (``debench verify``).
 """
 
 from __future__ import annotations
@@ -23,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from debench.models.materials.constants import OGDEN_DELTA
 from debench.reference.datasets import write_dataset
 from scipy.optimize import brentq
 
@@ -31,12 +35,21 @@ CASES = {  # name: (material, thickness [m])
     "ogden_t1": ("ogden", 1e-3),
     "ogden_t0p5": ("ogden", 0.5e-3),
 }
-LEVELS = {False: (3.0, 2.0, 1.4, 1.0), True: (2.0, 1.4, 1.0, 0.7, 0.5)}
-RAMP_H = {False: 2.0, True: 1.0}
+SCALE_COPIES = {"ogden_t0p5": "ogden_t1"}
+"""Cases identical in normalised variables by scale invariance (radius/thickness fixed: no
+intrinsic length; ``verification/test_ch5_fem.py::test_normalised_results_are_scale_invariant``
+checks it on the coarse mesh): computed once, from the case they copy."""
+LEVELS = {False: (3.0, 2.0, 1.4), True: (2.0, 1.4, 1.0, 0.7, 0.5)}
+RAMP_H = {False: 3.0, True: 1.0}
 LAYERS = 1          # through-thickness: 1 layer of quadratic prisms (2 layers change the
                     # critical voltage by < 0.4 %, see verification/test_ch5_fem.py)
 ORDER = 2
 EIG_EVERY = 4
+RAMP_DV_MAX = 0.02  # largest voltage step of the ramps (normalised): >= 3 points in the
+                    # Southwell window 0.4-0.9 v_cr of the Ogden case (v_cr ~ 0.17)
+GUARD_DV_MAX = 0.04  # coarse_values(): only the pull-in is needed (step-independent to
+                     # the parabola's accuracy)
+COARSE_H = 3.0      # the coarsest level: what coarse_values() and `debench verify` recompute
 
 
 def _material(name):
@@ -58,43 +71,124 @@ def richardson(h, v):
     return v3 - c * h3**p, p
 
 
-def compute(full: bool = False, progress: bool = True):
-    """Run the FE computations; returns (critical dataset, ramps dataset, parameters)."""
-    import ngsolve
-    from debench.models.buckling import analytic
-    from debench.models.buckling.parameters import MU_REF, Discretisation, Plate
-    from debench.models.buckling.solver import critical_voltage, southwell, voltage_ramp
-    ngsolve.SetNumThreads(int(os.environ.get("OMP_NUM_THREADS", "1")))
+# ------------------------------------------------------------------ tasks (plain data out)
+def _limit_threads():
+    """One thread for BLAS and NGSolve's TaskManager in this process (a Dask worker runs
+    one task per process; nothing oversubscribes)."""
+    for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ[var] = "1"
     try:
-        from tqdm import tqdm
-    except ImportError:  # pragma: no cover
-        tqdm = None
+        from threadpoolctl import threadpool_limits
+        threadpool_limits(1)
+    except ImportError:  # pragma: no cover - optional
+        pass
+    import ngsolve
+    ngsolve.SetNumThreads(1)
+
+
+def critical_task(case: str, h_rel: float) -> dict:
+    """One critical-voltage computation as plain data (a Dask task)."""
+    from debench.models.buckling.parameters import Discretisation, Plate
+    from debench.models.buckling.solver import critical_voltage
+    _limit_threads()
+    mat_name, t0 = CASES[case]
+    r = critical_voltage(Plate(thickness=t0), _material(mat_name),
+                         Discretisation(h_rel=h_rel, layers=LAYERS, order=ORDER))
+    return {"v": r.v, "ndof": r.ndof, "nelements": r.nelements, "eig_residual": r.eig_residual,
+            "newton_residual": r.newton_residual}
+
+
+def ramp_task(case: str, h_rel: float, eig_every: int = EIG_EVERY,
+              dv_max: float = RAMP_DV_MAX) -> dict:
+    """One voltage ramp as plain data (a Dask task): the RampResult fields."""
+    import dataclasses
+
+    from debench.models.buckling.parameters import Discretisation, Plate
+    from debench.models.buckling.solver import voltage_ramp
+    _limit_threads()
+    mat_name, t0 = CASES[case]
+    r = voltage_ramp(Plate(thickness=t0), _material(mat_name),
+                     Discretisation(h_rel=h_rel, layers=LAYERS, order=ORDER),
+                     dv_max=dv_max, eig_every=eig_every)
+    return {f.name: getattr(r, f.name) for f in dataclasses.fields(r)}
+
+
+def run_tasks(tasks: list[tuple], scheduler=None, progress: bool = True) -> list:
+    """Run ``(function, *args)`` tasks serially (``scheduler=None``) or on Dask
+    ``distributed``: ``"local"`` starts a LocalCluster sized to the machine (one process per
+    core, one thread each), any other string is the address of an existing scheduler
+    (e.g. one started by dask-jobqueue on SLURM/PBS or by dask-kubernetes).  Results come
+    back in task order."""
+    if scheduler is None:
+        out = []
+        try:
+            from tqdm import tqdm
+        except ImportError:  # pragma: no cover
+            tqdm = None
+        it = tqdm(tasks, desc="ch5 FE", disable=not progress) if tqdm else tasks
+        for fn, *args in it:
+            out.append(fn(*args))
+        return out
+    from distributed import Client, LocalCluster
+    if scheduler == "local":
+        n = os.cpu_count() or 1
+        with LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                          dashboard_address=None) as cluster, Client(cluster) as client:
+            return client.gather([client.submit(fn, *args, pure=False)
+                                  for fn, *args in tasks])
+    with Client(scheduler) as client:
+        return client.gather([client.submit(fn, *args, pure=False) for fn, *args in tasks])
+
+
+def coarse_values(*, cases=tuple(CASES)) -> dict[str, float]:
+    """The coarsest level of every case, recomputed now (what ``debench verify`` guards).
+
+    Keys (stable): ``"<case>.v_cr"`` -- critical voltage on the coarsest mesh (h = 3 t0,
+    one layer of quadratic prisms), for every case; ``"<case>.v_pullin"`` and
+    ``"<case>.w_pullin"`` -- pull-in voltage and centre deflection / t0 of the ramp on the
+    same mesh (no eigen-analysis along the path), for the cases that are not scale copies
+    (``nh_t1``, ``ogden_t1``).  Accuracy: v_cr to the secant's |dv| < 1e-6; pull-in to the
+    parabola through the maximum (< 1e-3 relative, see ``voltage_ramp``).
+    """
+    out = {}
+    for case in cases:
+        out[f"{case}.v_cr"] = float(critical_task(case, COARSE_H)["v"])
+    for case in cases:
+        if case in SCALE_COPIES:
+            continue
+        r = ramp_task(case, COARSE_H, eig_every=0, dv_max=GUARD_DV_MAX)
+        out[f"{case}.v_pullin"] = float(r["v_pullin"])
+        out[f"{case}.w_pullin"] = float(r["w_pullin"])
+    return out
+
+
+def compute(full: bool = False, progress: bool = True, scheduler=None):
+    """Run the FE computations; returns (critical dataset, ramps dataset, parameters).
+
+    Every (case, level) critical voltage and every ramp is an independent task (run
+    serially, or on Dask with ``scheduler``); scale copies (:data:`SCALE_COPIES`) are
+    filled from the case they copy.
+    """
+    from debench.models.buckling import analytic
+    from debench.models.buckling.parameters import MU_REF
+    from debench.models.buckling.solver import RampResult, southwell
     levels = LEVELS[full]
-    work = [(c, h) for c in CASES for h in levels]
-    bar = tqdm(total=len(work) + len(CASES), desc="ch5 FE", disable=not progress) if tqdm else None
-    vcr = np.full((len(CASES), len(levels)), np.nan)
-    ndof = np.zeros((len(CASES), len(levels)), dtype=np.int64)
-    nel = np.zeros_like(ndof)
-    for i, case in enumerate(CASES):
-        mat_name, t0 = CASES[case]
-        for j, h in enumerate(levels):
-            r = critical_voltage(Plate(thickness=t0), _material(mat_name),
-                                 Discretisation(h_rel=h, layers=LAYERS, order=ORDER))
-            vcr[i, j], ndof[i, j], nel[i, j] = r.v, r.ndof, r.nelements
-            if bar:
-                bar.set_postfix(case=case, h=h, v_cr=f"{r.v:.5f}")
-                bar.update()
-    ramps = {}
-    for case in CASES:
-        mat_name, t0 = CASES[case]
-        ramps[case] = voltage_ramp(Plate(thickness=t0), _material(mat_name),
-                                   Discretisation(h_rel=RAMP_H[full], layers=LAYERS, order=ORDER),
-                                   eig_every=EIG_EVERY)
-        if bar:
-            bar.set_postfix(case=case, v_pullin=f"{ramps[case].v_pullin}")
-            bar.update()
-    if bar:
-        bar.close()
+    computed = [c for c in CASES if c not in SCALE_COPIES]
+    tasks = ([(critical_task, c, h) for c in computed for h in levels]
+             + [(ramp_task, c, RAMP_H[full]) for c in computed])
+    results = run_tasks(tasks, scheduler=scheduler, progress=progress)
+    crit_res = {(c, h): results[k] for k, (c, h) in
+                enumerate((c, h) for c in computed for h in levels)}
+    ramps = {c: RampResult(**results[len(computed) * len(levels) + k])
+             for k, c in enumerate(computed)}
+    for copy, source in SCALE_COPIES.items():
+        for h in levels:
+            crit_res[(copy, h)] = crit_res[(source, h)]
+        ramps[copy] = ramps[source]
+    vcr = np.array([[crit_res[(c, h)]["v"] for h in levels] for c in CASES])
+    ndof = np.array([[crit_res[(c, h)]["ndof"] for h in levels] for c in CASES], dtype=np.int64)
+    nel = np.array([[crit_res[(c, h)]["nelements"] for h in levels] for c in CASES],
+                   dtype=np.int64)
 
     names = list(CASES)
     v_inf, rate, v_k, v_m, v_sw, v_cr_ramp_mesh = [], [], [], [], [], []
@@ -200,12 +294,14 @@ def compute(full: bool = False, progress: bool = True):
         "step": ("step", np.arange(nstep), attrs1("converged load step")),
         "eig_record": ("eig_record", np.arange(neig), attrs1("eigen-analysis record")),
         "mode": ("mode", np.arange(3), attrs1("mode index (ascending eigenvalue)"))})
-    params = {"mu_ref_Pa": MU_REF, "nh_mu_Pa": 156000.0, "k_Pa": 7748003.92,
-              "ogden_alphas": [1.293, 2.3252, 2.561], "ogden_mus_Pa": [8580.0, 84300.0, -23300.0],
-              "ogden_delta": 1e-3, "aspect": 10.0, "imperfection_rel": 1e-3,
+    nh, og = _material("nh"), _material("ogden")
+    params = {"mu_ref_Pa": MU_REF, "nh_mu_Pa": nh.mu, "k_Pa": nh.k,
+              "ogden_alphas": list(og.alphas), "ogden_mus_Pa": list(og.mus),
+              "ogden_delta": OGDEN_DELTA, "aspect": 10.0, "imperfection_rel": 1e-3,
               "imperfection_shape": "t0*1e-3*(1-r^2/a^2)^2", "eps_r": 4.7, "layers": LAYERS,
               "order": ORDER, "levels_h_rel": list(levels), "ramp_h_rel": RAMP_H[full],
-              "full": full, "ramp_dc_over_t0": 0.2}
+              "full": full, "ramp_dc_over_t0": 0.2, "ramp_dv_max": RAMP_DV_MAX,
+              "scale_copies": ", ".join(f"{a} = {b}" for a, b in SCALE_COPIES.items())}
     return crit, ramp_ds, params
 
 
@@ -269,10 +365,17 @@ def figures(crit, ramps, fig_dir: Path) -> list[Path]:
     return out
 
 
-def build(out_dir: Path, *, full: bool = False) -> list[Path]:
-    """Compute and write the Chapter 5 datasets and figures into ``out_dir``."""
+def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) -> list[Path]:
+    """Compute and write the Chapter 5 datasets and figures into ``out_dir``.
+
+    ``scheduler``: None runs the FE tasks serially; ``"local"`` on a Dask LocalCluster
+    sized to the machine; an address on an existing Dask scheduler.  ``full=True`` without
+    a scheduler uses ``"local"``.
+    """
     out_dir = Path(out_dir)
-    crit, ramps, params = compute(full=full)
+    if full and scheduler is None:
+        scheduler = "local"
+    crit, ramps, params = compute(full=full, scheduler=scheduler)
     size = "converged (full)" if full else "coarse"
     paths = [
         write_dataset(crit, "ch5_critical_voltage", out_dir=out_dir, overwrite=True,
