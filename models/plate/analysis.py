@@ -7,19 +7,25 @@ All functions are pure; they use the ansatz determinant of :mod:`debench.models.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 
 import numpy as np
+from debench.models import validation as v
 from debench.models.errors import ConvergenceError
 from debench.models.plate.ansatz import (
     _column,
+    _determinant,
     _quartic_roots,
     _row_coefficients,
     critical_stretches,
-    determinant,
 )
-from debench.models.plate.coefficients import PlateParams, coefficients, strongly_elliptic
+from debench.models.plate.coefficients import PlateParams, _strongly_elliptic, coefficients
 from scipy.optimize import brentq
+
+
+def _params(params) -> PlateParams:
+    return v.instance("params", params, PlateParams)
 
 
 # --------------------------------------------------------------------------- kH -> 0
@@ -40,8 +46,12 @@ def thin_limit(params: PlateParams, window=(0.3, 10.0), n: int = 2000) -> np.nda
 
     Thin-plate (Euler) limit: the buckling load vanishes like (kh)^2, so the critical
     membrane stress tends to zero. For ``"literal"`` (no energy behind it) the
-    flexural method-1 roots at kH = 1e-4 are returned instead.
+    flexural method-1 roots at kH = 1e-4 are returned instead. ``window`` (0 < lo < hi),
+    ``n >= 2``.
     """
+    _params(params)
+    window = v.window("window", window)
+    v.integer_at_least("n", n, 2)
     if params.variant == "literal":
         # Not an energy formulation: the identity a - c = tau11 does not govern its thin
         # limit ((4.76) is inconsistent with (4.75)); use the method-1 flexural roots.
@@ -51,8 +61,8 @@ def thin_limit(params: PlateParams, window=(0.3, 10.0), n: int = 2000) -> np.nda
     def f(x):
         return membrane_stress(np.asarray(x, float), params)
 
-    v = f(grid)
-    idx = np.nonzero(np.sign(v[:-1]) * np.sign(v[1:]) < 0)[0]
+    ms = f(grid)
+    idx = np.nonzero(np.sign(ms[:-1]) * np.sign(ms[1:]) < 0)[0]
     return np.array([brentq(lambda x: float(f(x)), grid[i], grid[i + 1], xtol=1e-14)
                      for i in idx])
 
@@ -69,7 +79,19 @@ def euler_coefficient_isotropic() -> float:
 
 # --------------------------------------------------------------------------- kH -> inf
 def half_space_determinant(lam, params: PlateParams):
-    """Surface-instability determinant of the half-space (decaying modes only)."""
+    """Surface-instability determinant of the half-space (decaying modes only).
+
+    ``lam > 0``; ValueError where the model is not strongly elliptic.
+    """
+    lam = np.asarray(v.positive("lam", lam), float)
+    det = _half_space_determinant(lam, _params(params))
+    if not np.all(np.isfinite(det)):
+        raise ValueError(f"lam = {v._show(lam)} is outside the strongly elliptic range of "
+                         f"{params}: the half-space problem is ill-posed there")
+    return det
+
+
+def _half_space_determinant(lam, params):
     lam = np.asarray(lam, float)
     rc = _row_coefficients(lam, params)
     s2, s3 = _quartic_roots(lam, params)
@@ -88,19 +110,26 @@ def half_space_determinant(lam, params: PlateParams):
         dd = np.where(close[..., None], (col(m + 1e-4) - col(m - 1e-4)) / 2e-4, dd)
     c1 = _column(np.ones_like(lam, dtype=complex), big, "E", "electric", rc, kappa)
     det = np.real(np.linalg.det(np.stack([0.5 * (c2 + c3), dd, c1], axis=-1)))
-    return np.where(strongly_elliptic(lam, params) | (params.variant == "literal"), det,
+    return np.where(_strongly_elliptic(lam, params) | (params.variant == "literal"), det,
                     np.nan)
 
 
 def half_space_limit(params: PlateParams, window=(0.3, 0.999)) -> float:
-    """Largest lam < 1 at which the half-space is marginally stable (kH -> inf limit)."""
-    grid = np.linspace(window[1], window[0], 700)
-    v = half_space_determinant(grid, params)
-    idx = np.nonzero(np.isfinite(v[:-1]) & np.isfinite(v[1:]) & (v[:-1] * v[1:] < 0))[0]
+    """Largest lam < 1 at which the half-space is marginally stable (kH -> inf limit).
+
+    ``window`` (0 < lo < hi <= 1).
+    """
+    _params(params)
+    lo, hi = v.window("window", window)
+    if hi > 1:
+        raise ValueError(f"window must lie below 1 (compression), got {window!r}")
+    grid = np.linspace(hi, lo, 700)
+    dv = _half_space_determinant(grid, params)
+    idx = np.nonzero(np.isfinite(dv[:-1]) & np.isfinite(dv[1:]) & (dv[:-1] * dv[1:] < 0))[0]
     if idx.size == 0:
         raise ConvergenceError(f"no half-space root in {window} for {params}")
     i = idx[0]
-    return brentq(lambda x: float(half_space_determinant(x, params)), grid[i + 1], grid[i],
+    return brentq(lambda x: float(_half_space_determinant(x, params)), grid[i + 1], grid[i],
                   xtol=1e-14)
 
 
@@ -135,18 +164,33 @@ class Region:
     nonelliptic: np.ndarray
 
     def area(self, which: str = "thesis") -> float:
-        """Area in the (kH, lam) plane (trapezoidal rule on the grid)."""
+        """Area in the (kH, lam) plane (trapezoidal rule on the grid).
+
+        ``which``: ``"thesis"``, ``"physical"`` or ``"nonelliptic"``; ValueError when no
+        stable reference exists (the region is undefined).
+        """
+        v.choice("which", which, ("thesis", "physical", "nonelliptic"))
+        if which != "nonelliptic" and np.any(np.isnan(
+                np.asarray(getattr(self, which), float))):
+            raise ValueError("the unstable region is undefined: the top of the lam window "
+                             "is not strongly elliptic (no stable reference)")
         m = getattr(self, which).astype(float)  # NaN if no stable reference exists
         return float(np.trapezoid(np.trapezoid(m, self.lam, axis=1), self.kH))
 
 
 def region(params: PlateParams, kH, lam) -> Region:
-    """Unstable region on the tensor grid ``kH`` x ``lam`` (lam ascending, top stable)."""
-    kH = np.asarray(kH, float)
-    lam = np.asarray(lam, float)
+    """Unstable region on the tensor grid ``kH`` x ``lam`` (lam ascending, top stable).
+
+    ``kH``, ``lam`` non-empty 1-D arrays of finite values > 0, ``lam`` increasing.
+    """
+    _params(params)
+    kH = _grid_1d("kH", kH)
+    lam = _grid_1d("lam", lam)
+    if np.any(np.diff(lam) <= 0):
+        raise ValueError("lam must be strictly increasing")
     K, L = np.meshgrid(kH, lam, indexing="ij")
-    dE = determinant(L, K, params, "E")
-    dO = determinant(L, K, params, "O")
+    dE = _determinant(L, K, params, "E")
+    dO = _determinant(L, K, params, "O")
     ne = ~np.isfinite(dE) | ~np.isfinite(dO)
     top = lam.size - 1
     if ne[:, top].any():
@@ -162,7 +206,17 @@ def region(params: PlateParams, kH, lam) -> Region:
 
 
 # --------------------------------------------------------------------------- Fig 4.6
+def _grid_1d(name, x) -> np.ndarray:
+    x = np.asarray(v.positive(name, x), float)
+    if x.ndim != 1 or x.size == 0:
+        raise ValueError(f"{name} must be a non-empty 1-D array, got shape {x.shape}")
+    return x
+
+
 def area_curve(params: PlateParams, Dhats, kH, lam, which="thesis") -> np.ndarray:
+    """Area of the unstable region (:meth:`Region.area`) for each Dhat >= 0."""
+    _params(params)
+    Dhats = np.atleast_1d(np.asarray(v.nonnegative("Dhats", Dhats), float))
     return np.array([region(replace(params, Dhat=float(D)), kH, lam).area(which)
                      for D in Dhats])
 
@@ -171,7 +225,9 @@ def critical_D_max_area(params: PlateParams, Dhats, kH, lam, which="thesis") -> 
     """Candidate 1 for Fig. 4.6: the Dhat at which the unstable area is largest
     ("the electric field started to stabilize the plate"), refined by a parabola
     through the grid maximum and its neighbours."""
-    Dhats = np.asarray(Dhats, float)
+    Dhats = np.asarray(v.nonnegative("Dhats", Dhats), float)
+    if Dhats.ndim != 1 or Dhats.size < 3 or np.any(np.diff(Dhats) <= 0):
+        raise ValueError("Dhats must be an increasing 1-D array of >= 3 values")
     A = area_curve(params, Dhats, kH, lam, which)
     i = int(np.argmax(A))
     if i == 0 or i == len(A) - 1:
@@ -186,12 +242,15 @@ def critical_D_thin_extensional(params: PlateParams, D_window=(0.5, 6.0),
     """Candidate 2 for Fig. 4.6: the smallest Dhat at which an extensional (psi-odd)
     bifurcation exists for a thin plate (kH -> 0), i.e. the change of shape of the
     curves described for Figs 4.2(d)-(f)."""
-    lam = np.geomspace(*lam_window, 1500)
+    _params(params)
+    D_window = v.window("D_window", D_window, lo=-math.ulp(0.0))
+    v.positive("kH", kH)
+    lam = np.geomspace(*v.window("lam_window", lam_window), 1500)
 
     def has_root(D):
-        v = determinant(lam, kH, replace(params, Dhat=float(D)), "O")
-        ok = np.isfinite(v[:-1]) & np.isfinite(v[1:])
-        return bool(np.any(ok & (v[:-1] * v[1:] < 0)))
+        dv = _determinant(lam, kH, replace(params, Dhat=float(D)), "O")
+        ok = np.isfinite(dv[:-1]) & np.isfinite(dv[1:])
+        return bool(np.any(ok & (dv[:-1] * dv[1:] < 0)))
 
     Ds = np.linspace(*D_window, 111)
     flags = np.array([has_root(D) for D in Ds])

@@ -33,12 +33,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from debench.models import validation as v
 from debench.models.errors import ConvergenceError, require
 from debench.models.plate.coefficients import (
     PlateParams,
-    coefficients,
-    reduced_quartic,
-    strongly_elliptic,
+    _coefficients,
+    _reduced_quartic,
+    _strongly_elliptic,
 )
 from scipy.optimize import brentq
 
@@ -57,7 +58,7 @@ def _row_coefficients(lam, p: PlateParams):
         K2 = lam**2 + 2 * lam**-4 + 2 * p.Dhat**2 + 6 * p.xi * lam**-8
         one = np.ones_like(lam)
         return C1, K2 - C1, p.Dhat * one, 2 * p.Dhat * one, one
-    a, b2, c, d, e, f, g = coefficients(lam, p)
+    a, b2, c, d, e, f, g = _coefficients(lam, p)
     return c, b2, d, e, f
 
 
@@ -105,7 +106,7 @@ def _det3(u, v, w):
 
 
 def _quartic_roots(lam, p):
-    qa, qb, qc = reduced_quartic(lam, p)
+    qa, qb, qc = _reduced_quartic(lam, p)
     disc = np.asarray(qb**2 - 4 * qa * qc, dtype=complex)
     sq = np.sqrt(disc)
     # numerically stable pair: sigma+ sigma- = qa/qc
@@ -117,10 +118,26 @@ def _quartic_roots(lam, p):
 def determinant(lam, kH, params: PlateParams, parity: str):
     """Scaled 3x3 determinant of parity ``parity`` ("E" or "O"); zero at bifurcation.
 
-    Vectorised over broadcastable ``lam`` and ``kH``. Returns NaN where the model is not
-    strongly elliptic (there the exponential solution does not describe a decaying mode
-    and the bifurcation problem is ill-posed).
+    Vectorised over broadcastable ``lam`` (> 0) and ``kH`` (> 0). Raises ValueError where
+    the model is not strongly elliptic (there the exponential solution does not describe
+    a decaying mode and the bifurcation problem is ill-posed; mask such points with
+    :func:`~debench.models.plate.coefficients.strongly_elliptic`).
     """
+    v.choice("parity", parity, PARITIES)
+    v.instance("params", params, PlateParams)
+    lam = v.positive("lam", lam)
+    kH = v.positive("kH", kH)
+    det = _determinant(lam, kH, params, parity)
+    bad = ~np.isfinite(det)
+    if np.any(bad):
+        lam_b = np.broadcast_to(lam, det.shape)[bad]
+        raise ValueError(f"lam = {v._show(lam_b)} is outside the strongly elliptic range of "
+                         f"{params}: the bifurcation problem is ill-posed there")
+    return det
+
+
+def _determinant(lam, kH, params, parity):
+    """:func:`determinant` without checks: NaN where the model is not strongly elliptic."""
     require(parity in PARITIES, f"parity must be 'E' or 'O', got {parity!r}")
     p = params
     require(p.alpha == 0, f"method 1 is implemented for alpha == 0 (thesis), got {p.alpha}")
@@ -158,7 +175,7 @@ def determinant(lam, kH, params: PlateParams, parity: str):
     one = np.ones_like(lam, dtype=complex)
     c1 = _column(one, t, parity, kind1, rcx, kap)
     det = np.real(_det3(avg, dd, c1))
-    ell = strongly_elliptic(lam, p) if p.variant != "literal" else np.ones_like(lam, bool)
+    ell = _strongly_elliptic(lam, p) if p.variant != "literal" else np.ones_like(lam, bool)
     return np.where(ell, det, np.nan)
 
 
@@ -175,10 +192,25 @@ class Roots:
 LAM_WINDOW = (0.4, 8.0)
 N_SCAN = 400
 XTOL = 1e-13
+#: fewest scan points accepted: a coarser grid brackets no root of a typical curve (the
+#: roots of Figs 4.2-4.5 are separated by ~10% in lam over LAM_WINDOW)
+MIN_SCAN = 10
 
 
 def scan_grid(window=LAM_WINDOW, n=N_SCAN):
-    return np.geomspace(window[0], window[1], n)
+    """Geometric grid of ``n >= 2`` stretches over ``window = (lo, hi)``, 0 < lo < hi."""
+    lo, hi = v.window("window", window)
+    n = v.integer_at_least("n", n, 2)
+    return np.geomspace(lo, hi, n)
+
+
+def _check_scan(kH, params, window, n_scan):
+    v.positive("kH", kH)
+    if not isinstance(kH, float):
+        raise TypeError(f"kH must be a number, got {kH!r}")
+    v.instance("params", params, PlateParams)
+    v.window("window", window)
+    v.integer_at_least("n_scan", n_scan, MIN_SCAN)
 
 
 def critical_stretches(kH: float, params: PlateParams, *, window=LAM_WINDOW,
@@ -188,20 +220,26 @@ def critical_stretches(kH: float, params: PlateParams, *, window=LAM_WINDOW,
     Sign changes of the determinant on a geometric lam grid bracket the roots; each is
     refined with :func:`scipy.optimize.brentq` to ``xtol = 1e-13``. Points where the model
     is not strongly elliptic are skipped (no bracket crosses them). Raises
-    :class:`ConvergenceError` if brentq fails on a bracket.
+    :class:`ConvergenceError` if brentq fails on a bracket. ``n_scan >= MIN_SCAN``.
     """
-    require(np.isfinite(kH) and kH > 0, f"kH must be finite and > 0, got {kH}")
+    kH = v.finite("kH", kH)
+    require(kH > 0, f"kH must be finite and > 0, got {kH}")
+    _check_scan(kH, params, window, n_scan)
+    if isinstance(parities, str) or not all(
+            isinstance(x, str) and x in PARITIES for x in parities) or not len(parities):
+        raise ValueError(f"parities must be a non-empty sequence of {PARITIES}, "
+                         f"got {parities!r}")
     grid = scan_grid(window, n_scan)
     lams, pars = [], []
     for par in parities:
-        vals = determinant(grid, kH, params, par)
+        vals = _determinant(grid, kH, params, par)
         ok = np.isfinite(vals[:-1]) & np.isfinite(vals[1:])
         idx = np.nonzero(ok & (np.sign(vals[:-1]) * np.sign(vals[1:]) < 0))[0]
         exact = np.nonzero(vals == 0)[0]
         for i in idx:
             lo, hi = grid[i], grid[i + 1]
             try:
-                r, info = brentq(lambda x, par=par: float(determinant(x, kH, params, par)),
+                r, info = brentq(lambda x, par=par: float(_determinant(x, kH, params, par)),
                                  lo, hi, xtol=XTOL, full_output=True)
             except (ValueError, RuntimeError) as exc:
                 raise ConvergenceError(f"brentq failed on [{lo}, {hi}] at kH={kH}, "
@@ -217,11 +255,21 @@ def critical_stretches(kH: float, params: PlateParams, *, window=LAM_WINDOW,
     return Roots(kH, np.asarray(lams)[order], tuple(pars[i] for i in order))
 
 
+def _check_kH_values(kH_values) -> np.ndarray:
+    kH_values = np.asarray(v.positive("kH_values", kH_values), float)
+    if kH_values.ndim != 1 or kH_values.size == 0:
+        raise ValueError(f"kH_values must be a non-empty 1-D array, got shape "
+                         f"{kH_values.shape}")
+    return kH_values
+
+
 def curves(kH_values, params: PlateParams, *, window=LAM_WINDOW, n_scan: int = N_SCAN,
            max_roots: int = 6):
     """Bifurcation curves lam_cr(kH): array (len(kH), max_roots) padded with NaN,
     plus the parity codes (0 = "E", 1 = "O", -1 = none)."""
-    kH_values = np.asarray(kH_values, float)
+    kH_values = _check_kH_values(kH_values)
+    _check_scan(1.0, params, window, n_scan)
+    v.integer_at_least("max_roots", max_roots, 1)
     lam = np.full((kH_values.size, max_roots), np.nan)
     par = np.full((kH_values.size, max_roots), -1, dtype=int)
     for i, kH in enumerate(kH_values):
@@ -242,19 +290,22 @@ def curves_vectorised(kH_values, params: PlateParams, *, window=LAM_WINDOW,
     sign change is then refined simultaneously by the Illinois variant of regula falsi
     (bracketing, superlinear) until the bracket is below ``xtol``. Raises
     :class:`ConvergenceError` if any bracket fails to shrink. Returns (lam, parity) as
-    :func:`curves`.
+    :func:`curves`. ``xtol`` a finite tolerance in (0, 1), ``max_iter >= 1``.
     """
-    kH_values = np.asarray(kH_values, float)
-    require(bool(np.all(kH_values > 0)), "kH must be > 0")
+    kH_values = _check_kH_values(kH_values)
+    _check_scan(1.0, params, window, n_scan)
+    v.integer_at_least("max_roots", max_roots, 1)
+    v.tolerance("xtol", xtol)
+    v.integer_at_least("max_iter", max_iter, 1)
     grid = scan_grid(window, n_scan)
     K, L = np.meshgrid(kH_values, grid, indexing="ij")
     rows, lams, pars = [], [], []
     for ip, par in enumerate(PARITIES):
-        v = determinant(L, K, params, par)
-        ok = np.isfinite(v[:, :-1]) & np.isfinite(v[:, 1:])
-        i, j = np.nonzero(ok & (np.sign(v[:, :-1]) * np.sign(v[:, 1:]) < 0))
+        dv = _determinant(L, K, params, par)
+        ok = np.isfinite(dv[:, :-1]) & np.isfinite(dv[:, 1:])
+        i, j = np.nonzero(ok & (np.sign(dv[:, :-1]) * np.sign(dv[:, 1:]) < 0))
         a, b = grid[j].copy(), grid[j + 1].copy()
-        fa, fb = v[i, j].copy(), v[i, j + 1].copy()
+        fa, fb = dv[i, j].copy(), dv[i, j + 1].copy()
         kk = kH_values[i]
         side = np.zeros(a.size, int)
         for _ in range(max_iter):
@@ -263,7 +314,10 @@ def curves_vectorised(kH_values, params: PlateParams, *, window=LAM_WINDOW,
                 break
             c = (a * fb - b * fa) / (fb - fa)
             c = np.where(np.isfinite(c) & (c > a) & (c < b), c, 0.5 * (a + b))
-            fc = determinant(c[active], kk[active], params, par)
+            fc = _determinant(c[active], kk[active], params, par)
+            if not np.all(np.isfinite(fc)):
+                raise ConvergenceError(f"regula falsi left the strongly elliptic range "
+                                       f"inside a bracket for {params}")
             fcf = np.zeros_like(c)
             fcf[active] = fc
             left = active & (np.sign(fcf) == np.sign(fa))

@@ -24,9 +24,11 @@ can be shown:
 
 from __future__ import annotations
 
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
+from debench.models import validation as v
 from debench.models.errors import require
 from debench.models.plate._generated import base_state as _base_state
 from debench.models.plate._generated import derived_coefficients
@@ -58,8 +60,10 @@ class PlateParams:
 
     def __post_init__(self):
         for name in ("xi", "Dhat", "beta", "alpha"):
-            v = getattr(self, name)
-            require(np.isfinite(v), f"{name} must be finite, got {v}")
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, numbers.Real):
+                raise TypeError(f"{name} must be a real number, got {value!r}")
+            v.finite(name, value)
         require(self.xi >= 0, f"xi must be >= 0, got {self.xi}")
         require(self.Dhat >= 0, f"Dhat must be >= 0, got {self.Dhat}")
         require(self.beta > 0, f"beta must be > 0, got {self.beta}")
@@ -69,14 +73,28 @@ class PlateParams:
 
 
 def _check_lam(lam):
-    lam = np.asarray(lam, dtype=float)
-    if not np.all(np.isfinite(lam)) or np.any(lam <= 0):
-        raise ValueError(f"lam must be finite and > 0, got min {np.min(lam)}")
+    lam = np.asarray(v.finite("lam", lam), dtype=float)
+    require(bool(np.all(lam > 0)), f"lam must be finite and > 0, got min {np.min(lam)}")
     return lam
 
 
+def _check_params(params) -> PlateParams:
+    return v.instance("params", params, PlateParams)
+
+
 def printed_coefficients(lam, xi, alpha, beta, Dhat):
-    """(a, 2b, c, d, e, f, g) exactly as printed in (4.54)-(4.60), mu = eps = 1."""
+    """(a, 2b, c, d, e, f, g) exactly as printed in (4.54)-(4.60), mu = eps = 1.
+
+    ``lam > 0``, ``xi, alpha, Dhat >= 0``, ``beta > 0``, all finite.
+    """
+    lam = _check_lam(lam)
+    for name, value in (("xi", xi), ("alpha", alpha), ("Dhat", Dhat)):
+        v.nonnegative(name, value)
+    v.positive("beta", beta)
+    return _printed_coefficients(lam, xi, alpha, beta, Dhat)
+
+
+def _printed_coefficients(lam, xi, alpha, beta, Dhat):
     a = lam**2
     b2 = lam**2 + lam**-4 + beta * Dhat**2 + 6 * xi * lam**-8
     c = lam**-4 + beta * Dhat**2 + 2 * xi * lam**-8
@@ -94,12 +112,16 @@ def coefficients(lam, params: PlateParams):
     with beta = 1 in the rows (see :func:`literal_system`); the interior equations are
     those of ``"printed"``.
     """
-    lam = _check_lam(lam)
-    p = params
+    return _coefficients(_check_lam(lam), _check_params(params))
+
+
+def _coefficients(lam, p):
+    """:func:`coefficients` without checks (``p`` may carry an array ``Dhat``)."""
+    lam = np.asarray(lam, dtype=float)
     if p.variant == "derived":
         out = derived_coefficients(lam, p.xi, p.alpha, p.beta, p.Dhat)
-        return tuple(np.broadcast_to(np.asarray(v, float), lam.shape) for v in out)
-    return printed_coefficients(lam, p.xi, p.alpha, p.beta, p.Dhat)
+        return tuple(np.broadcast_to(np.asarray(x, float), lam.shape) for x in out)
+    return _printed_coefficients(lam, p.xi, p.alpha, p.beta, p.Dhat)
 
 
 def energy_matrix(lam, params: PlateParams) -> np.ndarray:
@@ -114,10 +136,11 @@ def energy_matrix(lam, params: PlateParams) -> np.ndarray:
         [[a, 0, 0, -c, 0, 0], [0, c, c, 0, d, 0], [0, c, a, 0, d, 0],
          [-c, 0, 0, 2b - a, 0, e], [0, d, d, 0, f, 0], [0, 0, 0, e, 0, g]]
     """
-    if params.variant == "literal":
+    lam = _check_lam(lam)
+    if _check_params(params).variant == "literal":
         raise ValueError("variant 'literal' has no energy matrix (not an energy "
                          "formulation); use 'derived' or 'printed'")
-    a, b2, c, d, e, f, g = coefficients(lam, params)
+    a, b2, c, d, e, f, g = _coefficients(lam, params)
     z = np.zeros_like(a)
     S = np.array([[a, z, z, -c, z, z], [z, c, c, z, d, z], [z, c, a, z, d, z],
                   [-c, z, z, b2 - a, z, e], [z, d, d, z, f, z], [z, z, z, e, z, g]])
@@ -131,6 +154,7 @@ def base_state(lam, params: PlateParams):
     tau11 = lam^2 - lam^-4 - beta Dhat^2 + 2 xi lam^-4 (1 - lam^-4).
     """
     lam = _check_lam(lam)
+    _check_params(params)
     return _base_state(lam, params.xi, params.alpha, params.beta, params.Dhat)
 
 
@@ -141,11 +165,14 @@ def reduced_quartic(lam, params: PlateParams):
     (s^2 - 1) [qc s^4 - qb s^2 + qa] = 0 with qa = a, qb = 2b - d^2/f, qc = c - d^2/f:
     Dhat and beta drop out. For ``"literal"`` the printed (4.63) times lam^2.
     """
-    lam = _check_lam(lam)
-    p = params
+    return _reduced_quartic(_check_lam(lam), _check_params(params))
+
+
+def _reduced_quartic(lam, p):
+    lam = np.asarray(lam, dtype=float)
     if p.variant == "literal":
         return lam**2, lam**2 + lam**-4 + 6 * p.xi * lam**-8, lam**-4 + 2 * p.xi * lam**-8
-    a, b2, c, d, e, f, g = coefficients(lam, p)
+    a, b2, c, d, e, f, g = _coefficients(lam, p)
     return a, b2 - d**2 / f, c - d**2 / f
 
 
@@ -156,7 +183,11 @@ def strongly_elliptic(lam, params: PlateParams):
     positive for every direction n (alpha = 0). Holds iff qa > 0, qc > 0 and
     qb > -2 sqrt(qa qc).
     """
-    qa, qb, qc = reduced_quartic(lam, params)
+    return _strongly_elliptic(_check_lam(lam), _check_params(params))
+
+
+def _strongly_elliptic(lam, params):
+    qa, qb, qc = _reduced_quartic(lam, params)
     with np.errstate(invalid="ignore"):
         return (qa > 0) & (qc > 0) & (qb > -2 * np.sqrt(np.abs(qa * qc)))
 
@@ -167,6 +198,7 @@ def ellipticity_limit_stretch(params: PlateParams) -> float:
     For ``"derived"``: qc = lam^-4 (1 - 2 xi) + 2 xi lam^-8 < 0 iff lam^4 > 2 xi/(2 xi - 1)
     (xi > 1/2). Returns ``inf`` when the model is elliptic for every lam >= 1.
     """
+    _check_params(params)
     if params.variant != "derived" or params.xi <= 0.5:
         return float("inf")
     return float((2 * params.xi / (2 * params.xi - 1)) ** 0.25)

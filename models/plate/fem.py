@@ -33,8 +33,9 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as sla
-from debench.models.errors import ConvergenceError, require
-from debench.models.plate.coefficients import PlateParams, energy_matrix, strongly_elliptic
+from debench.models import validation as v
+from debench.models.errors import ConvergenceError
+from debench.models.plate.coefficients import PlateParams, _strongly_elliptic, energy_matrix
 from scipy.optimize import brentq
 
 #: default number of elements through the thickness
@@ -58,7 +59,9 @@ def elements_for(t: float) -> int:
     Thin plates need few elements (no boundary layer) and are limited by rounding (the
     bending terms scale like t^-3 N^4); thick plates need ~3 elements per unit of t for
     the boundary layers exp(-s k x2). Measured: error <~ 1e-6 in lam for t in [0.1, 20].
+    ``t`` finite and > 0.
     """
+    t = v.positive("t", t)
     if t < 0.5:
         return 6
     if t < 1.0:
@@ -71,8 +74,10 @@ def grading(t: float) -> float:
 
     Thick plates (large t) have boundary layers of width ~1/(s t); thin plates do not and
     a uniform mesh keeps the t^-3 bending terms well conditioned. Smooth in t so that the
-    discrete eigenvalues vary continuously along a lam scan (t = kH lam^-2).
+    discrete eigenvalues vary continuously along a lam scan (t = kH lam^-2). ``t`` finite
+    and > 0.
     """
+    t = v.positive("t", t)
     return 0.8 * t / (t + 4.0)
 
 
@@ -125,10 +130,16 @@ def _gram(n: int, g: float):
 
 
 def stiffness(lam: float, kH: float, params: PlateParams, n: int = N_ELEMENTS):
-    """Hermitian stiffness K(lam, kH) and Gram (mass) matrix M of the discretisation."""
-    require(np.isfinite(lam) and lam > 0, f"lam must be > 0, got {lam}")
-    require(np.isfinite(kH) and kH > 0, f"kH must be > 0, got {kH}")
-    require(n >= 2, f"n must be >= 2, got {n}")
+    """Hermitian stiffness K(lam, kH) and Gram (mass) matrix M of the discretisation.
+
+    ``lam``, ``kH`` finite scalars > 0; ``n >= 2`` elements.
+    """
+    lam = v.positive("lam", lam)
+    kH = v.positive("kH", kH)
+    if not (isinstance(lam, float) and isinstance(kH, float)):
+        raise TypeError(f"lam and kH must be scalars, got {lam!r}, {kH!r}")
+    v.instance("params", params, PlateParams)
+    v.integer_at_least("n", n, 2)
     t = kH * lam**-2  # k h
     S = energy_matrix(np.asarray(lam, float), params)
     Gpp, Gpf, Gff = _gram(n, grading(t))
@@ -160,8 +171,16 @@ def stiffness(lam: float, kH: float, params: PlateParams, n: int = N_ELEMENTS):
 
 def eigenvalues(lam: float, kH: float, params: PlateParams, n: int = N_ELEMENTS,
                 count: int | None = None) -> np.ndarray:
-    """Ascending eigenvalues omega of K v = omega M v (all, or the ``count`` lowest)."""
+    """Ascending eigenvalues omega of K v = omega M v (all, or the ``count`` lowest).
+
+    ``count`` None or an integer in [1, number of dofs = 4 n + 3].
+    """
     K, _ = stiffness(lam, kH, params, n)
+    if count is not None:
+        v.integer_at_least("count", count, 1)
+        if count > K.shape[0]:
+            raise ValueError(f"count must be <= the number of dofs {K.shape[0]} "
+                             f"(4 n + 3, n = {n}), got {count}")
     sub = None if count is None else (0, count - 1)
     return sla.eigh(K, eigvals_only=True, subset_by_index=sub)
 
@@ -181,9 +200,24 @@ def critical_stretches(kH: float, params: PlateParams, *, window=(0.4, 8.0),
     The inertia (number of negative eigenvalues among the ``max_index`` lowest) is
     evaluated on a geometric lam grid; where it changes by one the crossing eigenvalue
     is refined with brentq. Non-elliptic lam (``strongly_elliptic`` false) are skipped.
+    ``window`` (0 < lo < hi), ``n_scan >= 2`` (or ``grid``: an increasing array of
+    stretches > 0), ``n >= 2``, ``1 <= max_index <= 4 n + 3``.
     """
-    g = np.geomspace(window[0], window[1], n_scan) if grid is None else np.asarray(grid)
-    ell = strongly_elliptic(g, params)
+    kH = v.positive("kH", kH)
+    v.instance("params", params, PlateParams)
+    v.integer_at_least("n", n, 2)
+    v.integer_at_least("max_index", max_index, 1)
+    if max_index > 4 * n + 3:
+        raise ValueError(f"max_index must be <= the number of dofs {4 * n + 3}, got "
+                         f"{max_index}")
+    if grid is None:
+        lo, hi = v.window("window", window)
+        g = np.geomspace(lo, hi, v.integer_at_least("n_scan", n_scan, 2))
+    else:
+        g = np.asarray(v.positive("grid", grid), float)
+        if g.ndim != 1 or g.size < 2 or np.any(np.diff(g) <= 0):
+            raise ValueError("grid must be an increasing 1-D array of >= 2 stretches")
+    ell = _strongly_elliptic(g, params)
     ev = np.array([eigenvalues(x, kH, params, n, max_index) if e else
                    np.full(max_index, np.nan) for x, e in zip(g, ell, strict=True)])
     neg = np.sum(ev < 0, axis=1)
@@ -228,12 +262,23 @@ def critical_stretches(kH: float, params: PlateParams, *, window=(0.4, 8.0),
 
 def refine_root(lam0: float, kH: float, params: PlateParams, n: int, *, index: int,
                 rel: float = 0.02) -> float:
-    """The zero of eigenvalue ``index`` near ``lam0`` (bracket lam0 (1 +- rel))."""
+    """The zero of eigenvalue ``index`` near ``lam0`` (bracket lam0 (1 +- rel)).
+
+    ``lam0 > 0``, ``index >= 0``, ``rel`` in (0, 1); ConvergenceError when the eigenvalue
+    does not change sign on the bracket or brentq fails.
+    """
+    v.positive("lam0", lam0)
+    v.integer_at_least("index", index, 0)
+    v.tolerance("rel", rel)
+    v.integer_at_least("n", n, 2)
+    if index >= 4 * n + 3:
+        raise ValueError(f"index must be < the number of dofs {4 * n + 3}, got {index}")
+
     def fj(x):
         return eigenvalues(x, kH, params, n, index + 1)[index]
 
     lo, hi = lam0 * (1 - rel), lam0 * (1 + rel)
     try:
         return brentq(fj, lo, hi, xtol=1e-14)
-    except ValueError as exc:
+    except (ValueError, RuntimeError) as exc:
         raise ConvergenceError(f"no sign change of eigenvalue {index} on [{lo}, {hi}]") from exc

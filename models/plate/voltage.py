@@ -23,28 +23,63 @@ from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
+from debench.models import validation as v
 from debench.models.errors import ConvergenceError, require
-from debench.models.plate.ansatz import LAM_WINDOW, PARITIES, determinant, scan_grid
+from debench.models.plate.ansatz import (
+    LAM_WINDOW,
+    MIN_SCAN,
+    PARITIES,
+    _determinant,
+    scan_grid,
+)
 from debench.models.plate.coefficients import PlateParams
 from debench.models.plate.fem import eigenvalues
 from scipy.optimize import brentq
 
 
 def dhat_at_voltage(lam, Vhat: float, params: PlateParams):
-    """Dhat = Vhat lam^2/(alpha lam^4 + beta): the displacement at fixed voltage."""
+    """Dhat = Vhat lam^2/(alpha lam^4 + beta): the displacement at fixed voltage.
+
+    ``lam > 0``, ``Vhat >= 0`` finite.
+    """
+    lam = np.asarray(v.positive("lam", lam), float)
+    v.nonnegative("Vhat", Vhat)
+    v.instance("params", params, PlateParams)
+    return _dhat(lam, Vhat, params)
+
+
+def _dhat(lam, Vhat, params):
     lam = np.asarray(lam, float)
     return Vhat * lam**2 / (params.alpha * lam**4 + params.beta)
 
 
 def _params_at(lam, Vhat, params):
     """Duck-typed parameters with an array Dhat (for the vectorised determinant)."""
-    return SimpleNamespace(xi=params.xi, Dhat=dhat_at_voltage(lam, Vhat, params),
+    return SimpleNamespace(xi=params.xi, Dhat=_dhat(lam, Vhat, params),
                            beta=params.beta, alpha=params.alpha, variant=params.variant)
 
 
 def determinant_at_voltage(lam, kH, Vhat: float, params: PlateParams, parity: str):
+    """The method-1 determinant at fixed voltage (Dhat = Dhat(lam)).
+
+    Arguments as :func:`~debench.models.plate.ansatz.determinant` plus ``Vhat >= 0``;
+    ValueError where the model is not strongly elliptic.
+    """
+    lam = np.asarray(v.positive("lam", lam), float)
+    v.positive("kH", kH)
+    v.nonnegative("Vhat", Vhat)
+    v.instance("params", params, PlateParams)
+    v.choice("parity", parity, PARITIES)
+    det = _determinant_at_voltage(lam, kH, Vhat, params, parity)
+    if not np.all(np.isfinite(det)):
+        raise ValueError(f"lam = {v._show(lam)} is outside the strongly elliptic range at "
+                         f"Vhat = {Vhat}: the bifurcation problem is ill-posed there")
+    return det
+
+
+def _determinant_at_voltage(lam, kH, Vhat, params, parity):
     lam = np.asarray(lam, float)
-    return determinant(lam, kH, _params_at(lam, Vhat, params), parity)
+    return _determinant(lam, kH, _params_at(lam, Vhat, params), parity)
 
 
 def critical_stretches_at_voltage(kH: float, Vhat: float, params: PlateParams, *,
@@ -53,18 +88,20 @@ def critical_stretches_at_voltage(kH: float, Vhat: float, params: PlateParams, *
 
     Returns (lam, parity) sorted by lam. Brackets on a geometric lam grid, brentq refine.
     """
-    require(np.isfinite(Vhat) and Vhat >= 0, f"Vhat must be >= 0, got {Vhat}")
-    require(np.isfinite(kH) and kH > 0, f"kH must be > 0, got {kH}")
+    v.nonnegative("Vhat", Vhat)
+    v.positive("kH", kH)
+    v.instance("params", params, PlateParams)
+    v.integer_at_least("n_scan", n_scan, MIN_SCAN)
     require(params.variant != "literal", "voltage control needs a consistent variant "
             "('derived' or 'printed'), got 'literal'")
     grid = scan_grid(window, n_scan)
     lams, pars = [], []
     for par in PARITIES:
-        v = determinant_at_voltage(grid, kH, Vhat, params, par)
-        ok = np.isfinite(v[:-1]) & np.isfinite(v[1:])
-        for i in np.nonzero(ok & (v[:-1] * v[1:] < 0))[0]:
+        dv = _determinant_at_voltage(grid, kH, Vhat, params, par)
+        ok = np.isfinite(dv[:-1]) & np.isfinite(dv[1:])
+        for i in np.nonzero(ok & (dv[:-1] * dv[1:] < 0))[0]:
             try:
-                r = brentq(lambda x, par=par: float(determinant_at_voltage(
+                r = brentq(lambda x, par=par: float(_determinant_at_voltage(
                     np.array(x), kH, Vhat, params, par)), grid[i], grid[i + 1], xtol=1e-13)
             except (ValueError, RuntimeError) as exc:
                 raise ConvergenceError(f"voltage-control brentq failed: {exc}") from exc
@@ -76,9 +113,20 @@ def critical_stretches_at_voltage(kH: float, Vhat: float, params: PlateParams, *
 
 def fe_root_at_voltage(lam0: float, kH: float, Vhat: float, params: PlateParams, n: int,
                        rel: float = 1e-3) -> float:
-    """Method 2: the FE eigenvalue crossing near lam0 with Dhat = Dhat(lam) varying."""
+    """Method 2: the FE eigenvalue crossing near lam0 with Dhat = Dhat(lam) varying.
+
+    ``lam0 > 0``, ``kH > 0``, ``Vhat >= 0``, ``n >= 2``, ``rel`` in (0, 1); ConvergenceError
+    unless exactly one eigenvalue crosses zero on lam0 (1 +- rel).
+    """
+    v.positive("lam0", lam0)
+    v.positive("kH", kH)
+    v.nonnegative("Vhat", Vhat)
+    v.instance("params", params, PlateParams)
+    v.integer_at_least("n", n, 2)
+    v.tolerance("rel", rel)
+
     def ev(x, count=8):
-        p = replace(params, Dhat=float(dhat_at_voltage(x, Vhat, params)))
+        p = replace(params, Dhat=float(_dhat(x, Vhat, params)))
         return eigenvalues(x, kH, p, n, count)
 
     lo, hi = lam0 * (1 - rel), lam0 * (1 + rel)
@@ -86,4 +134,8 @@ def fe_root_at_voltage(lam0: float, kH: float, Vhat: float, params: PlateParams,
     if abs(n_lo - n_hi) != 1:
         raise ConvergenceError(f"inertia {n_lo} -> {n_hi} near lam = {lam0} (voltage control)")
     j = min(n_lo, n_hi)
-    return brentq(lambda x: ev(x, j + 1)[j], lo, hi, xtol=1e-14)
+    try:
+        return brentq(lambda x: ev(x, j + 1)[j], lo, hi, xtol=1e-14)
+    except (ValueError, RuntimeError) as exc:
+        raise ConvergenceError(f"voltage-control FE brentq failed on [{lo}, {hi}]: "
+                               f"{exc}") from exc
