@@ -235,6 +235,7 @@ class MembraneModel:
         self._inv = None
         self._inv_state = None       # id of the assembled tangent the factor belongs to
         self._assembled = None
+        self._fresh = False          # factor of the tangent at the current (converged) state
         self.stats = {"assemble_s": 0.0, "factor_s": 0.0, "solve_s": 0.0, "eig_s": 0.0,
                       "newton_steps": 0, "factorisations": 0, "solves": 0, "refinements": 0,
                       "eigen_analyses": 0, "energy": how, "inverse": self.inverse,
@@ -261,6 +262,7 @@ class MembraneModel:
     def set_voltage(self, v: float) -> None:
         """Impose the normalised voltage ``v`` on the top electrode (bottom grounded)."""
         self.v = float(val.finite("v", v))
+        self._fresh = False
         if not hasattr(self, "_dir_pattern"):
             tmp = ngs.GridFunction(self.X)
             tmp.components[1].Set(self.plate.thickness, definedon=self.mesh.Boundaries("top"))
@@ -275,6 +277,7 @@ class MembraneModel:
 
     def set_state(self, x: np.ndarray) -> None:
         self.gf.vec.FV().NumPy()[:] = x
+        self._fresh = False
 
     # ----------------------------------------------------------------- linear algebra
     def residual_norm(self) -> float:
@@ -364,6 +367,7 @@ class MembraneModel:
         tol = val.tolerance("tol", tol)
         maxit = val.integer_at_least("maxit", maxit, 1)
         t0 = self.plate.thickness
+        self._fresh = False
         r_ref = self.load_residual()
         r_first = self.residual_norm()
         r_ref = max(r_ref, r_first)
@@ -376,6 +380,8 @@ class MembraneModel:
                 floor = self.residual_floor()
                 if r_first <= floor:
                     self._record(0, r_first, r_first, floor, "floor")
+                    self.factor()
+                    self._fresh = True
                     return 0
             self.factor()
             du = self.solve(self.res)
@@ -391,6 +397,9 @@ class MembraneModel:
             hist.append(rn)
             if dmax < tol * t0:
                 self._record(it, rn, r_first, floor, "correction")
+                # the factor belongs to the state before a correction < tol t0: the
+                # tangent at the converged state to O(tol) (used by the eigen-analysis)
+                self._fresh = True
                 return it
             if rn <= NEWTON_RTOL * r_ref:
                 self._record(it, rn, r_first, floor, "relative residual")
@@ -500,7 +509,8 @@ class MembraneModel:
         iters = val.integer_at_least("iters", iters, 1)
         rtol = val.tolerance("rtol", rtol)
         t_start = time.perf_counter()
-        self.tangent()
+        if not self._fresh:
+            self.tangent()
         self.stats["eigen_analyses"] += 1
         if self.eigensolver == "subspace":
             out = self._subspace(nev, iters, rtol, seed)
@@ -751,6 +761,7 @@ def newton_deflection(model: MembraneModel, c: float, *, tol: float = NEWTON_TOL
     tol = val.tolerance("tol", tol)
     maxit = val.integer_at_least("maxit", maxit, 1)
     t0 = model.plate.thickness
+    model._fresh = False
     control_deflection(model)
     it_, ib_ = model._ctrl
     res_p, res_m = model.res.CreateVector(), model.res.CreateVector()
