@@ -85,6 +85,26 @@ def errata_table(results: Iterable[Result]) -> str:
     return "\n".join(rows)
 
 
+def diagnosis_table(results: Iterable[Result]) -> str:
+    """Markdown table of the diagnoses: hypothesis, the thesis number it targets, what the
+    hypothesis predicts from our values, and whether that is the printed number."""
+    from debench.reference.catalogue import by_id
+
+    results = list(results)
+    ids = by_id([r.entry for r in results])
+    rows = ["| hypothesis | target | thesis value | predicted | status |",
+            "|---|---|---|---|---|"]
+    for r in results:
+        e = r.entry
+        if e.kind != "diagnosis":
+            continue
+        t = ids.get(e.parameters.get("target", ""))
+        thesis = _fmt(t.printed or t.value, t.unit) if t else "—"
+        rows.append(f"| `{e.id}` | `{e.parameters.get('target', '')}` | {thesis} | "
+                    f"{_fmt(r.value, e.unit)} | {STATUS_MARK.get(r.status, r.status)} |")
+    return "\n".join(rows)
+
+
 def summary_line(results: list[Result]) -> str:
     counts = status_counts(results)
     order = ["reproduced", "not_reproduced", "not_reproducible", "pending", "confirmed",
@@ -139,6 +159,10 @@ def readme_block(results: list[Result]) -> str:
         "### Errata",
         "",
         errata_table(results),
+        "",
+        "### Diagnoses: hypotheses tested against the numbers that do not reproduce",
+        "",
+        diagnosis_table(results),
         END,
     ])
 
@@ -175,7 +199,9 @@ def write_report(out_dir: Path, results: list[Result], *, data_problems: list[st
         "",
         "Status meanings: *reproduced* = within half a unit of the last printed digit; "
         "*not reproduced* = our value differs (diagnosis given); *not reproducible* = the "
-        "thesis lacks information (named); *pending* = no model yet.",
+        "thesis lacks information (named); *pending* = no model yet; errata are "
+        "*confirmed*, *refuted* or *editorial* (a wrong cross-reference); a diagnosis "
+        "(hypothesis) is *explained* when it gives the printed number to its digits.",
         "",
     ]
     prefixes = sorted({r.entry.id.split(".")[0] for r in results},
@@ -201,6 +227,7 @@ def write_report(out_dir: Path, results: list[Result], *, data_problems: list[st
             rel = os.path.relpath(fig, out_dir.resolve() if fig.is_absolute() else out_dir)
             lines += [f"![{fig.stem}]({rel})", ""]
     lines += ["## Errata", "", errata_table(results), ""]
+    lines += ["## Diagnoses", "", diagnosis_table(results), ""]
     if data_problems:
         lines += ["## Dataset problems", ""] + [f"- {p}" for p in data_problems] + [""]
     if regeneration:

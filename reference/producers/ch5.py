@@ -392,3 +392,35 @@ def hypothesis_read_off(entry: Entry) -> Outcome:
     return Outcome(0.5 * (a0 + a1), status="explained" if overlap else "unexplained",
                    details={f"w_interval_over_t0.{c}": list(v) for c, v in out.items()}
                    | {"imperfection_over_t0": 1e-3})
+
+
+@lru_cache(maxsize=4)
+def _thickness():
+    return read_dataset("ch5_thickness")
+
+
+def hypothesis_thickness(entry: Entry) -> Outcome:
+    """Table 5.2's 0.5 mm critical voltage predicted from its own 1 mm value under a
+    hypothesis about the 0.5 mm model: ``radius_kept`` (R = 10 mm, so R/t0 = 20: factor
+    v_cr(20)/v_cr(10) from ``ch5_thickness.nc``) and/or ``t1_normalisation`` (voltage
+    divided by the 1 mm thickness: factor 1/2). Anchoring on the printed 1 mm value makes
+    the test independent of the unknown absolute normalisation. ``explained`` when the
+    predicted interval (printed precision of the anchor and the mesh error of the ratio)
+    meets the printed interval of the target."""
+    from debench.reference import catalogue
+
+    ids = catalogue.by_id()
+    target, anchor = ids[entry.parameters["target"]], ids[entry.parameters["anchor"]]
+    p = entry.parameters
+    ds = _thickness()
+    ratio, err = ((float(ds.ratio_extrapolated), float(ds.ratio_error))
+                  if p["radius_kept"] else (1.0, 0.0))
+    scale = 0.5 if p["t1_normalisation"] else 1.0
+    a, da = float(anchor.value), anchor.implied_tolerance()
+    lo, hi = (a - da) * (ratio - err) * scale, (a + da) * (ratio + err) * scale
+    t, dt = float(target.value), target.implied_tolerance()
+    explained = lo <= t + dt and hi >= t - dt
+    return Outcome(a * ratio * scale, status="explained" if explained else "unexplained",
+                   details={"predicted_interval": [lo, hi], "ratio_R20_over_R10": ratio,
+                            "ratio_error": err, "normalisation_factor": scale,
+                            "thesis_interval": [t - dt, t + dt]})

@@ -1,0 +1,105 @@
+"""Chapter 5 thickness puzzle: did the 0.5 mm model keep R = 10 mm?
+
+Table 5.2 prints critical voltages 0.012 (t0 = 0.5 mm) and 0.050 (t0 = 1 mm) for the
+Ogden film. At a fixed radius/thickness R/t0 = 10 both are the same normalised number
+(scale invariance, ``ch5.erratum.table5_2_thickness_dependence``). The hypotheses tested
+by ``ch5.hypothesis.radius_kept.*``: the 0.5 mm model kept the radius R = 10 mm
+(R/t0 = 20), and/or its voltage was normalised with the 1 mm thickness.
+
+``build(out_dir, full=False)`` writes ``ch5_thickness.nc``: the critical voltage of the
+perfect Ogden film (eigen-analysis, :func:`debench.models.buckling.solver.critical_voltage`)
+at R/t0 = 10 and 20 on a sequence of meshes (in-plane size h = 3, 2 t0; with ``full``
+also 1.4 t0; one layer of quadratic prisms), their ratio per level, and the
+extrapolated ratio with an error estimate (the change of the extrapolation when the
+coarsest level is dropped, or of the ratio between the last two levels when only two
+exist).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+from debench.reference.datasets import write_dataset
+
+NAME = "ch5_thickness"
+ASPECTS = (10.0, 20.0)
+LEVELS = {False: (3.0, 2.0), True: (3.0, 2.0, 1.4)}
+LAYERS = 1
+ORDER = 2
+THICKNESS = 0.5e-3
+
+
+def richardson3(h: np.ndarray, v: np.ndarray) -> float:
+    """Limit of ``v(h) = v_inf + C h^p`` through three levels (p solved by bisection)."""
+    from scipy.optimize import brentq
+
+    (h1, h2, h3), (v1, v2, v3) = h[-3:], v[-3:]
+    ratio = (v1 - v2) / (v2 - v3)
+
+    def f(p):
+        return (h1**p - h2**p) / (h2**p - h3**p) - ratio
+
+    p = brentq(f, 0.05, 8.0)
+    return float(v3 - (v2 - v3) / (h2**p - h3**p) * h3**p)
+
+
+def ratio_limit(h, ratio) -> tuple[float, float]:
+    """Extrapolated ratio and its error estimate (see the module docstring)."""
+    h, ratio = np.asarray(h, float), np.asarray(ratio, float)
+    if h.size >= 4:
+        lim = richardson3(h, ratio)
+        return lim, abs(lim - richardson3(h[:-1], ratio[:-1]))
+    if h.size == 3:
+        lim = richardson3(h, ratio)
+        return lim, abs(lim - ratio[-1])
+    return float(ratio[-1]), float(abs(ratio[-1] - ratio[-2]))
+
+
+def compute(full: bool = False) -> xr.Dataset:
+    from debench.models.buckling.parameters import Discretisation, Ogden, Plate
+    from debench.models.buckling.solver import critical_voltage
+
+    levels = LEVELS[full]
+    v = np.zeros((len(ASPECTS), len(levels)))
+    ndof = np.zeros_like(v, dtype=np.int64)
+    for i, aspect in enumerate(ASPECTS):
+        for j, h in enumerate(levels):
+            r = critical_voltage(Plate(thickness=THICKNESS, aspect=aspect), Ogden(),
+                                 Discretisation(h_rel=h, layers=LAYERS, order=ORDER))
+            v[i, j], ndof[i, j] = r.v, r.ndof
+    ratio = v[1] / v[0]
+    lim, err = ratio_limit(levels, ratio)
+
+    def a(ln, u="1"):
+        return {"long_name": ln, "units": u}
+
+    return xr.Dataset(
+        {
+            "v_cr": (("aspect", "level"), v, a(
+                "normalised critical voltage Phi/t0 sqrt(eps/mu_ref) of the perfect Ogden "
+                "film, t0 = 0.5 mm (eigen-analysis)")),
+            "ndof": (("aspect", "level"), ndof, a("degrees of freedom")),
+            "ratio": (("level",), ratio, a("v_cr(R/t0 = 20) / v_cr(R/t0 = 10) per mesh level")),
+            "ratio_extrapolated": ((), lim, a("mesh limit of the ratio")),
+            "ratio_error": ((), err, a("error estimate of the mesh limit of the ratio")),
+        },
+        coords={"aspect": ("aspect", np.array(ASPECTS), a("radius / thickness R/t0")),
+                "level": ("level", np.arange(len(levels)), a("mesh level")),
+                "h_rel": ("level", np.array(levels), a("in-plane mesh size / t0"))},
+    )
+
+
+def build(out_dir: Path, *, full: bool = False) -> list[Path]:
+    ds = compute(full)
+    return [write_dataset(
+        ds, NAME, out_dir=out_dir, overwrite=True,
+        title="Chapter 5 thickness puzzle: critical voltage at R/t0 = 10 and 20",
+        summary=("Critical normalised voltage of the perfect clamped Ogden film "
+                 "(Table 5.1, t0 = 0.5 mm) at radius/thickness 10 and 20 on a mesh sequence, "
+                 "their ratio and its mesh limit: the data behind the hypothesis that the "
+                 "thesis' 0.5 mm model kept R = 10 mm (Table 5.2)."),
+        parameters={"full": full, "levels_h_rel": list(LEVELS[full]), "layers": LAYERS,
+                    "order": ORDER, "thickness_m": THICKNESS, "aspects": list(ASPECTS)},
+    )]
