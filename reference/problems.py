@@ -1,0 +1,435 @@
+"""Reference problems: benchmark specs that users check their own codes against.
+
+A reference problem (one TOML file in ``reference/problems/``, in the spirit of the
+cardiac-mechanics benchmark of Land et al. 2015) states
+
+* the **spec**: parameters with units, geometry, boundary conditions, loading and the
+  thesis section / equations / figure it comes from;
+* per **quantity of interest**: its coordinates (``select``: coordinates matched exactly,
+  ``along``: the abscissa of a curve, interpolated), units, and where the reference values
+  come from: a curated dataset (``source = "dataset"``, read verified by
+  :func:`debench.reference.datasets.read_dataset`) or a closed form
+  (``source = "function"``);
+* the **accuracy** of the reference values: the solver tolerance (the ``ACCURACY`` of the
+  producer module that guards the values, ``from = "module:ACCURACY"``, or an explicit
+  ``rtol``/``atol``) plus the discretisation error, measured (``discretisation_atol``) or
+  read from the dataset (``discretisation_from``), each with its reason.
+
+Curves are interpolated with a cubic spline in the abscissa (in its logarithm for
+``along_scale = "log"``); the interpolation error at a point is estimated as the distance
+between that spline and the spline through every other grid point (for a resolved smooth
+curve the O(h^4) error of the coarse spline is about 16 times that of the full one, so the
+estimate is conservative) and added to the tolerance. Points outside the reference curve, or
+in a gap of it (NaN: no root, inadmissible state), are rejected with ``ValueError``.
+A curve with a square-root end (Phibar near Phibar = 0) is interpolated in its square
+(``interpolate_power = 2``), in which it is smooth.
+
+Examples
+--------
+>>> from debench.reference import problems
+>>> [p.id for p in problems.load_all()][:2]
+['ch2_kernel_states', 'ch3_free_membrane_nh']
+>>> problems.get("ch3_free_membrane_nh").quantity("phibar").units
+'1'
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from functools import cache
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+PROBLEMS_DIR = Path(__file__).resolve().parent / "problems"
+#: relative tolerance for matching a user's selector coordinate (lamP = 1.25) with the
+#: stored grid value: grid values are printed decimals, so anything beyond round-off of a
+#: decimal-to-binary conversion (1e-16) is a different grid point; 1e-9 is far above it
+#: and far below any grid spacing (>= 1e-3)
+COORD_MATCH_RTOL = 1e-9
+
+
+class ProblemError(ValueError):
+    """A malformed problem spec or an unknown problem / quantity."""
+
+
+@dataclass(frozen=True)
+class ReferenceAccuracy:
+    """Accuracy of a reference value: ``atol + rtol |ref| + discretisation``.
+
+    ``discretisation`` is a number (measured, stated in the spec) or, for datasets that
+    carry it implicitly, an array read from the dataset per reference value.
+    """
+
+    rtol: float
+    atol: float
+    reason: str
+    discretisation: Any = 0.0
+    discretisation_reason: str = ""
+
+    def tolerance(self, reference: np.ndarray, discretisation=None) -> np.ndarray:
+        d = self.discretisation if discretisation is None else discretisation
+        return self.atol + self.rtol * np.abs(reference) + np.asarray(d, dtype=float)
+
+    def as_json(self) -> dict[str, Any]:
+        d = self.discretisation
+        return {"rtol": self.rtol, "atol": self.atol, "solver_reason": self.reason,
+                "discretisation_atol": (float(d) if np.ndim(d) == 0 else "per value"),
+                "discretisation_reason": self.discretisation_reason}
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """One quantity of interest of a problem (a ``[[quantity]]`` table)."""
+
+    name: str
+    long_name: str
+    units: str
+    source: str
+    accuracy: ReferenceAccuracy
+    select: tuple[str, ...] = ()
+    defaults: dict[str, Any] = field(default_factory=dict)
+    along: str | None = None
+    along_long_name: str = ""
+    along_units: str = "1"
+    along_scale: str = "linear"
+    interpolate_power: float = 1.0
+    dataset: str | None = None
+    variable: str | None = None
+    function: str | None = None
+    function_args: dict[str, Any] = field(default_factory=dict)
+    grid: dict[str, Any] = field(default_factory=dict)
+    discretisation_from: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def coordinates(self) -> tuple[str, ...]:
+        """Coordinate names a user supplies (selectors, then the abscissa)."""
+        return self.select + ((self.along,) if self.along else ())
+
+
+@dataclass(frozen=True)
+class Problem:
+    """A reference problem: spec, quantities, provenance."""
+
+    id: str
+    title: str
+    chapter: int
+    summary: str
+    geometry: str
+    boundary_conditions: str
+    loading: str
+    thesis: dict[str, Any]
+    parameters: dict[str, dict[str, Any]]
+    quantities: tuple[Quantity, ...]
+    catalogue: tuple[str, ...] = ()
+    references: tuple[str, ...] = ()
+    file: str = ""
+
+    def quantity(self, name: str | None = None) -> Quantity:
+        """The quantity ``name`` (default: the only one)."""
+        names = [q.name for q in self.quantities]
+        if name is None:
+            if len(self.quantities) != 1:
+                raise ProblemError(f"problem {self.id} has quantities {names}: name one")
+            return self.quantities[0]
+        for q in self.quantities:
+            if q.name == name:
+                return q
+        raise ProblemError(f"problem {self.id} has no quantity {name!r}; choose from {names}")
+
+    @property
+    def datasets(self) -> tuple[str, ...]:
+        return tuple(dict.fromkeys(q.dataset for q in self.quantities if q.dataset))
+
+    def spec(self) -> dict[str, Any]:
+        """The spec as plain data (what ``debench problems ID --json`` prints first)."""
+        return {
+            "id": self.id, "title": self.title, "chapter": self.chapter,
+            "summary": self.summary, "geometry": self.geometry,
+            "boundary_conditions": self.boundary_conditions, "loading": self.loading,
+            "thesis": self.thesis, "parameters": self.parameters,
+            "catalogue": list(self.catalogue), "references": list(self.references),
+            "provenance": provenance(self),
+            "quantities": [{
+                "name": q.name, "long_name": q.long_name, "units": q.units,
+                "coordinates": list(q.coordinates), "select": list(q.select),
+                "defaults": q.defaults, "along": q.along, "along_units": q.along_units,
+                "source": (f"dataset {q.dataset}:{q.variable}" if q.source == "dataset"
+                           else f"closed form {q.function}({q.function_args})"),
+                "accuracy": q.accuracy.as_json()} for q in self.quantities],
+        }
+
+
+# --------------------------------------------------------------------------- loading
+def _accuracy(raw: Mapping[str, Any], where: str) -> ReferenceAccuracy:
+    raw = dict(raw)
+    if "from" in raw:
+        module, _, attr = raw["from"].partition(":")
+        acc = getattr(importlib.import_module(module), attr or "ACCURACY")
+        rtol, atol, reason = acc.rtol, acc.atol, f"{acc.reason} ({raw['from']})"
+    else:
+        try:
+            rtol, atol, reason = float(raw["rtol"]), float(raw["atol"]), str(raw["reason"])
+        except KeyError as exc:
+            raise ProblemError(f"{where}: accuracy needs 'from' or rtol, atol and reason "
+                               f"(missing {exc})") from None
+    disc = float(raw.get("discretisation_atol", 0.0))
+    if not raw.get("discretisation"):
+        raise ProblemError(f"{where}: accuracy.discretisation must state the discretisation "
+                           "error or why there is none")
+    for name, x in (("rtol", rtol), ("atol", atol), ("discretisation_atol", disc)):
+        if not (math.isfinite(x) and x >= 0):
+            raise ProblemError(f"{where}: accuracy.{name} must be finite and >= 0, got {x}")
+    return ReferenceAccuracy(rtol=rtol, atol=atol, reason=reason, discretisation=disc,
+                    discretisation_reason=str(raw["discretisation"]))
+
+
+def _quantity(raw: Mapping[str, Any], where: str) -> Quantity:
+    raw = dict(raw)
+    where = f"{where} quantity {raw.get('name')!r}"
+    source = raw.get("source")
+    if source not in ("dataset", "function"):
+        raise ProblemError(f"{where}: source must be 'dataset' or 'function', got {source!r}")
+    if source == "dataset" and not (raw.get("dataset") and raw.get("variable")):
+        raise ProblemError(f"{where}: a dataset quantity needs 'dataset' and 'variable'")
+    if source == "function" and not (raw.get("function") and raw.get("along")):
+        raise ProblemError(f"{where}: a closed-form quantity needs 'function' and 'along'")
+    acc = raw.pop("accuracy", None)
+    if acc is None:
+        raise ProblemError(f"{where}: every quantity states its accuracy")
+    dfrom = dict(acc.get("discretisation_from", {}))
+    known = set(Quantity.__dataclass_fields__) - {"accuracy", "discretisation_from"}
+    unknown = set(raw) - known
+    if unknown:
+        raise ProblemError(f"{where}: unknown fields {sorted(unknown)}")
+    raw["select"] = tuple(raw.get("select", ()))
+    return Quantity(accuracy=_accuracy(acc, where), discretisation_from=dfrom, **raw)
+
+
+def load_file(path: Path) -> Problem:
+    """One problem spec from a TOML file."""
+    raw = tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    where = Path(path).name
+    try:
+        quantities = tuple(_quantity(q, where) for q in raw.pop("quantity"))
+        problem = Problem(
+            catalogue=tuple(raw.pop("catalogue", ())),
+            references=tuple(raw.pop("references", ())),
+            quantities=quantities, file=where, **raw)
+    except (KeyError, TypeError) as exc:
+        raise ProblemError(f"{where}: malformed problem spec ({exc})") from None
+    if problem.id != Path(path).stem:
+        raise ProblemError(f"{where}: id {problem.id!r} must equal the file name")
+    return problem
+
+
+@cache
+def load_all() -> tuple[Problem, ...]:
+    """Every reference problem, sorted by id."""
+    return tuple(sorted((load_file(p) for p in PROBLEMS_DIR.glob("*.toml")),
+                        key=lambda p: p.id))
+
+
+def get(problem_id: str) -> Problem:
+    """The problem ``problem_id`` (``ProblemError`` naming the known ids otherwise)."""
+    for p in load_all():
+        if p.id == problem_id:
+            return p
+    raise ProblemError(f"unknown problem {problem_id!r}; known: "
+                       f"{', '.join(p.id for p in load_all())}")
+
+
+def provenance(problem: Problem) -> dict[str, Any]:
+    """Datasets (with sha256 from the manifest) and the thesis location of a problem."""
+    from debench.reference.datasets import data_dir, read_manifest
+
+    manifest = read_manifest(data_dir())
+    out = {}
+    for name in problem.datasets:
+        meta = manifest.get(f"{name}.nc", {})
+        out[name] = {"file": f"{name}.nc", "sha256": meta.get("sha256", "missing"),
+                     "commit": meta.get("commit", "")}
+    return {"datasets": out, "thesis": problem.thesis}
+
+
+# --------------------------------------------------------------------------- reference
+def _function(q: Quantity):
+    module, _, name = q.function.partition(":")
+    fn = getattr(importlib.import_module(module), name)
+    return lambda x: np.asarray(fn(np.asarray(x, dtype=float), **q.function_args), float)
+
+
+def _dataset(q: Quantity):
+    from debench.reference.datasets import read_dataset
+
+    return read_dataset(q.dataset)
+
+
+def _match(values: np.ndarray, wanted: Any, name: str) -> int:
+    """Index of ``wanted`` in a coordinate (exact for text, COORD_MATCH_RTOL for numbers)."""
+    if values.dtype.kind in "fiu":
+        try:
+            w = float(wanted)
+        except (TypeError, ValueError):
+            raise ValueError(f"coordinate {name} must be numeric, got {wanted!r}") from None
+        hit = np.nonzero(np.isclose(values, w, rtol=COORD_MATCH_RTOL, atol=0.0))[0]
+    else:
+        hit = np.nonzero(values.astype(str) == str(wanted))[0]
+    if hit.size != 1:
+        raise ValueError(f"coordinate {name} = {wanted!r} is not on the reference grid; "
+                         f"choose from {values.tolist()}")
+    return int(hit[0])
+
+
+@dataclass(frozen=True)
+class Reference:
+    """Reference values and tolerances at the user's points."""
+
+    value: np.ndarray
+    tolerance: np.ndarray
+    interpolation: np.ndarray
+
+
+def _curve_at(x: np.ndarray, y: np.ndarray, xq: np.ndarray, name: str, log: bool,
+              power: float = 1.0):
+    """Cubic-spline value and its error estimate (distance to the half-grid spline).
+
+    ``power`` p: interpolate ``y**p`` (a curve with a square-root end, such as Phibar near
+    Phibar = 0, is smooth in Phibar^2), then return ``(.)**(1/p)``.
+    """
+    from scipy.interpolate import CubicSpline
+
+    order = np.argsort(x)
+    x, y = x[order], y[order]
+    finite = np.isfinite(x)
+    x, y = x[finite], y[finite]
+    ok = np.isfinite(y)
+    if ok.sum() < 2:
+        raise ValueError(f"the reference curve has fewer than 2 points along {name}")
+    lo, hi = x[ok].min(), x[ok].max()
+    outside = (xq < lo) | (xq > hi) | ~np.isfinite(xq)
+    if outside.any():
+        raise ValueError(f"{name} must lie in the reference range [{lo:.6g}, {hi:.6g}]; "
+                         f"got {xq[outside][:3].tolist()}")
+    # a point whose bracketing grid points are not both finite lies in a gap of the curve
+    j = np.clip(np.searchsorted(x, xq, side="right") - 1, 0, x.size - 2)
+    on_node = np.isclose(x[j], xq, rtol=0, atol=0) & ok[j]
+    gap = ~(ok[j] & ok[j + 1]) & ~on_node
+    if gap.any():
+        raise ValueError(f"{name} = {xq[gap][:3].tolist()} falls in a gap of the reference "
+                         "curve (no reference value there: no root or inadmissible state)")
+    t = np.log(x[ok]) if log else x[ok]
+    tq = np.log(xq) if log else xq
+    yp = y[ok] ** power
+    half = np.unique(np.r_[np.arange(0, t.size, 2), t.size - 1])
+    if half.size < 4:
+        raise ValueError(f"the reference curve along {name} is too short to interpolate "
+                         f"with an error estimate ({t.size} points)")
+    cubic = CubicSpline(t, yp)(tq)
+    coarse = CubicSpline(t[half], yp[half])(tq)
+    if power != 1.0:
+        cubic, coarse = (np.maximum(cubic, 0.0) ** (1 / power),
+                         np.maximum(coarse, 0.0) ** (1 / power))
+    return cubic, np.abs(cubic - coarse)
+
+
+def reference_at(problem: Problem, quantity: Quantity,
+                 coords: Mapping[str, Any]) -> Reference:
+    """Reference values, tolerances (stated accuracy) and interpolation error estimates at
+    the user's points; ``coords`` maps coordinate names to scalars or arrays (broadcast)."""
+    names = quantity.coordinates
+    given = {**quantity.defaults, **dict(coords)}
+    missing = [n for n in names if n not in given]
+    if missing:
+        raise ValueError(f"coords lack {missing} (problem {problem.id}, quantity "
+                         f"{quantity.name} needs {list(names)})")
+    extra = sorted(set(coords) - set(names))
+    if extra:
+        raise ValueError(f"coords has unknown names {extra}; {quantity.name} takes {list(names)}")
+    arrays = np.broadcast_arrays(*[np.asarray(given[n]) for n in names])
+    arrays = [a.ravel() for a in arrays]
+    n = arrays[0].size if arrays else 1
+    if quantity.source == "function":
+        xq = np.asarray(arrays[-1], dtype=float)
+        ref = _function(quantity)(xq)
+        zeros = np.zeros(n)
+        return Reference(ref, quantity.accuracy.tolerance(ref), zeros)
+    ds = _dataset(quantity)
+    var = ds[quantity.variable]
+    disc_var = None
+    if quantity.discretisation_from:
+        f = quantity.discretisation_from
+        fine = ds[f["variable"]].isel({f["dim"]: int(f["index"])})
+        disc_var = np.abs(var - fine)
+    value, interp, disc = np.empty(n), np.zeros(n), np.zeros(n)
+    keys = list(zip(*arrays[:len(quantity.select)], strict=True)) if quantity.select else [()] * n
+    groups: dict[tuple, list[int]] = {}
+    for i, k in enumerate(keys):
+        groups.setdefault(tuple(str(v) for v in k), []).append(i)
+    for _, idx in groups.items():
+        first = idx[0]
+        sel = {s: _match(ds[s].values, arrays[j][first], s)
+               for j, s in enumerate(quantity.select)}
+        y = var.isel(sel)
+        d = disc_var.isel(sel) if disc_var is not None else None
+        if quantity.along is None:
+            if y.ndim:
+                raise ProblemError(f"{problem.id}:{quantity.name}: selectors leave dims "
+                                   f"{y.dims}; the spec must select all of them")
+            value[idx] = float(y)
+            if d is not None:
+                disc[idx] = float(d)
+        else:
+            x = ds[quantity.along]
+            x = x.isel({k: v for k, v in sel.items() if k in x.dims})
+            if x.ndim != 1 or y.ndim != 1:
+                raise ProblemError(f"{problem.id}:{quantity.name}: curve is not 1-D after "
+                                   f"selection ({y.dims})")
+            xq = np.asarray(arrays[-1][idx], dtype=float)
+            value[idx], interp[idx] = _curve_at(np.asarray(x.values, float),
+                                                np.asarray(y.values, float), xq,
+                                                quantity.along,
+                                                quantity.along_scale == "log",
+                                                quantity.interpolate_power)
+    tol = quantity.accuracy.tolerance(value, quantity.accuracy.discretisation + disc)
+    return Reference(value, tol + interp, interp)
+
+
+def reference_json(problem: Problem) -> dict[str, Any]:
+    """Spec plus, per quantity, the reference coordinates, values, units and accuracy."""
+
+    def clean(a):
+        a = np.asarray(a)
+        if a.dtype.kind == "f":
+            return np.where(np.isfinite(a), a, None).tolist()
+        return a.astype(str).tolist() if a.dtype.kind in "US" else a.tolist()
+
+    out = {"spec": problem.spec(), "reference": {}}
+    for q in problem.quantities:
+        item: dict[str, Any] = {"units": q.units, "long_name": q.long_name,
+                                "accuracy": q.accuracy.as_json()}
+        if q.source == "function":
+            x = np.linspace(q.grid["start"], q.grid["stop"], int(q.grid["num"]))
+            item.update(dims=[q.along], coords={q.along: clean(x)},
+                        values=clean(_function(q)(x)))
+        else:
+            ds = _dataset(q)
+            var = ds[q.variable]
+            item.update(dims=list(var.dims),
+                        coords={d: clean(ds[d].values) for d in var.dims},
+                        values=clean(var.values))
+            if q.along:
+                a = ds[q.along]
+                item["along"] = {"name": q.along, "units": q.along_units,
+                                 "dims": list(a.dims), "values": clean(a.values)}
+            if q.discretisation_from:
+                f = q.discretisation_from
+                fine = ds[f["variable"]].isel({f["dim"]: int(f["index"])})
+                item["discretisation_error"] = clean(np.abs(var - fine).values)
+        out["reference"][q.name] = item
+    return out
