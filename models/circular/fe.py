@@ -1,0 +1,394 @@
+"""The whole circular actuator by axisymmetric finite elements (NGSolve), circle A + annulus B.
+
+Formulation
+-----------
+An incompressible, axisymmetric, finite-strain membrane of reference radius R_B (lengths
+in units of R_A), pre-stretched equibiaxially by ``lamP`` and held by a rigid frame
+(3.38): ``r(R_B) = lamP R_B``, ``r(0) = 0``. The only unknown is the current radius
+``r(R)`` on [0, R_B], discretised by continuous Lagrange elements of order ``order``; the
+stretches are ``lambda1 = dr/dR``, ``lambda2 = r/R``, ``lambda3 = 1/(lambda1 lambda2)``.
+Electrodes cover circle A (R < R_A) only: there the Lagrangian field through the thickness
+is ``E_L = Phi/H``. The voltage-controlled equilibrium is a stationary point of the
+potential energy per unit mu H::
+
+    Pi[r] = int_0^R_B w(lambda1, lambda2; Phibar^2 chi_A) R dR,                   (3.20)
+    w = Ws/mu - 1/2 (eps/eps_bar) lambda1^2 lambda2^2 Phibar^2,                   (3.23, 3.27)
+
+with ``Phibar^2 = eps_bar Phi^2/(mu H^2)`` (Sec. 3.5) and ``chi_A`` the indicator of the
+electrode. ``w`` is the library energy :meth:`GentMembrane.free_energy` in units mu = 1,
+eps_bar = 1, ``I4 = Phibar^2`` (written once more as an NGSolve CoefficientFunction here,
+and tested equal to the library).
+
+Why it is independent of (3.31)-(3.34)
+--------------------------------------
+No balance equation is written: NGSolve differentiates the discretised energy
+symbolically (residual and tangent), and Newton's method finds its stationary points. No
+ODE (neither the printed (3.33)-(3.34) nor the membrane balance d(R T1)/dR = T2) is formed
+or integrated, circle A is not assumed homogeneous (it is meshed like annulus B; the closed
+forms (3.28)-(3.30) are not used) and the interface R = R_A is only a mesh node where the
+electrode ends: neither (3.31) nor (3.32) is imposed. Continuity of r gives (3.31); whether
+the one-sided forces T1 agree, whether circle A stays homogeneous and which annulus
+equilibrium the solutions obey are outputs.
+
+Load control
+------------
+The stretch at R_A, ``lam = r(R_A)/R_A``, is the load parameter; ``Phibar^2`` is an
+unknown (bordered Newton system), so that the rising branch is followed through the
+pull-in maximum of Phibar. ``dPhibar^2/dlam`` comes from the same bordered tangent.
+
+Accuracy contract
+-----------------
+Newton stops when the update satisfies ``|dx|_inf <= NEWTON_RTOL (1 + |x|_inf)`` (after
+quadratic convergence the residual is at round-off). The discretisation error is that of
+the mesh (``n_a`` elements in circle A, ``n_b`` elements in annulus B uniform in ln R,
+order ``order``); its observed order is measured in ``verification/test_ch3_fe.py``.
+The model is the membrane limit (thickness t -> 0): the film thickness does not enter.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import ngsolve as ng
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+from debench.models import validation as v
+from debench.models.errors import ConvergenceError
+from debench.models.materials.membrane import GentMembrane, ZhaoSuoPermittivity
+from netgen.meshing import Element0D, Element1D, MeshPoint, Pnt
+from netgen.meshing import Mesh as NetgenMesh
+from scipy.optimize import brentq
+
+from .params import JM_VHB, locking_stretch_equibiaxial
+
+#: Newton stops on a relative update below this (quadratic convergence: the next update
+#: would be ~1e-20; the bordered system has condition ~1e8 on the finest meshes, so a
+#: relative round-off floor ~1e-12 leaves a margin of 100)
+NEWTON_RTOL = 1e-10
+NEWTON_MAXITER = 40
+#: continuation step in lam (halved on a Newton failure, at most MAX_HALVINGS times)
+LAM_STEP = 0.05
+MAX_HALVINGS = 12
+#: root location (pull-in, loss of tension) to this tolerance in lam; far below the
+#: discretisation error of any mesh used (>= 1e-7, test_ch3_fe)
+ROOT_XTOL = 1e-11
+
+
+@dataclass(frozen=True)
+class FEMesh:
+    """Mesh of [0, R_B] (units of R_A): ``n_a`` uniform elements in circle A, ``n_b``
+    elements in annulus B uniform in ln R (graded towards the interface), Lagrange order
+    ``order``."""
+
+    n_a: int = 4
+    n_b: int = 40
+    order: int = 2
+
+    def __post_init__(self):
+        v.integer_at_least("n_a", self.n_a, 1)
+        v.integer_at_least("n_b", self.n_b, 2)
+        v.integer_at_least("order", self.order, 1)
+
+
+@dataclass(frozen=True)
+class FEState:
+    """An equilibrium state on the rising branch.
+
+    ``lam`` is r(R_A)/R_A; ``phibar2`` = Phibar^2 (negative: no real voltage holds it);
+    ``dphibar2_dlam`` from the bordered tangent; ``T1A``, ``T1B`` the nominal radial stress
+    per unit mu just inside and just outside R_A (one-sided element values, (3.17));
+    ``sigma1A`` = lambda1 T1 at the centre of circle A; ``x`` the nodal values of r.
+    """
+
+    lam: float
+    phibar2: float
+    dphibar2_dlam: float
+    T1A: float
+    T1B: float
+    sigma1A: float
+    iterations: int
+    residual: float
+    x: np.ndarray = field(repr=False)
+
+    @property
+    def phibar(self) -> float:
+        return math.sqrt(self.phibar2) if self.phibar2 >= 0 else math.nan
+
+
+class CircularFE:
+    """Finite-element model of the Chapter 3 actuator at one pre-stretch and one c.
+
+    Parameters
+    ----------
+    lamP
+        Equibiaxial pre-stretch (3.38), >= 1 and below the Gent locking stretch.
+    c
+        Zhao-Suo factor (3.27); 1 + c(2 lamP - 2) > 0 required.
+    radius_ratio
+        R_B/R_A > 1 (thesis: 15).
+    Jm
+        Gent parameter (3.23), > 0.
+    mesh
+        :class:`FEMesh`.
+    """
+
+    def __init__(self, lamP: float, c: float = 0.0, *, radius_ratio: float = 15.0,
+                 Jm: float = JM_VHB, mesh: FEMesh = FEMesh()):
+        self.lamP = v.at_least("lamP", lamP, 1.0)
+        self.c = v.finite("c", c)
+        self.radius_ratio = v.positive("radius_ratio", radius_ratio)
+        if not (self.radius_ratio > 1 and math.isfinite(self.radius_ratio)):
+            raise ValueError(f"radius_ratio RB/RA must be finite and > 1, got {radius_ratio}")
+        self.Jm = v.positive("Jm", Jm)
+        lock = locking_stretch_equibiaxial(self.Jm)
+        if not self.lamP < lock:
+            raise ValueError(f"lamP = {self.lamP:.6g} is past the Gent locking stretch "
+                             f"{lock:.6g} (Jm = {self.Jm:.6g})")
+        if not 1 + self.c * (2 * self.lamP - 2) > 0:
+            raise ValueError(f"c = {self.c} makes the permittivity (3.27) non-positive at "
+                             f"lamP = {self.lamP}: need 1 + c(2 lamP - 2) > 0")
+        self.mesh_spec = v.instance("mesh", mesh, FEMesh)
+        #: the library material in units mu = 1, eps_bar = 1 (so that I4 = Phibar^2)
+        self.material = GentMembrane(mu=1.0, Jm=self.Jm,
+                                     permittivity=ZhaoSuoPermittivity(eps_bar=1.0, c=self.c))
+        ng.SetNumThreads(1)
+        self._build()
+        self._states: list[FEState] = [self._reference_state()]
+
+    # ------------------------------------------------------------------ set-up
+    def _build(self):
+        m = self.mesh_spec
+        RB = self.radius_ratio
+        xa = np.linspace(0.0, 1.0, m.n_a + 1)
+        xb = np.exp(np.linspace(0.0, math.log(RB), m.n_b + 1))
+        xb[-1] = RB
+        nodes = np.concatenate([xa, xb[1:]])
+        self.nodes = nodes
+        ngm = NetgenMesh(dim=1)
+        pids = [ngm.Add(MeshPoint(Pnt(float(x), 0, 0))) for x in nodes]
+        ia = ngm.AddRegion("A", dim=1)
+        ib = ngm.AddRegion("B", dim=1)
+        for k in range(len(nodes) - 1):
+            ngm.Add(Element1D([pids[k], pids[k + 1]], index=ia if k < m.n_a else ib))
+        ngm.Add(Element0D(pids[0], index=1))
+        ngm.Add(Element0D(pids[-1], index=2))
+        ngm.SetBCName(0, "center")
+        ngm.SetBCName(1, "frame")
+        self.mesh = ng.Mesh(ngm)
+        self.fes = ng.H1(self.mesh, order=m.order, dirichlet="center|frame")
+        self.gf = ng.GridFunction(self.fes)
+        u = self.fes.TrialFunction()
+        R = ng.x
+        l1 = ng.grad(u)[0]
+        l2 = u / R
+        wm, we = energy_cf(l1, l2, self.material)
+        self._am = ng.BilinearForm(self.fes, symmetric=False)
+        self._am += ng.Variation(wm * R * ng.dx)
+        self._ae = ng.BilinearForm(self.fes, symmetric=False)
+        self._ae += ng.Variation(we * R * ng.dx(definedon=self.mesh.Materials("A")))
+        free = np.array(list(self.fes.FreeDofs()), dtype=bool)
+        self._i = self.fes.GetDofNrs(ng.NodeId(ng.VERTEX, self.mesh_spec.n_a))[0]
+        assert abs(self.mesh.vertices[self._i].point[0] - 1.0) < 1e-14
+        self._E = np.nonzero(free)[0]                      # equations
+        self._F = self._E[self._E != self._i]               # unknown displacements
+        self._frame = self.fes.GetDofNrs(ng.NodeId(ng.VERTEX, len(nodes) - 1))[0]
+        self._tmp = self.gf.vec.CreateVector()
+
+    def _reference_state(self) -> FEState:
+        """The pre-stretched film at zero voltage: r = lamP R (interpolated exactly)."""
+        self.gf.Set(self.lamP * ng.x)
+        x = self.gf.vec.FV().NumPy().copy()
+        return self._finish(x, 0.0, 0, 0.0)
+
+    # ------------------------------------------------------------------ assembly
+    def _vec(self, form, x):
+        self.gf.vec.FV().NumPy()[:] = x
+        form.Apply(self.gf.vec, self._tmp)
+        return self._tmp.FV().NumPy().copy()
+
+    def _mat(self, form, x):
+        self.gf.vec.FV().NumPy()[:] = x
+        form.AssembleLinearization(self.gf.vec)
+        rows, cols, vals = form.mat.COO()
+        n = self.fes.ndof
+        return sp.csr_matrix((np.array(vals), (np.array(rows), np.array(cols))), shape=(n, n))
+
+    def _system(self, x, p):
+        with np.errstate(all="ignore"):
+            rm = self._vec(self._am, x)
+            re = self._vec(self._ae, x)
+        res = rm + p * re
+        return res, re
+
+    def _bordered(self, x, p):
+        J = self._mat(self._am, x) + p * self._mat(self._ae, x)
+        _, re = self._system(x, p)
+        E, F = self._E, self._F
+        M = sp.hstack([J[E][:, F], sp.csr_matrix(re[E][:, None])]).tocsc()
+        return M, J
+
+    # ------------------------------------------------------------------ solve
+    def _newton(self, x, p, lam):
+        x = x.copy()
+        x[self._i] = lam
+        E, F = self._E, self._F
+        res, _ = self._system(x, p)
+        for it in range(1, NEWTON_MAXITER + 1):
+            if not np.all(np.isfinite(res[E])):
+                raise ConvergenceError(f"FE Newton: inadmissible state at lam = {lam:.6g} "
+                                       f"(Gent locking or lambda <= 0), lamP = {self.lamP}")
+            M, _ = self._bordered(x, p)
+            dz = spla.spsolve(M, -res[E])
+            scale = 1.0
+            for _ in range(30):  # damping: keep the trial state admissible
+                xt = x.copy()
+                xt[F] += scale * dz[:-1]
+                pt = p + scale * dz[-1]
+                rt, _ = self._system(xt, pt)
+                if np.all(np.isfinite(rt[E])) and self._admissible(xt):
+                    break
+                scale *= 0.5
+            else:
+                raise ConvergenceError(f"FE Newton: no admissible step at lam = {lam:.6g}")
+            x, p, res = xt, pt, rt
+            step = scale * np.max(np.abs(dz))
+            if scale == 1.0 and step <= NEWTON_RTOL * (1 + np.max(np.abs(x)) + abs(p)):
+                return x, p, it, float(np.max(np.abs(res[E])))
+        raise ConvergenceError(f"FE Newton: |dz| = {step:.3g} after {NEWTON_MAXITER} "
+                               f"iterations at lam = {lam:.6g}, lamP = {self.lamP}")
+
+    def _admissible(self, x) -> bool:
+        l1, l2 = self._stretches_at_nodes(x)
+        if not (np.all(l1 > 0) and np.all(l2 > 0)):
+            return False
+        return bool(np.all(l1**2 + l2**2 + (l1 * l2) ** -2 - 3 < self.Jm))
+
+    def _tangent(self, x, p):
+        """d(x_F, p)/dlam from the bordered tangent (x_i = lam fixed by the load)."""
+        M, J = self._bordered(x, p)
+        rhs = -np.asarray(J[self._E][:, [self._i]].todense()).ravel()
+        return spla.spsolve(M, rhs)
+
+    def _finish(self, x, p, it, resid) -> FEState:
+        lam = float(x[self._i])
+        dp = float(self._tangent(x, p)[-1])
+        T1A = self._T1(x, p, 1.0 - 1e-9)
+        T1B = self._T1(x, p, 1.0 + 1e-9)
+        l1c, _ = self._stretch_at(x, 0.5 / self.mesh_spec.n_a)
+        sig = l1c * self._T1(x, p, 0.5 / self.mesh_spec.n_a)
+        return FEState(lam=lam, phibar2=float(p), dphibar2_dlam=dp, T1A=T1A, T1B=T1B,
+                       sigma1A=float(sig), iterations=it, residual=resid, x=x)
+
+    def solve(self, lam: float) -> FEState:
+        """Equilibrium with r(R_A) = lam R_A on the rising branch (continuation from the
+        nearest solved state with an Euler predictor; steps halved on a Newton failure).
+
+        ``lam`` >= lamP; raises ConvergenceError when no admissible state is reached.
+        """
+        lam = v.at_least("lam", lam, self.lamP)
+        base = min(self._states, key=lambda s: abs(s.lam - lam))
+        while abs(base.lam - lam) > 0:
+            target = base.lam + math.copysign(min(LAM_STEP, abs(lam - base.lam)),
+                                              lam - base.lam)
+            for _ in range(MAX_HALVINGS + 1):
+                try:
+                    state = self._step(base, target)
+                    break
+                except ConvergenceError:
+                    target = base.lam + 0.5 * (target - base.lam)
+            else:
+                raise ConvergenceError(f"FE continuation stalled at lam = {base.lam:.6g} "
+                                       f"towards {lam:.6g}, lamP = {self.lamP}")
+            self._states.append(state)
+            base = state
+        return base
+
+    def _step(self, base: FEState, lam: float) -> FEState:
+        t = self._tangent(base.x, base.phibar2)
+        d = lam - base.lam
+        x0 = base.x.copy()
+        x0[self._F] += d * t[:-1]
+        p0 = base.phibar2 + d * t[-1]
+        x, p, it, resid = self._newton(x0, p0, lam)
+        return self._finish(x, p, it, resid)
+
+    # ------------------------------------------------------------------ post-processing
+    def _set(self, x):
+        self.gf.vec.FV().NumPy()[:] = x
+
+    def _stretch_at(self, x, R):
+        self._set(x)
+        mp = self.mesh(float(R))
+        return float(ng.grad(self.gf)[0](mp)), float(self.gf(mp)) / float(R)
+
+    def _stretches_at_nodes(self, x):
+        self._set(x)
+        R = 0.5 * (self.nodes[1:] + self.nodes[:-1])
+        pts = [self.mesh(float(r)) for r in R]
+        l1 = np.array([ng.grad(self.gf)[0](p) for p in pts])
+        l2 = np.array([self.gf(p) for p in pts]) / R
+        return l1, l2
+
+    def _T1(self, x, p, R) -> float:
+        """Nominal radial stress dw/dlambda1 per unit mu at R (3.17), from the library
+        energy by complex step; the electric term only inside the electrode (R < R_A)."""
+        l1, l2 = self._stretch_at(x, R)
+        return _T1(self.material, l1, l2, p if R < 1.0 else 0.0)
+
+    def profile(self, state: FEState, R) -> dict:
+        """lambda1, lambda2, lambda3 at radii R (units of R_A, 0 < R <= R_B)."""
+        R = np.atleast_1d(np.asarray(v.positive("R", R), dtype=float))
+        if np.any(R > self.radius_ratio):
+            raise ValueError(f"R must be <= R_B/R_A = {self.radius_ratio}, got max {R.max()}")
+        l1, l2 = np.array([self._stretch_at(state.x, r) for r in R]).T
+        return {"lam1": l1, "lam2": l2, "lam3": 1 / (l1 * l2)}
+
+    # ------------------------------------------------------------------ events
+    def pullin(self, lam_hi: float) -> FEState:
+        """First local maximum of Phibar along lam in (lamP, lam_hi]: dPhibar^2/dlam = 0
+        located by brentq on FE states. Raises ValueError when there is none."""
+        lam_hi = v.at_least("lam_hi", lam_hi, self.lamP)
+        return self._first_root(lambda s: s.dphibar2_dlam, lam_hi, "pull-in")
+
+    def loss_of_tension(self, lam_hi: float) -> FEState:
+        """First zero of sigma1 in circle A along lam in (lamP, lam_hi]."""
+        lam_hi = v.at_least("lam_hi", lam_hi, self.lamP)
+        return self._first_root(lambda s: s.sigma1A, lam_hi, "loss of tension")
+
+    def _first_root(self, g, lam_hi, what) -> FEState:
+        lams = np.arange(self.lamP, lam_hi + 0.5 * LAM_STEP, LAM_STEP)
+        prev = self.solve(float(lams[0]))
+        for lam in lams[1:]:
+            cur = self.solve(float(lam))
+            if g(prev) > 0 >= g(cur):
+                root = brentq(lambda t: g(self.solve(t)), prev.lam, cur.lam,
+                              xtol=ROOT_XTOL, rtol=4 * np.finfo(float).eps)
+                return self.solve(root)
+            prev = cur
+        raise ValueError(f"no {what} for lam in [{self.lamP}, {lam_hi}] (lamP = {self.lamP},"
+                         f" c = {self.c})")
+
+
+def _T1(material, l1, l2, I4):
+    """dw/dl1 of the library energy (3.20) at I4 = Phibar^2 (any sign: w is linear in I4,
+    so the two complex-step derivatives at I4 = 0 and 1 give it)."""
+    h = 1e-30
+    w0 = np.imag(material.free_energy(l1 + 1j * h, l2, 0.0)) / h
+    w1 = np.imag(material.free_energy(l1 + 1j * h, l2, 1.0)) / h
+    return float(w0 + I4 * (w1 - w0))
+
+
+def energy_cf(l1, l2, material: GentMembrane):
+    """The energy (3.20) of :class:`GentMembrane` with Zhao-Suo permittivity as NGSolve
+    CoefficientFunctions: ``(Ws, dW/dI4)`` so that ``w = Ws + I4 dW/dI4`` (w is linear in
+    ``I4 = E_L^2``). Units follow ``material`` (mu, eps_bar)."""
+    perm = material.permittivity
+    if not isinstance(perm, ZhaoSuoPermittivity):
+        raise NotImplementedError("energy_cf: Zhao-Suo permittivity only")
+    I1 = l1 * l1 + l2 * l2 + 1 / (l1 * l1 * l2 * l2)
+    ws = -0.5 * material.mu * material.Jm * ng.log(1 - (I1 - 3) / material.Jm)
+    eps = perm.eps_bar * (1 + perm.c * (l1 + l2 - 2))
+    we = -0.5 * eps * l1 * l1 * l2 * l2
+    return ws, we
