@@ -272,6 +272,7 @@ def _dataset(q: Quantity):
 
 def _match(values: np.ndarray, wanted: Any, name: str) -> int:
     """Index of ``wanted`` in a coordinate (exact for text, COORD_MATCH_RTOL for numbers)."""
+    wanted = wanted.item() if isinstance(wanted, np.generic) else wanted
     if values.dtype.kind in "fiu":
         try:
             w = float(wanted)

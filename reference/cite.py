@@ -1,0 +1,152 @@
+"""Citations of a catalogue entry, dataset or reference problem (``debench cite ID``).
+
+Each citation names the debench version and git commit, the sha256 of the datasets the
+value comes from (from ``MANIFEST.json``), the thesis section, equation, figure, table
+and page, and the references: the thesis and, for Chapter 3, the source paper. Output as
+BibTeX and CSL-JSON (the item list citeproc processors read).
+"""
+
+from __future__ import annotations
+
+import datetime
+import json
+import re
+from typing import Any
+
+#: repository URL (also ``repository-code`` in CITATION.cff)
+REPOSITORY = "https://github.com/debench/debench"
+
+THESIS = {
+    "id": "zeng_2020", "type": "thesis", "genre": "PhD dissertation",
+    "title": "Deformation and stability of dielectric elastomer films used in actuators",
+    "author": [{"family": "Zeng", "given": "Chuan"}],
+    "publisher": "The University of Akron", "issued": {"date-parts": [[2020]]},
+    "URL": "https://rave.ohiolink.edu/etdc/view?acc_num=akron1595422569403014",
+}
+ZENG_GAO_2019 = {
+    "id": "zeng_gao_2019", "type": "article-journal",
+    "title": "Effect of the deformation dependent permittivity on the actuation of a "
+             "pre-stretched circular dielectric actuator",
+    "author": [{"family": "Zeng", "given": "Chuan"}, {"family": "Gao", "given": "Xiaosheng"}],
+    "container-title": "Mechanics Research Communications", "issued": {"date-parts": [[2019]]},
+    "DOI": "10.1016/j.mechrescom.2019.103420",
+}
+ZHAO_SUO_2007 = {
+    "id": "zhao_suo_2007", "type": "article-journal",
+    "title": "Method to analyze electromechanical stability of dielectric elastomers",
+    "author": [{"family": "Zhao", "given": "Xuanhe"}, {"family": "Suo", "given": "Zhigang"}],
+    "container-title": "Applied Physics Letters", "volume": "91", "page": "061921",
+    "issued": {"date-parts": [[2007]]}, "DOI": "10.1063/1.2768641",
+}
+REFERENCES = {r["id"]: r for r in (THESIS, ZENG_GAO_2019, ZHAO_SUO_2007)}
+
+
+def _chapter(text: str) -> int | None:
+    m = re.match(r"ch(\d)", text)
+    return int(m.group(1)) if m else None
+
+
+def _resolve(item_id: str) -> dict[str, Any]:
+    """What ``item_id`` names: kind, title, chapter, thesis location, datasets, refs."""
+    from debench.reference import catalogue, problems
+    from debench.reference.datasets import data_dir, read_manifest
+
+    manifest = read_manifest(data_dir())
+    try:
+        p = problems.get(item_id)
+    except problems.ProblemError:
+        p = None
+    if p is not None:
+        return {"kind": "reference problem", "title": p.title, "chapter": p.chapter,
+                "thesis": dict(p.thesis), "datasets": list(p.datasets),
+                "refs": list(p.references)}
+    name = item_id.removesuffix(".nc")
+    if f"{name}.nc" in manifest:
+        meta = manifest[f"{name}.nc"]
+        return {"kind": "dataset", "title": meta.get("title", name),
+                "chapter": _chapter(name), "thesis": {}, "datasets": [name], "refs": []}
+    entries = {e.id: e for e in catalogue.load()}
+    entry = entries.get(item_id) or next(
+        (e for e in entries.values() if e.replaces == item_id), None)
+    if entry is None:
+        raise ValueError(f"ID {item_id!r} is neither a reference problem (debench problems), "
+                         "a dataset (debench list datasets) nor a catalogue entry "
+                         "(debench list claims)")
+    src = {k: v for k, v in entry.source.items() if v not in ("", None)}
+    chapter = src.get("chapter") or _chapter(entry.id)
+    return {"kind": f"catalogue entry ({entry.kind})", "title": f"{entry.id}: {entry.quantity}",
+            "chapter": int(chapter) if str(chapter).isdigit() else None, "thesis": src,
+            "datasets": ["thesis_values"], "refs": [], "entry_id": entry.id}
+
+
+def citation(item_id: str) -> list[dict[str, Any]]:
+    """CSL-JSON items: debench (with the item cited) first, then its references."""
+    from debench.reference.datasets import data_dir, read_manifest
+    from debench.reference.provenance import git_commit
+
+    from debench import __version__
+
+    info = _resolve(item_id)
+    manifest = read_manifest(data_dir())
+    sums = {d: manifest.get(f"{d}.nc", {}).get("sha256", "missing") for d in info["datasets"]}
+    where = ", ".join(f"{k} {v}" for k, v in info["thesis"].items() if k != "note")
+    commit = git_commit()
+    today = datetime.date.today()
+    note = "; ".join(filter(None, [
+        f"{info['kind']} {item_id}", f"debench {__version__}, commit {commit}",
+        *(f"{d}.nc sha256 {s}" for d, s in sums.items()),
+        f"thesis {where}" if where else ""]))
+    refs = [THESIS] + ([ZENG_GAO_2019] if info["chapter"] == 3 else [])
+    refs += [REFERENCES[r] for r in info["refs"] if REFERENCES[r] not in refs]
+    main = {
+        "id": f"debench_{re.sub(r'[^A-Za-z0-9]+', '_', item_id)}",
+        "type": "dataset" if info["datasets"] else "software",
+        "title": f"debench: {info['title']}",
+        "author": [{"literal": "debench developers"}],
+        "version": __version__, "URL": REPOSITORY, "note": note,
+        "issued": {"date-parts": [[today.year]]},
+        "accessed": {"date-parts": [[today.year, today.month, today.day]]},
+        "references": "; ".join(r["id"] for r in refs),
+    }
+    return [main, *refs]
+
+
+def _bib_authors(item: dict[str, Any]) -> str:
+    return " and ".join(a.get("literal") and f"{{{a['literal']}}}" or
+                        f"{a['family']}, {a['given']}" for a in item["author"])
+
+
+def bibtex(items: list[dict[str, Any]]) -> str:
+    """BibTeX entries of CSL-JSON items from :func:`citation`."""
+    out = []
+    for it in items:
+        kind = {"thesis": "phdthesis", "article-journal": "article"}.get(it["type"], "misc")
+        fields = {"author": _bib_authors(it), "title": f"{{{it['title']}}}",
+                  "year": str(it["issued"]["date-parts"][0][0])}
+        if kind == "phdthesis":
+            fields["school"] = it["publisher"]
+        if kind == "article":
+            fields["journal"] = it["container-title"]
+            for k in ("volume", "page"):
+                if k in it:
+                    fields["pages" if k == "page" else k] = it[k]
+        for key, bib in (("DOI", "doi"), ("URL", "url"), ("version", "version"),
+                         ("note", "note")):
+            if key in it:
+                fields[bib] = it[key]
+        body = ",\n".join(f"  {k} = {{{v}}}" for k, v in fields.items())
+        out.append(f"@{kind}{{{it['id']},\n{body}\n}}")
+    return "\n\n".join(out)
+
+
+def render(item_id: str, fmt: str = "both") -> str:
+    """What ``debench cite`` prints: ``bibtex``, ``csl`` (JSON) or ``both``."""
+    if fmt not in ("bibtex", "csl", "both"):
+        raise ValueError(f"fmt must be 'bibtex', 'csl' or 'both', got {fmt!r}")
+    items = citation(item_id)
+    parts = []
+    if fmt in ("bibtex", "both"):
+        parts.append(bibtex(items))
+    if fmt in ("csl", "both"):
+        parts.append(json.dumps(items, indent=1, ensure_ascii=False))
+    return "\n\n".join(parts)
