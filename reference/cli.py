@@ -111,6 +111,36 @@ def compare_with_curated(path: Path, curated_dir: Path) -> str:
     return f"{path.name}: {'matches curated' if not bad else 'DIFFERS in ' + ', '.join(bad)}"
 
 
+def _same_directory(a: Path, b: Path) -> bool:
+    """Whether two paths name one directory (symlinks, ``..`` and bind mounts included)."""
+    try:
+        return a.samefile(b)
+    except OSError:  # one of them does not exist yet
+        return a.resolve() == b.resolve()
+
+
+def report_figures(figures: Path) -> Path:
+    """The figures directory for a report, warning (stderr) about expected figures it lacks.
+
+    Expected are the figures of the curated set (``data_dir()/figures``); a partial
+    directory is used as it is, but never silently.
+    """
+    from debench.reference.datasets import data_dir
+
+    curated = data_dir() / "figures"
+    expected = {p.name for p in curated.glob("*.png")}
+    present = {p.name for p in figures.glob("*.png")}
+    missing = sorted(expected - present)
+    if missing:
+        print(f"debench: warning: {figures} lacks {len(missing)} of the {len(expected)} "
+              f"expected figures, which the report omits: {', '.join(missing)} "
+              "(`debench reproduce` regenerates them)", file=sys.stderr)
+    elif not present:
+        print(f"debench: warning: no figures in {figures}; the report has none "
+              "(`debench reproduce` makes them)", file=sys.stderr)
+    return figures
+
+
 def cmd_reproduce(args) -> int:
     from debench.reference import catalogue, report
     from debench.reference.datasets import data_dir
@@ -119,6 +149,9 @@ def cmd_reproduce(args) -> int:
     unknown = sorted(set(chapters) - set(CHAPTERS))
     if unknown:
         raise ValueError(f"unknown chapter(s) {unknown}; choose from {CHAPTERS}")
+    if not args.write_data and _same_directory(Path(args.out), data_dir()):
+        raise ValueError(f"--out {args.out} is the curated data directory {data_dir()}; "
+                         "replacing the curated datasets needs --write-data")
     out = data_dir() if args.write_data else Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     if args.write_data:
@@ -147,17 +180,18 @@ def cmd_reproduce(args) -> int:
             print(f"  {line}", file=sys.stderr)
     results = catalogue.evaluate_all(progress=lambda xs: _progress(xs, "verifying claims"))
     path = report.write_report(Path(args.out), results, regeneration=regeneration,
-                               figures_dir=out / "figures")
+                               figures_dir=report_figures(out / "figures"))
     print(f"report: {path}  ({report.summary_line(results)})")
     return 0
 
 
 # --------------------------------------------------------------------------- verify
-def regenerate_and_compare(chapters, *, quiet: bool = False) -> list[str]:
-    """Rebuild cheap chapters in a temporary directory; problems where data/ differs."""
+def regenerate_and_compare(chapters, *, quiet: bool = False) -> list:
+    """Rebuild cheap chapters in a temporary directory; problems (``DataProblem``
+    records) where data/ differs."""
     import tempfile
 
-    from debench.reference.datasets import data_dir
+    from debench.reference.datasets import DataProblem, data_dir
 
     problems = []
     with tempfile.TemporaryDirectory(prefix="debench-verify-") as tmp:
@@ -172,7 +206,7 @@ def regenerate_and_compare(chapters, *, quiet: bool = False) -> list[str]:
                 if not quiet:
                     print(f"regenerated {line}", file=sys.stderr)
                 if "DIFFERS" in line or "cannot compare" in line:
-                    problems.append(line)
+                    problems.append(DataProblem.coerce(line))
     return problems
 
 
@@ -187,7 +221,15 @@ def cmd_verify(args) -> int:
         problems += regenerate_and_compare(REGENERATED_BY_VERIFY, quiet=args.json)
     regressed = [r for r in results if r.regressed]
     if args.json:
-        print(json.dumps([r.as_json() for r in results], indent=1, ensure_ascii=False))
+        from debench.reference.datasets import DataProblem
+
+        # Data problems are appended to the array as records {"kind": "data", "id",
+        # "file", "reason"}; consumers of catalogue entries select them by kind.
+        records = [DataProblem.coerce(p) for p in problems]
+        for p in records:
+            print(f"DATA {p}", file=sys.stderr)
+        rows = [r.as_json() for r in results] + [p.as_json() for p in records]
+        print(json.dumps(rows, indent=1, ensure_ascii=False))
     else:
         from debench.reference.report import summary_line
 
@@ -228,7 +270,7 @@ def cmd_report(args) -> int:
         from debench.reference.datasets import data_dir
 
         figures = data_dir() / "figures"
-    path = report.write_report(out, results, figures_dir=figures)
+    path = report.write_report(out, results, figures_dir=report_figures(figures))
     print(f"report: {path}  ({report.summary_line(results)})")
     return 0
 
