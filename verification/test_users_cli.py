@@ -1,0 +1,164 @@
+"""What users see: ``debench problems``, ``check``, ``cite``; exit codes (0 ok, 1 check
+failed, 2 usage, 3 runtime error); ``--debug`` after the subcommand; chapter aliases;
+progress bars only on a terminal; CITATION.cff fields."""
+
+from __future__ import annotations
+
+import io
+import json
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+from debench.reference import cite, cli
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _csv(path, lam, phibar, header="lam [1],phibar [1]"):
+    np.savetxt(path, np.column_stack([lam, phibar]), delimiter=",", header=header,
+               comments="", fmt="%.17g")
+    return path
+
+
+def test_problems_lists_and_prints_json(capsys):
+    assert cli.main(["problems"]) == 0
+    assert "ch3_free_membrane_nh" in capsys.readouterr().out
+    assert cli.main(["problems", "ch4_plate_critical_stretch", "--json"]) == 0
+    blob = json.loads(capsys.readouterr().out)
+    ref = blob["reference"]["lam_cr"]
+    assert blob["spec"]["provenance"]["datasets"]["ch4_fig4_2_curves"]["sha256"]
+    assert ref["dims"] == ["variant", "xi", "Dhat", "kH", "root"]
+    assert len(ref["coords"]["kH"]) == np.shape(ref["values"])[3]
+    assert ref["accuracy"]["rtol"] > 0
+
+
+def test_check_csv_exit_codes(tmp_path, capsys):
+    lam = np.linspace(1.05, 2.5, 20)
+    good = np.sqrt(lam**-2 - lam**-8)
+    assert cli.main(["check", "ch3_free_membrane_nh", str(_csv(tmp_path / "a.csv", lam,
+                                                                   good))]) == 0
+    assert "MATCHES" in capsys.readouterr().out
+    assert cli.main(["check", "ch3_free_membrane_nh",
+                     str(_csv(tmp_path / "b.csv", lam, good * 1.001))]) == 1
+    out = capsys.readouterr().out
+    assert "DOES NOT MATCH" in out and "|err|/tol" in out
+    # the user's tolerance is applied
+    assert cli.main(["check", "ch3_free_membrane_nh", str(tmp_path / "b.csv"),
+                     "--rtol", "0.01"]) == 0
+    # wrong units in the header, unknown problem, missing file: usage errors
+    bad_units = _csv(tmp_path / "c.csv", lam, good, header="lam [m],phibar [1]")
+    assert cli.main(["check", "ch3_free_membrane_nh", str(bad_units)]) == 2
+    assert cli.main(["check", "no_such_problem", str(tmp_path / "a.csv")]) == 2
+    assert cli.main(["check", "ch3_free_membrane_nh", str(tmp_path / "none.csv")]) == 2
+    assert "does not exist" in capsys.readouterr().err
+
+
+def test_check_netcdf_with_selectors(tmp_path):
+    """netCDF input: the quantity over (c, lambda_a) with lamP as a scalar coordinate."""
+    import xarray as xr
+    from debench.reference.datasets import read_dataset
+
+    ds = read_dataset("ch3_voltage_stretch").sel(lamP=2.0)
+    lam = ds.lambda_a.values[1:60]
+    phibar = ds.phibar.sel(c=[0.0, -0.053]).values[:, 1:60]
+    user = xr.Dataset({"phibar": (("c", "n"), phibar, {"units": "1"}),
+                       "lambda_a": ("n", lam, {"units": "1"})},
+                      coords={"c": [0.0, -0.053], "lamP": 2.0})
+    user.to_netcdf(tmp_path / "ok.nc")
+    assert cli.main(["check", "ch3_voltage_stretch", str(tmp_path / "ok.nc")]) == 0
+    user["phibar"] = user.phibar * (1 + 1e-4)
+    user.to_netcdf(tmp_path / "bad.nc")
+    assert cli.main(["check", "ch3_voltage_stretch", str(tmp_path / "bad.nc")]) == 1
+
+
+def test_usage_and_runtime_errors_have_distinct_codes(capsys, monkeypatch):
+    with pytest.raises(SystemExit) as exc:
+        cli.main(["check"])  # argparse: missing arguments
+    assert exc.value.code == 2
+    assert cli.main(["cite", "no.such.id"]) == 2
+
+    def boom(args):
+        raise RuntimeError("solver failed")
+
+    monkeypatch.setattr(cli, "cmd_cite", boom)
+    assert cli.main(["cite", "x"]) == 3
+    assert "RuntimeError: solver failed" in capsys.readouterr().err
+    with pytest.raises(RuntimeError, match="solver failed"):
+        cli.main(["cite", "x", "--debug"])  # --debug after the subcommand
+
+
+def test_chapter_aliases():
+    assert cli.resolve_chapter("ch2") == "ch2_appendix"
+    assert cli.resolve_chapter("2") == "ch2_appendix"
+    assert cli.resolve_chapter("ch3") == "ch3"
+    with pytest.raises(cli.UsageError, match="unknown chapter 'ch9'"):
+        cli.resolve_chapter("ch9")
+    assert cli.main(["reproduce", "ch9", "--out", "unused"]) == 2
+
+
+def test_progress_bars_only_on_a_terminal(monkeypatch):
+    class Tty(io.StringIO):
+        def isatty(self):
+            return True
+
+    monkeypatch.setattr("sys.stderr", io.StringIO())
+    list(cli._progress(range(3), "x"))
+    assert cli.sys.stderr.getvalue() == ""
+    monkeypatch.setattr("sys.stderr", Tty())
+    list(cli._progress(range(3), "x"))
+    assert "x:" in cli.sys.stderr.getvalue()
+
+
+@pytest.mark.parametrize("item, expect", [
+    ("ch3_voltage_stretch", ["ch3_voltage_stretch.nc sha256", "10.1016/j.mechrescom.2019.103420",
+                             "equation 3.27-3.33"]),
+    ("ch3.pullin.voltage_lamP_1p25", ["thesis_values.nc sha256", "page 42",
+                                      "10.1016/j.mechrescom.2019.103420"]),
+    ("ch4_fig4_2_curves", ["ch4_fig4_2_curves.nc sha256", "zeng_2020"]),
+])
+def test_cite_names_version_commit_checksum_and_references(item, expect):
+    from debench.reference.datasets import data_dir, read_manifest
+    from debench.reference.provenance import git_commit
+
+    from debench import __version__
+
+    text = cite.render(item)
+    items = json.loads(text[text.index("\n["):])
+    assert items[0]["version"] == __version__ and git_commit() in items[0]["note"]
+    for e in expect:
+        assert e in text, e
+    manifest = read_manifest(data_dir())
+    for name, meta in manifest.items():
+        if f"{name} sha256" in text:
+            assert meta["sha256"] in text
+    assert text.startswith("@misc{debench_")
+    if "ch4" in item:
+        assert "mechrescom" not in text  # the Chapter 3 paper only for Chapter 3
+
+
+def test_citation_cff_has_repository_data_reference_and_keywords():
+    jsonschema = pytest.importorskip("jsonschema")
+    cff = yaml.safe_load((ROOT / "CITATION.cff").read_text())
+    cff["date-released"] = str(cff["date-released"])
+    schema = json.loads((ROOT / "verification/schemas/citation-cff-1.2.0.schema.json")
+                        .read_text())
+    jsonschema.validate(cff, schema)
+    assert cff["repository-code"] == cite.REPOSITORY
+    assert any(r["type"] == "data" for r in cff["references"])
+    assert any(r.get("doi") == "10.1016/j.mechrescom.2019.103420" for r in cff["references"])
+    assert len(cff["keywords"]) >= 8
+
+
+def test_cffconvert_validates_citation_cff():
+    """The real tool, when installed (it pins jsonschema<4, so it lives in its own venv:
+    ``pipx install cffconvert``)."""
+    exe = shutil.which("cffconvert")
+    if exe is None:
+        pytest.skip("cffconvert not on PATH (pipx install cffconvert)")
+    run = subprocess.run([exe, "--validate", "-i", str(ROOT / "CITATION.cff")],
+                         capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stdout + run.stderr
