@@ -136,3 +136,15 @@ def test_readme_example_perturbed_fails(tmp_path):
     np.savetxt(csv, np.column_stack([mod["lam"], mod["phibar"]]), delimiter=",",
                header="lam [1],phibar [1]", comments="")
     assert cli.main(["check", "ch3_free_membrane_nh", str(csv)]) == 1
+
+
+def test_readme_shows_the_example_as_it_runs():
+    """The README's example block is the code of examples/free_membrane_nh.py (in order)."""
+    readme = (ROOT / "README.md").read_text()
+    marker = "<!-- example: examples/free_membrane_nh.py -->\n```python\n"
+    assert marker in readme
+    block = readme.split(marker, 1)[1].split("```", 1)[0]
+    source = EXAMPLE.read_text()
+    pos = 0
+    for line in filter(None, block.splitlines()):
+        pos = source.index(line, pos) + len(line)
