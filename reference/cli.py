@@ -1,6 +1,9 @@
 """``debench`` command line: list, reproduce, verify, report.
 
-Errors are one clear line (``debench: error: ...``) unless ``--debug`` is given.
+Errors are one clear line (``debench: error: ...``) unless ``--debug`` is given (before or
+after the subcommand). Exit codes: 0 ok; 1 a check or verification failed; 2 usage error
+(bad arguments, unknown chapter, problem or file); 3 runtime error (a computation failed).
+Progress bars are drawn only when stderr is a terminal (never in logs).
 
 Examples
 --------
@@ -9,6 +12,9 @@ Examples
     debench reproduce ch5 --full   # converged finite-element meshes (long)
     debench verify --json          # one JSON object per catalogue entry
     debench report --readme        # regenerate the README results table
+    debench problems ch3_free_membrane_nh --json
+    debench check ch3_free_membrane_nh results.csv
+    debench cite ch3.pullin.voltage_lamP_1p25
 """
 
 from __future__ import annotations
@@ -40,10 +46,32 @@ REGENERATED_BY_VERIFY = tuple(c for c in CHAPTERS if c not in NOT_REGENERATED_BY
 DEFAULT_OUT = Path("results")
 
 
+#: exit codes (module docstring)
+EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_RUNTIME = 0, 1, 2, 3
+
+
+class UsageError(ValueError):
+    """Bad command-line input (exit code 2)."""
+
+
+def resolve_chapter(name: str) -> str:
+    """The builder name of a chapter given as ``ch3``, ``3`` or its full builder name
+    (``ch2`` and ``2`` name ``ch2_appendix``)."""
+    if name in CHAPTERS:
+        return name
+    key = f"ch{name}" if name.isdigit() else name
+    hits = [c for c in CHAPTERS if c == key or c.startswith(f"{key}_")]
+    if len(hits) != 1:
+        raise UsageError(f"unknown chapter {name!r}; choose from {', '.join(CHAPTERS)} "
+                         "(aliases: ch2 .. ch5 or 2 .. 5)")
+    return hits[0]
+
+
 def _progress(iterable, desc: str, **kw):
     from tqdm.auto import tqdm
 
-    return tqdm(iterable, desc=desc, file=sys.stderr, leave=False, **kw)
+    return tqdm(iterable, desc=desc, file=sys.stderr, leave=False,
+                disable=not sys.stderr.isatty(), **kw)
 
 
 # --------------------------------------------------------------------------- list
@@ -142,13 +170,13 @@ def report_figures(figures: Path) -> Path:
 
 
 def cmd_reproduce(args) -> int:
+    import time
+
     from debench.reference import catalogue, report
     from debench.reference.datasets import data_dir
 
-    chapters = args.chapters or list(CHAPTERS)
-    unknown = sorted(set(chapters) - set(CHAPTERS))
-    if unknown:
-        raise ValueError(f"unknown chapter(s) {unknown}; choose from {CHAPTERS}")
+    started = time.monotonic()
+    chapters = [resolve_chapter(c) for c in args.chapters] or list(CHAPTERS)
     if not args.write_data and _same_directory(Path(args.out), data_dir()):
         raise ValueError(f"--out {args.out} is the curated data directory {data_dir()}; "
                          "replacing the curated datasets needs --write-data")
@@ -182,6 +210,9 @@ def cmd_reproduce(args) -> int:
     path = report.write_report(Path(args.out), results, regeneration=regeneration,
                                figures_dir=report_figures(out / "figures"))
     print(f"report: {path}  ({report.summary_line(results)})")
+    print(f"reproduce: {', '.join(chapters)}: wrote {len(written)} file(s) "
+          f"({sum(p.suffix == '.nc' for p in written)} datasets) to {out.resolve()}, report "
+          f"{Path(path).resolve()}, in {time.monotonic() - started:.1f} s")
     return 0
 
 
@@ -275,15 +306,146 @@ def cmd_report(args) -> int:
     return 0
 
 
+# --------------------------------------------------------------------------- users
+def cmd_problems(args) -> int:
+    from debench.reference import problems
+
+    if args.id is None:
+        items = problems.load_all()
+        if args.json:
+            print(json.dumps([p.spec() for p in items], indent=1, ensure_ascii=False))
+            return 0
+        print(f"reference problems ({len(items)}):")
+        for p in items:
+            qs = ", ".join(q.name for q in p.quantities)
+            print(f"  {p.id:28s} ch{p.chapter}  {p.title}  [{qs}]")
+        return 0
+    try:
+        p = problems.get(args.id)
+    except problems.ProblemError as exc:
+        raise UsageError(str(exc)) from None
+    if args.json:
+        print(json.dumps(problems.reference_json(p), ensure_ascii=False))
+        return 0
+    spec = p.spec()
+    print(f"{p.id}: {p.title} (Chapter {p.chapter})\n\n{p.summary}\n")
+    for key in ("geometry", "boundary_conditions", "loading"):
+        print(f"{key.replace('_', ' ')}: {spec[key]}")
+    print("thesis: " + ", ".join(f"{k} {v}" for k, v in p.thesis.items()))
+    print("parameters:")
+    for name, par in p.parameters.items():
+        print(f"  {name} = {par.get('value')} [{par.get('units', '')}]  "
+              f"{par.get('description', '')}")
+    for q in p.quantities:
+        acc = q.accuracy
+        print(f"quantity {q.name} [{q.units}]: {q.long_name}; coordinates "
+              f"{', '.join(q.coordinates)}"
+              + (f" (defaults {q.defaults})" if q.defaults else ""))
+        print(f"  accuracy: atol {acc.atol:g} + rtol {acc.rtol:g} |ref| ({acc.reason})")
+        print(f"  discretisation: {acc.discretisation_reason}")
+    for meta in spec["provenance"]["datasets"].values():
+        print(f"dataset {meta['file']} sha256 {meta['sha256']}")
+    return 0
+
+
+def read_results(path: Path, quantity: str | None, coordinates: tuple[str, ...],
+                 units: dict[str, str]) -> tuple[str, dict]:
+    """Columns of a user's results file: CSV with header ``name [units]``, or netCDF
+    (variables named like the coordinates and the quantity, broadcast against it)."""
+    path = Path(path)
+    if not path.is_file():
+        raise UsageError(f"FILE {path} does not exist")
+    if path.suffix in (".nc", ".nc4", ".cdf"):
+        import xarray as xr
+
+        with xr.open_dataset(path) as ds:
+            qname = quantity or next((n for n in units if n in ds.data_vars
+                                      and n not in coordinates), None)
+            if qname is None or qname not in ds:
+                raise UsageError(f"{path} has no variable for quantity "
+                                 f"{quantity or sorted(units)}")
+            cols = {}
+            for n in (*coordinates, qname):
+                if n not in ds.variables:
+                    continue
+                unit = ds[n].attrs.get("units")
+                if unit is not None and n in units and str(unit) != units[n]:
+                    raise UsageError(f"{path}: {n} has units {unit!r}, expected {units[n]!r}")
+                a, _ = xr.broadcast(ds[n], ds[qname])
+                cols[n] = a.transpose(*ds[qname].dims).values.ravel()
+        return qname, cols
+    import csv
+
+    with path.open(newline="", encoding="utf-8") as fh:
+        rows = [r for r in csv.reader(fh) if r and not r[0].startswith("#")]
+    if len(rows) < 2:
+        raise UsageError(f"{path}: expected a header and at least one row")
+    header = []
+    for cell in rows[0]:
+        name, _, rest = cell.strip().partition("[")
+        name, unit = name.strip(), (rest.rstrip("]").strip() if rest else None)
+        if unit is not None and name in units and unit != units[name]:
+            raise UsageError(f"{path}: column {name} has units [{unit}], "
+                             f"expected [{units[name]}]")
+        header.append(name)
+    qname = quantity or next((n for n in header if n in units and n not in coordinates), None)
+    if qname is None or qname not in header:
+        raise UsageError(f"{path}: no column for quantity {quantity or sorted(units)}; "
+                         f"header {header}")
+    cols = {}
+    for j, name in enumerate(header):
+        raw = [r[j].strip() for r in rows[1:]]
+        try:
+            cols[name] = np.array([float(x) for x in raw])
+        except ValueError:
+            cols[name] = np.array(raw)
+    return qname, cols
+
+
+def cmd_check(args) -> int:
+    from debench.reference import problems
+    from debench.testing import compare
+
+    try:
+        prob = problems.get(args.problem)
+    except problems.ProblemError as exc:
+        raise UsageError(str(exc)) from None
+    units = {q.name: q.units for q in prob.quantities}
+    for q in prob.quantities:
+        if q.along:
+            units.setdefault(q.along, q.along_units)
+    coord_names = tuple(dict.fromkeys(c for q in prob.quantities for c in q.coordinates))
+    qname, cols = read_results(Path(args.file), args.quantity, coord_names, units)
+    try:
+        q = prob.quantity(qname)
+        result = compare(prob.id, q.name, cols[qname],
+                         {c: cols[c] for c in q.coordinates if c in cols}, rtol=args.rtol)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    print(result.summary())
+    if not result.passed or args.verbose:
+        print(result.table())
+    return EXIT_OK if result.passed else EXIT_FAILED
+
+
+def cmd_cite(args) -> int:
+    from debench.reference import cite
+
+    try:
+        print(cite.render(args.id, args.format))
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    return 0
+
+
 # --------------------------------------------------------------------------- main
 def version_string() -> str:
     """``debench X (commit C; data manifest sha256 D)``: what ``--version`` prints."""
     import hashlib
 
+    from debench import __version__
     from debench.reference.datasets import MANIFEST_NAME, data_dir
     from debench.reference.provenance import git_commit
-
-    from debench import __version__
 
     manifest = data_dir() / MANIFEST_NAME
     digest = (hashlib.sha256(manifest.read_bytes()).hexdigest()[:16]
@@ -317,7 +479,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.set_defaults(func=cmd_list)
 
     s = sub.add_parser("reproduce", help="regenerate datasets, figures and the report")
-    s.add_argument("chapters", nargs="*", help=f"subset of {', '.join(CHAPTERS)} (default: all)")
+    s.add_argument("chapters", nargs="*", help=f"subset of {', '.join(CHAPTERS)} or an alias "
+                   "ch2 .. ch5 (default: all)")
     s.add_argument("--full", action="store_true",
                    help="converged finite-element meshes and full sweeps (slow)")
     s.add_argument("--out", default=str(DEFAULT_OUT), help="output directory (default results/)")
@@ -338,6 +501,35 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--readme", action="store_true", help="also regenerate the README table")
     s.add_argument("--datacard", action="store_true", help="also regenerate data/README.md")
     s.set_defaults(func=cmd_report)
+
+    s = sub.add_parser("problems", help="list reference problems or print one (spec, "
+                       "reference values, accuracy)")
+    s.add_argument("id", nargs="?", help="problem id (default: list all)")
+    s.add_argument("--json", action="store_true", help="JSON: the spec and, per quantity, "
+                   "reference coordinates, values, units and accuracy")
+    s.set_defaults(func=cmd_problems)
+
+    s = sub.add_parser("check", help="check your results (CSV or netCDF) against a "
+                       "reference problem; exit 0 match, 1 mismatch")
+    s.add_argument("problem", help="problem id (debench problems)")
+    s.add_argument("file", help="CSV with header 'name [units]' per column, or netCDF")
+    s.add_argument("--quantity", help="quantity to check (default: the one in FILE)")
+    s.add_argument("--rtol", type=float, help="your relative tolerance (default: the "
+                   "stated accuracy of the reference, which is also the floor)")
+    s.add_argument("--verbose", action="store_true", help="print the worst points also "
+                   "when the results match")
+    s.set_defaults(func=cmd_check)
+
+    s = sub.add_parser("cite", help="BibTeX and CSL-JSON for a catalogue entry, dataset "
+                       "or reference problem")
+    s.add_argument("id", help="catalogue id, dataset name or problem id")
+    s.add_argument("--format", choices=["both", "bibtex", "csl"], default="both")
+    s.set_defaults(func=cmd_cite)
+
+    # --debug is accepted after the subcommand too (SUPPRESS keeps a top-level --debug)
+    for sp in sub.choices.values():
+        sp.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                        help="show tracebacks")
     return p
 
 
@@ -349,11 +541,17 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("debench: interrupted", file=sys.stderr)
         return 130
+    except UsageError as exc:
+        if args.debug:
+            raise
+        parser.print_usage(sys.stderr)
+        print(f"debench: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
     except Exception as exc:  # noqa: BLE001 - one clear line unless --debug
         if args.debug:
             raise
         print(f"debench: error: {type(exc).__name__}: {exc}", file=sys.stderr)
-        return 2
+        return EXIT_RUNTIME
 
 
 if __name__ == "__main__":  # pragma: no cover
