@@ -544,8 +544,7 @@ def main(argv: list[str] | None = None) -> int:
     except UsageError as exc:
         if args.debug:
             raise
-        parser.print_usage(sys.stderr)
-        print(f"debench: error: {exc}", file=sys.stderr)
+        print(f"debench: error: {exc} (debench -h for usage)", file=sys.stderr)
         return EXIT_USAGE
     except Exception as exc:  # noqa: BLE001 - one clear line unless --debug
         if args.debug:
