@@ -528,8 +528,11 @@ def _identity(path: Path) -> tuple[int, int, int]:
     return st.st_ino, st.st_size, st.st_mtime_ns
 
 
-def _read_verified(path: Path) -> xr.Dataset:
-    """One verified read: listed checksum, unchanged file while read, attributes."""
+def _read_verified(path: Path) -> tuple[xr.Dataset, bool]:
+    """One verified read: listed checksum, unchanged file while read, attributes.
+
+    Returns the dataset and whether it matched only the checksum of a pending write.
+    """
     try:
         before = _identity(path)
     except FileNotFoundError:
@@ -549,7 +552,15 @@ def _read_verified(path: Path) -> xr.Dataset:
     if _identity(path) != before:
         raise DatasetError(f"{path.name}: replaced while being read")
     check_attributes(ds)
-    return ds
+    return ds, actual != accepted[0] or path.name not in files
+
+
+def _tidy(directory: Path) -> None:
+    """Recover under the lock when the directory allows it; never fails a read."""
+    with _reader_lock(directory) as locked:
+        if locked:
+            with contextlib.suppress(OSError, DatasetError):  # lockable, not writable
+                _recover_locked(directory)
 
 
 def read_dataset(name: str | Path, *, data_dir: Path | None = None,
@@ -559,9 +570,10 @@ def read_dataset(name: str | Path, *, data_dir: Path | None = None,
     ``name`` is a stem (``"ch3_voltage_stretch"``) looked up in ``data_dir`` or a path.
     Raises :class:`DatasetError` if the file is not in the manifest, its checksum differs
     (tampered or half-written), or a required attribute is missing. When the first look
-    fails, the read is repeated once under the directory lock (after finishing any
-    interrupted write, when the directory is writable): a write that completed between
-    reading the manifest and reading the file is not an error.
+    fails, the read is repeated once after taking the directory lock and finishing any
+    interrupted write (when the directory is writable): a write that completed between
+    reading the manifest and reading the file is not an error. A file accepted through
+    the checksum of an interrupted write gets its manifest entry completed the same way.
     """
     path = Path(name)
     if path.suffix != ".nc":
@@ -575,14 +587,13 @@ def read_dataset(name: str | Path, *, data_dir: Path | None = None,
     if not path.exists():
         raise DatasetError(f"{path.name}: no such dataset; {_missing_data_hint(path.parent)}")
     try:
-        return _read_verified(path)
+        ds, pending = _read_verified(path)
     except DatasetError:
-        pass
-    with _reader_lock(path.parent) as locked:
-        if locked:
-            with contextlib.suppress(OSError, DatasetError):  # lockable, not writable
-                _recover_locked(path.parent)
-        return _read_verified(path)
+        _tidy(path.parent)
+        ds, pending = _read_verified(path)
+    if pending:  # a write was interrupted between installing and listing: list it
+        _tidy(path.parent)
+    return ds
 
 
 def dataset_parameters(ds: xr.Dataset) -> dict[str, Any]:
@@ -615,7 +626,8 @@ def verify_directory(directory: Path | None = None) -> list[DataProblem]:
     except DatasetError as exc:
         return [_problem(str(directory / MANIFEST_NAME), exc)]
     on_disk = sorted(p.name for p in directory.glob("*.nc") if not is_temporary(p.name))
-    listed = sorted(set(files) | set(pending))
+    # a pending entry whose file is not installed yet is not data (yet)
+    listed = sorted(set(files) | (set(pending) & set(on_disk)))
     if not listed and not on_disk:
         what = "has no MANIFEST.json" if not (directory / MANIFEST_NAME).exists() \
             else "has a manifest that lists no dataset"
