@@ -178,7 +178,7 @@ def cmd_reproduce(args) -> int:
     started = time.monotonic()
     chapters = [resolve_chapter(c) for c in args.chapters] or list(CHAPTERS)
     if not args.write_data and _same_directory(Path(args.out), data_dir()):
-        raise ValueError(f"--out {args.out} is the curated data directory {data_dir()}; "
+        raise UsageError(f"--out {args.out} is the curated data directory {data_dir()}; "
                          "replacing the curated datasets needs --write-data")
     out = data_dir() if args.write_data else Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
