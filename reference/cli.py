@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import inspect
 import json
 import pkgutil
 import sys
@@ -39,9 +40,10 @@ def _discover_chapters() -> tuple[str, ...]:
 
 
 CHAPTERS = _discover_chapters()
-#: Chapters too expensive for `debench verify` to regenerate: the finite-element model
-#: is checked through its stored data only.
-NOT_REGENERATED_BY_VERIFY = ("ch5",)
+#: The finite-element chapters are checked by their model guard (coarse FE recomputation,
+#: :func:`debench.reference.producers.ch5.coarse_guards`) and the catalogue builder's
+#: values by the value check; none is rebuilt by verify.
+NOT_REGENERATED_BY_VERIFY = ("ch5", "ch5_thickness", "catalogue")
 REGENERATED_BY_VERIFY = tuple(c for c in CHAPTERS if c not in NOT_REGENERATED_BY_VERIFY)
 DEFAULT_OUT = Path("results")
 
@@ -192,7 +194,9 @@ def cmd_reproduce(args) -> int:
             continue
         print(f"{chapter}: building{' (full)' if args.full else ''} into {out} ...",
               file=sys.stderr)
-        paths = mod.build(out, full=args.full)
+        extra = ({"scheduler": args.scheduler} if getattr(args, "scheduler", None)
+                 and "scheduler" in inspect.signature(mod.build).parameters else {})
+        paths = mod.build(out, full=args.full, **extra)
         written += list(paths)
         for p in paths:
             print(f"  wrote {p}", file=sys.stderr)
@@ -241,8 +245,25 @@ def regenerate_and_compare(chapters, *, quiet: bool = False) -> list:
     return problems
 
 
+def value_deviations(results, *, models: bool = True, quiet: bool = False):
+    """Recomputed values against the store ``our_values.nc`` (see :mod:`.values`).
+
+    ``models=False`` skips the extra model guards (the Chapter 5 FE recomputation) and
+    checks only the values that were recomputed.
+    """
+    from debench.reference import values
+
+    guards = values.guarded_from_results(results)
+    if models:
+        if not quiet:
+            print("recomputing the model guards (ch5 FE on the coarsest mesh) ...",
+                  file=sys.stderr)
+        guards += values.extra_guards()
+    return values.check(guards, values.read_store(), complete=models)
+
+
 def cmd_verify(args) -> int:
-    from debench.reference import catalogue
+    from debench.reference import catalogue, values
     from debench.reference.datasets import verify_directory
 
     results = catalogue.evaluate_all(progress=None if args.json else
@@ -250,6 +271,12 @@ def cmd_verify(args) -> int:
     problems = [] if args.no_data else verify_directory()
     if not args.no_data and not args.no_regenerate:
         problems += regenerate_and_compare(REGENERATED_BY_VERIFY, quiet=args.json)
+    if not args.no_data:
+        from debench.reference.builders.catalogue import thesis_values_problems
+
+        problems += thesis_values_problems()
+    deviations = [] if args.no_data else value_deviations(
+        results, models=not args.no_regenerate, quiet=args.json)
     regressed = [r for r in results if r.regressed]
     if args.json:
         from debench.reference.datasets import DataProblem
@@ -260,7 +287,9 @@ def cmd_verify(args) -> int:
         for p in records:
             print(f"DATA {p}", file=sys.stderr)
         rows = [r.as_json() for r in results] + [p.as_json() for p in records]
-        print(json.dumps(rows, indent=1, ensure_ascii=False))
+        rows += [{"kind": "value", "id": d.key, "what": d.what, "stored": d.stored,
+                  "recomputed": d.recomputed, "tolerance": d.tolerance} for d in deviations]
+        print(json.dumps(rows, indent=1, ensure_ascii=False, default=str))
     else:
         from debench.reference.report import summary_line
 
@@ -274,7 +303,11 @@ def cmd_verify(args) -> int:
         if regressed:
             print(f"{len(regressed)} regression(s): computed status differs from "
                   "expected_status in the catalogue")
-    return 1 if (regressed or problems) else 0
+        if deviations:
+            print(f"\n{len(deviations)} value(s) left their stored tolerance "
+                  f"({values.STORE_NAME}.nc):")
+            print(values.table(deviations))
+    return 1 if (regressed or problems or deviations) else 0
 
 
 # --------------------------------------------------------------------------- report
@@ -404,6 +437,7 @@ def read_results(path: Path, quantity: str | None, coordinates: tuple[str, ...],
 
 def cmd_check(args) -> int:
     from debench.reference import problems
+
     from debench.testing import compare
 
     try:
@@ -443,9 +477,10 @@ def version_string() -> str:
     """``debench X (commit C; data manifest sha256 D)``: what ``--version`` prints."""
     import hashlib
 
-    from debench import __version__
     from debench.reference.datasets import MANIFEST_NAME, data_dir
     from debench.reference.provenance import git_commit
+
+    from debench import __version__
 
     manifest = data_dir() / MANIFEST_NAME
     digest = (hashlib.sha256(manifest.read_bytes()).hexdigest()[:16]
@@ -469,6 +504,9 @@ def build_parser() -> argparse.ArgumentParser:
         description="Verification and reproducibility benchmark for dielectric elastomer "
                     "actuators (Zeng 2020).")
     p.add_argument("--debug", action="store_true", help="show tracebacks")
+    p.add_argument("--threads", type=int, default=None, metavar="N",
+                   help="BLAS/OpenMP and NGSolve threads per process (default: "
+                        "$DEBENCH_THREADS or 1)")
     p.add_argument("--version", action=_VersionAction,
                    help="print version, git commit and data manifest digest, then exit")
     sub = p.add_subparsers(dest="command", required=True)
@@ -483,6 +521,11 @@ def build_parser() -> argparse.ArgumentParser:
                    "ch2 .. ch5 (default: all)")
     s.add_argument("--full", action="store_true",
                    help="converged finite-element meshes and full sweeps (slow)")
+    s.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="Dask scheduler for the independent FE cases: 'local' (a LocalCluster "
+                        "sized to the machine; the default with --full) or the address of an "
+                        "existing cluster, e.g. tcp://host:8786 (dask-jobqueue on SLURM/PBS, "
+                        "dask-kubernetes)")
     s.add_argument("--out", default=str(DEFAULT_OUT), help="output directory (default results/)")
     s.add_argument("--write-data", action="store_true",
                    help="overwrite the curated datasets in data/ (explicit by design)")
@@ -537,6 +580,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
+        from debench.threads import limit_threads
+
+        limit_threads(args.threads)
         return int(args.func(args) or 0)
     except KeyboardInterrupt:
         print("debench: interrupted", file=sys.stderr)
