@@ -162,3 +162,25 @@ def test_cffconvert_validates_citation_cff():
     run = subprocess.run([exe, "--validate", "-i", str(ROOT / "CITATION.cff")],
                          capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stdout + run.stderr
+
+
+def test_reproduce_ends_with_a_summary(tmp_path, monkeypatch, capsys):
+    """After reproduce: chapters, files written, where, the report, the time taken (the
+    builders and the catalogue are stubbed: this checks the CLI, not the physics)."""
+    from types import SimpleNamespace
+
+    from debench.reference import catalogue, report
+
+    def build(out, full=False):
+        path = Path(out) / "stub.txt"
+        path.write_text("x")
+        return [path]
+
+    monkeypatch.setattr(cli, "_builder", lambda chapter: SimpleNamespace(build=build))
+    monkeypatch.setattr(catalogue, "evaluate_all", lambda progress=None: [])
+    monkeypatch.setattr(report, "write_report", lambda out, results, **kw: Path(out) / "R.md")
+    monkeypatch.setattr(report, "summary_line", lambda results: "stub")
+    assert cli.main(["reproduce", "ch3", "--out", str(tmp_path)]) == 0
+    last = capsys.readouterr().out.strip().splitlines()[-1]
+    assert last.startswith("reproduce: ch3: wrote 1 file(s) (0 datasets) to ")
+    assert str(tmp_path.resolve()) in last and last.endswith(" s")
