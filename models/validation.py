@@ -21,13 +21,16 @@ checked on the whole value, order bounds on the real part.
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import math
 import numbers
 
 import numpy as np
 
 __all__ = [
-    "array", "at_least", "choice", "deformation_gradient", "finite", "in_range",
+    "array", "at_least", "choice", "deformation_gradient", "finite", "finite_result",
+    "in_range",
     "instance", "integer_at_least", "nonnegative", "positive", "tolerance", "unit_vector",
     "vector", "window",
 ]
@@ -35,6 +38,8 @@ __all__ = [
 
 def _show(x) -> str:
     """Short text of a value for a message (arrays by their extreme entries)."""
+    if isinstance(x, np.ndarray) and x.size == 1 and x.dtype.kind in "fiu":
+        return f"{float(x.ravel()[0]):.6g}"
     if isinstance(x, np.ndarray) and x.size > 1:
         with np.errstate(all="ignore"):
             r = np.real(x)
@@ -219,3 +224,47 @@ def window(name: str, w, *, lo: float = 0.0) -> tuple[float, float]:
     if not (lo < a < b):
         raise ValueError(f"{name} = (a, b) must satisfy {lo:g} < a < b, got ({a:.6g}, {b:.6g})")
     return a, b
+
+
+def _all_finite(x, depth: int = 0) -> bool:
+    if depth > 4 or x is None or isinstance(x, str | bytes | bool | type):
+        return True
+    if isinstance(x, numbers.Number):
+        return bool(np.isfinite(x))
+    if isinstance(x, np.ndarray):
+        return x.dtype.kind not in "fc" or bool(np.all(np.isfinite(x)))
+    if isinstance(x, dict):
+        return all(_all_finite(y, depth + 1) for y in x.values())
+    if isinstance(x, list | tuple):
+        return all(_all_finite(y, depth + 1) for y in x)
+    if dataclasses.is_dataclass(x):
+        return all(_all_finite(getattr(x, f.name), depth + 1) for f in dataclasses.fields(x))
+    return True
+
+
+def finite_result(func):
+    """Decorator for a public function whose every returned number must be finite.
+
+    Arguments that pass the entry checks can still be outside the range double
+    precision represents (a stretch of 1e300, a modulus of 1e-300): overflow, division by
+    zero or a singular matrix then raise ``ValueError`` naming the function and saying
+    so, and a result containing NaN or inf raises ``ValueError`` instead of being
+    returned.
+    """
+
+    @functools.wraps(func)
+    def wrapper(*args, **kwargs):
+        try:
+            with np.errstate(all="ignore"):
+                out = func(*args, **kwargs)
+        except (OverflowError, ZeroDivisionError, FloatingPointError,
+                np.linalg.LinAlgError) as exc:
+            raise ValueError(f"{func.__name__}: the arguments are outside the range that "
+                             f"double precision represents ({type(exc).__name__}: {exc})"
+                             ) from exc
+        if not _all_finite(out):
+            raise ValueError(f"{func.__name__}: the result overflows (NaN or inf) at these "
+                             f"arguments; they are outside the representable range")
+        return out
+
+    return wrapper

@@ -45,6 +45,12 @@ EXCLUDED_MODULES = {
     "debench.models.materials.ngsolve_forms": (
         "NGSolve CoefficientFunction builders (symbolic, no numbers in or out); owned "
         "with the Chapter 5 FE model"),
+    "debench.models.circular.fe": (
+        "NGSolve FE cross-check of Chapter 3 written concurrently by another engineer "
+        "(not yet committed): its owner registers it here"),
+    "debench.models.plate.strip_fe": (
+        "NGSolve strip FE cross-check of Chapter 4 written concurrently by another "
+        "engineer (not yet committed): its owner registers it here"),
 }
 
 _F_BAD = [
@@ -435,7 +441,8 @@ def _circular_cases():
              lambda q: shooting.interface_state(params.Annulus(2.0), q, steps=20),
              {"q": np.array([1.9])}, {"q": "lam_array"}),
         Case(f"{c}.shooting.q_for_stretch", shooting.q_for_stretch,
-             {"annulus": params.Annulus(2.0), "lam": np.array([2.5]), "q0": 1.9,
+             {"annulus": params.Annulus(2.0), "lam": np.array([2.5]),
+              "q0": float(np.interp(2.5, _branch().lam, _branch().q)),
               "steps": 20, "rtol": 1e-13, "maxiter": 30},
              {"annulus": "obj", "lam": "lam_array", "q0": "lam", "steps": "count",
               "rtol": "tol", "maxiter": "count"}),
@@ -475,11 +482,13 @@ def _circular_cases():
         Case(f"{c}.actuator.curves", actuator.curves,
              {"br": _branch(), "cs": [0.0, -0.05], "eps_r": 4.7, "mu": 51e3},
              {"br": "obj", "cs": "obj", "eps_r": "pos", "mu": "pos", "steps": "count"},
-             check=_check_curves, allowed={"steps": [None]}, extra={"cs": [[NAN], [-10.0]]}),
+             check=_check_curves, allowed={"steps": [None], "eps_r": [None], "mu": [None]},
+             extra={"cs": [[NAN], [-10.0]]}),
         Case(f"{c}.actuator.curves_many", actuator.curves_many,
              {"jobs": [(_branch(), [0.0], 4.7)], "mu": 51e3},
              {"jobs": "obj", "mu": "pos", "steps": "count"},
-             check=lambda r: [_check_curves(x) for x in r], allowed={"steps": [None]},
+             check=lambda r: [_check_curves(x) for x in r],
+             allowed={"steps": [None], "mu": [None]},
              extra={"jobs": [[("x", [0.0], 4.7)], [(_branch(), [NAN], 4.7)]]}),
         Case(f"{c}.actuator.curve", actuator.curve,
              {"actuator": params.CircularActuator(params.Annulus(2.0)), "n": 40,
@@ -503,7 +512,7 @@ def _circular_cases():
         Case(f"{c}.analysis.pullin_c_threshold", analysis.pullin_c_threshold,
              {"annulus": params.Annulus(1.5), "n": 200},
              {"annulus": "obj", "n": "count", "definition": "choice", "c_range": "window"},
-             extra={"c_range": [(-0.2, 0.0)]}),
+             extra={"c_range": [(-10.0, 0.0)]}, allowed={"c_range": [INVALID["window"][3]]}),
         Case(f"{c}.analysis.pullin_c_threshold_closed_form",
              analysis.pullin_c_threshold_closed_form, {"annulus": params.Annulus(1.5)},
              {"annulus": "obj"}),
@@ -657,7 +666,8 @@ def _plate_cases():
               "which": "choice"}),
         Case(f"{p}.analysis.critical_D_thin_extensional",
              analysis.critical_D_thin_extensional, {"params": PP(xi=0.0)},
-             {"params": "obj", "D_window": "window", "kH": "pos", "lam_window": "window"}),
+             {"params": "obj", "D_window": "window", "kH": "pos", "lam_window": "window"},
+             allowed={"D_window": [INVALID["window"][2]]}),
     ]
 
 

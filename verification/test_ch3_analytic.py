@@ -66,7 +66,6 @@ def test_circle_a_stress_matches_constitutive_kernel():
     """(3.30) (debench.models.circular) vs (3.21) evaluated by
     debench.models.materials.membrane, both the kernel's closed form and its complex-step
     differentiation of (3.20)."""
-    pytest.importorskip("debench.models.materials.membrane")
     from debench.models.materials.membrane import GentMembrane, ZhaoSuoPermittivity
     mu, eps_r = 51e3, 4.7
     for c in (0.0, -0.053):
@@ -85,7 +84,6 @@ def test_circle_a_stress_matches_constitutive_kernel():
 def test_annulus_stresses_match_constitutive_kernel():
     """sigma_i = lambda_i dWs/dlambda_i (3.36)-(3.37): shooting's and collocation's forms vs
     the kernel's Gent stretching energy derivative."""
-    pytest.importorskip("debench.models.materials.membrane")
     from debench.models.materials.membrane import GentMembrane
     m = GentMembrane(mu=1.0, Jm=120.0)
     rng = np.random.default_rng(0)

@@ -55,6 +55,7 @@ def _dphibar2_dlam(br: Branch, c: float) -> np.ndarray:
     return (p2c.imag / h) / br.dlam
 
 
+@v.finite_result
 def state_at_voltage(br: Branch, c: float, phibar: float) -> dict:
     """Circle-A stretch and interface state at a given Phibar on the rising branch.
 
@@ -126,6 +127,9 @@ def _min_slope(br: Branch, c: float, definition: str, lam_lot: float | None) -> 
             mask &= np.cumprod(br.T1 > 0) > 0
     elif definition != "monotonic":
         raise ValueError(f"definition must be one of {DEFINITIONS}, got {definition!r}")
+    if not mask.any():
+        raise ValueError(f"c = {c}: no point of the branch of {br.annulus} has a positive "
+                         f"factor K = 1 + c(5 lam/2 - 2) of (3.30) beyond lamP")
     return float(np.min(d[mask]))
 
 
@@ -140,7 +144,8 @@ def pullin_c_threshold(annulus: Annulus, *, definition: str = "before_loss_of_te
     """
     v.instance("annulus", annulus, Annulus)
     v.choice("definition", definition, DEFINITIONS)
-    v.window("c_range", c_range, lo=-math.inf)
+    for c in v.window("c_range", c_range, lo=-math.inf):
+        CircularActuator(annulus, c=c)  # K(lamP) > 0 at both ends
     v.integer_at_least("n", n, 4)
     lam_lot = None
     br = branch(annulus, n=n)
@@ -207,8 +212,8 @@ def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
     lo, hi = v.window("bracket", bracket, lo=-math.inf)
     v.integer_at_least("n", n, 4)
     v.tolerance("xtol", xtol)
-    Annulus(lo, radius_ratio, Jm, equilibrium)
-    Annulus(hi, radius_ratio, Jm, equilibrium)
+    CircularActuator(Annulus(lo, radius_ratio, Jm, equilibrium), c=c)
+    CircularActuator(Annulus(hi, radius_ratio, Jm, equilibrium), c=c)
 
     def f(lamP):
         an = Annulus(lamP, radius_ratio, Jm, equilibrium)

@@ -62,6 +62,7 @@ def _check_K(lam, c):
                          f"(3.30) non-positive at lam = {v._show(np.real(lam))}: need K > 0")
 
 
+@v.finite_result
 def gent_equibiaxial_stress(lam, kappa: float):
     """Mechanical part of (3.30), ``s(lam)`` per unit mu; kappa = 1/Jm.
 
@@ -70,16 +71,19 @@ def gent_equibiaxial_stress(lam, kappa: float):
     return _s(_check_lam(lam, kappa), kappa)
 
 
+@v.finite_result
 def electrostriction_factor(lam, c: float):
     """``K(lam) = 1 + c (5 lam/2 - 2)``, the coefficient of -eps_bar E^2 in (3.30)."""
     return _K(_check_lam(lam), v.finite("c", c))
 
 
+@v.finite_result
 def permittivity_ratio(lam, c: float):
     """``eps/eps_bar = 1 + c (2 lam - 2)`` (3.27) at l1 = l2 = lam."""
     return 1 + v.finite("c", c) * (2 * _check_lam(lam) - 2)
 
 
+@v.finite_result
 def phibar_squared(lam, T1B, c: float, kappa: float):
     """Normalised voltage squared that holds circle A at ``lam`` against ``T1B``.
 
@@ -102,6 +106,7 @@ def phibar_squared(lam, T1B, c: float, kappa: float):
     return _p2(lam, T1B, c, kappa)
 
 
+@v.finite_result
 def sigma1_circle_a(lam, phibar, c: float, kappa: float):
     """True radial stress of circle A per unit mu, Eq. (3.30) with E^2 = (Phi/H)^2 lam^4."""
     lam = _check_lam(lam, kappa)
@@ -110,6 +115,7 @@ def sigma1_circle_a(lam, phibar, c: float, kappa: float):
     return _s(lam, kappa) - np.asarray(phibar) ** 2 * lam**4 * _K(lam, c)
 
 
+@v.finite_result
 def breakdown_phibar(lam, eps_r: float, mu: float):
     """Normalised voltage at breakdown, ``sqrt(eps_bar/mu) E_B(lam) / lam^2`` (Sec. 3.5.5).
 
@@ -125,6 +131,7 @@ def _breakdown(lam, eps_r, mu):
     return np.sqrt(np.asarray(eps_r) * EPS0 / mu) * EB_COEFF * lam**EB_EXPONENT / lam**2
 
 
+@v.finite_result
 def free_membrane_phibar(lam, c: float, kappa: float):
     """Free equibiaxial membrane (annulus removed, T1B = 0): Phibar(lam), lam >= 1.
 

@@ -37,6 +37,7 @@ def _gent_energy(l1, l2, kappa):
     return -np.log(1.0 - kappa * (I1 - 3.0)) / (2.0 * kappa)
 
 
+@v.finite_result
 def nominal_radial_stress(l1, l2, kappa):
     """T1 = dWs/dl1 per unit mu (3.17, 3.36), by complex step of the energy (3.23).
 

@@ -16,7 +16,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from debench.models.validation import choice, deformation_gradient, unit_vector, vector
+from debench.models.validation import (
+    choice,
+    deformation_gradient,
+    finite_result,
+    unit_vector,
+    vector,
+)
 
 NUMBERINGS = ("iso", "ti")
 _I3 = np.eye(3)
@@ -45,6 +51,7 @@ def validate_state(F, D_L, A=None, *, numbering: str = "iso") -> tuple[np.ndarra
     return F, D_L, A
 
 
+@finite_result
 def invariants(F, D_L, A=None, *, numbering: str = "iso") -> np.ndarray:
     """``[I1, ..., I6]`` in the chosen numbering (eqs (2.35)-(2.40) or (4.12)-(4.17)).
 
@@ -87,6 +94,7 @@ class InvariantDerivatives:
     dDD: np.ndarray    # (6, 3, 3)         d2I_n/dD_a dD_b
 
 
+@finite_result
 def derivatives(F, D_L, A=None, *, numbering: str = "iso",
                 second: bool = True) -> InvariantDerivatives:
     """Invariants with first (and second) derivatives w.r.t. F and D_L.

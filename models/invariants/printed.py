@@ -59,7 +59,7 @@ def _checked(f):
         if "alphas" in bound.arguments and len(bound.arguments["alphas"]) != len(
                 bound.arguments["mus"]):
             raise ValueError("alphas and mus must have equal length")
-        out = f(*bound.args, **bound.kwargs)
+        out = _v.finite_result(f)(*bound.args, **bound.kwargs)
         if not np.all(np.isfinite(out)):
             raise ValueError(f"{f.__name__}: non-finite result at this state (overflow)")
         return out

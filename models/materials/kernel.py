@@ -121,6 +121,7 @@ def divided_difference_power(x: np.ndarray, y: np.ndarray, q: float) -> np.ndarr
     return out
 
 
+@v.finite_result
 def spectral_response(phi, F, *, second: bool = True) -> Response:
     """Stress and moduli of an isotropic energy of the eigenvalues of C (no D_L).
 

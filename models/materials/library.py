@@ -63,10 +63,12 @@ class _InvariantMaterial:
     def _fibre(self):
         return None
 
+    @v.finite_result
     def energy(self, F, D_L) -> float:
         F, D_L, A = validate_state(F, D_L, self._fibre(), numbering=self.numbering)
         return self.invariant_derivatives(invariants(F, D_L, A, numbering=self.numbering))[0]
 
+    @v.finite_result
     def response(self, F, D_L, *, second: bool = True) -> Response:
         F, D_L, A = validate_state(F, D_L, self._fibre(), numbering=self.numbering)
         I = invariants(F, D_L, A, numbering=self.numbering)
@@ -323,9 +325,11 @@ class OgdenIdealDielectric:
         theta += -A_common * np.outer(inv_c, inv_c)
         return W, phik, phikl, theta
 
+    @v.finite_result
     def energy(self, F, D_L) -> float:
         return self.response(F, D_L, second=False).W
 
+    @v.finite_result
     def response(self, F, D_L, *, second: bool = True) -> Response:
         F, D_L, _ = validate_state(F, D_L)
         mech = spectral_response(self._phi, F, second=second)

@@ -55,6 +55,7 @@ class ZhaoSuoPermittivity:
         _scalar("eps_bar", self.eps_bar, v.positive)
         _scalar("c", self.c, v.finite)
 
+    @v.finite_result
     def __call__(self, l1, l2):
         _check_stretches(l1, l2)
         eps = self.eps_bar * (1 + self.c * (l1 + l2 - 2))
@@ -63,6 +64,7 @@ class ZhaoSuoPermittivity:
                              f"at l1={l1!r}, l2={l2!r}, c={self.c}")
         return eps
 
+    @v.finite_result
     def derivative(self, l1, l2):
         """``(deps/dl1, deps/dl2)`` with l3 = 1/(l1 l2) eliminated."""
         self(l1, l2)
@@ -86,6 +88,7 @@ class JimenezMcMeekingPermittivity:
         _scalar("eps0_bar", self.eps0_bar, v.positive)
         _scalar("c0", self.c0, v.finite)
 
+    @v.finite_result
     def components(self, l1, l2, l3):
         """``(eps1, eps2, eps3)`` of eqs (3.24)-(3.26) for arbitrary principal stretches.
 
@@ -99,6 +102,7 @@ class JimenezMcMeekingPermittivity:
                 self.eps0_bar + self.c0 * (2 * b - a - c),
                 self.eps0_bar + self.c0 * (2 * c - a - b))
 
+    @v.finite_result
     def __call__(self, l1, l2):
         _check_stretches(l1, l2)
         eps = self.components(l1, l2, 1 / (l1 * l2))[2]
@@ -107,6 +111,7 @@ class JimenezMcMeekingPermittivity:
                              f"l2={l2!r}, c0={self.c0}")
         return eps
 
+    @v.finite_result
     def derivative(self, l1, l2):
         """``(deps3/dl1, deps3/dl2)`` with l3 = 1/(l1 l2): ``c0 (-4 l3^2/l1 - 2 l1)``."""
         self(l1, l2)
@@ -136,6 +141,7 @@ class GentMembrane:
                    (ZhaoSuoPermittivity, JimenezMcMeekingPermittivity))
 
     # ---- energy
+    @v.finite_result
     def stretching_energy(self, l1, l2):
         """``Ws = -mu Jm/2 ln(1 - (I1 - 3)/Jm)``, ``I1 = l1^2 + l2^2 + l1^-2 l2^-2`` (3.23)."""
         _check_stretches(l1, l2)
@@ -146,6 +152,7 @@ class GentMembrane:
                              f"lambda2 = {l2!r:.40})")
         return -0.5 * self.mu * self.Jm * np.log1p(-x)
 
+    @v.finite_result
     def stretching_energy_derivative(self, l1, l2):
         """``(dWs/dl1, dWs/dl2)`` in closed form."""
         self.stretching_energy(l1, l2)
@@ -154,6 +161,7 @@ class GentMembrane:
         g = self.mu / (1 - x)
         return g * (l1 - l3sq / l1), g * (l2 - l3sq / l2)
 
+    @v.finite_result
     def free_energy(self, l1, l2, I4):
         """``W(l1, l2, I4) = Ws - eps l1^2 l2^2 I4/2`` (3.20), ``I4 = E_L^2``."""
         v.nonnegative("I4", I4, complex_ok=True)
@@ -161,6 +169,7 @@ class GentMembrane:
                 - 0.5 * self.permittivity(l1, l2) * (l1 * l2) ** 2 * I4)
 
     # ---- equations of state
+    @v.finite_result
     def equations_of_state(self, l1, l2, E):
         """``(sigma1 - sigma3, sigma2 - sigma3, D)`` by the closed forms (3.21), (3.22), D = eps E.
 
@@ -177,6 +186,7 @@ class GentMembrane:
             raise ValueError(f"E = {E!r:.40}: the stresses overflow (E^2 is not finite)")
         return s13, s23, eps * E
 
+    @v.finite_result
     def equations_of_state_from_energy(self, l1, l2, E):
         """The same from (3.14)-(3.16) by complex-step differentiation of (3.20)."""
         _check_stretches(l1, l2)

@@ -33,6 +33,7 @@ def _material(material):
     return material
 
 
+@v.finite_result
 def first_piola(material, F, D_L, p: float = 0.0) -> np.ndarray:
     """``P = dW/dF - p F^{-T}`` (transpose of the nominal stress (2.27)/(2.29)).
 
@@ -43,6 +44,7 @@ def first_piola(material, F, D_L, p: float = 0.0) -> np.ndarray:
     return P - p * np.linalg.inv(np.asarray(F, dtype=float)).T
 
 
+@v.finite_result
 def cauchy_stress(material, F, D_L, p: float = 0.0) -> np.ndarray:
     """Total Cauchy stress (2.31)/(2.33): ``J^{-1} (dW/dF) F^T - p I``."""
     _check_p(_material(material), p)
@@ -52,6 +54,7 @@ def cauchy_stress(material, F, D_L, p: float = 0.0) -> np.ndarray:
     return P @ F.T / J - p * np.eye(3)
 
 
+@v.finite_result
 def electric_field(material, F, D_L) -> np.ndarray:
     """Eulerian electric field ``E = F^{-T} dW/dD_L`` (2.32)/(2.34)."""
     _material(material)
@@ -59,6 +62,7 @@ def electric_field(material, F, D_L) -> np.ndarray:
     return np.linalg.solve(F.T, material.response(F, D_L, second=False).E_L)
 
 
+@v.finite_result
 def eulerian_displacement(F, D_L) -> np.ndarray:
     """``D = J^{-1} F D_L``."""
     F = np.asarray(v.deformation_gradient("F", F), dtype=float)
@@ -73,6 +77,7 @@ def moduli(material, F, D_L) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return r.AA, r.AAA, r.A
 
 
+@v.finite_result
 def push_forward(F, AA, AAA, A) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Push-forward moduli ``(AA0, AAA0, A0)`` of (2.72)-(2.73).
 

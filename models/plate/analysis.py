@@ -29,6 +29,7 @@ def _params(params) -> PlateParams:
 
 
 # --------------------------------------------------------------------------- kH -> 0
+@v.finite_result
 def membrane_stress(lam, params: PlateParams):
     """a - c = A0_1212 - A0_2121, which for a consistent model equals tau11 - tau22.
 

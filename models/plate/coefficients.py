@@ -82,6 +82,7 @@ def _check_params(params) -> PlateParams:
     return v.instance("params", params, PlateParams)
 
 
+@v.finite_result
 def printed_coefficients(lam, xi, alpha, beta, Dhat):
     """(a, 2b, c, d, e, f, g) exactly as printed in (4.54)-(4.60), mu = eps = 1.
 
@@ -105,6 +106,7 @@ def _printed_coefficients(lam, xi, alpha, beta, Dhat):
     return a, b2, c, d, e, f, g
 
 
+@v.finite_result
 def coefficients(lam, params: PlateParams):
     """Coefficients (a, 2b, c, d, e, f, g) of (4.52)-(4.53) for the chosen variant.
 
@@ -124,6 +126,7 @@ def _coefficients(lam, p):
     return _printed_coefficients(lam, p.xi, p.alpha, p.beta, p.Dhat)
 
 
+@v.finite_result
 def energy_matrix(lam, params: PlateParams) -> np.ndarray:
     """Plane-strain incremental energy matrix S, shape ``lam.shape + (6, 6)``.
 
@@ -147,6 +150,7 @@ def energy_matrix(lam, params: PlateParams) -> np.ndarray:
     return np.moveaxis(S, (0, 1), (-2, -1))
 
 
+@v.finite_result
 def base_state(lam, params: PlateParams):
     """Base pressure p (from tau22 = 0) and lateral total Cauchy stress tau11 / mu.
 
@@ -158,6 +162,7 @@ def base_state(lam, params: PlateParams):
     return _base_state(lam, params.xi, params.alpha, params.beta, params.Dhat)
 
 
+@v.finite_result
 def reduced_quartic(lam, params: PlateParams):
     """Coefficients (qa, qb, qc) of the mechanical quartic qc s^4 - qb s^2 + qa = 0.
 

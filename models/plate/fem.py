@@ -129,6 +129,7 @@ def _gram(n: int, g: float):
     return Gpp, Gpf, Gff
 
 
+@v.finite_result
 def stiffness(lam: float, kH: float, params: PlateParams, n: int = N_ELEMENTS):
     """Hermitian stiffness K(lam, kH) and Gram (mass) matrix M of the discretisation.
 
@@ -169,6 +170,7 @@ def stiffness(lam: float, kH: float, params: PlateParams, n: int = N_ELEMENTS):
     return K, M
 
 
+@v.finite_result
 def eigenvalues(lam: float, kH: float, params: PlateParams, n: int = N_ELEMENTS,
                 count: int | None = None) -> np.ndarray:
     """Ascending eigenvalues omega of K v = omega M v (all, or the ``count`` lowest).
@@ -192,6 +194,7 @@ class FemRoots:
     index: tuple[int, ...]  # which eigenvalue (ascending) crosses zero
 
 
+@v.finite_result
 def critical_stretches(kH: float, params: PlateParams, *, window=(0.4, 8.0),
                        n_scan: int = 400, n: int = N_ELEMENTS, max_index: int = 8,
                        grid=None) -> FemRoots:
@@ -260,6 +263,7 @@ def critical_stretches(kH: float, params: PlateParams, *, window=(0.4, 8.0),
     return FemRoots(kH, np.asarray(lams), tuple(idx))
 
 
+@v.finite_result
 def refine_root(lam0: float, kH: float, params: PlateParams, n: int, *, index: int,
                 rel: float = 0.02) -> float:
     """The zero of eigenvalue ``index`` near ``lam0`` (bracket lam0 (1 +- rel)).

@@ -37,6 +37,7 @@ from debench.models.plate.fem import eigenvalues
 from scipy.optimize import brentq
 
 
+@v.finite_result
 def dhat_at_voltage(lam, Vhat: float, params: PlateParams):
     """Dhat = Vhat lam^2/(alpha lam^4 + beta): the displacement at fixed voltage.
 
@@ -111,6 +112,7 @@ def critical_stretches_at_voltage(kH: float, Vhat: float, params: PlateParams, *
     return np.asarray(lams)[order], tuple(pars[i] for i in order)
 
 
+@v.finite_result
 def fe_root_at_voltage(lam0: float, kH: float, Vhat: float, params: PlateParams, n: int,
                        rel: float = 1e-3) -> float:
     """Method 2: the FE eigenvalue crossing near lam0 with Dhat = Dhat(lam) varying.
