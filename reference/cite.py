@@ -13,8 +13,9 @@ import json
 import re
 from typing import Any
 
-#: repository URL (also ``repository-code`` in CITATION.cff)
-REPOSITORY = "https://github.com/debench/debench"
+#: Public repository URL (also ``repository-code`` in CITATION.cff). ``None`` until the
+#: project has a public address: a citation never carries a made-up one.
+REPOSITORY: str | None = None
 
 THESIS = {
     "id": "zeng_2020", "type": "thesis", "genre": "PhD dissertation",
@@ -103,7 +104,7 @@ def citation(item_id: str) -> list[dict[str, Any]]:
         "type": "dataset" if info["datasets"] else "software",
         "title": f"debench: {info['title']}",
         "author": [{"literal": "debench developers"}],
-        "version": __version__, "URL": REPOSITORY, "note": note,
+        "version": __version__, **({"URL": REPOSITORY} if REPOSITORY else {}), "note": note,
         "issued": {"date-parts": [[today.year]]},
         "accessed": {"date-parts": [[today.year, today.month, today.day]]},
         "references": "; ".join(r["id"] for r in refs),
