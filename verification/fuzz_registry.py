@@ -707,6 +707,8 @@ def _validation_cases():
         Case(f"{m}.unit_vector", v.unit_vector, {"name": "a", "v": _A0}, {"v": "A"}),
         Case(f"{m}.deformation_gradient", v.deformation_gradient,
              {"name": "F", "F": _F0}, {"F": "F"}),
+        Case(f"{m}.finite_result", lambda x: v.finite_result(lambda y: y * 2.0)(x),
+             {"x": 1.0}, {"x": "real"}, allowed={"x": ["x", None]}),
         Case(f"{m}.window", v.window, {"name": "w", "w": (0.4, 8.0)}, {"w": "window"},
              allowed={"w": [INVALID["window"][2]]}),
     ]
