@@ -76,7 +76,7 @@ def test_strip_modes_are_pure_harmonics_with_small_backward_error():
 
 
 def test_strip_fe_agrees_with_determinant_charge_control():
-    """Figs 4.2(a) (xi = 0, 5), 4.2(c) thin, 4.2(i), 4.5 (xi = 10, thick), charge
+    """Figs 4.2(a) (xi = 5), 4.2(c) thin, 4.2(i), 4.5 (xi = 10, thick), charge
     control: every determinant root has an FE root of the same parity within the
     coarse-mesh tolerance of the convergence study."""
     _, rows = P.max_disagreement(P.CASES_FAST)

@@ -27,10 +27,8 @@ EV = "verification/test_ch4_fe.py"
 #: bracketed at their mid-point instead
 BRACKET = 5e-3
 #: Representative subset of Figs 4.2 and 4.5 (xi, Dhat, kH) for the default run and the
-#: producers: Fig. 4.2(a) isotropic and TI, (c) thin isotropic, (i) isotropic, Fig. 4.5
-#: xi = 10 thick.
-CASES_FAST = ((0.0, 0.0, 2.0), (5.0, 0.0, 2.0), (0.0, 2.0, 0.3), (0.0, 5.0, 2.0),
-              (10.0, 2.0, 10.0))
+#: producers: Fig. 4.2(a) TI, (c) thin isotropic, (i) isotropic, Fig. 4.5 xi = 10 thick.
+CASES_FAST = ((5.0, 0.0, 2.0), (0.0, 2.0, 0.3), (0.0, 5.0, 2.0), (10.0, 2.0, 10.0))
 #: every case of Figs 4.2 (nine Dhat, xi = 0 and 5) and 4.5 (xi = 3, 10 at Dhat = 2)
 FIG42_D = (0.0, 1.0, 2.0, 2.2, 2.4, 2.6, 3.0, 4.0, 5.0)
 CASES_FULL = tuple((xi, D, kH) for D in FIG42_D for xi in (0.0, 5.0)
