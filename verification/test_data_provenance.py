@@ -37,11 +37,18 @@ def test_curated_dataset_was_made_by_reproduce_write_data_from_a_clean_tree(name
     assert not provenance_problems(MANIFEST[f"{name}.nc"]), name
 
 
-def test_every_stored_voltage_stretch_curve_has_values():
-    """A curve of ch3_voltage_stretch is either computed (finite values up to its failure
-    point) or absent from the grid: never a row of NaN labelled as a result."""
+def test_every_stored_voltage_stretch_curve_has_values_or_a_computed_cause():
+    """A curve of ch3_voltage_stretch is computed (finite values up to its failure point),
+    or its absence is a computed failure with its cause: the permittivity factor
+    K = 1 + c(5 lam/2 - 2) of (3.30) is already non-positive at the pre-stretch."""
+    from debench.models.circular.circle_a import electrostriction_factor
+    from debench.reference.builders.ch3 import MODES
+
     ds = read_dataset("ch3_voltage_stretch")
+    fp = read_dataset("ch3_failure_points").sel(equilibrium="printed")
+    code = MODES.index("permittivity") + 1
     finite = np.isfinite(ds.phibar.values).sum(axis=-1)
-    empty = [(float(ds.lamP[i]), float(ds.c[j])) for i, j in zip(*np.nonzero(finite < 2),
-                                                                   strict=True)]
-    assert not empty, f"(lamP, c) curves without values: {empty}"
+    for i, j in zip(*np.nonzero(finite < 2), strict=True):
+        lamP, c = float(ds.lamP[i]), float(ds.c[j])
+        assert int(fp.failure_mode.sel(lamP=lamP, c=c)) == code, (lamP, c)
+        assert float(electrostriction_factor(lamP, c)) <= 0, (lamP, c)

@@ -18,11 +18,20 @@ Datasets (``ch3_*``, written with :func:`debench.reference.datasets.write_datase
 from __future__ import annotations
 
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import xarray as xr
 from debench.models.circular import analysis, params
-from debench.models.circular.actuator import EVENT_KINDS, branch, branches, curves, curves_many
+from debench.models.circular.actuator import (
+    EVENT_KINDS,
+    Event,
+    branch,
+    branches,
+    curves,
+    curves_many,
+)
+from debench.models.circular.circle_a import electrostriction_factor
 from debench.models.circular.params import Annulus
 from debench.models.circular.shooting import DEFAULT_STEPS, integrate_inward
 from debench.reference.datasets import write_dataset
@@ -32,7 +41,9 @@ LAMP_CURVES = (1.1, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0)
 C_CURVES = (0.0, -0.02, -0.04, -0.053, -0.06, -0.08, -0.1)
 LAMP_SWEEP = (1.25, 2.0, 3.0)
 EPS_R = (3.5, 4.05, 4.2, 4.7, 5.5)
-MODES = ("pullin", "loss_of_tension", "breakdown", "locking", "end")  # flag values 1..5
+#: failure kinds, flag values 1..6; "permittivity": the factor K = 1 + c(5 lam/2 - 2) of
+#: (3.30) reaches 0 (at the pre-stretch itself: no admissible curve at all)
+MODES = ("pullin", "loss_of_tension", "breakdown", "locking", "end", "permittivity")
 RADIUS_RATIO = 15.0
 
 
@@ -47,9 +58,47 @@ def _mode_code(failure) -> int:
 
 def _mode_attrs() -> dict:
     return {"long_name": "failure mode (first event along increasing stretch)", "units": "1",
-            "flag_values": np.array([0, 1, 2, 3, 4, 5], dtype=np.int8),
+            "flag_values": np.arange(len(MODES) + 1, dtype=np.int8),
             "flag_meanings": ("none pull_in loss_of_tension dielectric_breakdown "
-                              "gent_locking end_of_admissible_branch")}
+                              "gent_locking end_of_admissible_branch "
+                              "nonpositive_permittivity_factor")}
+
+
+def _inadmissible_curve(br, c: float, phibar_breakdown: np.ndarray) -> SimpleNamespace:
+    """The record of a (lamP, c) whose permittivity factor K = 1 + c(5 lam/2 - 2) of (3.30)
+    is non-positive already at the pre-stretch: no voltage-stretch curve exists; the
+    failure is computed (kind "permittivity", at lamP) and the curve holds no values."""
+    lamP = float(br.annulus.lamP)
+    nan = np.full(br.lam.size, np.nan)
+    fail = Event("permittivity", lamP, 0.0, float("nan"))
+    return SimpleNamespace(lam=br.lam, phibar=nan, sigma1A=nan,
+                           phibar_breakdown=phibar_breakdown,
+                           events={k: None for k in EVENT_KINDS}, failure=fail,
+                           lam_max=lamP, phibar_max=0.0, c=c)
+
+
+def _curves_many_admissible(jobs):
+    """:func:`curves_many` over ``jobs`` [(branch, cs, eps_r or None)], with the c values
+    whose K(lamP) <= 0 replaced by :func:`_inadmissible_curve` records (same order)."""
+    kept, slots = [], []
+    for br, cs, er in jobs:
+        ok = [i for i, c in enumerate(cs)
+              if float(electrostriction_factor(br.annulus.lamP, c)) > 0]
+        slots.append(ok)
+        if ok:
+            kept.append((br, [cs[i] for i in ok],
+                         None if er is None else [er[i] for i in ok]))
+    res = iter(curves_many(kept)) if kept else iter(())
+    out = []
+    for (br, cs, _), ok in zip(jobs, slots, strict=True):
+        got = next(res) if ok else []
+        row: list = [None] * len(cs)
+        for k, i in enumerate(ok):
+            row[i] = got[k]
+        pb = got[0].phibar_breakdown if ok else np.full(br.lam.size, np.nan)
+        out.append([r if r is not None else _inadmissible_curve(br, cs[i], pb)
+                    for i, r in enumerate(row)])
+    return out
 
 
 def _common_params(full: bool) -> dict:
@@ -231,9 +280,9 @@ def compute(full: bool = False) -> dict[str, xr.Dataset]:
     jobs = ([(pr[p], C_CURVES, None) for p in LAMP_CURVES]
             + [(pr[p], cgrid, None) for p in LAMP_SWEEP]
             + [(pr[p], allc, alle) for p in LAMP_CURVES])
-    res = curves_many(jobs)
+    res = _curves_many_admissible(jobs)
     bar.update()
-    resm = curves_many([(mb[p], C_CURVES, None) for p in LAMP_CURVES])
+    resm = _curves_many_admissible([(mb[p], C_CURVES, None) for p in LAMP_CURVES])
     bar.update()
     nL, nS = len(LAMP_CURVES), len(LAMP_SWEEP)
     family = {p: (pr[p], res[k]) for k, p in enumerate(LAMP_CURVES)}
