@@ -158,3 +158,23 @@ def test_strip_fe_agrees_with_determinant_voltage_control_all():
     bad = [(c.xi, c.parity, c.lam_det, c.diff) for c in rows
            if abs(c.diff) > _tol(TOL_COARSE, c.kH)]
     assert not bad, bad
+
+
+def test_bad_inputs_raise_naming_the_argument():
+    """The strip model validates at its boundary: each bad input is a ValueError that
+    names the argument (checked before any finite-element work)."""
+    from debench.models.plate import strip_fe
+
+    mat = strip_fe.material_for(5.0)
+    cases = [
+        (lambda: strip_fe.default_mesh(0.0), "kH"),
+        (lambda: strip_fe.default_mesh(2.0, level=-1), "level"),
+        (lambda: strip_fe.base_state(-1.0, 0.0, mat), "lam"),
+        (lambda: strip_fe.base_state(1.2, float("nan"), mat), "Dhat"),
+        (lambda: strip_fe.dhat_at_voltage(1.2, -1.0, mat), "Vhat"),
+        (lambda: strip_fe.critical_stretch(2.0, (1.0, 1.2), "X", mat, Dhat=0.0), "parity"),
+        (lambda: strip_fe.modes(1.2, 2.0, mat), "Dhat"),
+    ]
+    for call, name in cases:
+        with pytest.raises(ValueError, match=name):
+            call()
