@@ -8,7 +8,8 @@ import pytest
 from debench.models.buckling import analytic
 from debench.models.buckling.parameters import Ogden
 from debench.reference import catalogue
-from debench.reference.builders.ch5_thickness import ratio_limit, richardson3
+from debench.reference.builders.ch5 import convergence_fit
+from debench.reference.builders.ch5_thickness import ratio_limit
 from debench.reference.datasets import read_dataset
 
 #: Mindlin plate theory neglects the 3D field distribution and the finite-strain
@@ -31,14 +32,22 @@ def test_ratio_of_aspects_follows_plate_theory(thick):
     assert float(thick.ratio_error) < 0.05 * float(thick.ratio_extrapolated)
 
 
-def test_richardson_and_ratio_limit_recover_a_known_limit():
+def test_convergence_fit_recovers_a_known_limit_and_bounds_its_error():
+    """Exact data v_inf + C h^p: the limit to round-off (three and four levels); with a
+    higher-order term the error estimate covers the true error of the limit."""
     h = np.array([3.0, 2.0, 1.4, 1.0])
     v = 0.5 + 0.2 * h**1.7
-    assert richardson3(h, v) == pytest.approx(0.5, abs=1e-10)
+    assert convergence_fit(h[:3], v[:3])["v_inf"] == pytest.approx(0.5, abs=1e-10)
+    fit = convergence_fit(h, v)
+    assert fit["v_inf"] == pytest.approx(0.5, abs=1e-8) and fit["p"] == pytest.approx(1.7)
     lim, err = ratio_limit(h, v)
-    assert lim == pytest.approx(0.5, abs=1e-10) and err < 1e-9
+    assert lim == pytest.approx(0.5, abs=1e-8) and err < 1e-6
     lim2, err2 = ratio_limit(h[:2], v[:2])
     assert lim2 == v[1] and err2 == pytest.approx(v[0] - v[1])
+    hh = np.array([3.0, 2.0, 1.4, 1.0, 0.7])
+    for d in (0.002, 0.005, 0.01):   # h^3 term 1-4 % of the leading one at h = 3
+        fit = convergence_fit(hh, 0.5 + 0.2 * hh**1.7 + d * hh**3)
+        assert abs(fit["v_inf"] - 0.5) <= fit["error"], (d, fit)
 
 
 @pytest.mark.parametrize("entry_id", [

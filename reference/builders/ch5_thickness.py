@@ -10,9 +10,7 @@ by ``ch5.hypothesis.radius_kept.*``: the 0.5 mm model kept the radius R = 10 mm
 perfect Ogden film (eigen-analysis, :func:`debench.models.buckling.solver.critical_voltage`)
 at R/t0 = 10 and 20 on a sequence of meshes (in-plane size h = 3, 2 t0; with ``full``
 also 1.4 t0; one layer of quadratic prisms), their ratio per level, and the
-extrapolated ratio with an error estimate (the change of the extrapolation when the
-coarsest level is dropped, or of the ratio between the last two levels when only two
-exist).
+extrapolated ratio with an error estimate (:func:`ratio_limit`).
 """
 
 from __future__ import annotations
@@ -31,29 +29,16 @@ ORDER = 2
 THICKNESS = 0.5e-3
 
 
-def richardson3(h: np.ndarray, v: np.ndarray) -> float:
-    """Limit of ``v(h) = v_inf + C h^p`` through three levels (p solved by bisection)."""
-    from scipy.optimize import brentq
-
-    (h1, h2, h3), (v1, v2, v3) = h[-3:], v[-3:]
-    ratio = (v1 - v2) / (v2 - v3)
-
-    def f(p):
-        return (h1**p - h2**p) / (h2**p - h3**p) - ratio
-
-    p = brentq(f, 0.05, 8.0)
-    return float(v3 - (v2 - v3) / (h2**p - h3**p) * h3**p)
-
-
 def ratio_limit(h, ratio) -> tuple[float, float]:
-    """Extrapolated ratio and its error estimate (see the module docstring)."""
+    """Mesh limit of the ratio and its error estimate: the convergence fit of the ch5
+    builder (:func:`debench.reference.builders.ch5.convergence_fit`) for three or more
+    levels; with two, the finest ratio and its change between the two levels."""
+    from debench.reference.builders.ch5 import convergence_fit
+
     h, ratio = np.asarray(h, float), np.asarray(ratio, float)
-    if h.size >= 4:
-        lim = richardson3(h, ratio)
-        return lim, abs(lim - richardson3(h[:-1], ratio[:-1]))
-    if h.size == 3:
-        lim = richardson3(h, ratio)
-        return lim, abs(lim - ratio[-1])
+    if h.size >= 3:
+        fit = convergence_fit(h, ratio)
+        return fit["v_inf"], fit["error"]
     return float(ratio[-1]), float(abs(ratio[-1] - ratio[-2]))
 
 
