@@ -1,0 +1,389 @@
+"""Fibre in the plane of the plate (beyond the thesis): incremental bifurcation, two methods.
+
+The thesis (Sec. 4.3) puts the fibre direction A through the thickness. Here
+A = (cos theta, 0, sin theta) lies in the plane of the plate, at the angle ``theta`` to
+the wave vector k e1, for the transversely isotropic energy (4.22) under charge control
+(Dhat fixed), equibiaxial stretch F = diag(lam, lam^-2, lam), mu = eps = 1.
+
+Incremental problem (derived in ``tools/derive_ch4_inplane.py``): fields
+exp(i k x1) g(x2), independent of x3; three displacement components. With the stream
+functions u1 = psi_2, u2 = -psi_1 (incompressible), Ddot = (phi_2, -phi_1, Dd3)
+(divergence free) and Dd3 eliminated by Edot3 = 0 (uniform in a periodic field), the
+unknowns are (psi, u3, phi). For theta = 0 and 90 degrees u3 decouples and the problem is
+the plane-strain one of the thesis with modified moduli (theta = 90: the fibre is along
+x3 and drops out, the isotropic plate); for intermediate theta the fibre couples the
+antiplane displacement u3 to the in-plane one.
+
+Method 1 (:func:`det_function`): the eight roots s of the characteristic polynomial
+det P(1, i s) = 0 (P the symbol of the Euler-Lagrange operator), amplitudes from the
+adjugate of P, and the 8 x 8 determinant of the boundary rows (T0_21, T0_22, T0_23,
+Edot_1) = 0 on both faces. Divided by the Vandermonde product of the roots the
+determinant is a symmetric, hence ordering-free, function of the roots; its phase is
+constant, and its real part after removing that phase changes sign at a bifurcation.
+
+Method 2 (:func:`fe_eigenvalues`): Galerkin discretisation of the Hermitian energy
+through the thickness (Hermite cubic psi, quadratic u3 and phi, the meshes and Gram
+matrices of :mod:`debench.models.plate.fem`); traction-free faces and equipotential
+electrodes are natural conditions. lam_cr is where an eigenvalue of K crosses zero.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.linalg as sla
+from debench.models import validation as v
+from debench.models.errors import ConvergenceError
+from debench.models.plate import _generated_inplane as gen
+from debench.models.plate.ansatz import critical_stretches
+from debench.models.plate.coefficients import PlateParams
+from debench.models.plate.fem import _gram, grading
+from scipy.optimize import brentq
+
+#: elements through the thickness (method 2, default)
+N_ELEMENTS = 24
+#: directions sampled on the half circle for the strong-ellipticity test
+N_DIRECTIONS = 91
+#: fixed real weights combining the adjugate columns into one amplitude vector (any
+#: generic vector works; fixed so that the determinant is a function of the roots only)
+_W = np.array([1.0, 0.7310, 0.5270])
+
+
+def _check(lam, theta, params):
+    lam = v.positive("lam", lam)
+    theta = v.finite("theta", theta)
+    if not 0.0 <= theta <= 90.0:
+        raise ValueError(f"theta must be in [0, 90] degrees, got {theta}")
+    v.instance("params", params, PlateParams)
+    if params.variant != "derived":
+        raise ValueError("params.variant must be 'derived' (the in-plane model is derived "
+                         f"from the energy only), got {params.variant!r}")
+    return float(lam), float(theta)
+
+
+def energy_matrix(lam: float, theta: float, params: PlateParams) -> np.ndarray:
+    """Condensed incremental energy matrix S (8 x 8), ``theta`` in degrees [0, 90].
+
+    2Q = z^T S z, z = (L11, L12, L21, L22, L31, L32, Ddot1, Ddot2); Ddot3 condensed out.
+    """
+    lam, theta = _check(lam, theta, params)
+    return _S(lam, theta, params)
+
+
+def _S(lam, theta, p):
+    t = math.radians(theta)
+    return gen.energy_matrix(lam, p.xi, p.alpha, p.beta, p.Dhat, math.cos(t), math.sin(t))
+
+
+def base_state(lam: float, theta: float, params: PlateParams):
+    """(p, tau11, tau33, tau13) of the base state (tau22 = 0), units of mu."""
+    lam, theta = _check(lam, theta, params)
+    t = math.radians(theta)
+    return gen.base_state(lam, params.xi, params.alpha, params.beta, params.Dhat,
+                          math.cos(t), math.sin(t))
+
+
+def _B(q1, q2):
+    """z = B(q) (Psi, U3, Phi) for fields exp(i (q1 x1 + q2 x2))."""
+    B = np.zeros(np.broadcast(q1, q2).shape + (8, 3), complex)
+    B[..., 0, 0] = -q1 * q2          # L11 = i q1 u1, u1 = i q2 Psi
+    B[..., 1, 0] = -q2**2            # L12
+    B[..., 2, 0] = q1**2             # L21 (u2 = -i q1 Psi)
+    B[..., 3, 0] = q1 * q2           # L22
+    B[..., 4, 1] = 1j * q1           # L31
+    B[..., 5, 1] = 1j * q2           # L32
+    B[..., 6, 2] = 1j * q2           # Dd1 = i q2 Phi
+    B[..., 7, 2] = -1j * q1          # Dd2 = -i q1 Phi
+    return B
+
+
+def _symbol(S, s):
+    """P(1, i s) = B(-q)^T S B(q), q = (1, i s), for an array of s."""
+    s = np.asarray(s, complex)
+    Bp, Bm = _B(1.0, 1j * s), _B(-1.0, -1j * s)
+    return np.einsum("...ai,ab,...bj->...ij", Bm, S, Bp)
+
+
+def _char_poly(S):
+    """Coefficients (highest first) of det P(1, i s), degree 8, by exact interpolation."""
+    nodes = np.exp(2j * np.pi * np.arange(9) / 9) * 1.3
+    vals = np.linalg.det(_symbol(S, nodes))
+    coef = np.linalg.solve(np.vander(nodes, 9), vals)
+    return coef
+
+
+def characteristic_roots(lam: float, theta: float, params: PlateParams) -> np.ndarray:
+    """The eight roots s of det P(1, i s) = 0 (fields exp(i k x1 - s k x2)), sorted."""
+    lam, theta = _check(lam, theta, params)
+    return _roots(_S(lam, theta, params))
+
+
+def _roots(S):
+    r = np.roots(_char_poly(S))
+    if r.size != 8:
+        raise ConvergenceError(f"characteristic polynomial has {r.size} roots, expected 8")
+    # polish with Newton on the determinant (np.roots error ~ eps * cond)
+    for _ in range(3):
+        h = 1e-7 * (1 + np.abs(r))
+        f = np.linalg.det(_symbol(S, r))
+        df = (np.linalg.det(_symbol(S, r + h)) - np.linalg.det(_symbol(S, r - h))) / (2 * h)
+        r = r - f / df
+    return r[np.lexsort((r.imag, r.real))]
+
+
+def strongly_elliptic(lam: float, theta: float, params: PlateParams) -> bool:
+    """Plane strong ellipticity: P(n) positive definite for every unit n in (x1, x2).
+
+    P(n) = B(-n)^T S B(n) is the Hermitian symbol of the incremental energy in the
+    (psi, u3, phi) variables; sampled at :data:`N_DIRECTIONS` directions on the half circle
+    (P(-n) = conj P(n)). Directions with a component along x3 are not tested (the fields
+    do not depend on x3).
+    """
+    lam, theta = _check(lam, theta, params)
+    S = _S(lam, theta, params)
+    ang = np.linspace(0.0, np.pi, N_DIRECTIONS, endpoint=False)
+    P = np.einsum("...ai,ab,...bj->...ij", _B(-np.cos(ang), -np.sin(ang)), S,
+                  _B(np.cos(ang), np.sin(ang)))
+    P = 0.5 * (P + np.conj(np.swapaxes(P, -1, -2)))
+    return bool(np.all(np.linalg.eigvalsh(P)[..., 0] > 0))
+
+
+def _boundary_rows(S, s):
+    """Rows (T21, T22, T23, E1) per unit amplitude of each root, shape (4, len(s))."""
+    P = _symbol(S, s)
+    adj = np.array([_adjugate(Pj) for Pj in P])
+    amp = adj @ _W                                          # (n, 3)
+    z = np.einsum("nai,ni->na", _B(1.0, 1j * s), amp)      # (n, 8)
+    Sz = z @ S.T
+    pdot = Sz[:, 0] + 1j * s * Sz[:, 1]                     # from x1-equilibrium
+    return np.array([Sz[:, 1], Sz[:, 3] - pdot, Sz[:, 5], Sz[:, 6]])
+
+
+def _adjugate(M):
+    a = np.empty((3, 3), complex)
+    for i in range(3):
+        for j in range(3):
+            minor = np.delete(np.delete(M, j, 0), i, 1)
+            a[i, j] = (-1) ** (i + j) * (minor[0, 0] * minor[1, 1] - minor[0, 1] * minor[1, 0])
+    return a
+
+
+def det_function(lam: float, kH: float, theta: float, params: PlateParams) -> complex:
+    """Method 1: boundary determinant / Vandermonde(roots), complex of constant phase.
+
+    ``kH`` is the wavenumber times the reference thickness H; the current thickness is
+    h = lam^-2 H, faces at k x2 = +- t/2, t = kH lam^-2. Each column is scaled by the
+    positive factor exp(-|Re s| t / 2) (symmetric in the roots, keeps the phase).
+    """
+    lam, theta = _check(lam, theta, params)
+    kH = v.positive("kH", kH)
+    return _det(lam, kH, theta, params)
+
+
+def _det(lam, kH, theta, p):
+    S = _S(lam, theta, p)
+    s = _roots(S)
+    t = kH * lam**-2
+    rows = _boundary_rows(S, s)
+    scale = np.exp(-np.abs(s.real) * t / 2)
+    top = rows * (np.exp(-s * t / 2) * scale)
+    bot = rows * (np.exp(s * t / 2) * scale)
+    M = np.vstack([top, bot])
+    vd = np.prod([s[j] - s[i] for i in range(8) for j in range(i + 1, 8)])
+    return complex(np.linalg.det(M) / vd)
+
+
+def _real_det(lam, kH, theta, p, phase):
+    return float((_det(lam, kH, theta, p) * np.conj(phase)).real)
+
+
+def critical_stretches_det(kH: float, theta: float, params: PlateParams, *,
+                           window=(0.45, 0.999), n_scan: int = 120) -> np.ndarray:
+    """Method 1: every lam in ``window`` where the determinant changes sign.
+
+    Scanned on a geometric grid (strongly elliptic points only), refined with brentq.
+    The phase of :func:`det_function` is taken from the first grid point and checked
+    constant (ConvergenceError otherwise).
+    """
+    kH = v.positive("kH", kH)
+    lo, hi = v.window("window", window)
+    _check(lo, theta, params)
+    if params.xi == 0.0 or theta == 90.0:
+        # u3 decouples and (psi, phi) is the isotropic plate of the thesis, whose roots
+        # coincide (s = +-1 twice): the Vandermonde normalisation is undefined there and
+        # the parity-split determinant of debench.models.plate.ansatz is used instead
+        iso = PlateParams(xi=0.0, Dhat=params.Dhat, beta=params.beta, alpha=params.alpha)
+        r = critical_stretches(kH, iso, window=(lo, hi)).lam
+        return np.sort(np.asarray(r, float))
+    g = np.geomspace(lo, hi, v.integer_at_least("n_scan", n_scan, 2))
+    ell = np.array([strongly_elliptic(x, theta, params) for x in g])
+    g = g[np.argmax(ell):] if ell.any() else g[:0]
+    if g.size < 2 or not ell[-1]:
+        return np.zeros(0)
+    ell = np.array([strongly_elliptic(x, theta, params) for x in g])
+    vals = np.array([_det(x, kH, theta, params) if e else np.nan
+                     for x, e in zip(g, ell, strict=True)])
+    vals = np.where(ell, vals, vals[ell][0])
+    phase = vals[np.argmax(np.abs(vals))]
+    phase /= abs(phase)
+    rot = vals * np.conj(phase)
+    if np.max(np.abs(rot.imag)) > PHASE_TOL * np.max(np.abs(rot)):
+        raise ConvergenceError("determinant phase not constant along the scan "
+                               f"(max |Im|/max|det| = "
+                               f"{np.max(np.abs(rot.imag)) / np.max(np.abs(rot)):.2e})")
+    f = rot.real
+    out = []
+    for i in range(len(g) - 1):
+        if not (ell[i] and ell[i + 1]):
+            continue
+        if f[i] == 0.0 or np.sign(f[i]) != np.sign(f[i + 1]):
+            r = brentq(_real_det, g[i], g[i + 1], args=(kH, theta, params, phase),
+                       xtol=1e-14, rtol=1e-15)
+            if boundary_singularity(r, kH, theta, params) < SINGULAR_TOL:
+                out.append(r)
+    return np.asarray(out)
+
+
+#: a sign change of the normalised determinant is a bifurcation only where the boundary
+#: matrix (unit columns) is singular: sigma_min/sigma_max there is ~1e-12 (round-off of
+#: the roots and rows), while the spurious sign changes (where two characteristic roots
+#: collide and the Vandermonde product vanishes) have sigma_min/sigma_max >~ 1e-4
+#: (measured); 1e-8 separates the two with > 1e3 margin each way
+SINGULAR_TOL = 1e-8
+
+
+def boundary_singularity(lam: float, kH: float, theta: float, params: PlateParams) -> float:
+    """sigma_min / sigma_max of the 8 x 8 boundary matrix with unit-norm columns."""
+    lam, theta = _check(lam, theta, params)
+    kH = v.positive("kH", kH)
+    S = _S(lam, theta, params)
+    s = _roots(S)
+    t = kH * lam**-2
+    rows = _boundary_rows(S, s)
+    scale = np.exp(-np.abs(s.real) * t / 2)
+    M = np.vstack([rows * (np.exp(-s * t / 2) * scale), rows * (np.exp(s * t / 2) * scale)])
+    M = M / np.linalg.norm(M, axis=0)
+    sv = np.linalg.svd(M, compute_uv=False)
+    return float(sv[-1] / sv[0])
+
+
+#: |Im| of the phase-rotated determinant relative to its largest modulus on a scan; a
+#: symmetric function of the roots has exactly constant phase, so this only flags a lost
+#: root (measured |Im| / max ~ 1e-10 and below); 1e-6 leaves > 1e3 margin
+PHASE_TOL = 1e-6
+
+
+# -------------------------------------------------------------------- method 2
+_C_PSI = np.zeros((3, 8), complex)   # z from D^m Psi
+_C_PSI[1, 0] = 1j                     # L11 = i Psi'
+_C_PSI[2, 1] = 1.0                    # L12 = Psi''
+_C_PSI[0, 2] = 1.0                    # L21 = Psi
+_C_PSI[1, 3] = -1j                    # L22 = -i Psi'
+_C_U = np.zeros((2, 8), complex)
+_C_U[0, 4] = 1j                       # L31 = i U3
+_C_U[1, 5] = 1.0                      # L32 = U3'
+_C_PHI = np.zeros((2, 8), complex)
+_C_PHI[1, 6] = 1.0                    # Dd1 = Phi'
+_C_PHI[0, 7] = -1j                    # Dd2 = -i Phi
+
+
+def fe_stiffness(lam: float, kH: float, theta: float, params: PlateParams,
+                 n: int = N_ELEMENTS) -> np.ndarray:
+    """Method 2: Hermitian stiffness K(lam, kH), dofs [Psi (2(n+1)), U3, Phi (2n+1 each)]."""
+    lam, theta = _check(lam, theta, params)
+    kH = v.positive("kH", kH)
+    v.integer_at_least("n", n, 2)
+    return _K(lam, kH, theta, params, n)
+
+
+def _K(lam, kH, theta, p, n):
+    S = _S(lam, theta, p)
+    t = kH * lam**-2
+    Gpp, Gpf, Gff = _gram(n, grading(t))
+    npsi, nq = Gpp.shape[2], Gff.shape[2]
+    sl = {"psi": slice(0, npsi), "u": slice(npsi, npsi + nq),
+          "phi": slice(npsi + nq, npsi + 2 * nq)}
+    C = {"psi": _C_PSI, "u": _C_U, "phi": _C_PHI}
+    K = np.zeros((npsi + 2 * nq, npsi + 2 * nq), complex)
+    for a in C:
+        for b in C:
+            for m in range(C[a].shape[0]):
+                for k in range(C[b].shape[0]):
+                    cmk = C[a][m].conj() @ S @ C[b][k]
+                    if cmk == 0:
+                        continue
+                    if a == "psi" and b == "psi":
+                        G = Gpp[m, k]
+                    elif a == "psi":
+                        G = Gpf[m, k]
+                    elif b == "psi":
+                        G = Gpf[k, m].T
+                    else:
+                        G = Gff[m, k]
+                    # eta = t zeta: D_eta^m = t^-m D_zeta^m, d eta = t d zeta
+                    K[sl[a], sl[b]] += cmk * t ** (1 - m - k) * G
+    return 0.5 * (K + K.conj().T)
+
+
+def fe_eigenvalues(lam: float, kH: float, theta: float, params: PlateParams,
+                   n: int = N_ELEMENTS, count: int = 6) -> np.ndarray:
+    """The ``count`` lowest eigenvalues of K (ascending)."""
+    K = fe_stiffness(lam, kH, theta, params, n)
+    v.integer_at_least("count", count, 1)
+    return sla.eigh(K, eigvals_only=True, subset_by_index=(0, count - 1))
+
+
+def critical_stretches_fe(kH: float, theta: float, params: PlateParams, *,
+                          window=(0.45, 0.999), n_scan: int = 120, n: int = N_ELEMENTS,
+                          max_index: int = 6) -> np.ndarray:
+    """Method 2: every lam in ``window`` where an eigenvalue of K crosses zero."""
+    kH = v.positive("kH", kH)
+    lo, hi = v.window("window", window)
+    _check(lo, theta, params)
+    g = np.geomspace(lo, hi, v.integer_at_least("n_scan", n_scan, 2))
+
+    def ev(x, j=None):
+        e = sla.eigh(_K(x, kH, theta, params, n), eigvals_only=True,
+                     subset_by_index=(0, max_index - 1))
+        return e if j is None else e[j]
+
+    ell = np.array([strongly_elliptic(x, theta, params) for x in g])
+    neg = np.array([np.sum(ev(x) < 0) if e else -1 for x, e in zip(g, ell, strict=True)])
+    out = []
+    for i in range(len(g) - 1):
+        if not (ell[i] and ell[i + 1]):
+            continue
+        d = int(neg[i] - neg[i + 1])
+        if d == 0:
+            continue
+        if abs(d) > 1:
+            raise ConvergenceError(f"{abs(d)} eigenvalues cross zero in [{g[i]}, {g[i + 1]}]"
+                                   f" at kH={kH}, theta={theta}: refine n_scan")
+        j = int(min(neg[i], neg[i + 1]))
+        out.append(brentq(ev, g[i], g[i + 1], args=(j,), xtol=1e-14, rtol=1e-15))
+    return np.asarray(out)
+
+
+def ellipticity_limit(theta: float, params: PlateParams, *, window=(0.45, 0.999),
+                      n_scan: int = 200) -> float:
+    """Largest lam in ``window`` at which plane strong ellipticity fails (compression).
+
+    Scanned on a geometric grid and refined by bisection to 1e-12; returns the lower end
+    of ``window`` when the model is strongly elliptic on the whole window. Every root of
+    :func:`critical_stretches_det` / :func:`critical_stretches_fe` lies above it.
+    """
+    lo, hi = v.window("window", window)
+    _check(lo, theta, params)
+    g = np.geomspace(lo, hi, v.integer_at_least("n_scan", n_scan, 2))
+    ell = np.array([strongly_elliptic(x, theta, params) for x in g])
+    if ell.all():
+        return float(lo)
+    if not ell[-1]:
+        return float(hi)
+    i = int(np.nonzero(~ell)[0][-1])
+    a, b = g[i], g[i + 1]
+    while b - a > 1e-12:
+        m = 0.5 * (a + b)
+        a, b = (a, m) if strongly_elliptic(m, theta, params) else (m, b)
+    return float(b)
