@@ -35,6 +35,7 @@ def base_state(lam, xi, alpha, beta, Dhat, ct, st):
     """(p, tau11, tau33, tau13): pressure (tau22 = 0) and lateral total stress."""
     p = Dhat**2*beta + lam**(-4)
     tau11 = -Dhat**2*beta + 2*ct**2*lam**4*xi - 2*ct**2*lam**2*xi + lam**2 - 1/lam**4
-    tau33 = -Dhat**2*beta - 2*ct**2*lam**4*xi + 2*ct**2*lam**2*xi + 2*lam**4*xi - 2*lam**2*xi + lam**2 - 1/lam**4
+    tau33 = -Dhat**2*beta - 2*ct**2*lam**4*xi + 2*ct**2*lam**2*xi + 2*lam**4*xi - 2*lam**2*xi + lam**2 - 1/lam**4  # noqa: E501
     tau13 = 2*ct*lam**2*st*xi*(ct**2*lam**2 + lam**2*st**2 - 1)
     return p, tau11, tau33, tau13
+
