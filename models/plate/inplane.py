@@ -71,17 +71,23 @@ def energy_matrix(lam: float, theta: float, params: PlateParams) -> np.ndarray:
     return _S(lam, theta, params)
 
 
-def _S(lam, theta, p):
+def _cs(theta):
+    """(cos, sin) of theta in degrees, exact at 0 and 90 (exact decoupling of u3)."""
+    if theta == 90.0:
+        return 0.0, 1.0
     t = math.radians(theta)
-    return gen.energy_matrix(lam, p.xi, p.alpha, p.beta, p.Dhat, math.cos(t), math.sin(t))
+    return math.cos(t), math.sin(t)
+
+
+def _S(lam, theta, p):
+    return gen.energy_matrix(lam, p.xi, p.alpha, p.beta, p.Dhat, *_cs(theta))
 
 
 def base_state(lam: float, theta: float, params: PlateParams):
     """(p, tau11, tau33, tau13) of the base state (tau22 = 0), units of mu."""
     lam, theta = _check(lam, theta, params)
-    t = math.radians(theta)
     return gen.base_state(lam, params.xi, params.alpha, params.beta, params.Dhat,
-                          math.cos(t), math.sin(t))
+                          *_cs(theta))
 
 
 def _B(q1, q2):
