@@ -62,7 +62,8 @@ def test_thesis_entries_carry_provenance(entries):
     for e in entries:
         if e.kind == "claim":
             assert e.source.get("section") or e.source.get("equation"), e.id
-            assert "page" in e.source, f"{e.id}: page missing"
+            if e.source.get("section") != "beyond the thesis":  # our results: no page
+                assert "page" in e.source, f"{e.id}: page missing"
             if isinstance(e.value, int | float) and not isinstance(e.value, bool):
                 assert e.printed, f"{e.id}: numeric claim needs the printed digits"
                 assert e.unit, e.id
