@@ -108,3 +108,18 @@ def test_bad_input_raises():
         ip.energy_matrix(-1.0, 30.0, p)
     with pytest.raises(ValueError, match="variant"):
         ip.energy_matrix(0.9, 30.0, PlateParams(xi=1.0, variant="printed"))
+
+
+@pytest.mark.slow
+def test_builder_writes_agreeing_methods(tmp_path):
+    import xarray as xr
+    from debench.reference.builders import ch4_inplane as builder
+
+    (path,) = builder.build(tmp_path)
+    ds = xr.open_dataset(path)
+    det, fe = ds["lam_cr_det"].values, ds["lam_cr_fe"].values
+    assert np.array_equal(np.isnan(det), np.isnan(fe))
+    # kH up to 5: the FE root error grows with kH (boundary layers), measured <= 2.2e-6
+    assert np.nanmax(np.abs(det - fe)) <= prod.TOL_AGREE
+    assert np.all(det[np.isfinite(det)] > ds["lam_E"].values[..., None].repeat(
+        det.shape[-1], -1)[np.isfinite(det)])
