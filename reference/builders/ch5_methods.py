@@ -240,8 +240,8 @@ def figures(ramps: xr.Dataset, methods: xr.Dataset, fig_dir: Path) -> list[Path]
     # methods on the mesh sequence
     fig, ax = plt.subplots(figsize=(5.5, 4))
     h = methods.h_rel.values
-    for m in methods.method.values:
-        ax.plot(h, methods.v_cr.sel(method=m).values, "o-", label=str(m))
+    for i, m in enumerate(methods.method.values):
+        ax.plot(h, methods.v_cr.isel(method=i).values, "o-", label=str(m))
     ax.axhline(float(methods.v_cr_kirchhoff), color="k", ls="--", label="Kirchhoff")
     ax.axhline(float(methods.v_cr_mindlin), color="k", ls=":", label="Mindlin")
     ax.set_xlabel("in-plane mesh size h / t0")

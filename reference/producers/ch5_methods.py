@@ -37,13 +37,18 @@ def _methods():
     return read_dataset("ch5_methods")
 
 
+def _m(ds, method: str) -> int:
+    return [str(x) for x in ds.method.values].index(method)
+
+
 def _limit_or_finest(ds, method: str) -> tuple[float, float, str]:
     """Mesh limit of a method (with its error estimate) or, with fewer than three levels,
     the finest level with the change between the two finest as the error."""
-    lim = float(ds.v_cr_extrapolated.sel(method=method))
+    i = _m(ds, method)
+    lim = float(ds.v_cr_extrapolated.values[i])
     if math.isfinite(lim):
-        return lim, float(ds.v_cr_error.sel(method=method)), "mesh limit"
-    v = ds.v_cr.sel(method=method).values
+        return lim, float(ds.v_cr_error.values[i]), "mesh limit"
+    v = ds.v_cr.values[i]
     return float(v[-1]), float(abs(v[-1] - v[-2])), "finest level"
 
 
@@ -65,8 +70,8 @@ def gap_decomposition(ds) -> dict:
     vc, ec, how = _limit_or_finest(ds, "coupled")
     vi, ei, _ = _limit_or_finest(ds, "initial_stress")
     vm, vk = float(ds.v_cr_mindlin), float(ds.v_cr_kirchhoff)
-    fine = {m: ds.v_cr.sel(method=m).values for m in ("coupled", "initial_stress",
-                                                       "frozen_potential")}
+    fine = {m: ds.v_cr.values[_m(ds, m)] for m in ("coupled", "initial_stress",
+                                                    "frozen_potential")}
     coupling_levels = fine["coupled"] / fine["initial_stress"] - 1
     gap = vc / vm - 1
     coupling = float(coupling_levels[-1])
