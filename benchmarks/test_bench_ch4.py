@@ -82,3 +82,48 @@ def test_bench_single_root_method2_fe(benchmark):
 
     r = benchmark(solve)
     assert r == pytest.approx(ROOT, abs=2e-5)
+
+
+# --------------------------------------------------------------------------- vectorised
+#: the voltage-control dataset's problem: lam_cr(kH) at fixed Vhat, 81 kH, 240 scan points
+KH_V = np.geomspace(0.01, 20.0, 81)
+PV = PlateParams(5.0, 0.0, variant="printed")
+
+
+def _voltage_per_kh_brentq():
+    """The scalar path: one scan and one brentq per bracket at every kH."""
+    from debench.models.plate.ansatz import scan_grid
+    from debench.models.plate.voltage import _determinant_at_voltage
+
+    grid = scan_grid(n=240)
+    n = 0
+    for k in KH_V:
+        for par in ("E", "O"):
+            dv = _determinant_at_voltage(grid, float(k), 0.5, PV, par)
+            ok = np.isfinite(dv[:-1]) & np.isfinite(dv[1:])
+            for i in np.nonzero(ok & (dv[:-1] * dv[1:] < 0))[0]:
+                brentq(lambda x, par=par, k=k: float(_determinant_at_voltage(
+                    np.array(x), float(k), 0.5, PV, par)), grid[i], grid[i + 1], xtol=1e-13)
+                n += 1
+    return n
+
+
+@pytest.mark.benchmark(group="ch4-voltage_control_81kH-1thread")
+def test_bench_voltage_control_scalar_brentq(benchmark):
+    n = benchmark.pedantic(_voltage_per_kh_brentq, rounds=3, iterations=1)
+    assert n > KH_V.size
+
+
+@pytest.mark.benchmark(group="ch4-voltage_control_81kH-1thread")
+def test_bench_voltage_control_vectorised(benchmark):
+    from debench.models.plate.voltage import curves_at_voltage
+
+    lam, _ = benchmark.pedantic(curves_at_voltage, args=(KH_V, 0.5, PV),
+                             kwargs={"n_scan": 240}, rounds=3, iterations=1)
+    assert int(np.isfinite(lam).sum()) == _voltage_per_kh_brentq()
+
+
+@pytest.mark.benchmark(group="ch4-roots_at_one_kH-1thread")
+def test_bench_critical_stretches_vectorised_refinement(benchmark):
+    r = benchmark(critical_stretches, KH1, P)
+    assert r.lam[-1] == pytest.approx(ROOT, abs=1e-12)

@@ -17,6 +17,7 @@ from debench.models.plate.ansatz import (
     _column,
     _determinant,
     _quartic_roots,
+    _refine,
     _row_coefficients,
     critical_stretches,
 )
@@ -64,8 +65,11 @@ def thin_limit(params: PlateParams, window=(0.3, 10.0), n: int = 2000) -> np.nda
 
     ms = f(grid)
     idx = np.nonzero(np.sign(ms[:-1]) * np.sign(ms[1:]) < 0)[0]
-    return np.array([brentq(lambda x: float(f(x)), grid[i], grid[i + 1], xtol=1e-14)
-                     for i in idx])
+    if not idx.size:
+        return np.array([])
+    # all sign changes refined together to xtol = 1e-14 (vectorised Illinois iteration)
+    return _refine(lambda x, _: f(x), grid[idx], grid[idx + 1], ms[idx], ms[idx + 1],
+                   xtol=1e-14)
 
 
 def euler_coefficient_isotropic() -> float:

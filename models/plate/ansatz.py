@@ -41,7 +41,6 @@ from debench.models.plate.coefficients import (
     _reduced_quartic,
     _strongly_elliptic,
 )
-from scipy.optimize import brentq
 
 PARITIES = ("E", "O")
 #: below this separation of the quartic roots the divided difference is replaced by a
@@ -204,6 +203,48 @@ def scan_grid(window=LAM_WINDOW, n=N_SCAN):
     return np.geomspace(lo, hi, n)
 
 
+def _refine(f, a, b, fa, fb, xtol=XTOL, maxiter=200):
+    """Zeros of ``f`` in the brackets [a, b] (arrays, sign change fa fb < 0), all at once.
+
+    ``f(x, active)`` evaluates the function at the points ``x`` of the brackets selected
+    by the boolean mask ``active``. Illinois variant of regula falsi (bisection where
+    rounding puts the secant point outside the bracket); converged when
+    ``|b - a| <= xtol + 4 eps |b|`` (the stopping rule of :func:`scipy.optimize.brentq`
+    with the same ``xtol``) or ``f`` vanishes exactly. Returns the end with the smaller
+    ``|f|``. ConvergenceError when ``f`` is not finite inside a bracket or ``maxiter``
+    iterations do not suffice.
+    """
+    a, b = np.array(a, float), np.array(b, float)
+    fa, fb = np.array(fa, float), np.array(fb, float)
+    side = np.zeros(a.shape, int)
+    eps = np.finfo(float).eps
+    for _ in range(maxiter):
+        active = (np.abs(b - a) > xtol + 4 * eps * np.abs(b)) & (fa != 0) & (fb != 0)
+        if not active.any():
+            break
+        x = b - fb * (b - a) / (fb - fa)
+        lo, hi = np.minimum(a, b), np.maximum(a, b)
+        x = np.where((x > lo) & (x < hi), x, 0.5 * (a + b))   # rounding: bisect
+        fx = np.zeros_like(x)
+        fx[active] = f(x[active], active)
+        if not np.all(np.isfinite(fx[active])):
+            raise ConvergenceError("root refinement: the function is not finite inside a "
+                                   "bracket (the model is not strongly elliptic there)")
+        same = np.sign(fx) == np.sign(fb)
+        # Illinois: keep the bracket, halve the stale end's value when it is kept twice
+        new_a = np.where(same, a, b)
+        new_fa = np.where(same, np.where(side == 1, 0.5 * fa, fa), fb)
+        a = np.where(active, new_a, a)
+        fa = np.where(active, new_fa, fa)
+        b = np.where(active, x, b)
+        fb = np.where(active, fx, fb)
+        side = np.where(active, np.where(same, 1, 0), side)
+    else:
+        raise ConvergenceError(f"root refinement did not reach xtol = {xtol} in {maxiter} "
+                               f"iterations (widest bracket {np.max(np.abs(b - a)):.3g})")
+    return np.where(np.abs(fa) < np.abs(fb), a, b)
+
+
 def _check_scan(kH, params, window, n_scan):
     v.positive("kH", kH)
     if not isinstance(kH, float):
@@ -217,10 +258,11 @@ def critical_stretches(kH: float, params: PlateParams, *, window=LAM_WINDOW,
                        n_scan: int = N_SCAN, parities=PARITIES) -> Roots:
     """All lam in ``window`` at which a parity determinant vanishes, at fixed kH.
 
-    Sign changes of the determinant on a geometric lam grid bracket the roots; each is
-    refined with :func:`scipy.optimize.brentq` to ``xtol = 1e-13``. Points where the model
-    is not strongly elliptic are skipped (no bracket crosses them). Raises
-    :class:`ConvergenceError` if brentq fails on a bracket. ``n_scan >= MIN_SCAN``.
+    Sign changes of the determinant on a geometric lam grid bracket the roots; all are
+    refined together (vectorised Illinois iteration, :func:`_refine`) to
+    ``xtol = 1e-13``. Points where the model is not strongly elliptic are skipped (no
+    bracket crosses them). Raises :class:`ConvergenceError` if the refinement fails on a
+    bracket. ``n_scan >= MIN_SCAN``.
     """
     kH = v.finite("kH", kH)
     require(kH > 0, f"kH must be finite and > 0, got {kH}")
@@ -236,18 +278,15 @@ def critical_stretches(kH: float, params: PlateParams, *, window=LAM_WINDOW,
         ok = np.isfinite(vals[:-1]) & np.isfinite(vals[1:])
         idx = np.nonzero(ok & (np.sign(vals[:-1]) * np.sign(vals[1:]) < 0))[0]
         exact = np.nonzero(vals == 0)[0]
-        for i in idx:
-            lo, hi = grid[i], grid[i + 1]
+        if idx.size:
             try:
-                r, info = brentq(lambda x, par=par: float(_determinant(x, kH, params, par)),
-                                 lo, hi, xtol=XTOL, full_output=True)
-            except (ValueError, RuntimeError) as exc:
-                raise ConvergenceError(f"brentq failed on [{lo}, {hi}] at kH={kH}, "
-                                       f"{params}: {exc}") from exc
-            if not info.converged:
-                raise ConvergenceError(f"brentq did not converge on [{lo}, {hi}]")
-            lams.append(r)
-            pars.append(par)
+                r = _refine(lambda x, _, par=par: _determinant(x, kH, params, par),
+                            grid[idx], grid[idx + 1], vals[idx], vals[idx + 1])
+            except ConvergenceError as exc:
+                raise ConvergenceError(f"root refinement failed at kH={kH}, {params}: "
+                                       f"{exc}") from exc
+            lams += [float(x) for x in r]
+            pars += [par] * idx.size
         for i in exact:
             lams.append(float(grid[i]))
             pars.append(par)

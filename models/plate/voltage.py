@@ -30,6 +30,7 @@ from debench.models.plate.ansatz import (
     MIN_SCAN,
     PARITIES,
     _determinant,
+    _refine,
     scan_grid,
 )
 from debench.models.plate.coefficients import PlateParams
@@ -87,7 +88,8 @@ def critical_stretches_at_voltage(kH: float, Vhat: float, params: PlateParams, *
                                   window=LAM_WINDOW, n_scan: int = 400):
     """lam_cr at fixed kH and fixed voltage Vhat (charge-free exterior, electroded plate).
 
-    Returns (lam, parity) sorted by lam. Brackets on a geometric lam grid, brentq refine.
+    Returns (lam, parity) sorted by lam. Brackets on a geometric lam grid, refined
+    together to ``xtol = 1e-13`` (vectorised Illinois iteration).
     """
     v.nonnegative("Vhat", Vhat)
     v.positive("kH", kH)
@@ -100,16 +102,76 @@ def critical_stretches_at_voltage(kH: float, Vhat: float, params: PlateParams, *
     for par in PARITIES:
         dv = _determinant_at_voltage(grid, kH, Vhat, params, par)
         ok = np.isfinite(dv[:-1]) & np.isfinite(dv[1:])
-        for i in np.nonzero(ok & (dv[:-1] * dv[1:] < 0))[0]:
-            try:
-                r = brentq(lambda x, par=par: float(_determinant_at_voltage(
-                    np.array(x), kH, Vhat, params, par)), grid[i], grid[i + 1], xtol=1e-13)
-            except (ValueError, RuntimeError) as exc:
-                raise ConvergenceError(f"voltage-control brentq failed: {exc}") from exc
-            lams.append(r)
-            pars.append(par)
+        idx = np.nonzero(ok & (dv[:-1] * dv[1:] < 0))[0]
+        if not idx.size:
+            continue
+        try:
+            r = _refine(lambda x, _, par=par: _determinant_at_voltage(x, kH, Vhat, params,
+                                                                      par),
+                        grid[idx], grid[idx + 1], dv[idx], dv[idx + 1], xtol=1e-13)
+        except ConvergenceError as exc:
+            raise ConvergenceError(f"voltage-control root refinement failed: {exc}") from exc
+        lams += [float(x) for x in r]
+        pars += [par] * idx.size
     order = np.argsort(lams)
     return np.asarray(lams)[order], tuple(pars[i] for i in order)
+
+
+def curves_at_voltage(kH_values, Vhat: float, params: PlateParams, *, window=LAM_WINDOW,
+                      n_scan: int = 400, max_roots: int = 8):
+    """lam_cr(kH) at fixed voltage for many kH at once: the roots of
+    :func:`critical_stretches_at_voltage` at each kH, in one pass.
+
+    The determinant is evaluated on the whole (kH, lam) scan grid in one call and every
+    bracket is refined together (vectorised Illinois iteration to ``xtol = 1e-13``).
+    Returns (lam, parity) as :func:`~debench.models.plate.ansatz.curves`: arrays
+    (len(kH_values), max_roots) of the roots sorted by lam, padded with NaN, and their
+    parity codes (0 = "E", 1 = "O", -1 = none); ConvergenceError for more than
+    ``max_roots`` roots at one kH. ``kH_values`` a
+    non-empty 1-D array of finite values > 0, ``max_roots >= 1``.
+    """
+    kH_values = np.asarray(v.positive("kH_values", kH_values), float)
+    if kH_values.ndim != 1 or kH_values.size == 0:
+        raise ValueError(f"kH_values must be a non-empty 1-D array, got shape "
+                         f"{kH_values.shape}")
+    v.nonnegative("Vhat", Vhat)
+    v.instance("params", params, PlateParams)
+    v.integer_at_least("n_scan", n_scan, MIN_SCAN)
+    v.integer_at_least("max_roots", max_roots, 1)
+    require(params.variant != "literal", "voltage control needs a consistent variant "
+            "('derived' or 'printed'), got 'literal'")
+    grid = scan_grid(window, n_scan)
+    K, L = np.meshgrid(kH_values, grid, indexing="ij")
+    rows, lams, pars = [], [], []
+    for ip, par in enumerate(PARITIES):
+        dv = _determinant_at_voltage(L, K, Vhat, params, par)
+        ok = np.isfinite(dv[:, :-1]) & np.isfinite(dv[:, 1:])
+        i, j = np.nonzero(ok & (dv[:, :-1] * dv[:, 1:] < 0))
+        if not i.size:
+            continue
+        kk = kH_values[i]
+        try:
+            r = _refine(lambda x, act, par=par, kk=kk: _determinant_at_voltage(
+                x, kk[act], Vhat, params, par), grid[j], grid[j + 1], dv[i, j],
+                dv[i, j + 1], xtol=1e-13)
+        except ConvergenceError as exc:
+            raise ConvergenceError(f"voltage-control root refinement failed: {exc}") from exc
+        rows.append(i)
+        lams.append(r)
+        pars.append(np.full(i.size, ip))
+    out = np.full((kH_values.size, max_roots), np.nan)
+    par_out = np.full((kH_values.size, max_roots), -1, dtype=int)
+    if rows:
+        rows, lams, pars = np.concatenate(rows), np.concatenate(lams), np.concatenate(pars)
+        for r in range(kH_values.size):
+            sel = np.nonzero(rows == r)[0]
+            if sel.size > max_roots:
+                raise ConvergenceError(f"more than {max_roots} roots at kH = "
+                                       f"{kH_values[r]} (voltage control)")
+            order = sel[np.argsort(lams[sel])]
+            out[r, : order.size] = lams[order]
+            par_out[r, : order.size] = pars[order]
+    return out, par_out
 
 
 @v.finite_result

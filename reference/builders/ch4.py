@@ -186,7 +186,7 @@ def agreement_dataset(kHs=(0.3, 2.0, 10.0), progress=True) -> xr.Dataset:
 
 def voltage_dataset(progress=True) -> xr.Dataset:
     """Beyond the thesis: lam_cr(kH) at fixed voltage Vhat (debench.models.plate.voltage)."""
-    from debench.models.plate.voltage import critical_stretches_at_voltage
+    from debench.models.plate.voltage import curves_at_voltage
 
     variants, xis, Vs = ("derived", "printed"), (0.0, 5.0), (0.25, 0.5, 0.75, 1.0)
     kH = np.geomspace(0.01, 20.0, 81)
@@ -195,9 +195,9 @@ def voltage_dataset(progress=True) -> xr.Dataset:
     for iv, ix, iV in tqdm(jobs, desc="ch4 voltage control", disable=not progress,
                            leave=False):
         p = PlateParams(xis[ix], 0.0, variant=variants[iv])
-        for ik, k in enumerate(kH):
-            r, _ = critical_stretches_at_voltage(float(k), Vs[iV], p, n_scan=240)
-            lam[iv, ix, iV, ik, : r.size] = r[:MAX_ROOTS]
+        # all kH in one pass (the roots of critical_stretches_at_voltage at each kH)
+        r, _ = curves_at_voltage(kH, Vs[iV], p, n_scan=240, max_roots=4 * MAX_ROOTS)
+        lam[iv, ix, iV] = r[:, :MAX_ROOTS]
     return xr.Dataset(
         {"lam_cr": (("variant", "xi", "Vhat", "kH", "root"), lam,
                     _attrs("critical stretch under voltage control (electroded plate; "
