@@ -78,3 +78,48 @@ def test_bench_curve_warm_collocation(benchmark):
 def test_bench_whole_chapter(benchmark):
     ds = benchmark.pedantic(builder.compute, rounds=3, iterations=1)
     assert set(ds) >= {"ch3_voltage_stretch", "ch3_c_sweep"}
+
+
+# --------------------------------------------------------------------------- producers
+def _clear_producer_caches():
+    from debench.reference.producers import ch3 as prod
+
+    prod._BRANCHES.clear()
+    prod._CURVES.clear()
+    prod._PLANNED.clear()
+    prod._state_cached.cache_clear()
+    prod._interface_changes_cached.cache_clear()
+
+
+def _ch3_entries():
+    from debench.reference import catalogue
+
+    return [e for e in catalogue.load()
+            if (e.producer or "").startswith("debench.reference.producers.ch3:")]
+
+
+def _evaluate(entries, shared: bool):
+    from debench.reference import catalogue
+
+    _clear_producer_caches()
+    out = []
+    for e in entries:
+        if not shared:          # every producer computes its own branches and curves
+            _clear_producer_caches()
+        out.append(catalogue.evaluate(e))
+    return out
+
+
+@pytest.mark.benchmark(group="ch3-catalogue-producers-1thread")
+def test_bench_producers_unshared(benchmark):
+    entries = _ch3_entries()
+    res = benchmark.pedantic(_evaluate, args=(entries, False), rounds=1, iterations=1)
+    assert not [r for r in res if r.status == "error"]
+
+
+@pytest.mark.benchmark(group="ch3-catalogue-producers-1thread")
+def test_bench_producers_shared(benchmark):
+    entries = _ch3_entries()
+    res = benchmark.pedantic(_evaluate, args=(entries, True), rounds=3, iterations=1)
+    assert not [r for r in res if r.status == "error"]
+    assert [r.value for r in res] == [r.value for r in _evaluate(entries, False)]

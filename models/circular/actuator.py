@@ -40,7 +40,13 @@ from scipy.interpolate import PchipInterpolator
 
 from . import circle_a
 from .params import Annulus, CircularActuator, locking_stretch_equibiaxial
-from .shooting import DEFAULT_STEPS, _interface_state, q_for_stretch
+from .shooting import (
+    DEFAULT_STEPS,
+    _integrate_inward,
+    _interface_state,
+    _stresses,
+    q_for_stretch,
+)
 
 #: relative tolerance on the shooting parameter q for event location: machine precision
 #: level (q ~ 1, |d lambda/dq| ~ 1e2, so lambda is located to ~1e-12)
@@ -73,14 +79,25 @@ class Branch:
         return self.dT1 / self.dlam
 
 
+def _scan_state(annulus: Annulus, q, steps: int, lamP):
+    """Interface stretch and T1 for shooting parameters q, without sensitivities (a real
+    integration: the real parts of the complex-step one up to rounding, measured
+    < 1e-13 relative; the scan only places the grid, whose points are exact solutions)."""
+    l1, l2 = _integrate_inward(annulus, np.asarray(q, float), steps=steps, lamP=lamP)
+    with np.errstate(all="ignore"):  # NaN marks inadmissible trajectories, by design
+        s1, *_ = _stresses(l1, l2, annulus.kappa)
+        return l2, s1 / l1
+
+
 def _scan(annulus: Annulus, steps: int, n: int = 160):
     """Coarse scan of the shooting parameter: q = lamP - delta, delta geometric."""
     delta = np.concatenate([[0.0], np.geomspace(1e-8, 0.95, n - 1) * annulus.lamP])
-    st = _interface_state(annulus, annulus.lamP - delta, steps=steps)
-    ok = np.isfinite(st.lam) & np.isfinite(st.T1)
+    q = annulus.lamP - delta
+    lam, T1 = _scan_state(annulus, q, steps, None)
+    ok = np.isfinite(lam) & np.isfinite(T1)
     first_bad = np.argmin(ok) if not ok.all() else len(ok)
     keep = slice(0, first_bad)
-    lam, q = st.lam[keep], st.q[keep]
+    lam, q = lam[keep], q[keep]
     if lam.size < 4 or np.any(np.diff(lam) <= 0):
         raise ConvergenceError(
             f"annulus branch for {annulus} is not monotone in the shooting parameter "
@@ -157,14 +174,14 @@ def branches(annuli, *, n: int = 300, steps: int = DEFAULT_STEPS) -> list[Branch
     m = 160
     delta = np.concatenate([[0.0], np.geomspace(1e-8, 0.95, m - 1)])
     lamP = np.repeat([a.lamP for a in annuli], m)
-    st = _interface_state(a0, lamP - np.tile(delta, len(annuli)) * lamP, steps=steps,
-                         lamP=lamP)
+    q_scan = lamP - np.tile(delta, len(annuli)) * lamP
+    lam_scan, T1_scan = _scan_state(a0, q_scan, steps, lamP)
     qs, lps = [], []
     tops = []
     for k, a in enumerate(annuli):
         sl = slice(k * m, (k + 1) * m)
-        lam_k, q_k = st.lam[sl], st.q[sl]
-        ok = np.isfinite(lam_k) & np.isfinite(st.T1[sl])
+        lam_k, q_k = lam_scan[sl], q_scan[sl]
+        ok = np.isfinite(lam_k) & np.isfinite(T1_scan[sl])
         first_bad = np.argmin(ok) if not ok.all() else m
         lam_k, q_k = lam_k[:first_bad], q_k[:first_bad]
         if lam_k.size < 4 or np.any(np.diff(lam_k) <= 0):
@@ -433,6 +450,17 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
                                     an.lamP, f[j], f[j + 1], x0))
             data.append((np.sqrt(np.maximum(p2, 0.0)), pb))
         prepared.append((br, cs, eps_rs, data))
+    # an event that does not depend on eps_r (all but breakdown) is located once per
+    # (branch, c) and shared by the curves of every eps_r
+    unique, copies = {}, []
+    for row in pending:
+        jb, _, kind, c_, e_ = row[0], row[1], row[2], row[5], row[6]
+        key = (id(jobs[jb][0]), kind, c_, e_ if kind == "breakdown" else None)
+        if key in unique:
+            copies.append((row, unique[key]))
+        else:
+            unique[key] = row
+    pending = list(unique.values())
     # one location per group of compatible annuli
     groups = {}
     for row in pending:
@@ -454,6 +482,8 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
             located[(r[0], r[1], r[2])] = Event(r[2], float(state.lam[k]),
                                                 float(np.sqrt(max(p2, 0.0))),
                                                 float(qroot[k]))
+    for row, rep in copies:
+        located[(row[0], row[1], row[2])] = located[(rep[0], rep[1], rep[2])]
     for jb, (br, cs, eps_rs, data) in enumerate(prepared):
         out = []
         for i, c in enumerate(cs):

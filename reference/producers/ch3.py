@@ -15,7 +15,7 @@ from functools import lru_cache
 
 import numpy as np
 from debench.models.circular import analysis, circle_a, params
-from debench.models.circular.actuator import branch, curves
+from debench.models.circular.actuator import branch, branches, curves_many
 from debench.models.circular.params import Annulus
 from debench.reference.catalogue import Accuracy, Entry, Outcome
 
@@ -45,35 +45,86 @@ def _model_key() -> tuple:
     return (params.JM_VHB, params.MU_VHB, params.EPS0, params.EB_COEFF, params.EB_EXPONENT)
 
 
+#: grid points of the cached branches
+BRANCH_POINTS = 400
+#: the pre-stretches and c values whose curves (both variants, the assumed eps_r; the
+#: eps_r study for c = 0 and the Wissler-Mazza c) are computed in one batched pass when
+#: the first curve is needed; the Fig. 3.9 pre-stretches also get the whole C_SWEEP grid
+#: (with the eps_r study, equilibrium as printed). Curves outside this set are computed
+#: on demand.
+PLAN_LAMP = (1.1, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0)
+PLAN_C = (0.0, -0.0073, -0.02, -0.04, -0.053, -0.06, -0.08, -0.0892)
+PLAN_SWEEP_LAMP = (1.25, 2.0, 3.0)
+
 def _branch(lamP: float, equilibrium: str = "printed", radius_ratio: float = 15.0,
-            n: int = 400):
-    return _branch_cached(float(lamP), equilibrium, float(radius_ratio), int(n), _model_key())
+            n: int = BRANCH_POINTS):
+    """The annulus branch (cached, keyed on the arguments and :func:`_model_key`)."""
+    mk = _model_key()
+    key = (float(lamP), equilibrium, float(radius_ratio), int(n), mk)
+    if key not in _BRANCHES:
+        _BRANCHES[key] = branch(Annulus(float(lamP), float(radius_ratio), mk[0], equilibrium),
+                                n=int(n))
+    return _BRANCHES[key]
 
 
-@lru_cache(maxsize=64)
-def _branch_cached(lamP, equilibrium, radius_ratio, n, model_key):
-    return branch(Annulus(lamP, radius_ratio, model_key[0], equilibrium), n=n)
-
-
+_BRANCHES: dict = {}
 _CURVES: dict = {}
+_PLANNED: set = set()
+
+
+def _plan() -> list[tuple]:
+    """(lamP, c, eps_r, equilibrium) of every curve in the batched pass."""
+    eps_all = sorted(set(EPS_R_SENSITIVITY) | {float(params.EPS_R_ASSUMED)})
+    want = []
+    for eq in VARIANTS:
+        for lp in PLAN_LAMP:
+            want += [(lp, c, float(params.EPS_R_ASSUMED), eq) for c in PLAN_C]
+        for lp in PLAN_SWEEP_LAMP:
+            want += [(lp, float(c), float(params.EPS_R_ASSUMED), eq) for c in C_SWEEP]
+    for lp in PLAN_LAMP:
+        want += [(lp, c, e, "printed") for c in (0.0, float(params.C_WISSLER_MAZZA))
+                 for e in eps_all]
+    for lp in PLAN_SWEEP_LAMP:
+        want += [(lp, float(c), e, "printed") for c in C_SWEEP for e in eps_all]
+    return list(dict.fromkeys(want))
+
+
+def _compute_curves(keys, mk) -> None:
+    """Curves for ``keys`` [(lamP, c, eps_r, equilibrium)] in one batched pass: the
+    branches of each variant in one trace, every event of every curve in one location."""
+    keys = [k for k in dict.fromkeys(keys) if (*k, mk) not in _CURVES]
+    if not keys:
+        return
+    for eq in VARIANTS:
+        need = sorted({k[0] for k in keys if k[3] == eq
+                       if (k[0], eq, 15.0, BRANCH_POINTS, mk) not in _BRANCHES})
+        if need:
+            brs = branches([Annulus(lp, 15.0, mk[0], eq) for lp in need], n=BRANCH_POINTS)
+            for lp, br in zip(need, brs, strict=True):
+                _BRANCHES[(lp, eq, 15.0, BRANCH_POINTS, mk)] = br
+    groups: dict = {}
+    for k in keys:
+        groups.setdefault((k[0], k[3]), []).append(k)
+    jobs = [(_branch(lp, eq), [k[1] for k in ks], [k[2] for k in ks])
+            for (lp, eq), ks in groups.items()]
+    res = curves_many(jobs)
+    for ks, cvs in zip(groups.values(), res, strict=True):
+        for k, cv in zip(ks, cvs, strict=True):
+            _CURVES[(*k, mk)] = cv
 
 
 def _curves(lamP: float, cs: tuple, eps_r: float = params.EPS_R_ASSUMED,
             equilibrium: str = "printed"):
-    """Curves for the c values ``cs`` (cached). On a miss, all eps_r of the sensitivity
-    study are computed in the same batch (one event location for all of them)."""
-    cs = tuple(float(c) for c in cs)
+    """Curves for the c values ``cs`` (cached per curve, keyed on the parameters and
+    :func:`_model_key`). The first request computes the whole :func:`_plan` with it."""
     mk = _model_key()
-    key = (float(lamP), cs, float(eps_r), equilibrium, mk)
-    if key not in _CURVES:
-        eps_all = sorted(set(EPS_R_SENSITIVITY) | {float(eps_r)})
-        allc = [c for _ in eps_all for c in cs]
-        alle = [e for e in eps_all for _ in cs]
-        res = curves(_branch(float(lamP), equilibrium), allc, eps_r=alle)
-        for k, e in enumerate(eps_all):
-            _CURVES[(float(lamP), cs, float(e), equilibrium, mk)] = \
-                res[k * len(cs):(k + 1) * len(cs)]
-    return _CURVES[key]
+    keys = [(float(lamP), float(c), float(eps_r), equilibrium) for c in cs]
+    if mk not in _PLANNED:
+        _PLANNED.add(mk)
+        _compute_curves(_plan() + keys, mk)
+    else:
+        _compute_curves(keys, mk)
+    return [_CURVES[(*k, mk)] for k in keys]
 
 
 def _p(entry: Entry, key: str, default=None):
@@ -87,15 +138,25 @@ def _interface_changes(lamP, phibar, c, equilibrium="printed"):
 
 @lru_cache(maxsize=32)
 def _interface_changes_cached(lamP, phibar, c, equilibrium, model_key):
-    br = _branch(lamP, equilibrium)
-    s0 = analysis.state_at_voltage(br, 0.0, phibar)
-    s1 = analysis.state_at_voltage(br, c, phibar)
+    s0 = _state(lamP, equilibrium, 0.0, phibar)
+    s1 = _state(lamP, equilibrium, c, phibar)
     return {
         "thickness_A_increase": 100 * (s1["lam3A"] / s0["lam3A"] - 1),
         "lam1_interface_increase": 100 * (s1["lam1B"] / s0["lam1B"] - 1),
         "lam2_interface_decrease": 100 * (1 - s1["lam"] / s0["lam"]),
         "lam3_interface_decrease": 100 * (1 - s1["lam3B"] / s0["lam3B"]),
     }
+
+
+def _state(lamP, equilibrium, c, phibar) -> dict:
+    """:func:`debench.models.circular.analysis.state_at_voltage` on the cached branch
+    (cached, keyed on the arguments and :func:`_model_key`)."""
+    return _state_cached(float(lamP), equilibrium, float(c), float(phibar), _model_key())
+
+
+@lru_cache(maxsize=64)
+def _state_cached(lamP, equilibrium, c, phibar, model_key):
+    return analysis.state_at_voltage(_branch(lamP, equilibrium), c, phibar)
 
 
 def annulus_interface_change(entry: Entry) -> Outcome:
@@ -140,9 +201,18 @@ def c_threshold(entry: Entry) -> Outcome:
 
 
 # ------------------------------------------------------------------ Sec. 3.5.3 (Fig. 3.6)
+def _lot(lamP: float, equilibrium: str) -> float:
+    """Loss-of-tension stretch on the cached branch (as
+    :func:`debench.models.circular.analysis.loss_of_tension_stretch`, from the shared curves)."""
+    ev = _curves(lamP, (0.0,), equilibrium=equilibrium)[0].events["loss_of_tension"]
+    if ev is None:
+        raise ValueError(f"no loss of tension on the traced branch of lamP = {lamP} "
+                         f"({equilibrium})")
+    return ev.lam
+
+
 def loss_of_tension_stretch(entry: Entry) -> Outcome:
-    vals = {v: analysis.loss_of_tension_stretch(_branch(_p(entry, "lamP"), v))
-            for v in VARIANTS}
+    vals = {v: _lot(_p(entry, "lamP"), v) for v in VARIANTS}
     return Outcome(value=vals["printed"], details={"membrane": vals["membrane"]},
                    evidence=f"{EV}::test_loss_of_tension_stretch_lamP_3")
 
@@ -210,7 +280,7 @@ def free_membrane_gent(entry: Entry) -> Outcome:
     kap = 1.0 / Jm
     f = lambda x: float(np.imag(circle_a.phibar_squared(x + 1e-30j, 0.0, 0.0, kap)) / 1e-30)  # noqa: E731
     x = np.linspace(1.01, 0.999 * params.locking_stretch_equibiaxial(Jm), 4000)
-    d = np.array([f(v) for v in x])
+    d = np.imag(circle_a.phibar_squared(x + 1e-30j, 0.0, 0.0, kap)) / 1e-30
     sgn = -1 if "max" in entry.id else 1
     j = np.nonzero(np.sign(d[:-1]) == sgn * -1)[0]
     j = [k for k in j if np.sign(d[k + 1]) == sgn][0]
@@ -289,7 +359,7 @@ def _check_annulus_profile(entry, eps_r, eq):
     ok = True
     msgs = []
     for c in (0.0, _p(entry, "c")):
-        s = analysis.state_at_voltage(br, c, _p(entry, "phibar"))
+        s = _state(_p(entry, "lamP"), eq, c, _p(entry, "phibar"))
         l1, l2, t, P1, P2 = integrate_inward(br.annulus, np.array([s["q"]]), profile=True)
         p1, p2 = P1[::-1, 0], P2[::-1, 0]  # from R_A outwards
         mono = bool(np.all(np.diff(p1) > 0) and np.all(np.diff(p2) < 0))
@@ -304,7 +374,7 @@ def _check_difference_decays(entry, eps_r, eq):
     br = _branch(_p(entry, "lamP"), eq)
     prof = []
     for c in (0.0, _p(entry, "c")):
-        s = analysis.state_at_voltage(br, c, _p(entry, "phibar"))
+        s = _state(_p(entry, "lamP"), eq, c, _p(entry, "phibar"))
         _, _, t, P1, P2 = integrate_inward(br.annulus, np.array([s["q"]]), profile=True)
         prof.append((P1[::-1, 0], P2[::-1, 0]))
     d1 = np.abs(prof[1][0] - prof[0][0])
@@ -421,7 +491,7 @@ def erratum(entry: Entry) -> Outcome:
         return Outcome(value=not same, status="refuted" if same else "confirmed",
                        evidence=entry.evidence)
     if which == "eq_3_33":
-        lt = {v: analysis.loss_of_tension_stretch(_branch(3.0, v)) for v in VARIANTS}
+        lt = {v: _lot(3.0, v) for v in VARIANTS}
         differs = abs(lt["printed"] - lt["membrane"]) > 1e-3
         return Outcome(value=differs, status="confirmed" if differs else "refuted",
                        evidence=entry.evidence, details=lt)
