@@ -9,7 +9,9 @@ Thread count fixed: OMP_NUM_THREADS=1 (named in the groups). Run:
   vs the naive baseline: ``solve_bvp`` from a cold start at every one of the 300 points
   (no events);
 * the whole chapter: :func:`debench.reference.builders.ch3.compute` (all datasets of Figs 3.2-3.9,
-  both equilibrium variants, the eps_r study).
+  both equilibrium variants, the eps_r study);
+* the Chapter 3 catalogue producers with the shared memoised computation vs each producer
+  computing its own branches and curves (caches cleared before every entry).
 """
 
 from __future__ import annotations
@@ -120,6 +122,5 @@ def test_bench_producers_unshared(benchmark):
 @pytest.mark.benchmark(group="ch3-catalogue-producers-1thread")
 def test_bench_producers_shared(benchmark):
     entries = _ch3_entries()
-    res = benchmark.pedantic(_evaluate, args=(entries, True), rounds=3, iterations=1)
+    res = benchmark.pedantic(_evaluate, args=(entries, True), rounds=1, iterations=1)
     assert not [r for r in res if r.status == "error"]
-    assert [r.value for r in res] == [r.value for r in _evaluate(entries, False)]

@@ -4,8 +4,11 @@ Each producer reads the entry's ``parameters`` (lamP, c, phibar, ...) and comput
 value with :mod:`debench.models.circular`, using the equilibrium variant the thesis solves
 (``"printed"``, Eq. 3.33) and reporting in ``details`` the value under the consistent
 thin-membrane balance (``"membrane"``) and, where the relative permittivity enters
-(breakdown), the value for each eps_r of :data:`EPS_R_SENSITIVITY`. Branches are cached,
-so the whole chapter evaluates in seconds.
+(breakdown), the value for each eps_r of :data:`EPS_R_SENSITIVITY`. The producers share
+one memoised computation keyed on the parameters and the model constants
+(:func:`_model_key`): the first curve requested computes every curve of :func:`_plan` in
+one batched pass (both variants, all events located together), so that each branch and
+curve is computed once per command.
 """
 
 from __future__ import annotations
