@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from debench.models.plate import PlateParams, ellipticity_limit_stretch
+from debench.models.plate import PlateParams, ellipticity_limit_stretch, strongly_elliptic
 from debench.models.plate.analysis import biot_equibiaxial_closed_form, half_space_limit, thin_limit
 from debench.models.plate.ansatz import LAM_WINDOW, critical_stretches, curves_vectorised
 from debench.models.plate.fem import eigenvalues, elements_for, refine_root
@@ -101,6 +101,16 @@ def limits_dataset() -> xr.Dataset:
                 "Dhat": ("Dhat", Ds, _attrs("dimensionless electric displacement"))})
 
 
+def _area(xi: float, D: float, variant: str, which: str, kH_max: float) -> float:
+    """:func:`debench.reference.producers.ch4.area`, NaN where the unstable region is
+    undefined: the top of the lam window is not strongly elliptic (no stable reference;
+    the derived model for xi > 1/2), where :meth:`Region.area` raises."""
+    p = PlateParams(xi, D, variant=variant)
+    if variant != "literal" and not bool(strongly_elliptic(np.array(prod.AREA_LAM[1]), p)):
+        return np.nan
+    return prod.area(xi, D, variant, which, kH_max)
+
+
 def areas_dataset(progress=True) -> xr.Dataset:
     variants = ("printed", "literal", "derived")
     defs = ("thesis", "physical")
@@ -110,8 +120,8 @@ def areas_dataset(progress=True) -> xr.Dataset:
     for iv, ix, iD in tqdm(jobs, desc="ch4 areas", disable=not progress, leave=False):
         for idf, d in enumerate(defs):
             for ik, k in enumerate(kmax):
-                A[iv, ix, iD, idf, ik] = prod.area((0.0, 5.0)[ix], FIG42_D[iD], variants[iv],
-                                                   d, k)
+                A[iv, ix, iD, idf, ik] = _area((0.0, 5.0)[ix], FIG42_D[iD], variants[iv], d,
+                                               k)
     return xr.Dataset(
         {"area": (("variant", "xi", "Dhat", "definition", "kH_max"), A,
                   _attrs("area of the unstable region in the (kH, lam) plane, kH in "
