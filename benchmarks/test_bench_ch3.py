@@ -89,7 +89,7 @@ def _clear_producer_caches():
     prod._BRANCHES.clear()
     prod._CURVES.clear()
     prod._PLANNED.clear()
-    prod._state_cached.cache_clear()
+    prod._STATES.clear()
     prod._interface_changes_cached.cache_clear()
 
 

@@ -104,6 +104,59 @@ def state_at_voltage(br: Branch, c: float, phibar: float) -> dict:
     return {"lam": lam, "lam1B": lam1, "lam3A": lam**-2, "lam3B": 1 / (lam1 * lam), "q": q}
 
 
+def _states_at_voltage(br: Branch, cs, phibar: float) -> list[dict]:
+    """:func:`state_at_voltage` for several c on one branch, in one vectorised iteration.
+
+    Every c follows exactly the iteration of :func:`state_at_voltage` (same bracket, same
+    safeguarded Newton steps, same stopping rule); the shooting integrations of all c are
+    done together. No argument checks (callers validate); ValueError if Phibar is not
+    reached for some c, ConvergenceError if an iteration does not converge.
+    """
+    kappa = br.annulus.kappa
+    cs = np.asarray(cs, float)
+    a, b, fa, fb = (np.empty(cs.size) for _ in range(4))
+    for k, c in enumerate(cs):
+        with np.errstate(divide="ignore", invalid="ignore"):  # K <= 0: NaN, no crossing
+            p2 = np.where(circle_a._K(br.lam, c) > 0, circle_a._p2(br.lam, br.T1, c, kappa),
+                          np.nan)
+        f = p2 - phibar**2
+        idx = np.nonzero((f[:-1] < 0) & (f[1:] >= 0))[0]
+        if idx.size == 0:
+            raise ValueError(f"Phibar = {phibar} is not reached on the traced branch "
+                             f"(max {np.sqrt(np.nanmax(p2)):.4g})")
+        j = idx[0]
+        a[k], b[k], fa[k], fb[k] = br.q[j + 1], br.q[j], f[j + 1], f[j]
+    q = b - fb * (b - a) / (fb - fa)
+    done = np.zeros(cs.size, bool)
+    for _ in range(60):
+        act = np.nonzero(~done)[0]
+        if not act.size:
+            break
+        st = _interface_state(br.annulus, q[act], steps=br.steps)
+        p2c = circle_a._p2(st.lam_c, st.T1_c, cs[act], kappa)
+        r, dr = p2c.real - phibar**2, p2c.imag / 1e-30
+        zero = r == 0
+        done[act[zero]] = True
+        act, r, dr = act[~zero], r[~zero], dr[~zero]
+        lower = np.sign(r) == np.sign(fa[act])
+        a[act] = np.where(lower, q[act], a[act])
+        fa[act] = np.where(lower, r, fa[act])
+        b[act] = np.where(lower, b[act], q[act])
+        fb[act] = np.where(lower, fb[act], r)
+        qn = q[act] - r / dr
+        inside = (np.minimum(a[act], b[act]) < qn) & (qn < np.maximum(a[act], b[act]))
+        qn = np.where(inside, qn, 0.5 * (a[act] + b[act]))
+        done[act[np.abs(qn - q[act]) <= 1e-15 * np.abs(q[act])]] = True
+        q[act] = qn
+    else:
+        if not done.all():
+            raise ConvergenceError(f"state_at_voltage: no convergence for Phibar = {phibar}")
+    st = _interface_state(br.annulus, q, steps=br.steps)
+    return [{"lam": float(lam), "lam1B": float(lam1), "lam3A": float(lam) ** -2,
+             "lam3B": 1 / (float(lam1) * float(lam)), "q": float(qq)}
+            for lam, lam1, qq in zip(st.lam, st.lam1, q, strict=True)]
+
+
 def loss_of_tension_stretch(br: Branch) -> float:
     """Stretch at which T1^(B)(R_A) = 0 (sigma1^(A) = 0); independent of c."""
     v.instance("br", br, Branch)

@@ -116,11 +116,12 @@ def annulus_profiles(full: bool = False, br=None) -> xr.Dataset:
     br = br if br is not None else branch(an, n=s["n"], steps=s["steps"])
     cs = (0.0, params.C_WISSLER_MAZZA)
     rows = []
-    for c in cs:
-        st = analysis.state_at_voltage(br, c, 0.2)
-        _, _, t, P1, P2 = integrate_inward(an, np.array([st["q"]]), steps=s["steps"],
-                                           profile=True)
-        rows.append((st, P1[::-1, 0], P2[::-1, 0], t[::-1]))
+    # both c in one vectorised iteration (the iteration of analysis.state_at_voltage)
+    sts = analysis._states_at_voltage(br, cs, 0.2)
+    _, _, t, P1, P2 = integrate_inward(an, np.array([st["q"] for st in sts]),
+                                       steps=s["steps"], profile=True)
+    for k, st in enumerate(sts):
+        rows.append((st, P1[::-1, k], P2[::-1, k], t[::-1]))
     rho = np.exp(rows[0][3])
     l1 = np.array([r[1] for r in rows])
     l2 = np.array([r[2] for r in rows])

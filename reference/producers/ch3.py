@@ -157,9 +157,21 @@ def _state(lamP, equilibrium, c, phibar) -> dict:
     return _state_cached(float(lamP), equilibrium, float(c), float(phibar), _model_key())
 
 
-@lru_cache(maxsize=64)
+_STATES: dict = {}
+
+
 def _state_cached(lamP, equilibrium, c, phibar, model_key):
-    return analysis.state_at_voltage(_branch(lamP, equilibrium), c, phibar)
+    """On a miss, the state for c = 0 (the reference of every comparison) is computed in
+    the same vectorised iteration."""
+    key = (lamP, equilibrium, c, phibar, model_key)
+    if key not in _STATES:
+        cs = tuple(dict.fromkeys((0.0, c)))
+        br = _branch(lamP, equilibrium)
+        for ci in cs:   # the public function's argument checks
+            params.CircularActuator(br.annulus, c=ci)
+        for ci, st in zip(cs, analysis._states_at_voltage(br, cs, phibar), strict=True):
+            _STATES[(lamP, equilibrium, ci, phibar, model_key)] = st
+    return _STATES[key]
 
 
 def annulus_interface_change(entry: Entry) -> Outcome:
