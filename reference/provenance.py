@@ -29,9 +29,16 @@ def _source_root() -> Path | None:
 REPO_ROOT = _source_root()
 
 
-def git_commit(root: Path | None = REPO_ROOT) -> str:
-    """The commit of the source tree, with ``-dirty`` when it has uncommitted changes.
+#: Outputs, not sources: changes below these paths do not make the tree dirty (a
+#: ``debench reproduce --write-data`` rewrites ``data/`` while it runs).
+OUTPUT_PATHS = ("data",)
 
+
+def git_commit(root: Path | None = REPO_ROOT) -> str:
+    """The commit of the source tree, with ``-dirty`` when its code has uncommitted changes.
+
+    Changes to the curated outputs (:data:`OUTPUT_PATHS`) do not count: the data a
+    reproduction writes must not mark the reproduction itself as made from a dirty tree.
     ``"unknown"`` outside a git checkout (an installed wheel).
     """
     if root is None:
@@ -42,7 +49,8 @@ def git_commit(root: Path | None = REPO_ROOT) -> str:
             check=True, timeout=10,
         ).stdout.strip()
         dirty = subprocess.run(
-            ["git", "status", "--porcelain", "--untracked-files=no"], cwd=root,
+            ["git", "status", "--porcelain", "--untracked-files=no", "--", ".",
+             *(f":(exclude){p}" for p in OUTPUT_PATHS)], cwd=root,
             capture_output=True, text=True, check=True, timeout=10,
         ).stdout.strip()
     except (OSError, subprocess.SubprocessError):
