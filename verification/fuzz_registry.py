@@ -545,6 +545,52 @@ def _check_padded(res) -> None:
     assert np.array_equal(np.isnan(lam), par == -1), "NaN outside the padding"
 
 
+def _inplane_cases():
+    """The in-plane fibre model (beyond the thesis): small discretisations and scans."""
+    from debench.models.plate import inplane
+    from debench.models.plate.coefficients import PlateParams
+
+    p = "debench.models.plate.inplane"
+    PD = PlateParams(xi=5.0, Dhat=0.0, variant="derived")
+    th = {"theta": "real"}
+    bad_theta = {"theta": [-1.0, 91.0]}
+    common = {"lam": "lam", **th, "params": "obj"}
+    return [
+        Case(f"{p}.energy_matrix", inplane.energy_matrix,
+             {"lam": 0.97, "theta": 30.0, "params": PD}, common, extra=bad_theta),
+        Case(f"{p}.base_state", inplane.base_state,
+             {"lam": 0.97, "theta": 30.0, "params": PD}, common, extra=bad_theta),
+        Case(f"{p}.characteristic_roots", inplane.characteristic_roots,
+             {"lam": 0.97, "theta": 30.0, "params": PD}, common, extra=bad_theta),
+        Case(f"{p}.strongly_elliptic", inplane.strongly_elliptic,
+             {"lam": 0.97, "theta": 30.0, "params": PD}, common, extra=bad_theta),
+        Case(f"{p}.det_function", inplane.det_function,
+             {"lam": 0.97, "kH": 2.0, "theta": 30.0, "params": PD},
+             {**common, "kH": "pos"}, extra=bad_theta),
+        Case(f"{p}.boundary_singularity", inplane.boundary_singularity,
+             {"lam": 0.97, "kH": 2.0, "theta": 30.0, "params": PD},
+             {**common, "kH": "pos"}, extra=bad_theta),
+        Case(f"{p}.fe_stiffness", inplane.fe_stiffness,
+             {"lam": 0.97, "kH": 2.0, "theta": 30.0, "params": PD, "n": 4},
+             {**common, "kH": "pos", "n": "count"}, extra=bad_theta),
+        Case(f"{p}.fe_eigenvalues", inplane.fe_eigenvalues,
+             {"lam": 0.97, "kH": 2.0, "theta": 30.0, "params": PD, "n": 4, "count": 3},
+             {**common, "kH": "pos", "n": "count", "count": "count"}, extra=bad_theta),
+        Case(f"{p}.critical_stretches_det", inplane.critical_stretches_det,
+             {"kH": 2.0, "theta": 30.0, "params": PD, "n_scan": 30},
+             {"kH": "pos", **th, "params": "obj", "window": "window", "n_scan": "count"},
+             extra=bad_theta),
+        Case(f"{p}.critical_stretches_fe", inplane.critical_stretches_fe,
+             {"kH": 2.0, "theta": 30.0, "params": PD, "n_scan": 12, "n": 4},
+             {"kH": "pos", **th, "params": "obj", "window": "window", "n_scan": "count",
+              "n": "count", "max_index": "count"}, extra=bad_theta),
+        Case(f"{p}.ellipticity_limit", inplane.ellipticity_limit,
+             {"theta": 30.0, "params": PD, "n_scan": 20},
+             {**th, "params": "obj", "window": "window", "n_scan": "count"},
+             extra=bad_theta),
+    ]
+
+
 def _plate_cases():
     from debench.models.plate import analysis, ansatz, fem, voltage
 
@@ -725,7 +771,7 @@ def _validation_cases():
 def cases() -> tuple[Case, ...]:
     """Every registered case (built once; fixtures are computed lazily)."""
     out = (_invariant_cases() + _material_cases() + _circular_cases() + _plate_cases()
-           + _error_cases())
+           + _inplane_cases() + _error_cases())
     try:
         out += _validation_cases()
     except ImportError:

@@ -50,8 +50,12 @@ N_DIRECTIONS = 91
 _W = np.array([1.0, 0.7310, 0.5270])
 
 
+#: stretches the model evaluates: lam^-10 and lam^8 stay far from overflow inside
+LAM_RANGE = (1e-3, 1e3)
+
+
 def _check(lam, theta, params):
-    lam = v.positive("lam", lam)
+    lam = v.in_range("lam", lam, *LAM_RANGE)
     theta = v.finite("theta", theta)
     if not 0.0 <= theta <= 90.0:
         raise ValueError(f"theta must be in [0, 90] degrees, got {theta}")
