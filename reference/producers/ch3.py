@@ -89,7 +89,9 @@ def _plan() -> list[tuple]:
                  for e in eps_all]
     for lp in PLAN_SWEEP_LAMP:
         want += [(lp, float(c), e, "printed") for c in C_SWEEP for e in eps_all]
-    return list(dict.fromkeys(want))
+    # only admissible curves: the factor K of (3.30) positive at the pre-stretch
+    return [k for k in dict.fromkeys(want)
+            if float(circle_a.electrostriction_factor(k[0], k[1])) > 0]
 
 
 def _compute_curves(keys, mk) -> None:
