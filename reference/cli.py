@@ -23,6 +23,7 @@ import argparse
 import importlib
 import inspect
 import json
+import os
 import pkgutil
 import sys
 from pathlib import Path
@@ -583,6 +584,8 @@ def main(argv: list[str] | None = None) -> int:
         from debench.threads import limit_threads
 
         limit_threads(args.threads)
+        if not sys.stderr.isatty():  # progress bars only on a terminal (never in logs)
+            os.environ.setdefault("TQDM_DISABLE", "1")
         return int(args.func(args) or 0)
     except KeyboardInterrupt:
         print("debench: interrupted", file=sys.stderr)
