@@ -66,42 +66,7 @@ def state_at_voltage(br: Branch, c: float, phibar: float) -> dict:
     v.instance("br", br, Branch)
     v.nonnegative("phibar", phibar)
     CircularActuator(br.annulus, c=v.finite("c", c))
-    kappa = br.annulus.kappa
-    with np.errstate(divide="ignore", invalid="ignore"):  # K <= 0: NaN, never a crossing
-        p2 = np.where(circle_a._K(br.lam, c) > 0, circle_a._p2(br.lam, br.T1, c, kappa),
-                      np.nan)
-    f = p2 - phibar**2
-    idx = np.nonzero((f[:-1] < 0) & (f[1:] >= 0))[0]
-    if idx.size == 0:
-        raise ValueError(f"Phibar = {phibar} is not reached on the traced branch "
-                         f"(max {np.sqrt(np.nanmax(p2)):.4g})")
-    j = idx[0]
-    # safeguarded Newton on q with the exact complex-step derivative of Phibar^2
-    a, b = br.q[j + 1], br.q[j]
-    fa, fb = f[j + 1], f[j]
-    q = b - fb * (b - a) / (fb - fa)
-    for _ in range(60):
-        st = _interface_state(br.annulus, np.array([q]), steps=br.steps)
-        p2c = circle_a._p2(st.lam_c[0], st.T1_c[0], c, kappa)
-        r, dr = p2c.real - phibar**2, p2c.imag / 1e-30
-        if r == 0:
-            break
-        if np.sign(r) == np.sign(fa):
-            a, fa = q, r
-        else:
-            b, fb = q, r
-        qn = q - r / dr
-        if not (min(a, b) < qn < max(a, b)):
-            qn = 0.5 * (a + b)
-        if abs(qn - q) <= 1e-15 * abs(q):
-            q = qn
-            break
-        q = qn
-    else:
-        raise ConvergenceError(f"state_at_voltage: no convergence for Phibar = {phibar}")
-    st = _interface_state(br.annulus, np.array([q]), steps=br.steps)
-    lam, lam1 = float(st.lam[0]), float(st.lam1[0])
-    return {"lam": lam, "lam1B": lam1, "lam3A": lam**-2, "lam3B": 1 / (lam1 * lam), "q": q}
+    return _states_at_voltage(br, [c], phibar)[0]
 
 
 def _states_at_voltage(br: Branch, cs, phibar: float) -> list[dict]:
