@@ -3,7 +3,7 @@
 * Annulus removed (T1^(B) = 0): free equibiaxial membrane; neo-Hookean ideal dielectric
   pull-in at lambda = 2^(1/3), Phibar = 0.6874 (Zhao & Suo 2007).
 * Gent: local maximum and minimum of Phibar (Zhao, Hong & Suo 2007) vs sympy roots.
-* Circle A stress (3.30) vs the constitutive kernel (debench.models.materials.membrane, issue 3).
+* Circle A stress (3.30) vs the constitutive kernel (debench.models.materials.membrane).
 """
 
 from __future__ import annotations

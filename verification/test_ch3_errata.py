@@ -94,7 +94,7 @@ def test_eq_3_27_is_taylor_expansion_of_3_26():
                     sp.Symbol("s"), 0, 2).removeO().subs(sp.Symbol("s"), 1)
     zs = e0 * (1 + (-6 * c0 / e0) * (d1 + d2))
     assert sp.simplify(sp.expand(lin - zs)) == 0
-    # and the kernel (issue 3) agrees
+    # and the constitutive kernel agrees
     import debench.models.materials.membrane as mm
     jm = mm.JimenezMcMeekingPermittivity(eps0_bar=2.0, c0=0.01)
     assert jm.zhao_suo_linearisation().c == pytest.approx(-6 * 0.01 / 2.0)

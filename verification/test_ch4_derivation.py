@@ -89,7 +89,7 @@ def test_energy_matrix_equals_finite_difference_of_energy_4_22(lam, xi):
 
 
 def test_energy_matrix_agrees_with_models_materials_kernel():
-    """The push-forward moduli of debench.models.materials (issue 3, written independently) give
+    """The push-forward moduli of debench.models.materials (written independently) give
     the same plane-strain incremental energy as debench.models.plate (Eqs 2.72-2.73, 4.29-4.31)."""
     import debench.models.materials.library as materials
     import debench.models.materials.response as response

@@ -12,7 +12,7 @@ from debench.reference.catalogue import Entry, Outcome, judge, printed_half_ulp
 
 ROOT = Path(__file__).resolve().parents[1]
 
-#: Ids the foundation issue (#2) requires, so that results can be tracked across sessions.
+#: Ids that must always exist, so that results can be tracked across versions.
 REQUIRED_IDS = {
     "ch3.annulus.thickness_A_increase": 25.3,
     "ch3.annulus.lam1_interface_increase": 15.6,

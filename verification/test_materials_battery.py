@@ -1,6 +1,6 @@
 """Hypothesis property battery over every material of ``debench.models.materials.MATERIALS``.
 
-Properties (issue 3): objectivity, material symmetry, incompressibility (p recovered from a
+Properties: objectivity, material symmetry, incompressibility (p recovered from a
 traction-free face), tangent consistency by Taylor tests asserting remainder *rates*, major
 symmetry of the Hessian in (F, D_L), small-strain shear modulus, reference-state zeros,
 bad input. A meta-test fails if a registry material is not covered by every property.

@@ -1,4 +1,4 @@
-"""The constitutive library of debench (issue 3): energies W(F, D_L) and their derivatives.
+"""The constitutive library of debench: energies W(F, D_L) and their derivatives.
 
 Stable numpy API (other chapters cross-check against it)
 --------------------------------------------------------

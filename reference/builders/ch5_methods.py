@@ -189,6 +189,12 @@ def figures(ramps: xr.Dataset, methods: xr.Dataset, fig_dir: Path) -> list[Path]
                    "ch5.wrinkling_displacement.t0p5"])
     out = []
 
+    def save(fig, name):
+        path = fig_dir / name
+        fig.savefig(path, dpi=110, bbox_inches="tight")
+        plt.close(fig)
+        out.append(path)
+
     def curve(ax, case, style, label, mm):
         r = ramps.sel(case=case)
         ok = np.isfinite(r.v.values)
@@ -218,10 +224,7 @@ def figures(ramps: xr.Dataset, methods: xr.Dataset, fig_dir: Path) -> list[Path]
     ax.set_ylabel("centre deflection (mm)")
     ax.set_title("Fig 5.4 with the thesis' values: Ogden, R/t0 = 10")
     ax.legend(fontsize=6.5)
-    p = fig_dir / "fig5_4_overlay.png"
-    fig.savefig(p, dpi=110, bbox_inches="tight")
-    plt.close(fig)
-    out.append(p)
+    save(fig, "fig5_4_overlay.png")
     # Fig 5.6: materials at 1 mm, deflection in mm
     fig, ax = plt.subplots(figsize=(7, 4.5))
     curve(ax, "nh_t1", "-", "ours, neo-Hookean", True)
@@ -233,10 +236,7 @@ def figures(ramps: xr.Dataset, methods: xr.Dataset, fig_dir: Path) -> list[Path]
     ax.set_ylabel("centre deflection (mm)")
     ax.set_title("Fig 5.6 with the thesis' values: t0 = 1 mm")
     ax.legend(fontsize=7)
-    p = fig_dir / "fig5_6_overlay.png"
-    fig.savefig(p, dpi=110, bbox_inches="tight")
-    plt.close(fig)
-    out.append(p)
+    save(fig, "fig5_6_overlay.png")
     # methods on the mesh sequence
     fig, ax = plt.subplots(figsize=(5.5, 4))
     h = methods.h_rel.values
@@ -248,10 +248,7 @@ def figures(ramps: xr.Dataset, methods: xr.Dataset, fig_dir: Path) -> list[Path]
     ax.set_ylabel("critical normalised voltage")
     ax.set_title("neo-Hookean, R/t0 = 10: three methods")
     ax.legend(fontsize=8)
-    p = fig_dir / "ch5_methods_convergence.png"
-    fig.savefig(p, dpi=110, bbox_inches="tight")
-    plt.close(fig)
-    out.append(p)
+    save(fig, "ch5_methods_convergence.png")
     return out
 
 
