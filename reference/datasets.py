@@ -4,11 +4,14 @@ Convention (every chapter uses it, nothing else writes ``.nc`` files):
 
 * Global attributes follow CF-1.10 and ACDD-1.3: ``Conventions``, ``title``,
   ``summary``, ``references``, ``history``, ``source``, ``date_created``,
-  ``creator_name``, ``license``, ``keywords``, plus debench provenance: ``git_commit``,
+  ``creator_name``, ``license``, ``keywords``, the discovery attributes of
+  :func:`debench.reference.standards.acdd_attributes` (``id``, ``institution``,
+  ``publisher_*``, ``project``, ``processing_level``, ...), plus debench provenance: ``git_commit``,
   ``package_versions`` (JSON), ``command`` and ``parameters`` (JSON of the model
   parameters; each scalar also as ``param_<name>``).
-* Every data variable and every coordinate carries ``long_name``; every numeric one
-  carries ``units`` (UDUNITS strings, ``"1"`` for dimensionless).
+* Every data variable and every coordinate carries ``long_name`` and
+  ``coverage_content_type``; every numeric one carries ``units`` (UDUNITS strings, ``"1"``
+  for dimensionless). Coordinate variables carry no ``_FillValue`` (CF 2.5.1).
 * Files are listed in ``MANIFEST.json`` of their directory with a sha256. Reading a file
   verifies the checksum and the required attributes and raises :class:`DatasetError`
   otherwise. A curated file is never overwritten unless ``overwrite=True``.
@@ -78,6 +81,7 @@ import numpy as np
 import xarray as xr
 from debench.reference import __version__
 from debench.reference.provenance import command_line, git_commit, package_versions_json
+from debench.reference.standards import acdd_attributes, coverage_content_type
 
 MANIFEST_NAME = "MANIFEST.json"
 #: The inter-process lock of a data directory (kept: deleting a flock file races).
@@ -449,9 +453,15 @@ def write_dataset(
         "package_versions": package_versions_json(),
         "command": cmd,
         "parameters": json.dumps(dict(parameters), sort_keys=True, default=str),
+        **acdd_attributes(name, now),
     })
     for key, value in parameters.items():
         out.attrs[f"param_{key}"] = _scalar_attr(value)
+    for vname, var in out.variables.items():
+        var.attrs.setdefault("coverage_content_type",
+                             coverage_content_type(vname, is_coordinate=vname in out.coords))
+        if vname in out.dims and np.issubdtype(var.dtype, np.floating):
+            var.encoding["_FillValue"] = None  # CF 2.5.1: never on a coordinate variable
     check_attributes(out)
 
     try:

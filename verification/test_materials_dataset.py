@@ -30,7 +30,7 @@ def test_regenerating_the_kernel_dataset_reproduces_the_curated_numbers(curated)
 def test_curated_reference_state_is_stress_free_with_traction_free_pressure(curated):
     """At the reference state every stored sigma - p I vanishes (p = 0 if compressible)."""
     ref = curated.sel(state="reference")
-    p = np.nan_to_num(ref.p.values)
+    p = np.nan_to_num(ref.pressure.values)
     resid = ref.sigma.values - p[:, None, None] * np.eye(3)
     assert np.max(np.abs(resid)) <= 1e-9 * np.max(np.abs(curated.sigma.values))
 

@@ -7,9 +7,9 @@ Table 5.1 / Ch. 3 models in incompressible uniaxial tension.
 * ``ch2_kernel_reference_states.nc`` - for each material of
   :data:`debench.models.materials.MATERIALS` (the non-dimensional ones in SI units, see
   :data:`TI_SI`, :data:`DO_SI`) and each state of :data:`STATES` (isochoric F, D_L in units of
-  ``sqrt(eps mu)``): W, dW/dF, dW/dD_L, Cauchy stress (p = 0), the traction-free p on the
-  face with current normal e3 (incompressible materials; NaN otherwise), E, and the moduli
-  AA, AAA, A of eqs (2.65)-(2.67);
+  ``sqrt(eps mu)``): W, dW/dF, dW/dD_L, Cauchy stress (p = 0), the traction-free p
+  (variable ``pressure``) on the face with current normal e3 (incompressible materials;
+  NaN otherwise), E, and the moduli AA, AAA, A of eqs (2.65)-(2.67);
 * ``figures/table5_1_uniaxial_stress_difference.png`` - sigma11 - sigma22 in incompressible
   uniaxial tension for Gent (Ch. 3), neo-Hookean and Ogden (Table 5.1).
 
@@ -73,7 +73,7 @@ def compute() -> xr.Dataset:
     shape = (len(names), len(states))
     out = {k: np.full(shape + s, np.nan) for k, s in (
         ("W", ()), ("F", (3, 3)), ("D_L", (3,)), ("P", (3, 3)), ("E_L", (3,)),
-        ("sigma", (3, 3)), ("p", ()), ("E", (3,)), ("AA", (3, 3, 3, 3)), ("AAA", (3, 3, 3)),
+        ("sigma", (3, 3)), ("pressure", ()), ("E", (3,)), ("AA", (3, 3, 3, 3)), ("AAA", (3, 3, 3)),
         ("A", (3, 3)))}
     for a, mname in enumerate(names):
         mat = mats[mname]
@@ -88,7 +88,7 @@ def compute() -> xr.Dataset:
             out["E"][a, b] = electric_field(mat, F, D)
             if mat.incompressible:
                 n = np.linalg.inv(F).T @ np.array([0.0, 0.0, 1.0])
-                out["p"][a, b] = pressure_from_traction_free_face(mat, F, D,
+                out["pressure"][a, b] = pressure_from_traction_free_face(mat, F, D,
                                                                   n / np.linalg.norm(n))
     dims = {0: (), 1: ("i",), 2: ("i", "alpha"), 3: ("i", "alpha", "beta"),
             4: ("i", "alpha", "j", "beta")}
@@ -99,7 +99,7 @@ def compute() -> xr.Dataset:
         "P": ("Pa", "dW/dF (first Piola stress without pressure; nominal stress T = P^T)"),
         "E_L": ("V m-1", "Lagrangian electric field dW/dD_L, eq. (2.28)"),
         "sigma": ("Pa", "Cauchy stress J^-1 dW/dF F^T at p = 0, eq. (2.31)/(2.33)"),
-        "p": ("Pa", "Lagrange multiplier making the face with current normal F^-T e3 "
+        "pressure": ("Pa", "Lagrange multiplier p making the face with current normal F^-T e3 "
                     "traction free (incompressible materials; NaN otherwise)"),
         "E": ("V m-1", "Eulerian electric field F^-T E_L, eq. (2.32)"),
         "AA": ("Pa", "moduli d2W/dF_ia dF_jb, eq. (2.65)"),
