@@ -49,6 +49,9 @@ NOT_APPLICABLE = {
     "creator_url, publisher_url, metadata_link": "the repository has no public address yet; "
                                                  "the writer adds them once it has one",
     "contributor_name, contributor_role": "the contributors are not named",
+    "creator_institution, publisher_institution": "no institution is stated "
+                                                  "(see the placeholder `institution`)",
+    "date_issued": "no dataset has been formally released",
 }
 #: ACDD-1.3 attributes that carry a stand-in value until the project states the real one.
 PLACEHOLDERS = {
