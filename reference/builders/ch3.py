@@ -318,35 +318,32 @@ _TEXT = {
 
 # ------------------------------------------------------------------ figures
 def figures(ds: dict[str, xr.Dataset], fig_dir: Path) -> list[Path]:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from debench.reference.figures import LABELS as L
+    from debench.reference.figures import mark_thesis, printed_value, pyplot
+    from debench.reference.figures import save as save_figure
 
-    fig_dir.mkdir(parents=True, exist_ok=True)
+    plt = pyplot()
     out = []
 
     def save(fig, name):
-        p = fig_dir / name
-        fig.tight_layout()
-        fig.savefig(p, dpi=110)
-        plt.close(fig)
-        out.append(p)
+        out.extend(save_figure(fig, fig_dir / name))
 
     a = ds["ch3_annulus_profiles"]
     fig, ax = plt.subplots(figsize=(5, 4))
     for k, (c, ls) in enumerate(zip(a.c.values, ("-", "--"), strict=True)):
-        ax.plot(a.r_over_ra, a.lambda1[k], "b" + ls, label=f"lambda1, c={c:g}")
-        ax.plot(a.r_over_ra, a.lambda2[k], "r" + ls, label=f"lambda2, c={c:g}")
-    ax.set(xlabel="R/R_A", ylabel="stretch", title="Fig. 3.2: annulus B, lamP=3, Phibar=0.2")
-    ax.legend(fontsize=7)
+        ax.plot(a.r_over_ra, a.lambda1[k], "b" + ls, label=rf"$\lambda_1$, $c$ = {c:g}")
+        ax.plot(a.r_over_ra, a.lambda2[k], "r" + ls, label=rf"$\lambda_2$, $c$ = {c:g}")
+    ax.set(xlabel=L["r_over_ra"], ylabel=L["lambda_12"],
+           title=r"Fig. 3.2: annulus B, $\lambda_P$ = 3, $\bar\Phi$ = 0.2")
+    ax.legend()
     save(fig, "fig3_2_annulus_stretches.png")
 
     fig, ax = plt.subplots(figsize=(5, 4))
     for k, (c, ls) in enumerate(zip(a.c.values, ("-", "--"), strict=True)):
-        ax.plot(a.r_over_ra, a.lambda3[k], "k" + ls, label=f"annulus B, c={c:g}")
-        ax.plot([0, 1], [a.lambda3_a[k]] * 2, "g" + ls, label=f"circle A, c={c:g}")
-    ax.set(xlabel="R/R_A", ylabel="lambda3", title="Fig. 3.3: thickness stretch")
-    ax.legend(fontsize=7)
+        ax.plot(a.r_over_ra, a.lambda3[k], "k" + ls, label=f"annulus B, $c$ = {c:g}")
+        ax.plot([0, 1], [a.lambda3_a[k]] * 2, "g" + ls, label=f"circle A, $c$ = {c:g}")
+    ax.set(xlabel=L["r_over_ra"], ylabel=L["lambda_3"], title="Fig. 3.3: thickness stretch")
+    ax.legend()
     save(fig, "fig3_3_thickness_stretch.png")
 
     v = ds["ch3_voltage_stretch"]
@@ -358,37 +355,61 @@ def figures(ds: dict[str, xr.Dataset], fig_dir: Path) -> list[Path]:
         m = lam <= stop
         return lam[m], phi[m]
 
+    def end_of(lp, c):
+        """Where the membrane model ends: loss of tension (wrinkling of circle A)."""
+        lot = float(f.loss_of_tension_lambda.sel(lamP=lp, c=c))
+        return lot if np.isfinite(lot) else np.inf
+
+    def mark_breakdown(ax, lp, c):
+        """Square at dielectric breakdown when it comes before loss of tension."""
+        bd = float(f.breakdown_lambda.sel(lamP=lp, c=c))
+        if np.isfinite(bd) and bd <= end_of(lp, c):
+            lam, phi = curve_upto(lp, c, bd)
+            ax.plot(bd, phi[-1] if phi.size else np.nan, "ks", ms=5, mfc="none")
+
     fig, ax = plt.subplots(figsize=(5, 4))
     for lp in v.lamP.values:
-        lam, phi = curve_upto(lp, 0.0, np.inf)
-        ax.plot(lam, phi, lw=1, label=f"lamP={lp:g}")
+        lam, phi = curve_upto(lp, 0.0, end_of(lp, 0.0))
+        ax.plot(lam, phi, label=rf"$\lambda_P$ = {lp:g}")
         pl = f.pullin_lambda.sel(lamP=lp, c=0.0)
         if np.isfinite(pl):
-            ax.plot(pl, f.pullin_phibar.sel(lamP=lp, c=0.0), "kd", ms=4)
-    ax.set(xlabel="stretch of circle A", ylabel="Phibar", ylim=(0, 0.8),
-           title="Fig. 3.4: c = 0 (diamonds: pull-in)")
-    ax.legend(fontsize=6)
+            ax.plot(pl, f.pullin_phibar.sel(lamP=lp, c=0.0), "kd", ms=5)
+        mark_breakdown(ax, lp, 0.0)
+    ax.set(xlabel=L["lambda_A"], ylabel=L["phibar"], ylim=(0, 0.8),
+           title="Fig. 3.4: $c$ = 0 (diamond pull-in, square breakdown;\n"
+                 "curves end at loss of tension)")
+    ax.legend(fontsize=8)
     save(fig, "fig3_4_voltage_stretch_c0.png")
 
     fig, ax = plt.subplots(figsize=(5, 4))
     for c in v.c.values:
-        lam, phi = curve_upto(1.25, c, 4.0)
-        ax.plot(lam, phi, lw=1, label=f"c={c:g}")
+        lam, phi = curve_upto(1.25, c, end_of(1.25, c))
+        ax.plot(lam, phi, label=f"$c$ = {c:g}")
         pl = f.pullin_lambda.sel(lamP=1.25, c=c)
         if np.isfinite(pl):
-            ax.plot(pl, f.pullin_phibar.sel(lamP=1.25, c=c), "kd", ms=4)
-    ax.set(xlabel="stretch of circle A", ylabel="Phibar", title="Fig. 3.5: lamP = 1.25")
-    ax.legend(fontsize=6)
+            ax.plot(pl, f.pullin_phibar.sel(lamP=1.25, c=c), "kd", ms=5)
+        mark_breakdown(ax, 1.25, c)
+    mark_thesis(ax, float(f.pullin_lambda.sel(lamP=1.25, c=0.0)),
+                printed_value("ch3.pullin.voltage_lamP_1p25"),
+                r"thesis: pull-in $\bar\Phi$, $c$ = 0")
+    ax.set(xlabel=L["lambda_A"], ylabel=L["phibar"],
+           title="Fig. 3.5: $\\lambda_P$ = 1.25 (diamond pull-in, square breakdown;\n"
+                 "curves end at loss of tension)")
+    ax.legend(fontsize=8)
     save(fig, "fig3_5_voltage_stretch_lamP_1p25.png")
 
     fig, ax = plt.subplots(figsize=(5, 4))
     lam = v.lambda_a.sel(lamP=3.0).values
-    ax.plot(lam, v.sigma1_a.sel(lamP=3.0, c=0.0).values)
-    ax.axhline(0, color="k", lw=0.5)
     lot = float(f.loss_of_tension_lambda.sel(lamP=3.0, c=0.0))
+    m = lam <= lot
+    ax.plot(lam[m], v.sigma1_a.sel(lamP=3.0, c=0.0).values[m], label="computed (Eq. 3.33)")
+    ax.axhline(0, color="k", lw=0.5)
     ax.axvline(lot, color="r", ls=":", label=f"loss of tension {lot:.3f}")
-    ax.set(xlabel="stretch of circle A", ylabel="sigma1^(A)/mu", title="Fig. 3.6: lamP=3, c=0")
-    ax.legend(fontsize=7)
+    mark_thesis(ax, printed_value("ch3.loss_of_tension.stretch_lamP_3"), 0.0,
+                "thesis: loss of tension")
+    ax.set(xlabel=L["lambda_A"], ylabel=L["sigma1_mu"],
+           title=r"Fig. 3.6: $\lambda_P$ = 3, $c$ = 0")
+    ax.legend()
     save(fig, "fig3_6_sigma1_lamP_3.png")
 
     fig, ax = plt.subplots(figsize=(6, 4.5))
@@ -400,27 +421,28 @@ def figures(ds: dict[str, xr.Dataset], fig_dir: Path) -> list[Path]:
             stop = float({1: fp.pullin_lambda, 2: fp.loss_of_tension_lambda,
                           3: fp.breakdown_lambda}.get(code, np.inf))
             lam, phi = curve_upto(lp, c, stop)
-            ax.plot(lam, phi, "k" + ls, lw=0.8)
+            ax.plot(lam, phi, "k" + ls, lw=0.9)
             if code:
-                ax.plot(stop, phi[-1] if phi.size else np.nan, "k" + sym[code], ms=4,
+                ax.plot(stop, phi[-1] if phi.size else np.nan, "k" + sym[code], ms=5,
                         mfc="none" if c else "k")
     lam = np.linspace(1, 7.8, 200)
     from debench.models.circular.circle_a import breakdown_phibar
     ax.plot(lam, breakdown_phibar(lam, params.EPS_R_ASSUMED, params.MU_VHB), "r--", lw=1,
-            label="breakdown (eps_r = 4.7)")
-    ax.set(xlabel="stretch of circle A", ylabel="Phibar", ylim=(0, 0.8),
-           title="Fig. 3.7: c=0 (solid), c=-0.053 (dotted); d pull-in, o LoT, s breakdown")
-    ax.legend(fontsize=7)
+            label=r"breakdown ($\varepsilon_r$ = 4.7)")
+    ax.set(xlabel=L["lambda_A"], ylabel=L["phibar"], ylim=(0, 0.8),
+           title="Fig. 3.7: $c$ = 0 (solid), $c$ = -0.053 (dotted);\n"
+                 "diamond pull-in, circle loss of tension, square breakdown")
+    ax.legend()
     save(fig, "fig3_7_failure_modes.png")
 
     fig, axs = plt.subplots(1, 2, figsize=(9, 4))
     for ax, lp in zip(axs, (2.0, 3.0), strict=True):
         for c in v.c.values:
-            stop = float(f.loss_of_tension_lambda.sel(lamP=lp, c=c))
-            lam, phi = curve_upto(lp, c, stop if np.isfinite(stop) else np.inf)
-            ax.plot(lam, phi, lw=1, label=f"c={c:g}")
-        ax.set(xlabel="stretch of circle A", ylabel="Phibar", title=f"Fig. 3.8: lamP = {lp:g}")
-        ax.legend(fontsize=6)
+            lam, phi = curve_upto(lp, c, end_of(lp, c))
+            ax.plot(lam, phi, label=f"$c$ = {c:g}")
+        ax.set(xlabel=L["lambda_A"], ylabel=L["phibar"],
+               title=rf"Fig. 3.8: $\lambda_P$ = {lp:g}")
+        ax.legend(fontsize=8)
     save(fig, "fig3_8_voltage_stretch_c.png")
 
     s = ds["ch3_c_sweep"]
@@ -432,9 +454,9 @@ def figures(ds: dict[str, xr.Dataset], fig_dir: Path) -> list[Path]:
             axs[0, k].plot(s.c.values[m], sel.lambda_max.values[m], col + ".", ms=3,
                            label=MODES[code - 1])
             axs[1, k].plot(s.c.values[m], sel.phibar_at_lambda_max.values[m], col + ".", ms=3)
-        axs[0, k].set(title=f"Fig. 3.9: lamP = {lp:g}", ylabel="lambda_max")
-        axs[1, k].set(xlabel="c", ylabel="Phibar at lambda_max")
-        axs[0, k].legend(fontsize=6)
+        axs[0, k].set(title=rf"Fig. 3.9: $\lambda_P$ = {lp:g}", ylabel=L["lambda_max"])
+        axs[1, k].set(xlabel=L["c"], ylabel=L["phibar_at_max"])
+        axs[0, k].legend(fontsize=8)
     save(fig, "fig3_9_c_sweep.png")
     return out
 
