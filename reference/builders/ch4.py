@@ -234,37 +234,51 @@ def _plot_curves(ax, ds, v, xi, D, style, label):
                 first = False
 
 
+def _shade_unstable(ax, ds, v, xi, D, **style):
+    """Shade the thesis' unstable region {det < 0} (Sec. 4.4) of one case, as Fig. 4.2 does;
+    nothing where the region is undefined (no strongly elliptic stable reference)."""
+    from debench.models.plate.analysis import region
+
+    kH = np.geomspace(float(ds.kH.min()), float(ds.kH.max()), 121)
+    lam = np.geomspace(prod.AREA_LAM[0], prod.AREA_LAM[1], 241)
+    r = region(PlateParams(xi=xi, Dhat=D, variant=v), kH, lam)
+    mask = np.asarray(r.thesis, float)
+    if not np.isfinite(mask).all() or not mask.any():
+        return
+    if style.get("hatches"):
+        ax.contourf(kH, lam, mask.T, levels=[0.5, 1.5], colors="none", **style)
+    else:
+        ax.contourf(kH, lam, mask.T, levels=[0.5, 1.5], **style)
+
+
 def figures(out: Path, c42: xr.Dataset, c45: xr.Dataset, lim: xr.Dataset, ar: xr.Dataset,
             crit: xr.Dataset) -> list[Path]:
-    import matplotlib
+    from debench.reference.figures import LABELS as L
+    from debench.reference.figures import pyplot, save
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    out.mkdir(parents=True, exist_ok=True)
+    plt = pyplot()
     paths = []
     for v in VARIANTS:
         fig, axs = plt.subplots(3, 3, figsize=(11, 10), sharex=True)
         for ax, D, tag in zip(axs.flat, FIG42_D, "abcdefghi", strict=True):
-            _plot_curves(ax, c42, v, 5.0, D, ".", "TI xi=5")
+            _shade_unstable(ax, c42, v, 5.0, D, colors=["0.8"], alpha=0.6)
+            _shade_unstable(ax, c42, v, 0.0, D, hatches=["////"])
+            _plot_curves(ax, c42, v, 5.0, D, ".", r"TI $\xi$ = 5")
             _plot_curves(ax, c42, v, 0.0, D, "x", "isotropic")
             lamE = float(c42.lam_ellipticity.sel(variant=v, xi=5.0))
             if np.isfinite(lamE):
                 ax.axhline(lamE, color="k", lw=0.6, ls=":", label="loss of ellipticity (TI)")
-            ax.set_title(f"({tag}) Dhat = {D:g}")
+            ax.set_title(rf"({tag}) $\hat D$ = {D:g}")
             ax.set_ylim(0.4, 4.0 if v != "literal" else 5.5)
-        axs[0, 0].legend(fontsize=7)
+        axs[0, 0].legend(fontsize=8)
         for ax in axs[-1]:
-            ax.set_xlabel("kH")
+            ax.set_xlabel(L["kH"])
         for ax in axs[:, 0]:
-            ax.set_ylabel("lam_cr")
-        fig.suptitle(f"Fig. 4.2 ({v}): blue psi-even (flexural), red psi-odd; "
-                     "dots TI xi = 5, crosses isotropic")
-        fig.tight_layout()
-        p = out / f"fig4_2_curves_{v}.png"
-        fig.savefig(p, dpi=110)
-        plt.close(fig)
-        paths.append(p)
+            ax.set_ylabel(L["lam_cr"])
+        fig.suptitle(rf"Fig. 4.2 ({v}): blue $\psi$-even (flexural), red $\psi$-odd; "
+                     r"dots TI $\xi$ = 5, crosses isotropic;" "\n"
+                     r"unstable region $\det < 0$ shaded grey (TI), hatched (isotropic)")
+        paths += save(fig, out / f"fig4_2_curves_{v}")
     # Fig 4.3
     fig, ax = plt.subplots(figsize=(8, 4))
     x = np.arange(len(FIG42_D))
@@ -275,31 +289,23 @@ def figures(out: Path, c42: xr.Dataset, c45: xr.Dataset, lim: xr.Dataset, ar: xr
         ax.bar(x + off, a, width=0.2, hatch=hatch, color=f"C{k}",
                label=f"{v}, {'TI' if xi else 'iso'}")
     ax.set_xticks(x, [f"({t}) {D:g}" for t, D in zip("abcdefghi", FIG42_D, strict=True)])
-    ax.set_xlabel("case, Dhat")
-    ax.set_ylabel("area of {det < 0}, kH in [0.01, 10]")
-    ax.legend(fontsize=7)
+    ax.set_xlabel(r"case, $\hat D$")
+    ax.set_ylabel(r"area of $\{\det < 0\}$, $kH \in [0.01, 10]$")
+    ax.legend(fontsize=8)
     ax.set_title("Fig. 4.3: unstable-region areas (window: ch4.assumption.area_window)")
-    fig.tight_layout()
-    p = out / "fig4_3_areas.png"
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
-    paths.append(p)
+    paths += save(fig, out / "fig4_3_areas")
     # Fig 4.4
     fig, ax = plt.subplots(figsize=(7, 4))
     for k, (v, xi) in enumerate((vv, xx) for vv in VARIANTS for xx in (0.0, 5.0)):
         y = lim.lam_cr_thin.sel(variant=v, xi=xi).values[:3]
         ax.bar(np.arange(3) + (k - 2.5) * 0.13, y, width=0.13,
                label=f"{v}, {'TI' if xi else 'iso'}")
-    ax.set_xticks(range(3), ["(a) Dhat=0", "(b) Dhat=1", "(c) Dhat=2"])
-    ax.set_ylabel("lam_cr (kH -> 0)")
+    ax.set_xticks(range(3), [r"(a) $\hat D$ = 0", r"(b) $\hat D$ = 1", r"(c) $\hat D$ = 2"])
+    ax.set_ylabel(r"$\lambda_{cr}$ ($kH \to 0$)")
     ax.set_ylim(0.9, None)
-    ax.legend(fontsize=7, ncol=2)
+    ax.legend(fontsize=8, ncol=2)
     ax.set_title("Fig. 4.4: thin-plate limit (root of a - c)")
-    fig.tight_layout()
-    p = out / "fig4_4_thin_limit.png"
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
-    paths.append(p)
+    paths += save(fig, out / "fig4_4_thin_limit")
     # Fig 4.5
     fig, axs = plt.subplots(1, 3, figsize=(13, 4), sharey=True)
     for ax, v in zip(axs, VARIANTS, strict=True):
@@ -307,32 +313,24 @@ def figures(out: Path, c42: xr.Dataset, c45: xr.Dataset, lim: xr.Dataset, ar: xr
             sel = c45.lam_cr.sel(variant=v, xi=xi, Dhat=2.0).values
             for j in range(sel.shape[1]):
                 ax.semilogx(c45.kH, sel[:, j], ".", ms=1.5, color=f"C{k}",
-                            label=f"xi={xi:g}" if j == 0 else None)
-        ax.set_title(f"Fig. 4.5 ({v}), Dhat = 2")
-        ax.set_xlabel("kH")
+                            label=rf"$\xi$ = {xi:g}" if j == 0 else None)
+        ax.set_title(rf"Fig. 4.5 ({v}), $\hat D$ = 2")
+        ax.set_xlabel(L["kH"])
         ax.set_ylim(0.4, 3.0)
-    axs[0].set_ylabel("lam_cr")
-    axs[0].legend(fontsize=7, markerscale=5)
-    fig.tight_layout()
-    p = out / "fig4_5_anisotropy.png"
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
-    paths.append(p)
+    axs[0].set_ylabel(L["lam_cr"])
+    axs[0].legend(fontsize=8, markerscale=5)
+    paths += save(fig, out / "fig4_5_anisotropy")
     # Fig 4.6
     fig, ax = plt.subplots(figsize=(6, 4))
     for v, m in (("printed", "o-"), ("literal", "s--")):
         for c in crit.candidate.values:
             ax.plot(crit.xi, crit.Dhat_critical.sel(variant=v, candidate=c), m,
                     label=f"{v}: {c}")
-    ax.set_xlabel("xi")
-    ax.set_ylabel("critical Dhat")
-    ax.legend(fontsize=7)
-    ax.set_title("Fig. 4.6: critical Dhat vs xi (two candidate definitions)")
-    fig.tight_layout()
-    p = out / "fig4_6_critical_D.png"
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
-    paths.append(p)
+    ax.set_xlabel(L["xi"])
+    ax.set_ylabel(r"critical $\hat D$")
+    ax.legend(fontsize=8)
+    ax.set_title(r"Fig. 4.6: critical $\hat D$ vs $\xi$ (two candidate definitions)")
+    paths += save(fig, out / "fig4_6_critical_D")
     return paths
 
 
@@ -385,30 +383,25 @@ def build(out_dir: Path, *, full: bool = False, progress: bool = True) -> list[P
         "incremental problem equals the charge-controlled one with Dhat = Vhat lam^2/beta.",
         parameters=COMMON, out_dir=out_dir, overwrite=True))
     paths += figures(out_dir / "figures", c42, c45, lim, ar, crit)
-    paths.append(_voltage_figure(out_dir / "figures", vc))
+    paths += _voltage_figure(out_dir / "figures", vc)
     return paths
 
 
-def _voltage_figure(out: Path, vc: xr.Dataset) -> Path:
-    import matplotlib
+def _voltage_figure(out: Path, vc: xr.Dataset) -> list[Path]:
+    from debench.reference.figures import LABELS as L
+    from debench.reference.figures import pyplot, save
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = pyplot()
     fig, axs = plt.subplots(1, 2, figsize=(11, 4), sharey=True)
     for ax, xi in zip(axs, (0.0, 5.0), strict=True):
         for k, V in enumerate(vc.Vhat.values):
             sel = vc.lam_cr.sel(variant="printed", xi=xi, Vhat=V).values
             for j in range(sel.shape[1]):
                 ax.semilogx(vc.kH, sel[:, j], ".", ms=2, color=f"C{k}",
-                            label=f"Vhat={V:g}" if j == 0 else None)
-        ax.set_title(f"voltage control (beyond the thesis), xi = {xi:g}, printed coeffs")
-        ax.set_xlabel("kH")
+                            label=rf"$\hat V$ = {V:g}" if j == 0 else None)
+        ax.set_title(rf"voltage control (beyond the thesis), $\xi$ = {xi:g}, printed coeffs")
+        ax.set_xlabel(L["kH"])
         ax.set_ylim(0.4, 3.0)
-    axs[0].set_ylabel("lam_cr")
-    axs[0].legend(fontsize=7, markerscale=4)
-    fig.tight_layout()
-    p = out / "ch4_beyond_voltage_control.png"
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
-    return p
+    axs[0].set_ylabel(L["lam_cr"])
+    axs[0].legend(fontsize=8, markerscale=4)
+    return save(fig, out / "ch4_beyond_voltage_control")
