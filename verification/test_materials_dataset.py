@@ -39,5 +39,6 @@ def test_build_writes_dataset_and_figure(tmp_path):
     """The builder writes the dataset and the figure into the directory it is given."""
     paths = ch2_appendix.build(tmp_path)
     assert {p.name for p in paths} == {"ch2_kernel_reference_states.nc",
-                                       "table5_1_uniaxial_stress_difference.png"}
+                                       "table5_1_uniaxial_stress_difference.png",
+                                       "table5_1_uniaxial_stress_difference.svg"}
     assert all(p.exists() and p.stat().st_size > 0 for p in paths)

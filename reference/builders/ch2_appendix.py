@@ -137,32 +137,27 @@ def _parameters():
     return params
 
 
-def figure(path: Path) -> Path:
-    """sigma11 - sigma22 in incompressible uniaxial tension (Gent, Table 5.1 NH and Ogden)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+def figure(path: Path) -> list[Path]:
+    """sigma11 - sigma22 in incompressible uniaxial tension (Gent, Table 5.1 NH and Ogden);
+    ``path`` without suffix, written as PNG and SVG."""
     from debench.models.materials import MATERIALS, cauchy_stress
+    from debench.reference.figures import LABELS, pyplot, save
 
+    plt = pyplot()
     lam = np.linspace(1.0, 4.0, 61)
     fig, ax = plt.subplots(figsize=(5.5, 4))
-    for name, label in (("gent_ideal_dielectric", "Gent, mu = 51 kPa, Jm = 120 (Ch. 3)"),
-                        ("neo_hookean_ideal_dielectric", "neo-Hookean, mu = 156 kPa (Tab. 5.1)"),
-                        ("ogden_ideal_dielectric", "Ogden, sum mu_p = 69.6 kPa (Tab. 5.1)")):
+    for name, label in (("gent_ideal_dielectric", r"Gent, $\mu$ = 51 kPa, $J_m$ = 120 (Ch. 3)"),
+                        ("neo_hookean_ideal_dielectric",
+                         r"neo-Hookean, $\mu$ = 156 kPa (Tab. 5.1)"),
+                        ("ogden_ideal_dielectric", r"Ogden, $\sum\mu_p$ = 69.6 kPa (Tab. 5.1)")):
         mat = MATERIALS[name]
         s = [np.diff(np.diag(cauchy_stress(mat, np.diag([x, x**-0.5, x**-0.5]),
                                             np.zeros(3)))[[1, 0]])[0] for x in lam]
         ax.plot(lam, np.array(s) / 1e3, label=label)
-    ax.set_xlabel("stretch lambda (uniaxial, incompressible)")
-    ax.set_ylabel("sigma11 - sigma22 [kPa]")
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
-    fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    ax.set_xlabel(LABELS["lambda_uniaxial"] + " (incompressible)")
+    ax.set_ylabel(LABELS["stress_difference_kPa"])
+    ax.legend()
+    return save(fig, path)
 
 
 def build(out_dir: Path, *, full: bool = False) -> list[Path]:
@@ -178,5 +173,4 @@ def build(out_dir: Path, *, full: bool = False) -> list[Path]:
                  "4.22) at five isochoric states. Verified by Taylor tests, sympy and NGSolve "
                  "symbolic differentiation (verification/test_materials_*.py)."),
         parameters=_parameters(), out_dir=out_dir, overwrite=True)
-    fig = figure(out_dir / "figures" / "table5_1_uniaxial_stress_difference.png")
-    return [nc, fig]
+    return [nc, *figure(out_dir / "figures" / "table5_1_uniaxial_stress_difference")]
