@@ -25,11 +25,23 @@ Method 2 (:func:`fe_eigenvalues`): Galerkin discretisation of the Hermitian ener
 through the thickness (Hermite cubic psi, quadratic u3 and phi, the meshes and Gram
 matrices of :mod:`debench.models.plate.fem`); traction-free faces and equipotential
 electrodes are natural conditions. lam_cr is where an eigenvalue of K crosses zero.
+
+Voltage control (keyword ``Vhat`` of the scans): with compliant electrodes on both faces
+the incremental boundary-value problem is the one of charge control (the fibre does not
+enter the electric part of (4.22)); only the base state changes, Dhat(lam) =
+Vhat lam^2/(alpha lam^4 + beta) along the scan (:func:`debench.models.plate.voltage.
+dhat_at_voltage`, re-derived there from (4.20)).
+
+Stretches above 1 (equibiaxial tension) are in the range of every function: with a field
+the total lateral stress tau11 of :func:`base_state` is compressive near lam = 1 and the
+plate can wrinkle in tension; as kH -> 0 the critical stretch tends to the zero of
+tau11 (membrane limit, :func:`membrane_limit`).
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import scipy.linalg as sla
@@ -39,6 +51,7 @@ from debench.models.plate import _generated_inplane as gen
 from debench.models.plate.ansatz import critical_stretches
 from debench.models.plate.coefficients import PlateParams
 from debench.models.plate.fem import _gram, grading
+from debench.models.plate.voltage import critical_stretches_at_voltage, dhat_at_voltage
 from scipy.optimize import brentq
 
 #: elements through the thickness (method 2, default)
@@ -46,8 +59,14 @@ N_ELEMENTS = 24
 #: directions sampled on the half circle for the strong-ellipticity test
 N_DIRECTIONS = 91
 #: fixed real weights combining the adjugate columns into one amplitude vector (any
-#: generic vector works; fixed so that the determinant is a function of the roots only)
-_W = np.array([1.0, 0.7310, 0.5270])
+#: generic vector works; fixed so that the determinant is a function of the roots only).
+#: adj P(s_j) = n_j m_j^T at a root, so the amplitude n_j (m_j . w) and the determinant
+#: carry the factor prod_j (m_j . w), whose zeros are spurious sign changes; one can fall
+#: in the same scan interval as a genuine root and hide it (seen at xi = 5, theta = 30,
+#: kH = 0.80: a pair 4e-5 apart). The scan uses two weight vectors, whose spurious zeros
+#: differ, and keeps the union of the roots that pass :data:`SINGULAR_TOL`.
+_WS = np.array([[1.0, 0.7310, 0.5270], [0.4130, -1.0, 0.8620]])
+_W = _WS[0]
 
 
 #: stretches the model evaluates: lam^-10 and lam^8 stay far from overflow inside
@@ -112,7 +131,7 @@ def _symbol(S, s):
     """P(1, i s) = B(-q)^T S B(q), q = (1, i s), for an array of s."""
     s = np.asarray(s, complex)
     Bp, Bm = _B(1.0, 1j * s), _B(-1.0, -1j * s)
-    return np.einsum("...ai,ab,...bj->...ij", Bm, S, Bp)
+    return np.swapaxes(Bm, -1, -2) @ S @ Bp
 
 
 def _char_poly(S):
@@ -151,19 +170,24 @@ def strongly_elliptic(lam: float, theta: float, params: PlateParams) -> bool:
     do not depend on x3).
     """
     lam, theta = _check(lam, theta, params)
-    S = _S(lam, theta, params)
-    ang = np.linspace(0.0, np.pi, N_DIRECTIONS, endpoint=False)
-    P = np.einsum("...ai,ab,...bj->...ij", _B(-np.cos(ang), -np.sin(ang)), S,
-                  _B(np.cos(ang), np.sin(ang)))
+    return _elliptic(lam, theta, params)
+
+
+_ANG = np.linspace(0.0, np.pi, N_DIRECTIONS, endpoint=False)
+_B_PLUS = _B(np.cos(_ANG), np.sin(_ANG))
+_B_MINUS_T = np.swapaxes(_B(-np.cos(_ANG), -np.sin(_ANG)), -1, -2)
+
+
+def _elliptic(lam, theta, p):
+    P = _B_MINUS_T @ _S(lam, theta, p) @ _B_PLUS
     P = 0.5 * (P + np.conj(np.swapaxes(P, -1, -2)))
     return bool(np.all(np.linalg.eigvalsh(P)[..., 0] > 0))
 
 
-def _boundary_rows(S, s):
+def _boundary_rows(S, s, w=_W):
     """Rows (T21, T22, T23, E1) per unit amplitude of each root, shape (4, len(s))."""
-    P = _symbol(S, s)
-    adj = np.array([_adjugate(Pj) for Pj in P])
-    amp = adj @ _W                                          # (n, 3)
+    adj = _adjugate(_symbol(S, s))
+    amp = adj @ w                                           # (n, 3)
     z = np.einsum("nai,ni->na", _B(1.0, 1j * s), amp)      # (n, 8)
     Sz = z @ S.T
     pdot = Sz[:, 0] + 1j * s * Sz[:, 1]                     # from x1-equilibrium
@@ -171,12 +195,9 @@ def _boundary_rows(S, s):
 
 
 def _adjugate(M):
-    a = np.empty((3, 3), complex)
-    for i in range(3):
-        for j in range(3):
-            minor = np.delete(np.delete(M, j, 0), i, 1)
-            a[i, j] = (-1) ** (i + j) * (minor[0, 0] * minor[1, 1] - minor[0, 1] * minor[1, 0])
-    return a
+    """Adjugate of 3 x 3 matrices (stacked): columns r1 x r2, r2 x r0, r0 x r1 of the rows."""
+    r0, r1, r2 = M[..., 0, :], M[..., 1, :], M[..., 2, :]
+    return np.stack([np.cross(r1, r2), np.cross(r2, r0), np.cross(r0, r1)], axis=-1)
 
 
 def det_function(lam: float, kH: float, theta: float, params: PlateParams) -> complex:
@@ -191,11 +212,11 @@ def det_function(lam: float, kH: float, theta: float, params: PlateParams) -> co
     return _det(lam, kH, theta, params)
 
 
-def _det(lam, kH, theta, p):
+def _det(lam, kH, theta, p, w=_W):
     S = _S(lam, theta, p)
     s = _roots(S)
     t = kH * lam**-2
-    rows = _boundary_rows(S, s)
+    rows = _boundary_rows(S, s, w)
     scale = np.exp(-np.abs(s.real) * t / 2)
     top = rows * (np.exp(-s * t / 2) * scale)
     bot = rows * (np.exp(s * t / 2) * scale)
@@ -204,55 +225,84 @@ def _det(lam, kH, theta, p):
     return complex(np.linalg.det(M) / vd)
 
 
-def _real_det(lam, kH, theta, p, phase):
-    return float((_det(lam, kH, theta, p) * np.conj(phase)).real)
+def _path(params: PlateParams, Vhat):
+    """lam -> parameters along the scan: fixed Dhat (charge control, ``Vhat`` None) or
+    Dhat(lam) = Vhat lam^2/(alpha lam^4 + beta) at fixed voltage (``params.Dhat`` must
+    then be 0: the field is set by ``Vhat``)."""
+    v.instance("params", params, PlateParams)
+    if Vhat is None:
+        return lambda lam: params
+    Vhat = float(v.nonnegative("Vhat", Vhat))
+    if params.Dhat != 0.0:
+        raise ValueError("params.Dhat must be 0 under voltage control (the field is set by "
+                         f"Vhat), got {params.Dhat}")
+    return lambda lam: replace(params, Dhat=float(dhat_at_voltage(lam, Vhat, params)))
+
+
+def _real_det(lam, kH, theta, path, phase, w):
+    return float((_det(lam, kH, theta, path(lam), w) * np.conj(phase)).real)
 
 
 def critical_stretches_det(kH: float, theta: float, params: PlateParams, *,
-                           window=(0.45, 0.999), n_scan: int = 120) -> np.ndarray:
+                           window=(0.45, 0.999), n_scan: int = 120,
+                           Vhat: float | None = None) -> np.ndarray:
     """Method 1: every lam in ``window`` where the determinant changes sign.
 
     Scanned on a geometric grid (strongly elliptic points only), refined with brentq.
-    The phase of :func:`det_function` is taken from the first grid point and checked
-    constant (ConvergenceError otherwise).
+    The phase of :func:`det_function` is taken from the largest value on the grid and
+    checked constant (ConvergenceError otherwise). ``window`` may lie below 1
+    (equibiaxial compression) or above 1 (tension). ``Vhat`` (>= 0): voltage control,
+    Dhat = Dhat(lam) along the scan, ``params.Dhat`` must be 0.
     """
     kH = v.positive("kH", kH)
     lo, hi = v.window("window", window)
     _check(lo, theta, params)
+    _check(hi, theta, params)
+    path = _path(params, Vhat)
     if params.xi == 0.0 or theta == 90.0:
         # u3 decouples and (psi, phi) is the isotropic plate of the thesis, whose roots
         # coincide (s = +-1 twice): the Vandermonde normalisation is undefined there and
         # the parity-split determinant of debench.models.plate.ansatz is used instead
         iso = PlateParams(xi=0.0, Dhat=params.Dhat, beta=params.beta, alpha=params.alpha)
-        r = critical_stretches(kH, iso, window=(lo, hi)).lam
+        if Vhat is None:
+            r = critical_stretches(kH, iso, window=(lo, hi)).lam
+        else:
+            r = critical_stretches_at_voltage(kH, Vhat, iso, window=(lo, hi))[0]
         return np.sort(np.asarray(r, float))
     g = np.geomspace(lo, hi, v.integer_at_least("n_scan", n_scan, 2))
-    ell = np.array([strongly_elliptic(x, theta, params) for x in g])
-    g = g[np.argmax(ell):] if ell.any() else g[:0]
+    ell = np.array([_elliptic(x, theta, path(x)) for x in g])
+    g, ell = (g[np.argmax(ell):], ell[np.argmax(ell):]) if ell.any() else (g[:0], ell[:0])
     if g.size < 2 or not ell[-1]:
         return np.zeros(0)
-    ell = np.array([strongly_elliptic(x, theta, params) for x in g])
-    vals = np.array([_det(x, kH, theta, params) if e else np.nan
-                     for x, e in zip(g, ell, strict=True)])
-    vals = np.where(ell, vals, vals[ell][0])
-    phase = vals[np.argmax(np.abs(vals))]
-    phase /= abs(phase)
-    rot = vals * np.conj(phase)
-    if np.max(np.abs(rot.imag)) > PHASE_TOL * np.max(np.abs(rot)):
-        raise ConvergenceError("determinant phase not constant along the scan "
-                               f"(max |Im|/max|det| = "
-                               f"{np.max(np.abs(rot.imag)) / np.max(np.abs(rot)):.2e})")
-    f = rot.real
     out = []
-    for i in range(len(g) - 1):
-        if not (ell[i] and ell[i + 1]):
-            continue
-        if f[i] == 0.0 or np.sign(f[i]) != np.sign(f[i + 1]):
-            r = brentq(_real_det, g[i], g[i + 1], args=(kH, theta, params, phase),
-                       xtol=1e-14, rtol=1e-15)
-            if boundary_singularity(r, kH, theta, params) < SINGULAR_TOL:
-                out.append(r)
-    return np.asarray(out)
+    for w in _WS:
+        vals = np.array([_det(x, kH, theta, path(x), w) if e else np.nan
+                         for x, e in zip(g, ell, strict=True)])
+        vals = np.where(ell, vals, vals[ell][0])
+        phase = vals[np.argmax(np.abs(vals))]
+        phase /= abs(phase)
+        rot = vals * np.conj(phase)
+        if np.max(np.abs(rot.imag)) > PHASE_TOL * np.max(np.abs(rot)):
+            raise ConvergenceError("determinant phase not constant along the scan "
+                                   f"(max |Im|/max|det| = "
+                                   f"{np.max(np.abs(rot.imag)) / np.max(np.abs(rot)):.2e})")
+        f = rot.real
+        for i in range(len(g) - 1):
+            if not (ell[i] and ell[i + 1]):
+                continue
+            if f[i] == 0.0 or np.sign(f[i]) != np.sign(f[i + 1]):
+                r = brentq(_real_det, g[i], g[i + 1], args=(kH, theta, path, phase, w),
+                           xtol=1e-14, rtol=1e-15)
+                if (boundary_singularity(r, kH, theta, path(r)) < SINGULAR_TOL
+                        and not any(abs(r - q) <= SAME_ROOT for q in out)):
+                    out.append(r)
+    return np.sort(np.asarray(out))
+
+
+#: two scans (weight vectors) find the same root to within their brentq tolerances
+#: (xtol 1e-14 + rtol 1e-15) and the root's round-off (~1e-12); 1e-9 merges them while
+#: distinct roots of the datasets are >= 1e-5 apart (measured)
+SAME_ROOT = 1e-9
 
 
 #: a sign change of the normalised determinant is a bifurcation only where the boundary
@@ -346,20 +396,31 @@ def fe_eigenvalues(lam: float, kH: float, theta: float, params: PlateParams,
 
 def critical_stretches_fe(kH: float, theta: float, params: PlateParams, *,
                           window=(0.45, 0.999), n_scan: int = 120, n: int = N_ELEMENTS,
-                          max_index: int = 6) -> np.ndarray:
-    """Method 2: every lam in ``window`` where an eigenvalue of K crosses zero."""
+                          max_index: int = 6, Vhat: float | None = None) -> np.ndarray:
+    """Method 2: every lam in ``window`` where an eigenvalue of K crosses zero.
+
+    ``window`` and ``Vhat`` as in :func:`critical_stretches_det`. The inertia of K is
+    counted on the grid; a crossing is refined by brentq on the eigenvalue that changes
+    sign. ConvergenceError where that eigenvalue is within :data:`ROUNDOFF_FACTOR` x the
+    round-off of K at a bracket end: thin plates in tension (t = kH lam^-2 small) make K
+    so ill-conditioned (||K|| ~ n^3 t^-3) that the membrane eigenvalue drowns in
+    round-off (measured at kH = 0.1, lam > 3); the determinant has no such limit.
+    """
     kH = v.positive("kH", kH)
     lo, hi = v.window("window", window)
     _check(lo, theta, params)
+    _check(hi, theta, params)
+    path = _path(params, Vhat)
     g = np.geomspace(lo, hi, v.integer_at_least("n_scan", n_scan, 2))
 
     def ev(x, j=None):
-        e = sla.eigh(_K(x, kH, theta, params, n), eigvals_only=True,
-                     subset_by_index=(0, max_index - 1))
-        return e if j is None else e[j]
+        K = _K(x, kH, theta, path(x), n)
+        e = sla.eigh(K, eigvals_only=True, subset_by_index=(0, max_index - 1))
+        return (e, np.finfo(float).eps * np.linalg.norm(K, 1)) if j is None else e[j]
 
-    ell = np.array([strongly_elliptic(x, theta, params) for x in g])
-    neg = np.array([np.sum(ev(x) < 0) if e else -1 for x, e in zip(g, ell, strict=True)])
+    ell = np.array([_elliptic(x, theta, path(x)) for x in g])
+    evs = [ev(x) if e else None for x, e in zip(g, ell, strict=True)]
+    neg = np.array([-1 if e is None else int(np.sum(e[0] < 0)) for e in evs])
     out = []
     for i in range(len(g) - 1):
         if not (ell[i] and ell[i + 1]):
@@ -371,22 +432,37 @@ def critical_stretches_fe(kH: float, theta: float, params: PlateParams, *,
             raise ConvergenceError(f"{abs(d)} eigenvalues cross zero in [{g[i]}, {g[i + 1]}]"
                                    f" at kH={kH}, theta={theta}: refine n_scan")
         j = int(min(neg[i], neg[i + 1]))
+        for e, noise in (evs[i], evs[i + 1]):
+            if abs(e[j]) < ROUNDOFF_FACTOR * noise:
+                raise ConvergenceError(
+                    f"eigenvalue crossing in [{g[i]:.6g}, {g[i + 1]:.6g}] at kH={kH}, "
+                    f"theta={theta} is within round-off of K (|e| = {abs(e[j]):.2e}, "
+                    f"eps ||K|| = {noise:.2e}): the FE cannot resolve this thin plate")
         out.append(brentq(ev, g[i], g[i + 1], args=(j,), xtol=1e-14, rtol=1e-15))
     return np.asarray(out)
 
 
+#: an eigenvalue sign change counts as a crossing only where the eigenvalue at both
+#: bracket ends exceeds this multiple of eps ||K||_1 (its round-off); genuine crossings
+#: measured >= 1e3 x above it on the windows of the datasets
+ROUNDOFF_FACTOR = 100.0
+
+
 def ellipticity_limit(theta: float, params: PlateParams, *, window=(0.45, 0.999),
-                      n_scan: int = 200) -> float:
+                      n_scan: int = 200, Vhat: float | None = None) -> float:
     """Largest lam in ``window`` at which plane strong ellipticity fails (compression).
 
     Scanned on a geometric grid and refined by bisection to 1e-12; returns the lower end
     of ``window`` when the model is strongly elliptic on the whole window. Every root of
     :func:`critical_stretches_det` / :func:`critical_stretches_fe` lies above it.
+    ``Vhat``: voltage control as in :func:`critical_stretches_det`.
     """
     lo, hi = v.window("window", window)
     _check(lo, theta, params)
+    _check(hi, theta, params)
+    path = _path(params, Vhat)
     g = np.geomspace(lo, hi, v.integer_at_least("n_scan", n_scan, 2))
-    ell = np.array([strongly_elliptic(x, theta, params) for x in g])
+    ell = np.array([_elliptic(x, theta, path(x)) for x in g])
     if ell.all():
         return float(lo)
     if not ell[-1]:
@@ -395,5 +471,35 @@ def ellipticity_limit(theta: float, params: PlateParams, *, window=(0.45, 0.999)
     a, b = g[i], g[i + 1]
     while b - a > 1e-12:
         m = 0.5 * (a + b)
-        a, b = (a, m) if strongly_elliptic(m, theta, params) else (m, b)
+        a, b = (a, m) if _elliptic(m, theta, path(m)) else (m, b)
     return float(b)
+
+
+def membrane_limit(theta: float, params: PlateParams, *, window=(0.45, 8.0),
+                   Vhat: float | None = None) -> float:
+    """kH -> 0 limit of lam_cr: the largest zero of the total lateral stress tau11.
+
+    A thin plate wrinkles with wave vector e1 when its membrane stress along e1,
+    tau11 of :func:`base_state` (tau22 = 0), becomes compressive (the bending stiffness
+    vanishes with kH; tau13 does not enter for fields independent of x3):
+
+        tau11 = lam^2 - lam^-4 + 2 xi cos^2(theta) lam^2 (lam^2 - 1) - beta Dhat^2 = 0,
+
+    with Dhat = Dhat(lam) under voltage control. Bracketed on a grid of ``window`` and
+    refined with brentq; NaN when tau11 has no sign change in ``window``.
+    """
+    lo, hi = v.window("window", window)
+    _check(lo, theta, params)
+    _check(hi, theta, params)
+    path = _path(params, Vhat)
+
+    def tau11(x):
+        return base_state(x, theta, path(x))[1]
+
+    g = np.geomspace(lo, hi, 400)
+    f = np.array([tau11(x) for x in g])
+    idx = np.nonzero(np.sign(f[:-1]) != np.sign(f[1:]))[0]
+    if not idx.size:
+        return math.nan
+    i = int(idx[-1])
+    return float(brentq(tau11, g[i], g[i + 1], xtol=1e-15, rtol=4 * np.finfo(float).eps))

@@ -1,11 +1,21 @@
 """Beyond the thesis: critical stretch of the plate with the fibre in its plane.
 
-Dataset ``ch4_inplane_lam_cr.nc`` (in ``out_dir``): lam_cr(kH, theta, xi) at Dhat = 0
-(and Dhat = 2 with ``full``) by both methods of :mod:`debench.models.plate.inplane`
-(exponential-ansatz determinant and through-thickness FE), with the strong-ellipticity
-limit lam_E(theta, xi). lam_cr is the largest bifurcation stretch in
-[max(lam_E, LAM_LO), 0.999] (equibiaxial compression); NaN where there is none (the
-material loses ellipticity first).
+Datasets (in ``out_dir``), all by the models of :mod:`debench.models.plate.inplane`:
+
+* ``ch4_inplane_lam_cr.nc`` - lam_cr(kH, theta, xi, Dhat) in equibiaxial compression,
+  charge control, by both methods (exponential-ansatz determinant and through-thickness
+  FE), with the strong-ellipticity limit lam_E(theta, xi). lam_cr is the largest
+  bifurcation stretch in [max(lam_E, LAM_LO), 0.999]; NaN where there is none;
+* ``ch4_inplane_curves.nc`` - lam_cr(kH) on a kH grid (determinant), compression, for
+  the figure;
+* ``ch4_inplane_tension.nc`` - stretches above 1 (equibiaxial tension) with a field,
+  charge control: lam_cr in [1 + 5e-4, 2] by both methods and the membrane limit
+  (zero of the total lateral stress tau11, the kH -> 0 limit);
+* ``ch4_inplane_voltage.nc`` - voltage control (Dhat = Vhat lam^2/beta along the
+  path), window [max(lam_E, LAM_LO), V_HI] across lam = 1, both methods;
+
+and the figure ``figures/ch4_beyond_inplane.png`` (lam_cr against kH, theta, xi; tension
+and voltage control). ``full=True``: theta every 10 degrees, more kH, xi, Dhat and Vhat.
 """
 
 from __future__ import annotations
@@ -23,20 +33,48 @@ THETA_FULL = tuple(float(t) for t in range(0, 91, 10)) + (45.0,)
 KH_FAST = (0.5, 2.0, 5.0)
 KH_FULL = (0.25, 0.5, 1.0, 2.0, 3.0, 5.0, 8.0)
 XI_FAST = (5.0,)
-XI_FULL = (1.0, 5.0)
+XI_FULL = (1.0, 5.0, 10.0)
 D_FAST = (0.0,)
-D_FULL = (0.0, 2.0)
+D_FULL = (0.0, 1.0, 2.0)
+#: the kH grid of the curves (determinant only)
+KH_CURVE_FAST = tuple(np.geomspace(0.2, 8.0, 9))
+KH_CURVE_FULL = tuple(np.geomspace(0.1, 10.0, 25))
+#: tension: fields (charge control) and the window of stretches above 1
+D_TENSION_FAST = (2.0,)
+D_TENSION_FULL = (1.0, 2.0, 3.0)
+TENSION_WINDOW = (1.0005, 2.0)
+#: voltage control: dimensionless voltages Vhat = V sqrt(eps/mu)/H
+V_FAST = (0.5,)
+V_FULL = (0.1, 0.25, 0.5)
+#: upper end of the voltage-control window: across lam = 1, since at fixed voltage thin
+#: plates wrinkle already in tension
+V_HI = 1.5
 #: lower end of the scanned window, above the slender-plate Euler roots of interest
 LAM_LO = 0.6
 #: grid points of the scan (each method)
 N_SCAN = 40
-COMMON = {"alpha": 0.0, "beta": 0.5, "mu": 1.0, "eps": 1.0, "control": "charge",
+COMMON = {"alpha": 0.0, "beta": 0.5, "mu": 1.0, "eps": 1.0,
           "fibre": "A = (cos theta, 0, sin theta), in the plane of the plate",
-          "units": "mu = eps = 1, Dhat = D2/sqrt(mu eps)", "n_elements": ip.N_ELEMENTS}
+          "units": "mu = eps = 1, Dhat = D2/sqrt(mu eps), Vhat = V sqrt(eps/mu)/H",
+          "n_elements": ip.N_ELEMENTS}
 
 
 def _attrs(long_name, units="1"):
     return {"long_name": long_name, "units": units}
+
+
+def _coord(name, values, long_name, units="1"):
+    return (name, np.asarray(values, float), _attrs(long_name, units))
+
+
+def _largest(roots):
+    return max(roots, default=np.nan)
+
+
+def _lo(theta, p, Vhat=None):
+    """Lower end of the compression window: above LAM_LO and the ellipticity limit."""
+    lam_e = ip.ellipticity_limit(theta, p, window=(0.45, 0.999), Vhat=Vhat)
+    return lam_e, max(LAM_LO, lam_e * (1 + 1e-9))
 
 
 def lam_cr_dataset(full: bool) -> xr.Dataset:
@@ -51,15 +89,12 @@ def lam_cr_dataset(full: bool) -> xr.Dataset:
         for b, D in enumerate(ds_):
             p = PlateParams(xi=xi, Dhat=D)
             for c, th in enumerate(thetas):
-                lam_e[a, b, c] = ip.ellipticity_limit(th, p, window=(0.45, 0.999))
-                lo = max(LAM_LO, lam_e[a, b, c] * (1 + 1e-9))
+                lam_e[a, b, c], lo = _lo(th, p)
                 for d, kh in enumerate(khs):
-                    r1 = ip.critical_stretches_det(kh, th, p, window=(lo, 0.999),
-                                                   n_scan=N_SCAN)
-                    r2 = ip.critical_stretches_fe(kh, th, p, window=(lo, 0.999),
-                                                  n_scan=N_SCAN)
-                    det[a, b, c, d] = max(r1, default=np.nan)
-                    fe[a, b, c, d] = max(r2, default=np.nan)
+                    det[a, b, c, d] = _largest(ip.critical_stretches_det(
+                        kh, th, p, window=(lo, 0.999), n_scan=N_SCAN))
+                    fe[a, b, c, d] = _largest(ip.critical_stretches_fe(
+                        kh, th, p, window=(lo, 0.999), n_scan=N_SCAN))
     dims = ("xi", "Dhat", "theta", "kH")
     return xr.Dataset(
         {"lam_cr_det": (dims, det, _attrs(
@@ -68,21 +103,220 @@ def lam_cr_dataset(full: bool) -> xr.Dataset:
              "critical stretch, through-thickness FE (method 2)")),
          "lam_E": (dims[:3], lam_e, _attrs(
              "largest compressive stretch without plane strong ellipticity"))},
-        coords={"xi": ("xi", np.array(xis), _attrs("anisotropy parameter")),
-                "Dhat": ("Dhat", np.array(ds_), _attrs("Eulerian D2/sqrt(mu eps)")),
-                "theta": ("theta", np.array(thetas), _attrs(
-                    "fibre angle to the wave vector", "degree")),
-                "kH": ("kH", np.array(khs), _attrs("wavenumber times reference thickness"))})
+        coords={"xi": _coord("xi", xis, "anisotropy parameter"),
+                "Dhat": _coord("Dhat", ds_, "Eulerian D2/sqrt(mu eps)"),
+                "theta": _coord("theta", thetas, "fibre angle to the wave vector", "degree"),
+                "kH": _coord("kH", khs, "wavenumber times reference thickness")})
+
+
+def curves_dataset(full: bool) -> xr.Dataset:
+    thetas = sorted(set(THETA_FULL)) if full else THETA_FAST
+    khs = KH_CURVE_FULL if full else KH_CURVE_FAST
+    xis = XI_FULL if full else XI_FAST
+    lam = np.full((len(xis), len(thetas), len(khs)), np.nan)
+    for a, xi in enumerate(xis):
+        p = PlateParams(xi=xi)
+        for c, th in enumerate(thetas):
+            _, lo = _lo(th, p)
+            for d, kh in enumerate(khs):
+                lam[a, c, d] = _largest(ip.critical_stretches_det(
+                    kh, th, p, window=(lo, 0.999), n_scan=N_SCAN))
+    return xr.Dataset(
+        {"lam_cr_det": (("xi", "theta", "kH"), lam, _attrs(
+            "critical stretch (largest root above the ellipticity limit), determinant"))},
+        coords={"xi": _coord("xi", xis, "anisotropy parameter"),
+                "theta": _coord("theta", thetas, "fibre angle to the wave vector", "degree"),
+                "kH": _coord("kH", khs, "wavenumber times reference thickness")})
+
+
+def tension_dataset(full: bool) -> xr.Dataset:
+    thetas = sorted(set(THETA_FULL)) if full else THETA_FAST
+    khs = KH_FULL[1:] if full else KH_FAST   # kH >= 0.5: the FE resolves the thin plate
+    ds_ = D_TENSION_FULL if full else D_TENSION_FAST
+    xi = 5.0
+    shape = (len(ds_), len(thetas), len(khs))
+    det, fe = np.full(shape, np.nan), np.full(shape, np.nan)
+    memb = np.full(shape[:2], np.nan)
+    for b, D in enumerate(ds_):
+        p = PlateParams(xi=xi, Dhat=D)
+        for c, th in enumerate(thetas):
+            memb[b, c] = ip.membrane_limit(th, p, window=(1.0, 8.0))
+            for d, kh in enumerate(khs):
+                det[b, c, d] = _largest(ip.critical_stretches_det(
+                    kh, th, p, window=TENSION_WINDOW, n_scan=N_SCAN))
+                fe[b, c, d] = _largest(ip.critical_stretches_fe(
+                    kh, th, p, window=TENSION_WINDOW, n_scan=N_SCAN))
+    dims = ("Dhat", "theta", "kH")
+    return xr.Dataset(
+        {"lam_cr_det": (dims, det, _attrs(
+            "critical stretch above 1 (largest root in the tension window), determinant")),
+         "lam_cr_fe": (dims, fe, _attrs(
+             "critical stretch above 1 (largest root in the tension window), FE")),
+         "lam_membrane": (dims[:2], memb, _attrs(
+             "membrane limit kH -> 0: largest zero of the total lateral stress tau11"))},
+        coords={"Dhat": _coord("Dhat", ds_, "Eulerian D2/sqrt(mu eps)"),
+                "theta": _coord("theta", thetas, "fibre angle to the wave vector", "degree"),
+                "kH": _coord("kH", khs, "wavenumber times reference thickness")},
+        attrs={"xi": xi})
+
+
+def voltage_dataset(full: bool) -> xr.Dataset:
+    thetas = sorted(set(THETA_FULL)) if full else THETA_FAST
+    khs = KH_FULL if full else KH_FAST
+    vs = V_FULL if full else V_FAST
+    xi = 5.0
+    p = PlateParams(xi=xi)
+    shape = (len(vs), len(thetas), len(khs))
+    det, fe = np.full(shape, np.nan), np.full(shape, np.nan)
+    for b, V in enumerate(vs):
+        for c, th in enumerate(thetas):
+            _, lo = _lo(th, p, Vhat=V)
+            for d, kh in enumerate(khs):
+                det[b, c, d] = _largest(ip.critical_stretches_det(
+                    kh, th, p, window=(lo, V_HI), n_scan=N_SCAN, Vhat=V))
+                fe[b, c, d] = _largest(ip.critical_stretches_fe(
+                    kh, th, p, window=(lo, V_HI), n_scan=N_SCAN, Vhat=V))
+    dims = ("Vhat", "theta", "kH")
+    return xr.Dataset(
+        {"lam_cr_det": (dims, det, _attrs(
+            "critical stretch at fixed voltage (largest root in the window), determinant")),
+         "lam_cr_fe": (dims, fe, _attrs(
+             "critical stretch at fixed voltage (largest root in the window), FE"))},
+        coords={"Vhat": _coord("Vhat", vs, "dimensionless voltage V sqrt(eps/mu)/H"),
+                "theta": _coord("theta", thetas, "fibre angle to the wave vector", "degree"),
+                "kH": _coord("kH", khs, "wavenumber times reference thickness")},
+        attrs={"xi": xi})
+
+
+def _save(fig, stem: Path) -> list[Path]:
+    """Save through the shared figure style when available, else PNG at 110 dpi."""
+    import matplotlib.pyplot as plt
+
+    try:
+        from debench.reference.figures import save
+    except ImportError:
+        save = None
+    stem.parent.mkdir(parents=True, exist_ok=True)
+    if save is not None:
+        save(fig, stem)
+    else:
+        fig.savefig(stem.with_suffix(".png"), dpi=110, bbox_inches="tight")
+    plt.close(fig)
+    return [p for p in (stem.with_suffix(".png"), stem.with_suffix(".svg")) if p.exists()]
+
+
+def figure(out: Path, lc: xr.Dataset, cu: xr.Dataset, te: xr.Dataset,
+           vo: xr.Dataset) -> list[Path]:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import matplotlib.ticker
+
+    fig, axs = plt.subplots(2, 2, figsize=(10, 8))
+    ax = axs[0, 0]
+    for k, th in enumerate(cu.theta.values):
+        for j, xi in enumerate(cu.xi.values):
+            ax.semilogx(cu.kH, cu.lam_cr_det.sel(xi=xi, theta=th), ("-", "--", ":")[j % 3],
+                        color=f"C{k}", label=rf"$\theta={th:g}^\circ$" if j == 0 else None)
+        fe = lc.lam_cr_fe.sel(Dhat=0.0, theta=th, xi=5.0) if th in lc.theta else None
+        if fe is not None:
+            ax.semilogx(lc.kH, fe, "o", mfc="none", color=f"C{k}", ms=5)
+    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+    ax.set_xlabel(r"$kH$")
+    ax.set_ylabel(r"$\lambda_{cr}$")
+    ax.set_title(r"(a) compression, $\hat D=0$: $\lambda_{cr}(kH)$ (lines: determinant, "
+                 r"$\circ$: FE)", fontsize=9)
+    ax.legend(fontsize=7, title=r"$\xi$ = " + ", ".join(f"{x:g}" for x in cu.xi.values)
+              + " (-, --, :)", title_fontsize=7)
+    ax = axs[0, 1]
+    for j, kh in enumerate(lc.kH.values):
+        for i, xi in enumerate(lc.xi.values):
+            ax.plot(lc.theta, lc.lam_cr_det.sel(xi=xi, Dhat=0.0, kH=kh), ("-", "--", ":")[i % 3],
+                    color=f"C{j}", label=rf"$kH={kh:g}$" if i == 0 else None)
+            ax.plot(lc.theta, lc.lam_cr_fe.sel(xi=xi, Dhat=0.0, kH=kh), "o", mfc="none",
+                    color=f"C{j}", ms=4)
+    for i, xi in enumerate(lc.xi.values):
+        ax.plot(lc.theta, lc.lam_E.sel(xi=xi, Dhat=0.0), ("-", "--", ":")[i % 3], color="k",
+                lw=0.8, label=r"$\lambda_E$ (ellipticity)" if i == 0 else None)
+    ax.set_xlabel(r"$\theta$ (degree)")
+    ax.set_ylabel(r"$\lambda_{cr}$")
+    ax.set_title(r"(b) compression, $\hat D=0$: dependence on $\theta$ and $\xi$ "
+                 r"($\xi$ = " + ", ".join(f"{x:g}" for x in lc.xi.values) + ")", fontsize=9)
+    ax.legend(fontsize=7)
+    ax = axs[1, 0]
+    for b, D in enumerate(te.Dhat.values):
+        ls = ("-", "--", ":")[b % 3]
+        ax.plot(te.theta, te.lam_membrane.sel(Dhat=D), ls, color="k", lw=0.9,
+                label=r"membrane limit ($\tau_{11}=0$)" if b == 0 else None)
+        for j, kh in enumerate(te.kH.values):
+            ax.plot(te.theta, te.lam_cr_det.sel(Dhat=D, kH=kh), ls, color=f"C{j}",
+                    label=rf"$kH={kh:g}$" if b == 0 else None)
+            ax.plot(te.theta, te.lam_cr_fe.sel(Dhat=D, kH=kh), "o", mfc="none",
+                    color=f"C{j}", ms=4)
+    ax.axhline(1.0, color="0.6", lw=0.6)
+    ax.set_xlabel(r"$\theta$ (degree)")
+    ax.set_ylabel(r"$\lambda_{cr}$")
+    ax.set_title(rf"(c) tension with a field, $\xi={te.attrs['xi']:g}$, $\hat D$ = "
+                 + ", ".join(f"{d:g}" for d in te.Dhat.values), fontsize=9)
+    ax.legend(fontsize=7)
+    ax = axs[1, 1]
+    for b, V in enumerate(vo.Vhat.values):
+        ls = ("-", "--", ":")[b % 3]
+        for j, kh in enumerate(vo.kH.values):
+            ax.plot(vo.theta, vo.lam_cr_det.sel(Vhat=V, kH=kh), ls, color=f"C{j}",
+                    label=rf"$kH={kh:g}$" if b == len(vo.Vhat) - 1 else None)
+            ax.plot(vo.theta, vo.lam_cr_fe.sel(Vhat=V, kH=kh), "o", mfc="none",
+                    color=f"C{j}", ms=4)
+    ax.set_xlabel(r"$\theta$ (degree)")
+    ax.set_ylabel(r"$\lambda_{cr}$")
+    ax.set_title(rf"(d) voltage control, $\xi={vo.attrs['xi']:g}$, $\hat V$ = "
+                 + ", ".join(f"{x:g}" for x in vo.Vhat.values), fontsize=9)
+    ax.legend(fontsize=7)
+    fig.suptitle("Fibre in the plane of the plate (beyond the thesis): lines determinant, "
+                 "circles through-thickness FE", fontsize=10)
+    fig.tight_layout()
+    return _save(fig, out / "figures" / "ch4_beyond_inplane")
 
 
 def build(out_dir: Path, *, full: bool = False, progress: bool = True) -> list[Path]:
     out_dir = Path(out_dir)
-    return [write_dataset(
-        lam_cr_dataset(full), "ch4_inplane_lam_cr", out_dir=out_dir, overwrite=True,
-        title="Plate bifurcation with the fibre in the plane (beyond the thesis)",
-        summary="Critical stretch lam_cr(kH) of the equibiaxially compressed transversely "
-                "isotropic dielectric plate (energy 4.22) with the fibre in its plane at "
-                "the angle theta to the wave vector, by the exponential-ansatz determinant "
-                "and by through-thickness finite elements, with the strong-ellipticity "
-                "limit. Our results, not thesis values.",
-        parameters={**COMMON, "full": full, "lam_lo": LAM_LO, "n_scan": N_SCAN})]
+    lc, cu = lam_cr_dataset(full), curves_dataset(full)
+    te, vo = tension_dataset(full), voltage_dataset(full)
+    common = {**COMMON, "full": full, "lam_lo": LAM_LO, "n_scan": N_SCAN}
+    note = "Our results beyond the thesis, not thesis values."
+    paths = [
+        write_dataset(
+            lc, "ch4_inplane_lam_cr", out_dir=out_dir, overwrite=True,
+            title="Plate bifurcation with the fibre in the plane (beyond the thesis)",
+            summary="Critical stretch lam_cr(kH) of the equibiaxially compressed transversely "
+                    "isotropic dielectric plate (energy 4.22) with the fibre in its plane at "
+                    "the angle theta to the wave vector, by the exponential-ansatz determinant "
+                    "and by through-thickness finite elements, with the strong-ellipticity "
+                    "limit. " + note,
+            parameters={**common, "control": "charge"}),
+        write_dataset(
+            cu, "ch4_inplane_curves", out_dir=out_dir, overwrite=True,
+            title="In-plane fibre: lam_cr(kH) curves in compression (beyond the thesis)",
+            summary="Largest bifurcation stretch above the ellipticity limit on a kH grid, "
+                    "exponential-ansatz determinant, Dhat = 0. " + note,
+            parameters={**common, "control": "charge", "Dhat": 0.0}),
+        write_dataset(
+            te, "ch4_inplane_tension", out_dir=out_dir, overwrite=True,
+            title="In-plane fibre: wrinkling in equibiaxial tension with a field "
+                  "(beyond the thesis)",
+            summary="Critical stretch above 1 of the plate with the fibre in its plane under "
+                    "charge control, both methods, and the membrane limit where the total "
+                    "lateral stress tau11 vanishes. " + note,
+            parameters={**common, "control": "charge", "xi": te.attrs["xi"],
+                        "window": list(TENSION_WINDOW)}),
+        write_dataset(
+            vo, "ch4_inplane_voltage", out_dir=out_dir, overwrite=True,
+            title="In-plane fibre: critical stretch under voltage control (beyond the thesis)",
+            summary="Critical stretch of the plate with the fibre in its plane at "
+                    "fixed voltage (Dhat = Vhat lam^2/beta along the path), both methods. "
+                    + note,
+            parameters={**common, "control": "voltage", "xi": vo.attrs["xi"],
+                        "window_hi": V_HI}),
+    ]
+    return paths + figure(out_dir, lc, cu, te, vo)
