@@ -255,6 +255,11 @@ def _event_function(kinds, annulus, q, c, eps_r, mu, steps, lamP=None):
     ``pullin``/``minimum``: d(Phibar^2)/d lambda (exact, complex step through the
     integrator); ``loss_of_tension``: T1^(B)(R_A); ``breakdown``: Phibar^2 - Phibar_B^2.
     """
+    return _event_values(kinds, annulus, q, c, eps_r, mu, steps, lamP)[0]
+
+
+def _event_values(kinds, annulus, q, c, eps_r, mu, steps, lamP=None):
+    """:func:`_event_function` and the interface state (lam, T1) it was computed from."""
     kinds = np.asarray(kinds)
     bad = ~np.isin(kinds, EVENT_KINDS)
     if bad.any():
@@ -263,8 +268,9 @@ def _event_function(kinds, annulus, q, c, eps_r, mu, steps, lamP=None):
     p2c = circle_a._p2(st.lam_c, st.T1_c, c, annulus.kappa)
     deriv = (p2c.imag / 1e-30) / st.dlam
     brk = p2c.real - circle_a._breakdown(st.lam, eps_r, mu) ** 2
-    return np.where(kinds == "loss_of_tension", st.T1,
-                    np.where(kinds == "breakdown", brk, deriv))
+    f = np.where(kinds == "loss_of_tension", st.T1,
+                 np.where(kinds == "breakdown", brk, deriv))
+    return f, st.lam, st.T1
 
 
 def locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
@@ -289,27 +295,39 @@ def locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
     v.positive("qb", qb)
     if np.any(~np.isin(np.asarray(kinds), EVENT_KINDS)):
         raise ValueError(f"kinds must be among {EVENT_KINDS}, got {kinds!r}")
+    return _locate(kinds, annulus, qa, qb, c, eps_r, mu, steps=steps, xtol=xtol,
+                   maxiter=maxiter, lamP=lamP, fa=fa, fb=fb, x0=x0)[0]
+
+
+def _locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
+            xtol=EVENT_XTOL, maxiter=100, lamP=None, fa=None, fb=None, x0=None,
+            sa=None, sb=None):
+    """:func:`locate` without argument checks, returning ``(q, lam, T1)`` at the roots:
+    the interface state of the iterate returned, kept from the iteration (no extra
+    integration). ``sa``/``sb``: the states (lam, T1) at the bracket ends, when known
+    with ``fa``/``fb``."""
     a = np.array(qa, float)
     b = np.array(qb, float)
     kinds = np.broadcast_to(np.asarray(kinds), a.shape)
     c = np.broadcast_to(c, a.shape).astype(float)
     eps_r = np.broadcast_to(eps_r, a.shape).astype(float)
     lp = None if lamP is None else np.broadcast_to(np.asarray(lamP, float), a.shape)
+    cat = np.concatenate
 
-    def F(x, mask=None):
-        if mask is None:
-            return _event_function(kinds, annulus, x, c, eps_r, mu, steps, lp)
-        return _event_function(kinds[mask], annulus, x, c[mask], eps_r[mask], mu, steps,
-                               None if lp is None else lp[mask])
+    def F2(x, y):
+        """Event values and states at two points per event, in one integration."""
+        f, lam, T1 = _event_values(cat([kinds, kinds]), annulus, cat([x, y]), cat([c, c]),
+                                   cat([eps_r, eps_r]), mu, steps,
+                                   None if lp is None else cat([lp, lp]))
+        n = a.size
+        return f[:n], f[n:], (lam[:n], T1[:n]), (lam[n:], T1[n:])
 
-    if fa is None or fb is None:
-        cat = np.concatenate
-        fab = _event_function(cat([kinds, kinds]), annulus, cat([a, b]), cat([c, c]),
-                              cat([eps_r, eps_r]), mu, steps,
-                              None if lp is None else cat([lp, lp]))
-        fa, fb = fab[: a.size], fab[a.size:]
+    if fa is None or fb is None or sa is None or sb is None:
+        fa, fb, sa, sb = F2(a, b)
     fa = np.array(fa, float)
     fb = np.array(fb, float)
+    la, Ta = (np.array(z, float) for z in sa)
+    lb, Tb = (np.array(z, float) for z in sb)
     if np.any(np.sign(fa) * np.sign(fb) > 0) or not np.all(np.isfinite(fa * fb)):
         raise ConvergenceError(f"events {sorted(set(kinds))}: not bracketed for {annulus}")
     if x0 is not None:
@@ -317,18 +335,13 @@ def locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
         d = 1e-4 * np.abs(b - a)
         lo = np.clip(x0 - d, np.minimum(a, b), np.maximum(a, b))
         hi = np.clip(x0 + d, np.minimum(a, b), np.maximum(a, b))
-        cat = np.concatenate
-        f2 = _event_function(cat([kinds, kinds]), annulus, cat([lo, hi]), cat([c, c]),
-                             cat([eps_r, eps_r]), mu, steps,
-                             None if lp is None else cat([lp, lp]))
-        flo, fhi = f2[: a.size], f2[a.size:]
+        flo, fhi, slo, shi = F2(lo, hi)
         ok = np.isfinite(flo) & np.isfinite(fhi) & (np.sign(flo) * np.sign(fhi) <= 0)
         # shrink to the tight bracket where it holds the root (keeps a as 'lo' side)
-        a = np.where(ok, lo, a)
-        fa_new = np.where(ok, flo, fa)
-        b = np.where(ok, hi, b)
-        fb = np.where(ok, fhi, fb)
-        fa = fa_new
+        a, fa = np.where(ok, lo, a), np.where(ok, flo, fa)
+        la, Ta = np.where(ok, slo[0], la), np.where(ok, slo[1], Ta)
+        b, fb = np.where(ok, hi, b), np.where(ok, fhi, fb)
+        lb, Tb = np.where(ok, shi[0], lb), np.where(ok, shi[1], Tb)
     side = np.zeros(a.shape, int)
     for _ in range(maxiter):
         done = (np.abs(b - a) <= xtol * np.abs(b)) | (fa == 0) | (fb == 0)
@@ -336,21 +349,27 @@ def locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
             break
         x = np.where(done, b, b - fb * (b - a) / (fb - fa))
         x = np.clip(x, np.minimum(a, b), np.maximum(a, b))
-        fx = np.zeros_like(x)
-        fx[~done] = F(x[~done], ~done)
+        fx, lx, Tx = np.zeros_like(x), lb.copy(), Tb.copy()
+        m = ~done
+        fx[m], lx[m], Tx[m] = _event_values(kinds[m], annulus, x[m], c[m], eps_r[m], mu,
+                                            steps, None if lp is None else lp[m])
         if not np.all(np.isfinite(fx)):
             raise ConvergenceError(f"events: non-finite residual during location for {annulus}")
         same = np.sign(fx) == np.sign(fb)
         # Illinois: keep the bracket, halve the stale end's function value
         new_a = np.where(same, a, b)
         new_fa = np.where(same, np.where(side == 1, fa / 2, fa), fb)
+        new_la, new_Ta = np.where(same, la, lb), np.where(same, Ta, Tb)
         side = np.where(same, 1, -1)
         a, fa = np.where(done, a, new_a), np.where(done, fa, new_fa)
+        la, Ta = np.where(done, la, new_la), np.where(done, Ta, new_Ta)
         b, fb = np.where(done, b, x), np.where(done, fb, fx)
+        lb, Tb = np.where(done, lb, lx), np.where(done, Tb, Tx)
     else:
         raise ConvergenceError(f"events: Illinois did not reach xtol={xtol} in {maxiter} "
                                f"iterations (max bracket {np.max(np.abs(b - a)):.3g})")
-    return np.where(np.abs(fa) < np.abs(fb), a, b)
+    use_a = np.abs(fa) < np.abs(fb)
+    return np.where(use_a, a, b), np.where(use_a, la, lb), np.where(use_a, Ta, Tb)
 
 
 def curves(br: Branch, cs, *, eps_r=None, mu: float | None = None,
@@ -447,7 +466,8 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
                         if r.size:
                             x0 = r[0]
                     pending.append((jb, i, kind, br.q[j], br.q[j + 1], c, eps_rs[i],
-                                    an.lamP, f[j], f[j + 1], x0))
+                                    an.lamP, f[j], f[j + 1], x0, (br.lam[j], br.T1[j]),
+                                    (br.lam[j + 1], br.T1[j + 1])))
             data.append((np.sqrt(np.maximum(p2, 0.0)), pb))
         prepared.append((br, cs, eps_rs, data))
     # an event that does not depend on eps_r (all but breakdown) is located once per
@@ -472,14 +492,15 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
         an0 = jobs[rows[0][0]][0].annulus
         kinds = np.array([r[2] for r in rows])
         lamPs = np.array([r[7] for r in rows])
-        qroot = locate(kinds, an0, [r[3] for r in rows], [r[4] for r in rows],
-                       [r[5] for r in rows], [r[6] for r in rows], mu, steps=st,
-                       lamP=lamPs, fa=[r[8] for r in rows], fb=[r[9] for r in rows],
-                       x0=[r[10] for r in rows])
-        state = _interface_state(an0, qroot, steps=st, lamP=lamPs)
+        qroot, lam_r, T1_r = _locate(
+            kinds, an0, [r[3] for r in rows], [r[4] for r in rows], [r[5] for r in rows],
+            [r[6] for r in rows], mu, steps=st, lamP=lamPs, fa=[r[8] for r in rows],
+            fb=[r[9] for r in rows], x0=[r[10] for r in rows],
+            sa=([r[11][0] for r in rows], [r[11][1] for r in rows]),
+            sb=([r[12][0] for r in rows], [r[12][1] for r in rows]))
         for k, r in enumerate(rows):
-            p2 = circle_a._p2(state.lam[k], state.T1[k], r[5], an0.kappa)
-            located[(r[0], r[1], r[2])] = Event(r[2], float(state.lam[k]),
+            p2 = circle_a._p2(lam_r[k], T1_r[k], r[5], an0.kappa)
+            located[(r[0], r[1], r[2])] = Event(r[2], float(lam_r[k]),
                                                 float(np.sqrt(max(p2, 0.0))),
                                                 float(qroot[k]))
     for row, rep in copies:
