@@ -110,3 +110,101 @@ def theta90_is_isotropic(entry: Entry) -> Outcome:
                         float(np.max(np.abs(S[4:6, keep]))))
     return Outcome(worst <= TOL_MATRIX, evidence=f"{EV}::test_theta90_is_isotropic",
                    details={"max_abs_diff": worst})
+
+
+# ------------------------------------------------------------ voltage control, tension
+#: voltage control: the representative voltage and its window (across lam = 1: thin
+#: plates at fixed voltage wrinkle in tension); lower end above lam_E(theta) for xi = 5
+VHAT, V_WINDOW = 0.5, (0.9, 1.5)
+#: tension with a field (charge control): the field and the window above 1
+D_TENSION, T_WINDOW = 2.0, (1.0005, 2.0)
+#: thicknesses of the tension claim (the FE resolves kH >= 0.5 in this window)
+KH_TENSION = (0.5, 2.0)
+#: kH of the membrane-limit fit lam_cr = a + b (kH)^2 (3 points, 2 unknowns)
+KH_THIN = (0.01, 0.02, 0.05)
+
+
+@lru_cache(maxsize=64)
+def voltage_roots(theta: float, Vhat: float = VHAT, kH: float = KH, xi: float = XI):
+    """(determinant roots, FE roots) at fixed voltage on :data:`V_WINDOW`."""
+    p = PlateParams(xi=xi)
+    lo = max(V_WINDOW[0], ip.ellipticity_limit(theta, p, window=(0.45, 0.999), Vhat=Vhat)
+             * (1 + 1e-9))
+    w = (lo, V_WINDOW[1])
+    return (tuple(ip.critical_stretches_det(kH, theta, p, window=w, n_scan=N_SCAN, Vhat=Vhat)),
+            tuple(ip.critical_stretches_fe(kH, theta, p, window=w, n_scan=N_SCAN, Vhat=Vhat)))
+
+
+def voltage_methods_agree(entry: Entry) -> Outcome:
+    """Voltage control: every determinant root has an FE root within TOL_AGREE."""
+    err, same, rows = 0.0, True, []
+    for th in THETAS:
+        det, fe = voltage_roots(th)
+        same &= len(det) == len(fe)
+        for a, b in zip(det, fe, strict=False):
+            err = max(err, abs(a - b))
+            rows.append((th, a, b))
+    ok = bool(same and err <= TOL_AGREE and len(rows) >= len(THETAS))
+    return Outcome(ok, evidence=f"{EV}::test_voltage_methods_agree_on_every_root",
+                   details={"max_abs_diff": err, "same_count": same, "roots": rows})
+
+
+@lru_cache(maxsize=64)
+def tension_roots(theta: float, Dhat: float, kH: float, xi: float = XI, fe: bool = True):
+    """(determinant roots, FE roots or ()) in the tension window :data:`T_WINDOW`."""
+    p = PlateParams(xi=xi, Dhat=Dhat)
+    det = ip.critical_stretches_det(kH, theta, p, window=T_WINDOW, n_scan=N_SCAN)
+    fer = (ip.critical_stretches_fe(kH, theta, p, window=T_WINDOW, n_scan=N_SCAN)
+           if fe else ())
+    return tuple(det), tuple(fer)
+
+
+def tension_wrinkling(entry: Entry) -> Outcome:
+    """Tension: with Dhat = D_TENSION a root above 1 at every theta and kH of KH_TENSION
+    (both methods, within TOL_AGREE), lam_cr increasing with theta, none at Dhat = 0."""
+    rows, ok = [], True
+    for kh in KH_TENSION:
+        lc = []
+        for th in THETAS:
+            det, fe = tension_roots(th, D_TENSION, kh)
+            ok &= bool(det) and len(det) == len(fe) and all(
+                abs(a - b) <= TOL_AGREE for a, b in zip(det, fe, strict=True))
+            lc.append(max(det, default=math.nan))
+            rows.append((kh, th, lc[-1], max(fe, default=math.nan)))
+        ok &= bool(np.all(np.isfinite(lc)) and np.all(np.diff(lc) > 0))
+    none_without_field = all(not tension_roots(th, 0.0, kh, fe=False)[0]
+                             for th in THETAS for kh in KH_TENSION)
+    return Outcome(bool(ok and none_without_field),
+                   evidence=f"{EV}::test_tension_wrinkling_with_field",
+                   details={"rows": rows, "none_without_field": none_without_field})
+
+
+def membrane_limit_closed_form(theta: float, xi: float, Dhat: float) -> float:
+    """Largest zero above 1 of tau11 = lam^2 - lam^-4 + 2 xi c^2 lam^2 (lam^2 - 1) - beta
+    Dhat^2 (beta = 0.5), written out here independently of the generated base state."""
+    from scipy.optimize import brentq
+
+    c2 = math.cos(math.radians(theta)) ** 2
+
+    def tau11(x):
+        return x**2 - x**-4 + 2 * xi * c2 * x**2 * (x**2 - 1) - 0.5 * Dhat**2
+
+    return brentq(tau11, 1.0, 8.0, xtol=1e-15)
+
+
+def tension_membrane_limit(entry: Entry) -> Outcome:
+    """lam_cr(kH) of the determinant at KH_THIN, fitted a + b (kH)^2: a against the
+    closed-form zero of the total lateral stress (the catalogue value)."""
+    pr = entry.parameters
+    p = PlateParams(xi=pr["xi"], Dhat=pr["Dhat"])
+    lam = []
+    for kh in KH_THIN:
+        r = ip.critical_stretches_det(kh, pr["theta"], p, window=T_WINDOW, n_scan=N_SCAN)
+        lam.append(max(r, default=math.nan))
+    A = np.vander(np.square(KH_THIN), 2, increasing=True)
+    coef, res, *_ = np.linalg.lstsq(A, np.asarray(lam), rcond=None)
+    return Outcome(float(coef[0]), evidence=f"{EV}::test_tension_membrane_limit",
+                   details={"lam_cr": lam, "kH": list(KH_THIN), "slope": float(coef[1]),
+                            "fit_residual": float(np.sqrt(res[0])) if res.size else 0.0,
+                            "closed_form": membrane_limit_closed_form(
+                                pr["theta"], pr["xi"], pr["Dhat"])})
