@@ -40,17 +40,21 @@ def _fmt(value, unit: str = "") -> str:
         return "holds" if value else "does not hold"
     if isinstance(value, float):
         text = f"{value:.5g}"
+    elif isinstance(value, dict):  # never a raw Python dict: "key = value" pairs
+        text = "; ".join(f"{k} = {_fmt(v)}" for k, v in value.items())
+    elif isinstance(value, list | tuple):
+        text = ", ".join(_fmt(v) for v in value)
     else:
         text = str(value)
-    if len(text) > 60:
-        text = text[:57] + "…"
-    unit = "" if unit in ("1", "") else f" {unit}"
+    text = " ".join(text.split())
+    unit = "" if unit in ("1", "") or text.endswith(unit) else f" {unit}"
     return (text + unit).replace("|", "\\|")
 
 
-def _cell(text: str, width: int = 90) -> str:
+def _cell(text: str, width: int | None = 90) -> str:
+    """A table cell on one line; ``width=None`` never shortens (errata, diagnoses)."""
     text = " ".join(str(text).split()).replace("|", "\\|")
-    return text if len(text) <= width else text[: width - 1] + "…"
+    return text if width is None or len(text) <= width else text[: width - 1] + "…"
 
 
 def status_counts(results: Iterable[Result]) -> Counter:
@@ -79,9 +83,9 @@ def errata_table(results: Iterable[Result]) -> str:
         if e.kind != "erratum":
             continue
         rows.append(f"| `{e.id}` | {_cell(e.source.get('equation', ''), 20)} | "
-                    f"{_cell(e.as_printed, 50)} | {_cell(e.corrected, 50)} | "
+                    f"{_cell(e.as_printed, None)} | {_cell(e.corrected, None)} | "
                     f"{STATUS_MARK.get(r.status, r.status)} | "
-                    f"`{_cell(r.evidence or e.evidence, 60)}` |")
+                    f"`{_cell(r.evidence or e.evidence, None)}` |")
     return "\n".join(rows)
 
 
@@ -181,6 +185,73 @@ def update_readme(readme: Path, results: list[Result]) -> bool:
     return True
 
 
+def _chapter_of(name: str) -> str | None:
+    """The chapter prefix of a figure file (``fig3_4_*``, ``table5_1_*``, ``ch4_*``)."""
+    import re
+
+    m = re.match(r"^(?:fig|table|ch)(\d)[_.]", name)
+    return f"ch{m[1]}" if m else None
+
+
+def chapter_verdict(prefix: str, chunk: list[Result]) -> str:
+    """A written verdict of one chapter, generated from its computed results: the counts
+    by status, every number that does not reproduce (ours beside the printed one), the
+    errata and the diagnoses."""
+    counts = status_counts(chunk)
+    title = CHAPTER_TITLES.get(prefix, prefix)
+    parts = [f"**{title}.** {len(chunk)} entries: {summary_line(chunk)}."]
+    numeric = [r for r in chunk if _headline(r)]
+    if numeric:
+        same = sum(r.status == "reproduced" for r in numeric)
+        parts.append(f"Of its {len(numeric)} numeric claims, {same} reproduce to the printed "
+                     "digits.")
+    misses = [r for r in numeric if r.status == "not_reproduced"]
+    if misses:
+        parts.append("Not reproduced: " + "; ".join(
+            f"`{r.entry.id}` printed {_fmt(r.entry.printed or r.entry.value, r.entry.unit)}, "
+            f"ours {_fmt(r.value, r.entry.unit)}" for r in misses) + ".")
+    errata = [r for r in chunk if r.entry.kind == "erratum"]
+    if errata:
+        parts.append(f"Errata: {counts['confirmed']} confirmed, {counts['editorial']} "
+                     f"editorial, {counts['refuted']} refuted of {len(errata)} (" +
+                     ", ".join(f"`{r.entry.id}`" for r in errata) + ").")
+    diag = [r for r in chunk if r.entry.kind == "diagnosis"]
+    if diag:
+        parts.append(f"Diagnoses: {counts['explained']} of {len(diag)} hypotheses explain the "
+                     "printed number (" + "; ".join(
+                         f"`{r.entry.id}` {STATUS_MARK.get(r.status, r.status)}, predicts "
+                         f"{_fmt(r.value, r.entry.unit)}" for r in diag) + ").")
+    if counts["error"]:
+        parts.append(f"{counts['error']} producer(s) failed: see the table.")
+    return " ".join(parts)
+
+
+def crosscheck_section(data_dir: Path | None = None) -> list[str]:
+    """The cross-check matrix (``debench.reference.crosschecks``) as report lines."""
+    from debench.reference import crosschecks
+
+    try:
+        rows = crosschecks.matrix(data_dir)
+    except Exception as exc:  # noqa: BLE001 - a report still renders without its datasets
+        return ["## Cross-check matrix", "", f"Not available: {exc}", ""]
+    agree = sum(r.within is True for r in rows)
+    judged = sum(r.within is not None for r in rows)
+    return ["## Cross-check matrix: which implementation checked which", "",
+            f"{agree} of {judged} pairs agree within their tolerance; "
+            f"{len(rows) - judged} pairs are expected to differ and are diagnoses. Measured "
+            "from the curated datasets; the tolerance is the named constant the asserting "
+            "test uses.", "", crosschecks.table(rows), ""]
+
+
+def _figure_lines(fig: Path, out_dir: Path) -> list[str]:
+    """A figure (PNG, relative link) with a link to its SVG when there is one."""
+    rel = os.path.relpath(fig.resolve(), Path(out_dir).resolve())
+    svg = fig.with_suffix(".svg")
+    extra = f" ([SVG]({os.path.relpath(svg.resolve(), Path(out_dir).resolve())}))" \
+        if svg.exists() else ""
+    return [f"![{fig.stem}]({rel}){extra}", ""]
+
+
 def write_report(out_dir: Path, results: list[Result], *, data_problems: list[str] = (),
                  regeneration: list[str] = (), figures_dir: Path | None = None) -> Path:
     """Write ``out_dir/REPORT.md`` with tables per chapter and the figures.
@@ -203,9 +274,16 @@ def write_report(out_dir: Path, results: list[Result], *, data_problems: list[st
         "*confirmed*, *refuted* or *editorial* (a wrong cross-reference); a diagnosis "
         "(hypothesis) is *explained* when it gives the printed number to its digits.",
         "",
+        "## Verdict per chapter",
+        "",
     ]
     prefixes = sorted({r.entry.id.split(".")[0] for r in results},
                       key=lambda p: list(CHAPTER_TITLES).index(p) if p in CHAPTER_TITLES else 99)
+    for prefix in prefixes:
+        lines += [chapter_verdict(prefix, [r for r in results
+                                           if r.entry.id.split(".")[0] == prefix]), ""]
+    lines += crosscheck_section()
+    shown: set[Path] = set()
     for prefix in prefixes:
         chunk = [r for r in results if r.entry.id.split(".")[0] == prefix]
         lines += [f"## {CHAPTER_TITLES.get(prefix, prefix)}", "", results_table(chunk), ""]
@@ -221,11 +299,15 @@ def write_report(out_dir: Path, results: list[Result], *, data_problems: list[st
             lines += [f"- `{r.entry.id}` = {_fmt(r.entry.value, r.entry.unit)}: "
                       f"{_cell(r.entry.diagnosis or r.entry.notes, 300)}" for r in assumptions]
             lines.append("")
-        figs = [f for f in figures if f.name.startswith(f"fig{prefix[2:]}_")] \
-            if prefix.startswith("ch") else []
+        figs = [f for f in figures if _chapter_of(f.name) == prefix]
         for fig in figs:
-            rel = os.path.relpath(fig, out_dir.resolve() if fig.is_absolute() else out_dir)
-            lines += [f"![{fig.stem}]({rel})", ""]
+            lines += _figure_lines(fig, out_dir)
+            shown.add(fig)
+    rest = [f for f in figures if f not in shown]
+    if rest:
+        lines += ["## Other figures", ""]
+        for fig in rest:
+            lines += _figure_lines(fig, out_dir)
     lines += ["## Errata", "", errata_table(results), ""]
     lines += ["## Diagnoses", "", diagnosis_table(results), ""]
     if data_problems:
