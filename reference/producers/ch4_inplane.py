@@ -1,11 +1,12 @@
 """Producers of the ``ch4.beyond.inplane.*`` entries: the fibre in the plane of the plate.
 
 Beyond the thesis (our results, :mod:`debench.models.plate.inplane`): the fibre
-A = (cos theta, 0, sin theta) at the angle theta to the wave vector, energy (4.22),
-charge control, equibiaxial compression lam < 1. Both methods (exponential-ansatz
-determinant and through-thickness FE) are run on a compression window above the loss of
-strong ellipticity; the evidence tests ``verification/test_ch4_inplane.py`` call the
-same functions.
+A = (cos theta, 0, sin theta) at the angle theta to the wave vector, energy (4.22):
+charge control in equibiaxial compression (lam < 1, above the loss of strong
+ellipticity) and in tension with a field (lam > 1, with the membrane limit tau11 = 0),
+and voltage control (Dhat = Vhat lam^2/beta along the path). Both methods
+(exponential-ansatz determinant and through-thickness FE) are run on each window; the
+evidence tests ``verification/test_ch4_inplane.py`` call the same functions.
 """
 
 from __future__ import annotations
