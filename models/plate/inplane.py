@@ -418,28 +418,42 @@ def critical_stretches_fe(kH: float, theta: float, params: PlateParams, *,
         e = sla.eigh(K, eigvals_only=True, subset_by_index=(0, max_index - 1))
         return (e, np.finfo(float).eps * np.linalg.norm(K, 1)) if j is None else e[j]
 
+    def split(a, b, ea, eb, depth=0):
+        """Brackets of single crossings in [a, b] (bisect where several eigenvalues
+        cross: close pairs of modes of thick plates)."""
+        na, nb = int(np.sum(ea[0] < 0)), int(np.sum(eb[0] < 0))
+        if na == nb:
+            return []
+        if abs(na - nb) == 1:
+            return [(a, b, ea, eb, min(na, nb))]
+        if depth >= MAX_SPLIT:
+            raise ConvergenceError(f"{abs(na - nb)} eigenvalues cross zero in [{a}, {b}] at "
+                                   f"kH={kH}, theta={theta} after {depth} bisections")
+        m = 0.5 * (a + b)
+        em = ev(m)
+        return split(a, m, ea, em, depth + 1) + split(m, b, em, eb, depth + 1)
+
     ell = np.array([_elliptic(x, theta, path(x)) for x in g])
     evs = [ev(x) if e else None for x, e in zip(g, ell, strict=True)]
-    neg = np.array([-1 if e is None else int(np.sum(e[0] < 0)) for e in evs])
     out = []
     for i in range(len(g) - 1):
         if not (ell[i] and ell[i + 1]):
             continue
-        d = int(neg[i] - neg[i + 1])
-        if d == 0:
-            continue
-        if abs(d) > 1:
-            raise ConvergenceError(f"{abs(d)} eigenvalues cross zero in [{g[i]}, {g[i + 1]}]"
-                                   f" at kH={kH}, theta={theta}: refine n_scan")
-        j = int(min(neg[i], neg[i + 1]))
-        for e, noise in (evs[i], evs[i + 1]):
-            if abs(e[j]) < ROUNDOFF_FACTOR * noise:
-                raise ConvergenceError(
-                    f"eigenvalue crossing in [{g[i]:.6g}, {g[i + 1]:.6g}] at kH={kH}, "
-                    f"theta={theta} is within round-off of K (|e| = {abs(e[j]):.2e}, "
-                    f"eps ||K|| = {noise:.2e}): the FE cannot resolve this thin plate")
-        out.append(brentq(ev, g[i], g[i + 1], args=(j,), xtol=1e-14, rtol=1e-15))
+        for a, b, ea, eb, j in split(g[i], g[i + 1], evs[i], evs[i + 1]):
+            for e, noise in (ea, eb):
+                if abs(e[j]) < ROUNDOFF_FACTOR * noise:
+                    raise ConvergenceError(
+                        f"eigenvalue crossing in [{a:.6g}, {b:.6g}] at kH={kH}, "
+                        f"theta={theta} is within round-off of K (|e| = {abs(e[j]):.2e}, "
+                        f"eps ||K|| = {noise:.2e}): the FE cannot resolve this thin plate")
+            out.append(brentq(ev, a, b, args=(j,), xtol=1e-14, rtol=1e-15))
     return np.asarray(out)
+
+
+#: bisections of a scan interval in which several eigenvalues cross zero (modes of a
+#: thick plate come in close pairs, ~exp(-kH) apart): 30 halvings reach 1e-9 x the
+#: interval
+MAX_SPLIT = 30
 
 
 #: an eigenvalue sign change counts as a crossing only where the eigenvalue at both
