@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from types import SimpleNamespace
 
 import numpy as np
 from debench.models import validation as v
@@ -16,6 +17,7 @@ from debench.models.errors import ConvergenceError
 from debench.models.plate.ansatz import (
     _column,
     _determinant,
+    _determinants,
     _quartic_roots,
     _refine,
     _row_coefficients,
@@ -193,15 +195,15 @@ def region(params: PlateParams, kH, lam) -> Region:
     lam = _grid_1d("lam", lam)
     if np.any(np.diff(lam) <= 0):
         raise ValueError("lam must be strictly increasing")
-    K, L = np.meshgrid(kH, lam, indexing="ij")
-    dE = _determinant(L, K, params, "E")
-    dO = _determinant(L, K, params, "O")
+    # both parities on the tensor grid (kH, lam) in one pass: what depends on lam only
+    # is evaluated once per lam
+    dE, dO = _determinants(lam[None, :], kH[:, None], params, ("E", "O"))
     ne = ~np.isfinite(dE) | ~np.isfinite(dO)
     top = lam.size - 1
     if ne[:, top].any():
         # The stable reference (large lam, all in tension) is not strongly elliptic:
         # the derived anisotropic model (4.22) for xi > 1/2. No sign reference exists.
-        nan = np.full(K.shape, np.nan)
+        nan = np.full(dE.shape, np.nan)
         return Region(kH, lam, nan, nan, ne)
     sE = np.sign(dE) * np.sign(dE[:, top:top + 1])
     sO = np.sign(dO) * np.sign(dO[:, top:top + 1])
@@ -252,16 +254,36 @@ def critical_D_thin_extensional(params: PlateParams, D_window=(0.5, 6.0),
     v.positive("kH", kH)
     lam = np.geomspace(*v.window("lam_window", lam_window), 1500)
 
-    def has_root(D):
+    def roots_flags(Ds):
+        """Whether the psi-odd determinant changes sign on the lam grid, per Dhat (all
+        Dhat in one evaluation: duck-typed parameters with an array Dhat; one by one for
+        the literal rows, whose s = 1 mode depends on whether Dhat > 0)."""
+        if params.variant == "literal":
+            return np.array([bool(one_flag(D)) for D in Ds])
+        pD = SimpleNamespace(xi=params.xi, Dhat=np.asarray(Ds, float)[:, None],
+                             beta=params.beta, alpha=params.alpha, variant=params.variant)
+        dv = _determinant(np.broadcast_to(lam, (pD.Dhat.size, lam.size)), kH, pD, "O")
+        ok = np.isfinite(dv[:, :-1]) & np.isfinite(dv[:, 1:])
+        return np.any(ok & (dv[:, :-1] * dv[:, 1:] < 0), axis=1)
+
+    def one_flag(D):
         dv = _determinant(lam, kH, replace(params, Dhat=float(D)), "O")
         ok = np.isfinite(dv[:-1]) & np.isfinite(dv[1:])
         return bool(np.any(ok & (dv[:-1] * dv[1:] < 0)))
 
+    def has_root(D):
+        return one_flag(D)
+
     Ds = np.linspace(*D_window, 111)
-    flags = np.array([has_root(D) for D in Ds])
-    if not flags.any() or flags[0]:
+    # the first grid Dhat with a root, scanning in chunks (no need to evaluate beyond it)
+    i = 0
+    for k in range(0, Ds.size, 16):
+        flags = roots_flags(Ds[k:k + 16])
+        if flags.any():
+            i = k + int(np.argmax(flags))
+            break
+    if i == 0:
         raise ConvergenceError(f"no onset of the extensional mode in {D_window}")
-    i = int(np.argmax(flags))
     lo, hi = Ds[i - 1], Ds[i]
     for _ in range(40):
         mid = 0.5 * (lo + hi)

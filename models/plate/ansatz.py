@@ -81,6 +81,12 @@ def _column(s, t, parity, kind, rc, kappa):
     * psi even ("E"):  quartic/mechanical (r1, -r2 th, r3);   electric (d, -(e-d) th, f)
     * psi odd  ("O"):  quartic/mechanical (r1 th, -r2, r3 th); electric (d th, -(e-d), f th)
     """
+    return _stack(_column_parts(s, t, kind, rc, kappa), parity)
+
+
+def _column_parts(s, t, kind, rc, kappa):
+    """(r1, r2, r3, th) of :func:`_column`, before the parity combination: r1..r3 have
+    the shape of ``s`` (they do not depend on t), th = tanh(s t / 2) the broadcast shape."""
     c, b2, d, e, f = rc
     th = np.tanh(s * t / 2)
     if kind == "electric":  # s = 1
@@ -92,9 +98,14 @@ def _column(s, t, parity, kind, rc, kappa):
         r2 = s * (b2 + c - c * s2 - e * k + d * k * s2)
         r3 = d * (1 + s2) - f * k * s2
         r2 = -r2
+    return r1, r2, r3, th
+
+
+def _stack(parts, parity):
+    r1, r2, r3, th = parts
     if parity == "E":
-        return np.stack([r1, r2 * th, r3], axis=-1)
-    return np.stack([r1 * th, r2, r3 * th], axis=-1)
+        return np.stack(np.broadcast_arrays(r1, r2 * th, r3), axis=-1)
+    return np.stack(np.broadcast_arrays(r1 * th, r2, r3 * th), axis=-1)
 
 
 def _det3(u, v, w):
@@ -138,9 +149,21 @@ def determinant(lam, kH, params: PlateParams, parity: str):
 def _determinant(lam, kH, params, parity):
     """:func:`determinant` without checks: NaN where the model is not strongly elliptic."""
     require(parity in PARITIES, f"parity must be 'E' or 'O', got {parity!r}")
+    return _determinants(lam, kH, params, (parity,))[0]
+
+
+def _determinants(lam, kH, params, parities=PARITIES):
+    """:func:`_determinant` for several parities, sharing the work they have in common.
+
+    ``lam`` and ``kH`` broadcast against each other (their broadcast shape is the result's)
+    but are not expanded: the coefficients, quartic roots and ellipticity depend on lam
+    only and are evaluated on ``lam`` as given (on a tensor grid pass ``lam`` of shape
+    (1, n) and ``kH`` of shape (m, 1): n evaluations instead of m n).
+    """
     p = params
     require(p.alpha == 0, f"method 1 is implemented for alpha == 0 (thesis), got {p.alpha}")
-    lam, kH = np.broadcast_arrays(np.asarray(lam, float), np.asarray(kH, float))
+    lam = np.asarray(lam, float)
+    kH = np.asarray(kH, float)
     require(bool(np.all(kH > 0)), "kH must be > 0")
     t = kH * lam**-2
     rc = _row_coefficients(lam, p)
@@ -158,24 +181,31 @@ def _determinant(lam, kH, params, parity):
     rcx = tuple(np.asarray(r) for r in rc)
     kap = kappa
 
-    def col(s):
-        return _column(s, t, parity, "quartic", rcx, kap)
+    def parts(s):
+        return _column_parts(s, t, "quartic", rcx, kap)
 
-    c2, c3 = col(s2), col(s3)
+    p2, p3 = parts(s2), parts(s3)
     diff = s2 - s3
     close = np.abs(diff) < _CLOSE
     safe = np.where(close, 1.0, diff)
-    avg = 0.5 * (c2 + c3)
-    dd = (c2 - c3) / safe[..., None]
+    pc = None
     if np.any(close):
         m = 0.5 * (s2 + s3)
-        dd_c = (col(m + _DS) - col(m - _DS)) / (2 * _DS)
-        dd = np.where(close[..., None], dd_c, dd)
+        pc = (parts(m + _DS), parts(m - _DS))
     one = np.ones_like(lam, dtype=complex)
-    c1 = _column(one, t, parity, kind1, rcx, kap)
-    det = np.real(_det3(avg, dd, c1))
+    p1 = _column_parts(one, t, kind1, rcx, kap)
     ell = _strongly_elliptic(lam, p) if p.variant != "literal" else np.ones_like(lam, bool)
-    return np.where(ell, det, np.nan)
+    out = []
+    for parity in parities:
+        c2, c3 = _stack(p2, parity), _stack(p3, parity)
+        avg = 0.5 * (c2 + c3)
+        dd = (c2 - c3) / safe[..., None]
+        if pc is not None:
+            dd_c = (_stack(pc[0], parity) - _stack(pc[1], parity)) / (2 * _DS)
+            dd = np.where(close[..., None], dd_c, dd)
+        det = np.real(_det3(avg, dd, _stack(p1, parity)))
+        out.append(np.where(ell, det, np.nan))
+    return out
 
 
 @dataclass(frozen=True)
@@ -273,8 +303,8 @@ def critical_stretches(kH: float, params: PlateParams, *, window=LAM_WINDOW,
                          f"got {parities!r}")
     grid = scan_grid(window, n_scan)
     lams, pars = [], []
-    for par in parities:
-        vals = _determinant(grid, kH, params, par)
+    for par, vals in zip(parities, _determinants(grid, kH, params, tuple(parities)),
+                         strict=True):
         ok = np.isfinite(vals[:-1]) & np.isfinite(vals[1:])
         idx = np.nonzero(ok & (np.sign(vals[:-1]) * np.sign(vals[1:]) < 0))[0]
         exact = np.nonzero(vals == 0)[0]
@@ -337,10 +367,11 @@ def curves_vectorised(kH_values, params: PlateParams, *, window=LAM_WINDOW,
     v.tolerance("xtol", xtol)
     v.integer_at_least("max_iter", max_iter, 1)
     grid = scan_grid(window, n_scan)
-    K, L = np.meshgrid(kH_values, grid, indexing="ij")
+    # both parities on the (kH, lam) scan grid in one pass (lam-only work once per lam)
+    dets = _determinants(grid[None, :], kH_values[:, None], params, PARITIES)
     rows, lams, pars = [], [], []
     for ip, par in enumerate(PARITIES):
-        dv = _determinant(L, K, params, par)
+        dv = dets[ip]
         ok = np.isfinite(dv[:, :-1]) & np.isfinite(dv[:, 1:])
         i, j = np.nonzero(ok & (np.sign(dv[:, :-1]) * np.sign(dv[:, 1:]) < 0))
         a, b = grid[j].copy(), grid[j + 1].copy()

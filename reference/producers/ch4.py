@@ -57,8 +57,13 @@ def _lam(lam_min=AREA_LAM[0]):
 @lru_cache(maxsize=512)
 def area(xi: float, D: float, variant: str = "printed", which: str = "thesis",
          kH_max: float = KH_MAX, lam_min: float = AREA_LAM[0]) -> float:
-    p = PlateParams(xi=xi, Dhat=D, variant=variant)
-    return region(p, _kH(kH_max), _lam(lam_min)).area(which)
+    return _region(xi, D, variant, kH_max, lam_min).area(which)
+
+
+@lru_cache(maxsize=256)
+def _region(xi: float, D: float, variant: str, kH_max: float, lam_min: float):
+    """The unstable region on the area window (shared by both area definitions)."""
+    return region(PlateParams(xi=xi, Dhat=D, variant=variant), _kH(kH_max), _lam(lam_min))
 
 
 @lru_cache(maxsize=256)
