@@ -51,6 +51,11 @@ from .shooting import (
 #: relative tolerance on the shooting parameter q for event location: machine precision
 #: level (q ~ 1, |d lambda/dq| ~ 1e2, so lambda is located to ~1e-12)
 EVENT_XTOL = 1e-14
+#: event location: once the last secant step is below CERTIFY_AFTER |q| (superlinear
+#: convergence puts the next iterate far below xtol), the iterate x is replaced by the
+#: pair x -+ CERTIFY xtol |x| whose signs certify the root within xtol
+CERTIFY_AFTER = 1e-5
+CERTIFY = 0.45
 EVENT_KINDS = ("pullin", "minimum", "loss_of_tension", "breakdown")
 FAILURE_KINDS = ("pullin", "loss_of_tension", "breakdown")
 
@@ -343,28 +348,64 @@ def _locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
         b, fb = np.where(ok, hi, b), np.where(ok, fhi, fb)
         lb, Tb = np.where(ok, shi[0], lb), np.where(ok, shi[1], Tb)
     side = np.zeros(a.shape, int)
+    step = np.full(a.shape, np.inf)     # size of each element's last secant step
     for _ in range(maxiter):
         done = (np.abs(b - a) <= xtol * np.abs(b)) | (fa == 0) | (fb == 0)
         if done.all():
             break
         x = np.where(done, b, b - fb * (b - a) / (fb - fa))
         x = np.clip(x, np.minimum(a, b), np.maximum(a, b))
-        fx, lx, Tx = np.zeros_like(x), lb.copy(), Tb.copy()
         m = ~done
-        fx[m], lx[m], Tx[m] = _event_values(kinds[m], annulus, x[m], c[m], eps_r[m], mu,
-                                            steps, None if lp is None else lp[m])
-        if not np.all(np.isfinite(fx)):
+        # once the secant steps are small, the next iterate is accurate to far below
+        # xtol: evaluate x -+ eps instead of x (eps = CERTIFY xtol |x|), whose signs
+        # certify the root within xtol in the same integration (else the inner one is
+        # the iterate)
+        cert = m & (step <= CERTIFY_AFTER * np.abs(b))
+        eps = CERTIFY * xtol * np.abs(x)
+        xm = np.clip(x - eps, np.minimum(a, b), np.maximum(a, b))
+        xp = np.clip(x + eps, np.minimum(a, b), np.maximum(a, b))
+        plain = m & ~cert
+        ip, ic = np.nonzero(plain)[0], np.nonzero(cert)[0]
+        idx = np.concatenate([ip, ic, ic])
+        f_, l_, T_ = _event_values(kinds[idx], annulus,
+                                   np.concatenate([x[ip], xm[ic], xp[ic]]), c[idx],
+                                   eps_r[idx], mu, steps, None if lp is None else lp[idx])
+        if not np.all(np.isfinite(f_)):
             raise ConvergenceError(f"events: non-finite residual during location for {annulus}")
+        fx, lx, Tx = np.zeros_like(x), lb.copy(), Tb.copy()
+        n1, n2 = ip.size, ip.size + ic.size
+        fx[ip], lx[ip], Tx[ip] = f_[:n1], l_[:n1], T_[:n1]
+        if ic.size:
+            fm, fp = f_[n1:n2], f_[n2:]
+            split = np.sign(fm) != np.sign(fp)
+            # certified: the bracket becomes [x - eps, x + eps]
+            ks = ic[split]
+            a[ks], fa[ks], la[ks], Ta[ks] = xm[ks], fm[split], l_[n1:n2][split], \
+                T_[n1:n2][split]
+            b[ks], fb[ks], lb[ks], Tb[ks] = xp[ks], fp[split], l_[n2:][split], \
+                T_[n2:][split]
+            m[ks] = False
+            # not certified: both on one side; the iterate is the one nearer the root
+            keep = ~split
+            kn = ic[keep]
+            toward_a = (np.sign(fm[keep]) == np.sign(fb[kn])) == (a[kn] < b[kn])
+            pick = np.where(toward_a, 0, 1)     # 0: x - eps, 1: x + eps
+            x[kn] = np.where(pick == 0, xm[kn], xp[kn])
+            fx[kn] = np.where(pick == 0, fm[keep], fp[keep])
+            lx[kn] = np.where(pick == 0, l_[n1:n2][keep], l_[n2:][keep])
+            Tx[kn] = np.where(pick == 0, T_[n1:n2][keep], T_[n2:][keep])
+        step = np.where(m, np.abs(x - b), step)
+        upd = m
         same = np.sign(fx) == np.sign(fb)
         # Illinois: keep the bracket, halve the stale end's function value
         new_a = np.where(same, a, b)
         new_fa = np.where(same, np.where(side == 1, fa / 2, fa), fb)
         new_la, new_Ta = np.where(same, la, lb), np.where(same, Ta, Tb)
-        side = np.where(same, 1, -1)
-        a, fa = np.where(done, a, new_a), np.where(done, fa, new_fa)
-        la, Ta = np.where(done, la, new_la), np.where(done, Ta, new_Ta)
-        b, fb = np.where(done, b, x), np.where(done, fb, fx)
-        lb, Tb = np.where(done, lb, lx), np.where(done, Tb, Tx)
+        side = np.where(upd, np.where(same, 1, -1), side)
+        a, fa = np.where(upd, new_a, a), np.where(upd, new_fa, fa)
+        la, Ta = np.where(upd, new_la, la), np.where(upd, new_Ta, Ta)
+        b, fb = np.where(upd, x, b), np.where(upd, fx, fb)
+        lb, Tb = np.where(upd, lx, lb), np.where(upd, Tx, Tb)
     else:
         raise ConvergenceError(f"events: Illinois did not reach xtol={xtol} in {maxiter} "
                                f"iterations (max bracket {np.max(np.abs(b - a)):.3g})")
@@ -455,33 +496,32 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
                     idx = np.nonzero((f[:-1] > 0) & (f[1:] <= 0))[0]
                 if idx.size:
                     j = idx[0]
-                    # cubic through the 4 grid values around the crossing: root estimate
-                    lo_, hi_ = max(j - 1, 0), min(j + 3, f.size)
-                    qq, ff = br.q[lo_:hi_], f[lo_:hi_]
+                    # root estimate: the secant in the cell, refined below on the cubic
+                    # through the 4 grid values around the crossing
                     x0 = br.q[j] - f[j] * (br.q[j + 1] - br.q[j]) / (f[j + 1] - f[j])
-                    if np.all(np.isfinite(ff)) and ff.size == 4:
-                        r = np.roots(np.polyfit(qq - br.q[j], ff, 3)) + br.q[j]
-                        r = r[np.isreal(r)].real
-                        r = r[(r - br.q[j]) * (r - br.q[j + 1]) <= 0]
-                        if r.size:
-                            x0 = r[0]
+                    lo_ = min(max(j - 1, 0), f.size - 4)
                     pending.append((jb, i, kind, br.q[j], br.q[j + 1], c, eps_rs[i],
                                     an.lamP, f[j], f[j + 1], x0, (br.lam[j], br.T1[j]),
-                                    (br.lam[j + 1], br.T1[j + 1])))
+                                    (br.lam[j + 1], br.T1[j + 1]),
+                                    (br.q[lo_:lo_ + 4], f[lo_:lo_ + 4])))
             data.append((np.sqrt(np.maximum(p2, 0.0)), pb))
         prepared.append((br, cs, eps_rs, data))
     # an event that does not depend on eps_r (all but breakdown) is located once per
-    # (branch, c) and shared by the curves of every eps_r
+    # (branch, c) and shared by the curves of every eps_r; loss of tension (T1 = 0) does
+    # not depend on c either: once per branch (its Phibar is evaluated per c)
     unique, copies = {}, []
     for row in pending:
         jb, _, kind, c_, e_ = row[0], row[1], row[2], row[5], row[6]
-        key = (id(jobs[jb][0]), kind, c_, e_ if kind == "breakdown" else None)
+        key = (id(jobs[jb][0]), kind, None if kind == "loss_of_tension" else c_,
+               e_ if kind == "breakdown" else None)
         if key in unique:
             copies.append((row, unique[key]))
         else:
             unique[key] = row
     pending = list(unique.values())
+    pending = _cubic_estimates(pending)
     # one location per group of compatible annuli
+    roots = {}
     groups = {}
     for row in pending:
         an = jobs[row[0]][0].annulus
@@ -503,8 +543,14 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
             located[(r[0], r[1], r[2])] = Event(r[2], float(lam_r[k]),
                                                 float(np.sqrt(max(p2, 0.0))),
                                                 float(qroot[k]))
+            roots[(r[0], r[1], r[2])] = (lam_r[k], T1_r[k])
     for row, rep in copies:
-        located[(row[0], row[1], row[2])] = located[(rep[0], rep[1], rep[2])]
+        ev = located[(rep[0], rep[1], rep[2])]
+        if row[5] != rep[5]:      # loss of tension shared across c: Phibar at this c
+            lam_, T1_ = roots[(rep[0], rep[1], rep[2])]
+            p2 = circle_a._p2(lam_, T1_, row[5], jobs[row[0]][0].annulus.kappa)
+            ev = Event(ev.kind, ev.lam, float(np.sqrt(max(p2, 0.0))), ev.q)
+        located[(row[0], row[1], row[2])] = ev
     for jb, (br, cs, eps_rs, data) in enumerate(prepared):
         out = []
         for i, c in enumerate(cs):
@@ -532,6 +578,37 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
                              phibar_breakdown=pb, events=events, failure=failure))
         results[jb] = out
     return results
+
+
+def _cubic_estimates(rows):
+    """Replace each row's secant estimate x0 (index 10) of the event root by the zero, in
+    the bracketing cell, of the cubic interpolating the event function at the 4 grid
+    points around it (index 13), all rows at once (a few safeguarded Newton steps on
+    the interpolant from the secant estimate); the estimate only narrows the bracket
+    that the iteration then refines to ``EVENT_XTOL``."""
+    if not rows:
+        return rows
+    qq = np.array([r[13][0] for r in rows], float)
+    ff = np.array([r[13][1] for r in rows], float)
+    a, b = np.array([r[3] for r in rows]), np.array([r[4] for r in rows])
+    x = np.array([r[10] for r in rows], float)
+    ok = np.all(np.isfinite(ff), axis=1) & (qq.shape[1] == 4) & np.isfinite(x)
+    if not ok.any():
+        return rows
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    # monomial coefficients in (q - a), solved per row (4 x 4 Vandermonde systems)
+    V = (qq[ok] - a[ok, None])[:, :, None] ** np.arange(4)
+    coef = np.linalg.solve(V, ff[ok][:, :, None])[:, :, 0]
+    xs = x[ok] - a[ok]
+    for _ in range(8):
+        p = coef[:, 0] + xs * (coef[:, 1] + xs * (coef[:, 2] + xs * coef[:, 3]))
+        dp = coef[:, 1] + xs * (2 * coef[:, 2] + xs * 3 * coef[:, 3])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            xs = xs - np.where(dp != 0, p / dp, 0.0)
+    xn = xs + a[ok]
+    good = np.isfinite(xn) & (xn >= lo[ok]) & (xn <= hi[ok])
+    x[np.nonzero(ok)[0][good]] = xn[good]
+    return [(*r[:10], float(x[k]), *r[11:]) for k, r in enumerate(rows)]
 
 
 def _zero_of_K(c: float) -> float:

@@ -191,7 +191,7 @@ def _require_admissible(annulus, q, l1):
 #: arithmetic (the same :func:`_rhs`): a numpy call costs ~1 us whatever the array size, so
 #: the ~35,000 calls of one vectorised integration (~25 ms) outweigh the scalar loop
 #: (~1.5 ms per trajectory) below this size (measured on the 2-core reference machine)
-SCALAR_BATCH = 8
+SCALAR_BATCH = 16
 
 
 def _integrate_inward(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,

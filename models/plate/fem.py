@@ -112,20 +112,22 @@ def _gram(n: int, g: float):
     e = np.arange(n)[:, None]
     ip = np.hstack([2 * e, 2 * e + 1, 2 * e + 2, 2 * e + 3])      # (n, 4)
     iF = np.hstack([e, n + 1 + e, e + 1])                          # (n, 3)
-    dpsi, dphi = (H, H1, H2), (P, P1)
+    dpsi, dphi = np.stack((H, H1, H2)), np.stack((P, P1))   # (m, e, a, q)
 
     def assemble(A, B, ia, ib, size):
-        loc = np.einsum("eaq,ebq,eq->eab", A, B, ww)
-        out = np.zeros(size)
-        np.add.at(out, (ia[:, :, None], ib[:, None, :]), loc)
+        """All derivative pairs (m, k) at once: G[m, k] = sum_e N_a^(m) N_b^(k) w."""
+        ma, kb = A.shape[0] * A.shape[2], B.shape[0] * B.shape[2]
+        Aw = (A * ww[None, :, None, :]).transpose(1, 0, 2, 3).reshape(n, ma, -1)
+        Bt = B.transpose(1, 3, 0, 2).reshape(n, -1, kb)
+        loc = (Aw @ Bt).reshape(n, A.shape[0], A.shape[2], B.shape[0], B.shape[2])
+        loc = loc.transpose(1, 3, 0, 2, 4)              # (m, k, e, a, b)
+        out = np.zeros((A.shape[0], B.shape[0]) + size)
+        np.add.at(out, (slice(None), slice(None), ia[:, :, None], ib[:, None, :]), loc)
         return out
 
-    Gpp = np.array([[assemble(dpsi[m], dpsi[k], ip, ip, (npsi, npsi)) for k in range(3)]
-                    for m in range(3)])
-    Gpf = np.array([[assemble(dpsi[m], dphi[k], ip, iF, (npsi, nphi)) for k in range(2)]
-                    for m in range(3)])
-    Gff = np.array([[assemble(dphi[m], dphi[k], iF, iF, (nphi, nphi)) for k in range(2)]
-                    for m in range(2)])
+    Gpp = assemble(dpsi, dpsi, ip, ip, (npsi, npsi))
+    Gpf = assemble(dpsi, dphi, ip, iF, (npsi, nphi))
+    Gff = assemble(dphi, dphi, iF, iF, (nphi, nphi))
     return Gpp, Gpf, Gff
 
 
@@ -146,23 +148,18 @@ def stiffness(lam: float, kH: float, params: PlateParams, n: int = N_ELEMENTS):
     Gpp, Gpf, Gff = _gram(n, grading(t))
     npsi, nphi = Gpp.shape[2], Gff.shape[2]
     K = np.zeros((npsi + nphi, npsi + nphi), complex)
-    # eta = t zeta: D_eta^m = t^-m D_zeta^m, d eta = t d zeta
-    for m in range(3):
-        for k in range(3):
-            cmk = _CPSI[m].conj() @ S @ _CPSI[k]
-            if cmk != 0:
-                K[:npsi, :npsi] += cmk * t ** (1 - m - k) * Gpp[m, k]
-        for k in range(2):
-            cmk = _CPSI[m].conj() @ S @ _CPHI[k]
-            if cmk != 0:
-                blk = cmk * t ** (1 - m - k) * Gpf[m, k]
-                K[:npsi, npsi:] += blk
-                K[npsi:, :npsi] += blk.conj().T
-    for m in range(2):
-        for k in range(2):
-            cmk = _CPHI[m].conj() @ S @ _CPHI[k]
-            if cmk != 0:
-                K[npsi:, npsi:] += cmk * t ** (1 - m - k) * Gff[m, k]
+    # eta = t zeta: D_eta^m = t^-m D_zeta^m, d eta = t d zeta; the coefficient of the
+    # block G[m, k] is c_mk t^(1-m-k) with c_mk = C[m]^H S C[k]
+    S = np.asarray(S)
+    cpp = _CPSI.conj() @ S @ _CPSI.T
+    cpf = _CPSI.conj() @ S @ _CPHI.T
+    cff = _CPHI.conj() @ S @ _CPHI.T
+    tp = t ** (1.0 - np.arange(3))                 # t^(1-m), m = 0, 1, 2
+    K[:npsi, :npsi] = np.einsum("mk,mkij->ij", cpp * tp[:, None] / t * tp[None, :], Gpp)
+    blk = np.einsum("mk,mkij->ij", cpf * tp[:, None] / t * tp[None, :2], Gpf)
+    K[:npsi, npsi:] = blk
+    K[npsi:, :npsi] = blk.conj().T
+    K[npsi:, npsi:] = np.einsum("mk,mkij->ij", cff * tp[:2, None] / t * tp[None, :2], Gff)
     # The zero crossings do not depend on the SPD matrix M; the L2 Gram matrix of the
     # Hermite basis is ill conditioned (slope dofs ~ he^3) and amplified rounding to
     # ~1e-5 in omega, so the identity is used (omega = eigenvalues of K itself).
@@ -183,8 +180,32 @@ def eigenvalues(lam: float, kH: float, params: PlateParams, n: int = N_ELEMENTS,
         if count > K.shape[0]:
             raise ValueError(f"count must be <= the number of dofs {K.shape[0]} "
                              f"(4 n + 3, n = {n}), got {count}")
-    sub = None if count is None else (0, count - 1)
-    return sla.eigh(K, eigvals_only=True, subset_by_index=sub)
+    if count is None:
+        return sla.eigh(K, eigvals_only=True)
+    # K is banded once its dofs are ordered along the thickness (node: Psi, Psi', Phi;
+    # then the Phi mid-point dof): the selected eigenvalues of the band (LAPACK hbevx)
+    # cost O(N b^2) instead of O(N^3)
+    perm, bw = _band_order(n)
+    Kp = K[np.ix_(perm, perm)]
+    N = K.shape[0]
+    band = np.zeros((bw + 1, N), complex)
+    for d in range(bw + 1):
+        band[d, :N - d] = np.diagonal(Kp, -d)
+    return sla.eig_banded(band, lower=True, eigvals_only=True, select="i",
+                          select_range=(0, count - 1))
+
+
+def _band_order(n: int):
+    """Permutation of the dofs [Psi (2 per node), Phi nodes, Phi mid-points] that orders
+    them along the thickness, and the half-bandwidth of K in that order (an element
+    couples the 7 consecutive dofs of its two nodes and its mid-point)."""
+    npsi = 2 * (n + 1)
+    perm = []
+    for i in range(n + 1):
+        perm += [2 * i, 2 * i + 1, npsi + i]
+        if i < n:
+            perm.append(npsi + n + 1 + i)
+    return np.array(perm), 6
 
 
 @dataclass(frozen=True)
