@@ -153,6 +153,27 @@ def test_fast_integrator_equals_term_by_term_rk4(Jm, equilibrium, n):
         np.testing.assert_allclose(a.imag[ok], b.imag[ok], rtol=KERNEL_RTOL)
 
 
+@pytest.mark.parametrize("n", [3, shooting.SCALAR_BATCH + 5, 200])
+def test_mixed_equilibrium_batch_equals_separate_batches(n):
+    """A batch mixing both equilibrium variants and several pre-stretches (one
+    integration) gives each trajectory the solution of its own annulus to rounding."""
+    rng = np.random.default_rng(7)
+    lamP = rng.choice([1.25, 2.0, 3.0], n)
+    mem = rng.random(n) < 0.5
+    mem[:2] = [True, False]
+    q = lamP * (1 - rng.uniform(0.0, 0.3, n)) + 1j * shooting.CSTEP
+    an = Annulus(3.0)
+    mixed = shooting._integrate_inward(an, q, lamP=lamP, membrane=mem)
+    for k in range(n):
+        own = Annulus(float(lamP[k]), equilibrium="membrane" if mem[k] else "printed")
+        ref = shooting._integrate_inward_reference(own, q[k:k + 1])
+        for a, b in zip(mixed, ref, strict=True):
+            assert np.isfinite(a[k].real) == np.isfinite(b[0].real)
+            if np.isfinite(b[0].real):
+                np.testing.assert_allclose(a[k], b[0], rtol=KERNEL_RTOL)
+                np.testing.assert_allclose(a[k].imag, b[0].imag, rtol=KERNEL_RTOL)
+
+
 def test_uniform_prestretched_state_is_exact():
     """At lambda = lamP the annulus is uniform: lambda_1 = lambda_2 = lamP everywhere."""
     an = Annulus(2.5)

@@ -84,11 +84,12 @@ class Branch:
         return self.dT1 / self.dlam
 
 
-def _scan_state(annulus: Annulus, q, steps: int, lamP):
+def _scan_state(annulus: Annulus, q, steps: int, lamP, membrane=None):
     """Interface stretch and T1 for shooting parameters q, without sensitivities (a real
     integration: the real parts of the complex-step one up to rounding, measured
     < 1e-13 relative; the scan only places the grid, whose points are exact solutions)."""
-    l1, l2 = _integrate_inward(annulus, np.asarray(q, float), steps=steps, lamP=lamP)
+    l1, l2 = _integrate_inward(annulus, np.asarray(q, float), steps=steps, lamP=lamP,
+                               membrane=membrane)
     with np.errstate(all="ignore"):  # NaN marks inadmissible trajectories, by design
         s1, *_ = _stresses(l1, l2, annulus.kappa)
         return l2, s1 / l1
@@ -162,7 +163,8 @@ def branch(annulus: Annulus, lam=None, *, n: int = 300, lam_end: float | None = 
 
 
 def branches(annuli, *, n: int = 300, steps: int = DEFAULT_STEPS) -> list[Branch]:
-    """Batched :func:`branch` (default grids) for annuli differing only in lamP."""
+    """Batched :func:`branch` (default grids) for annuli differing only in lamP and the
+    equilibrium variant: one scan and one grid integration for all of them."""
     if isinstance(annuli, str | bytes) or not hasattr(annuli, "__iter__"):
         raise TypeError(f"annuli must be an iterable of Annulus, got {annuli!r}")
     annuli = list(annuli)
@@ -173,14 +175,14 @@ def branches(annuli, *, n: int = 300, steps: int = DEFAULT_STEPS) -> list[Branch
     if not annuli:
         return []
     a0 = annuli[0]
-    if any((a.radius_ratio, a.Jm, a.equilibrium) != (a0.radius_ratio, a0.Jm, a0.equilibrium)
-           for a in annuli):
-        raise ValueError("branches(): annuli must differ only in lamP")
+    if any((a.radius_ratio, a.Jm) != (a0.radius_ratio, a0.Jm) for a in annuli):
+        raise ValueError("branches(): annuli must differ only in lamP and equilibrium")
+    mem = np.array([a.equilibrium == "membrane" for a in annuli])
     m = 160
     delta = np.concatenate([[0.0], np.geomspace(1e-8, 0.95, m - 1)])
     lamP = np.repeat([a.lamP for a in annuli], m)
     q_scan = lamP - np.tile(delta, len(annuli)) * lamP
-    lam_scan, T1_scan = _scan_state(a0, q_scan, steps, lamP)
+    lam_scan, T1_scan = _scan_state(a0, q_scan, steps, lamP, np.repeat(mem, m))
     qs, lps = [], []
     tops = []
     for k, a in enumerate(annuli):
@@ -200,7 +202,8 @@ def branches(annuli, *, n: int = 300, steps: int = DEFAULT_STEPS) -> list[Branch
         lps.append(np.full(n, a.lamP))
         tops.append(top)
     q = np.concatenate(qs)
-    st = _interface_state(a0, q, steps=steps, lamP=np.concatenate(lps))
+    st = _interface_state(a0, q, steps=steps, lamP=np.concatenate(lps),
+                          membrane=np.repeat(mem, n))
     out = []
     for k, a in enumerate(annuli):
         sl = slice(k * n, (k + 1) * n)
@@ -263,13 +266,15 @@ def _event_function(kinds, annulus, q, c, eps_r, mu, steps, lamP=None):
     return _event_values(kinds, annulus, q, c, eps_r, mu, steps, lamP)[0]
 
 
-def _event_values(kinds, annulus, q, c, eps_r, mu, steps, lamP=None):
-    """:func:`_event_function` and the interface state (lam, T1) it was computed from."""
+def _event_values(kinds, annulus, q, c, eps_r, mu, steps, lamP=None, membrane=None):
+    """:func:`_event_function` and the interface state (lam, T1) it was computed from
+    (``lamP``, ``membrane``: per-event overrides of the annulus, see
+    :func:`~debench.models.circular.shooting._integrate_inward`)."""
     kinds = np.asarray(kinds)
     bad = ~np.isin(kinds, EVENT_KINDS)
     if bad.any():
         raise ValueError(f"unknown event kind {kinds[bad][0]!r}; expected one of {EVENT_KINDS}")
-    st = _interface_state(annulus, q, steps=steps, lamP=lamP)
+    st = _interface_state(annulus, q, steps=steps, lamP=lamP, membrane=membrane)
     p2c = circle_a._p2(st.lam_c, st.T1_c, c, annulus.kappa)
     deriv = (p2c.imag / 1e-30) / st.dlam
     brk = p2c.real - circle_a._breakdown(st.lam, eps_r, mu) ** 2
@@ -306,24 +311,26 @@ def locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
 
 def _locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
             xtol=EVENT_XTOL, maxiter=100, lamP=None, fa=None, fb=None, x0=None,
-            sa=None, sb=None):
+            sa=None, sb=None, membrane=None):
     """:func:`locate` without argument checks, returning ``(q, lam, T1)`` at the roots:
     the interface state of the iterate returned, kept from the iteration (no extra
     integration). ``sa``/``sb``: the states (lam, T1) at the bracket ends, when known
-    with ``fa``/``fb``."""
+    with ``fa``/``fb``; ``membrane``: per-event equilibrium (bool array), as ``lamP``."""
     a = np.array(qa, float)
     b = np.array(qb, float)
     kinds = np.broadcast_to(np.asarray(kinds), a.shape)
     c = np.broadcast_to(c, a.shape).astype(float)
     eps_r = np.broadcast_to(eps_r, a.shape).astype(float)
     lp = None if lamP is None else np.broadcast_to(np.asarray(lamP, float), a.shape)
+    mb = None if membrane is None else np.broadcast_to(np.asarray(membrane, bool), a.shape)
     cat = np.concatenate
 
     def F2(x, y):
         """Event values and states at two points per event, in one integration."""
         f, lam, T1 = _event_values(cat([kinds, kinds]), annulus, cat([x, y]), cat([c, c]),
                                    cat([eps_r, eps_r]), mu, steps,
-                                   None if lp is None else cat([lp, lp]))
+                                   None if lp is None else cat([lp, lp]),
+                                   None if mb is None else cat([mb, mb]))
         n = a.size
         return f[:n], f[n:], (lam[:n], T1[:n]), (lam[n:], T1[n:])
 
@@ -369,7 +376,8 @@ def _locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
         idx = np.concatenate([ip, ic, ic])
         f_, l_, T_ = _event_values(kinds[idx], annulus,
                                    np.concatenate([x[ip], xm[ic], xp[ic]]), c[idx],
-                                   eps_r[idx], mu, steps, None if lp is None else lp[idx])
+                                   eps_r[idx], mu, steps, None if lp is None else lp[idx],
+                                   None if mb is None else mb[idx])
         if not np.all(np.isfinite(f_)):
             raise ConvergenceError(f"events: non-finite residual during location for {annulus}")
         fx, lx, Tx = np.zeros_like(x), lb.copy(), Tb.copy()
@@ -425,9 +433,9 @@ def curves(br: Branch, cs, *, eps_r=None, mu: float | None = None,
 def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
     """Batched :func:`curves`: ``jobs`` is a list of ``(branch, cs, eps_r)``.
 
-    Branches that differ only in the pre-stretch (same Jm, R_B/R_A, equilibrium, steps)
-    share one vectorised event location: one shooting integration per Illinois iteration
-    for all their events.
+    Branches that differ only in the pre-stretch and the equilibrium variant (same Jm,
+    R_B/R_A, steps) share one vectorised event location: one shooting integration per
+    Illinois iteration for all their events.
 
     Every (branch, c, eps_r) must make a valid :class:`CircularActuator` (c finite with
     K(lamP) > 0, eps_r > 0); ``mu > 0``; ``steps`` None or >= 4. Where the permittivity
@@ -526,18 +534,19 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
     for row in pending:
         an = jobs[row[0]][0].annulus
         st = jobs[row[0]][0].steps if steps is None else steps
-        key = (an.radius_ratio, an.Jm, an.equilibrium, st)
+        key = (an.radius_ratio, an.Jm, st)
         groups.setdefault(key, []).append(row)
-    for (_, _, _, st), rows in groups.items():
+    for (_, _, st), rows in groups.items():
         an0 = jobs[rows[0][0]][0].annulus
         kinds = np.array([r[2] for r in rows])
         lamPs = np.array([r[7] for r in rows])
+        mem = np.array([jobs[r[0]][0].annulus.equilibrium == "membrane" for r in rows])
         qroot, lam_r, T1_r = _locate(
             kinds, an0, [r[3] for r in rows], [r[4] for r in rows], [r[5] for r in rows],
             [r[6] for r in rows], mu, steps=st, lamP=lamPs, fa=[r[8] for r in rows],
             fb=[r[9] for r in rows], x0=[r[10] for r in rows],
             sa=([r[11][0] for r in rows], [r[11][1] for r in rows]),
-            sb=([r[12][0] for r in rows], [r[12][1] for r in rows]))
+            sb=([r[12][0] for r in rows], [r[12][1] for r in rows]), membrane=mem)
         for k, r in enumerate(rows):
             p2 = circle_a._p2(lam_r[k], T1_r[k], r[5], an0.kappa)
             located[(r[0], r[1], r[2])] = Event(r[2], float(lam_r[k]),

@@ -93,6 +93,7 @@ def _rhs(l1, l2, kappa, membrane):
     membrane balance ``f1 = (l1 (l2^2 - J)/l2 - (l1^2 - J) - 2 A2 (l1 - l2))/(2 A1 -
     (l1^2 - J)/l1)``. Written with in-place operations (fewer temporaries); works on numpy
     arrays and on Python scalars alike (the small-batch path of the integrator).
+    ``membrane``: a bool, or a bool array selecting the balance per trajectory.
     """
     i1 = 1.0 / l1
     i2 = 1.0 / l2
@@ -122,32 +123,49 @@ def _rhs(l1, l2, kappa, membrane):
         den = None
         A1 = l1 + Jl1
         A2 = Jl2
+    if isinstance(membrane, _Split):   # both balances: printed before k, membrane after
+        k = membrane.k
+        f1, slope = np.empty_like(l1), np.empty_like(l1)
+        f1[:k], slope[:k] = _printed_f1(l1[:k], l2[:k], A1[:k], A2[:k], d12[:k])
+        f1[k:], slope[k:] = _membrane_f1(l1[k:], l2[k:], i1[k:], i2[k:], J[k:], a1[k:],
+                                         A1[k:], A2[k:], d12[k:])
+        return f1, d12, den, slope
     if membrane:
-        num = l2 * l2
-        num -= J
-        num *= i2
-        num *= l1
-        num -= a1
-        t = A2 * d12
-        num -= t
-        num -= t
-        B = A1 + A1
-        t = a1 * i1
-        B -= t                      # 2 A1 - a1/l1 = l1 dT1/dl1 / g
-        f1 = num / B
-        slope = B * l1
+        f1, slope = _membrane_f1(l1, l2, i1, i2, J, a1, A1, A2, d12)
     else:
-        num = l1 + l2
-        num *= l1
-        t = A2 * l2
-        num += t
-        num += t
-        num *= d12
-        B = l2 * A1
-        f1 = num / B
-        f1 *= -0.5
-        slope = A1
+        f1, slope = _printed_f1(l1, l2, A1, A2, d12)
     return f1, d12, den, slope
+
+
+def _printed_f1(l1, l2, A1, A2, d12):
+    """(3.34): f1 = -(l1 - l2)(l1 (l1 + l2) + 2 A2 l2)/(2 l2 A1), and A1 (slope sign)."""
+    num = l1 + l2
+    num *= l1
+    t = A2 * l2
+    num += t
+    num += t
+    num *= d12
+    B = l2 * A1
+    f1 = num / B
+    f1 *= -0.5
+    return f1, A1
+
+
+def _membrane_f1(l1, l2, i1, i2, J, a1, A1, A2, d12):
+    """Membrane balance: f1 = (l1 (l2^2 - J)/l2 - a1 - 2 A2 d12)/(2 A1 - a1/l1), and a
+    quantity with the sign of dT1/dl1."""
+    num = l2 * l2
+    num -= J
+    num *= i2
+    num *= l1
+    num -= a1
+    t = A2 * d12
+    num -= t
+    num -= t
+    B = A1 + A1
+    t = a1 * i1
+    B -= t                      # 2 A1 - a1/l1 = l1 dT1/dl1 / g
+    return num / B, B * l1
 
 
 def _check(annulus, q, steps, lamP):
@@ -194,23 +212,62 @@ def _require_admissible(annulus, q, l1):
 SCALAR_BATCH = 16
 
 
+@dataclass(frozen=True)
+class _Split:
+    """A 1-D batch whose first ``k`` trajectories use (3.33) as printed and the rest the
+    membrane balance (the integrator orders a mixed batch so)."""
+
+    k: int
+
+
+def _membrane_flags(annulus: Annulus, membrane, shape):
+    """The balance per trajectory: a bool when uniform, else a bool array of ``shape``
+    (``membrane`` None: the annulus' own equilibrium)."""
+    if membrane is None:
+        return annulus.equilibrium == "membrane"
+    if isinstance(membrane, _Split):
+        return membrane
+    m = np.broadcast_to(np.asarray(membrane, bool), shape)
+    if m.size == 0:
+        return annulus.equilibrium == "membrane"
+    return bool(m.flat[0]) if (m.all() or not m.any()) else m
+
+
 def _integrate_inward(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
-                      profile: bool = False, lamP=None):
+                      profile: bool = False, lamP=None, membrane=None):
     """:func:`integrate_inward` without checks: NaN marks inadmissible trajectories.
 
     Admissibility: the Gent energy is defined (1 - (I1-3)/Jm > 0) and the radial equation
-    elliptic (slope > 0) at every RK4 stage, and lambda_1 > 0 at R_A.
+    elliptic (slope > 0) at every RK4 stage, and lambda_1 > 0 at R_A. ``lamP`` and
+    ``membrane`` (bool array: thin-membrane balance, else (3.33) as printed), broadcast
+    with q, override the annulus' pre-stretch and equilibrium per trajectory, so that
+    annuli differing only in these are integrated in one batch.
     """
     q = np.asarray(q)
+    membrane = _membrane_flags(annulus, membrane, q.shape)
     if not profile and q.size <= SCALAR_BATCH:
-        return _integrate_scalars(annulus, q, steps, lamP)
+        return _integrate_scalars(annulus, q, steps, lamP, membrane)
+    if isinstance(membrane, np.ndarray):
+        # a mixed batch: integrate it ordered (printed first), then restore the order
+        order = np.argsort(membrane.ravel(), kind="stable")
+        lp = np.broadcast_to(np.asarray(annulus.lamP if lamP is None else lamP, float),
+                             q.shape).ravel()[order]
+        out = _integrate_inward(annulus, q.ravel()[order], steps=steps, profile=profile,
+                                lamP=lp, membrane=_Split(int(np.sum(~membrane))))
+        back = np.empty_like(order)
+        back[order] = np.arange(order.size)
+        if profile:
+            l1, l2, t, P1, P2 = out
+            return (l1[back].reshape(q.shape), l2[back].reshape(q.shape), t,
+                    P1[:, back].reshape(P1.shape[:1] + q.shape),
+                    P2[:, back].reshape(P2.shape[:1] + q.shape))
+        return out[0][back].reshape(q.shape), out[1][back].reshape(q.shape)
     dtype = np.complex128 if np.iscomplexobj(q) else np.float64
     l1 = q.astype(dtype, copy=True)
     # lamP (array like q) batches annuli that differ only in the pre-stretch (3.38)
     l2 = np.full_like(l1, annulus.lamP) if lamP is None else (
         np.broadcast_to(np.asarray(lamP, float), l1.shape).astype(dtype))
     kappa = annulus.kappa
-    membrane = annulus.equilibrium == "membrane"
     tgrid = _grid(np.log(annulus.radius_ratio), steps)
     bad = ~(l1.real > 0)
     if profile:
@@ -257,14 +314,14 @@ def _integrate_inward(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
     return l1, l2
 
 
-def _integrate_scalars(annulus: Annulus, q: np.ndarray, steps: int, lamP):
+def _integrate_scalars(annulus: Annulus, q: np.ndarray, steps: int, lamP, membrane):
     """:func:`_integrate_inward` for a small batch, one trajectory at a time in Python
     scalar arithmetic (same RK4 steps, same :func:`_rhs`, same admissibility rule)."""
     cplx = np.iscomplexobj(q)
     conv = complex if cplx else float
     lp = np.broadcast_to(np.asarray(annulus.lamP if lamP is None else lamP, float), q.shape)
+    mem = np.broadcast_to(np.asarray(membrane, bool), q.shape)
     kappa = annulus.kappa
-    membrane = annulus.equilibrium == "membrane"
     tgrid = _grid(np.log(annulus.radius_ratio), steps)
     hs = [float(tgrid[k + 1] - tgrid[k]) for k in range(steps)]
     out1 = np.full(q.shape, np.nan, np.complex128 if cplx else np.float64)
@@ -278,6 +335,7 @@ def _integrate_scalars(annulus: Annulus, q: np.ndarray, steps: int, lamP):
 
     for idx in np.ndindex(q.shape):
         l1, l2 = conv(q[idx]), conv(lp[idx])
+        membrane = bool(mem[idx])
         try:
             if not l1.real > 0:
                 raise _Inadmissible
@@ -386,10 +444,12 @@ def interface_state(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
 
 
 def _interface_state(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
-                     lamP=None) -> InterfaceState:
-    """:func:`interface_state` without checks: NaN marks inadmissible trajectories."""
+                     lamP=None, membrane=None) -> InterfaceState:
+    """:func:`interface_state` without checks: NaN marks inadmissible trajectories
+    (``lamP``, ``membrane``: per-trajectory overrides, see :func:`_integrate_inward`)."""
     q = np.asarray(q, dtype=float)
-    l1, l2 = _integrate_inward(annulus, q + 1j * CSTEP, steps=steps, lamP=lamP)
+    l1, l2 = _integrate_inward(annulus, q + 1j * CSTEP, steps=steps, lamP=lamP,
+                               membrane=membrane)
     with np.errstate(all="ignore"):  # NaN marks inadmissible trajectories, by design
         s1, *_ = _stresses(l1, l2, annulus.kappa)
         T1 = s1 / l1

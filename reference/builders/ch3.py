@@ -263,16 +263,17 @@ def eps_r_sensitivity(full: bool = False, family=None, precomputed=None) -> xr.D
 def compute(full: bool = False) -> dict[str, xr.Dataset]:
     """All Chapter 3 datasets (no I/O).
 
-    Two batched branch traces (printed and membrane equilibrium, all pre-stretches at
-    once) and two batched event locations serve every curve of the chapter.
+    One batched pass: the branches of both equilibrium variants (printed and membrane,
+    all pre-stretches) in one scan and one grid integration, then every event of every
+    curve of the chapter (both variants, the c sweep, the eps_r study) located together.
     """
     s = _settings(full)
-    bar = tqdm(total=4, desc="ch3", leave=False)
-    pr = dict(zip(LAMP_CURVES, branches([Annulus(p, RADIUS_RATIO) for p in LAMP_CURVES],
-                                        n=s["n"], steps=s["steps"]), strict=True))
-    mb = dict(zip(LAMP_CURVES, branches([Annulus(p, RADIUS_RATIO, equilibrium="membrane")
-                                         for p in LAMP_CURVES], n=s["n"], steps=s["steps"]),
-                  strict=True))
+    bar = tqdm(total=3, desc="ch3", leave=False)
+    nL = len(LAMP_CURVES)
+    both = branches([Annulus(p, RADIUS_RATIO, equilibrium=eq) for eq in ("printed", "membrane")
+                     for p in LAMP_CURVES], n=s["n"], steps=s["steps"])
+    pr = dict(zip(LAMP_CURVES, both[:nL], strict=True))
+    mb = dict(zip(LAMP_CURVES, both[nL:], strict=True))
     bar.update()
     cs2 = (0.0, params.C_WISSLER_MAZZA)
     allc = [c for _ in EPS_R for c in cs2]
@@ -280,16 +281,15 @@ def compute(full: bool = False) -> dict[str, xr.Dataset]:
     cgrid = _c_grid(full)
     jobs = ([(pr[p], C_CURVES, None) for p in LAMP_CURVES]
             + [(pr[p], cgrid, None) for p in LAMP_SWEEP]
-            + [(pr[p], allc, alle) for p in LAMP_CURVES])
+            + [(pr[p], allc, alle) for p in LAMP_CURVES]
+            + [(mb[p], C_CURVES, None) for p in LAMP_CURVES])
     res = _curves_many_admissible(jobs)
     bar.update()
-    resm = _curves_many_admissible([(mb[p], C_CURVES, None) for p in LAMP_CURVES])
-    bar.update()
-    nL, nS = len(LAMP_CURVES), len(LAMP_SWEEP)
+    nS = len(LAMP_SWEEP)
     family = {p: (pr[p], res[k]) for k, p in enumerate(LAMP_CURVES)}
     sweep = {p: res[nL + k] for k, p in enumerate(LAMP_SWEEP)}
     sens = {p: res[nL + nS + k] for k, p in enumerate(LAMP_CURVES)}
-    membrane = {p: (mb[p], resm[k]) for k, p in enumerate(LAMP_CURVES)}
+    membrane = {p: (mb[p], res[2 * nL + nS + k]) for k, p in enumerate(LAMP_CURVES)}
     out = {
         "ch3_annulus_profiles": annulus_profiles(full, pr[3.0]),
         "ch3_voltage_stretch": voltage_stretch(family),

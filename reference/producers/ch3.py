@@ -96,17 +96,16 @@ def _plan() -> list[tuple]:
 
 def _compute_curves(keys, mk) -> None:
     """Curves for ``keys`` [(lamP, c, eps_r, equilibrium)] in one batched pass: the
-    branches of each variant in one trace, every event of every curve in one location."""
+    branches of both variants in one trace, every event of every curve in one location."""
     keys = [k for k in dict.fromkeys(keys) if (*k, mk) not in _CURVES]
     if not keys:
         return
-    for eq in VARIANTS:
-        need = sorted({k[0] for k in keys if k[3] == eq
-                       if (k[0], eq, 15.0, BRANCH_POINTS, mk) not in _BRANCHES})
-        if need:
-            brs = branches([Annulus(lp, 15.0, mk[0], eq) for lp in need], n=BRANCH_POINTS)
-            for lp, br in zip(need, brs, strict=True):
-                _BRANCHES[(lp, eq, 15.0, BRANCH_POINTS, mk)] = br
+    need = sorted({(k[3], k[0]) for k in keys
+                   if (k[0], k[3], 15.0, BRANCH_POINTS, mk) not in _BRANCHES})
+    if need:   # the branches of both variants in one batched trace
+        brs = branches([Annulus(lp, 15.0, mk[0], eq) for eq, lp in need], n=BRANCH_POINTS)
+        for (eq, lp), br in zip(need, brs, strict=True):
+            _BRANCHES[(lp, eq, 15.0, BRANCH_POINTS, mk)] = br
     groups: dict = {}
     for k in keys:
         groups.setdefault((k[0], k[3]), []).append(k)
