@@ -523,8 +523,9 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--full", action="store_true",
                    help="converged finite-element meshes and full sweeps (slow)")
     s.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                   help="Dask scheduler for the independent FE cases: 'local' (a LocalCluster "
-                        "sized to the machine; the default with --full) or the address of an "
+                   help="where the independent FE cases of ch5 run: 'serial' (this process), "
+                        "'local' (a Dask LocalCluster sized to the machine, DEBENCH_WORKERS "
+                        "processes; the default on a multi-core machine) or the address of an "
                         "existing cluster, e.g. tcp://host:8786 (dask-jobqueue on SLURM/PBS, "
                         "dask-kubernetes)")
     s.add_argument("--out", default=str(DEFAULT_OUT), help="output directory (default results/)")

@@ -166,6 +166,16 @@ class Problem:
 
 
 # --------------------------------------------------------------------------- loading
+def _discretisation_error(ds, var, f: Mapping[str, Any]):
+    """The discretisation error a dataset states for ``var``: ``{error = NAME}`` names a
+    variable holding the error estimate; ``{variable, dim, index}`` bounds it by the
+    distance of ``var`` from that level of ``variable`` (e.g. the finest mesh)."""
+    if "error" in f:
+        return np.abs(ds[f["error"]])
+    fine = ds[f["variable"]].isel({f["dim"]: int(f["index"])})
+    return np.abs(var - fine)
+
+
 def _accuracy(raw: Mapping[str, Any], where: str) -> ReferenceAccuracy:
     raw = dict(raw)
     if "from" in raw:
@@ -364,9 +374,7 @@ def reference_at(problem: Problem, quantity: Quantity,
     var = ds[quantity.variable]
     disc_var = None
     if quantity.discretisation_from:
-        f = quantity.discretisation_from
-        fine = ds[f["variable"]].isel({f["dim"]: int(f["index"])})
-        disc_var = np.abs(var - fine)
+        disc_var = _discretisation_error(ds, var, quantity.discretisation_from)
     value, interp, disc = np.empty(n), np.zeros(n), np.zeros(n)
     keys = list(zip(*arrays[:len(quantity.select)], strict=True)) if quantity.select else [()] * n
     groups: dict[tuple, list[int]] = {}
@@ -429,8 +437,7 @@ def reference_json(problem: Problem) -> dict[str, Any]:
                 item["along"] = {"name": q.along, "units": q.along_units,
                                  "dims": list(a.dims), "values": clean(a.values)}
             if q.discretisation_from:
-                f = q.discretisation_from
-                fine = ds[f["variable"]].isel({f["dim"]: int(f["index"])})
-                item["discretisation_error"] = clean(np.abs(var - fine).values)
+                item["discretisation_error"] = clean(
+                    _discretisation_error(ds, var, q.discretisation_from).values)
         out["reference"][q.name] = item
     return out

@@ -21,7 +21,11 @@ the coarsest level of every case (``debench verify``).
 
 from __future__ import annotations
 
+import hashlib
+import math
 import os
+import pickle
+import time
 from pathlib import Path
 
 import numpy as np
@@ -40,10 +44,20 @@ SCALE_COPIES = {"ogden_t0p5": "ogden_t1"}
 """Cases identical in normalised variables by scale invariance (radius/thickness fixed: no
 intrinsic length; ``verification/test_ch5_fem.py::test_normalised_results_are_scale_invariant``
 checks it on the coarse mesh): computed once, from the case they copy."""
-LEVELS = {False: (3.0, 2.0, 1.4), True: (2.0, 1.4, 1.0, 0.7, 0.5)}
-RAMP_H = {False: 3.0, True: 1.0}
-LAYERS = 1          # through-thickness: 1 layer of quadratic prisms (2 layers change the
-                    # critical voltage by < 0.4 %, see verification/test_ch5_fem.py)
+LEVELS = {False: (3.0, 2.0, 1.4), True: (3.0, 2.0, 1.4, 1.0, 0.7, 0.5, 0.45)}
+"""In-plane mesh sizes / t0 of the critical-voltage sequence (the finest full level, 0.45 t0
+with two layers, has about 150,000 DOFs)."""
+LAYERS = {False: 1, True: 2}
+"""Layers of quadratic prisms through the thickness of the mesh sequences."""
+LAYER_STUDY = {False: (3.0, (1, 2)), True: (2.0, (1, 2, 3, 4))}
+"""(in-plane size, layer counts) of the through-thickness convergence study."""
+RAMP_LEVELS = {False: (3.0,), True: (3.0, 2.0, 1.4)}
+"""In-plane mesh sizes of the ramps (pull-in); the finest is the ramp stored step by step."""
+WRINKLING_ASPECT = 20.0
+WRINKLING_LEVELS = {False: (), True: (4.0, 3.0)}
+"""Ramps of the Ogden film at radius/thickness 20 (the thesis' 0.5 mm film if it kept
+R = 10 mm), with the eigen-analysis along the path: non-axisymmetric modes on two
+circumferential resolutions (about 31 and 42 quadratic elements around the rim)."""
 ORDER = 2
 EIG_EVERY = 4
 RAMP_DV_MAX = 0.02  # largest voltage step of the ramps (normalised): >= 3 points in the
@@ -67,6 +81,9 @@ def richardson(h, v):
     def f(p):
         return (h1**p - h2**p) / (h2**p - h3**p) - ratio
 
+    if not (math.isfinite(ratio) and ratio > 0 and f(0.05) * f(8.0) < 0):
+        raise ConvergenceError(f"richardson: levels {list(v[-3:])} at h = {list(h[-3:])} do "
+                               "not converge monotonically at a rate in [0.05, 8]")
     p = brentq(f, 0.05, 8.0)
     c = (v2 - v3) / (h2**p - h3**p)
     return v3 - c * h3**p, p
@@ -94,10 +111,14 @@ def convergence_fit(h, v) -> dict[str, float]:
     h, v = np.asarray(h, float), np.asarray(v, float)
     if h.size < 3:
         raise ValueError(f"convergence_fit needs >= 3 levels, got {h.size}")
-    v3, p3 = richardson(h, v)
     if h.size == 3:
+        v3, p3 = richardson(h, v)
         return {"v_inf": float(v3), "p": float(p3), "error": float(abs(v3 - v[-1])),
                 "residual": 0.0}
+    try:
+        v3, p3 = richardson(h, v)
+    except ConvergenceError:  # the finest three are not monotone: start from the data
+        v3, p3 = float(v[-1]), 1.0
     scale = abs(v[-1] - v[-2]) or 1.0
 
     def fit(hh, vv, start):
@@ -110,6 +131,10 @@ def convergence_fit(h, v) -> dict[str, float]:
         return res.x, float(np.max(np.abs(res.fun))) * scale
 
     (vi, _, p), resid = fit(h, v, (v3, p3))
+    if not 0.05 + 1e-6 < p < 8.0 - 1e-6:
+        raise ConvergenceError(f"convergence_fit: the fitted rate {p:.4g} is at a bound of "
+                               f"[0.05, 8]: levels {v.tolist()} at h = {h.tolist()} are not "
+                               "in the asymptotic range")
     dropped = fit(h[1:], v[1:], (v3, p3))[0][0] if h.size >= 4 else vi
     return {"v_inf": float(vi), "p": float(p), "residual": float(resid),
             "error": FIT_SAFETY * float(max(abs(vi - dropped), resid))}
@@ -126,20 +151,21 @@ def _limit_threads():
     limit_threads(1)
 
 
-def critical_task(case: str, h_rel: float) -> dict:
+def critical_task(case: str, h_rel: float, layers: int = 1, aspect: float = 10.0) -> dict:
     """One critical-voltage computation as plain data (a Dask task)."""
     from debench.models.buckling.parameters import Discretisation, Plate
     from debench.models.buckling.solver import critical_voltage
     _limit_threads()
     mat_name, t0 = CASES[case]
-    r = critical_voltage(Plate(thickness=t0), _material(mat_name),
-                         Discretisation(h_rel=h_rel, layers=LAYERS, order=ORDER))
+    start = time.perf_counter()
+    r = critical_voltage(Plate(thickness=t0, aspect=aspect), _material(mat_name),
+                         Discretisation(h_rel=h_rel, layers=layers, order=ORDER))
     return {"v": r.v, "ndof": r.ndof, "nelements": r.nelements, "eig_residual": r.eig_residual,
-            "newton_residual": r.newton_residual}
+            "newton_residual": r.newton_residual, "seconds": time.perf_counter() - start}
 
 
 def ramp_task(case: str, h_rel: float, eig_every: int = EIG_EVERY,
-              dv_max: float = RAMP_DV_MAX) -> dict:
+              dv_max: float = RAMP_DV_MAX, layers: int = 1, aspect: float = 10.0) -> dict:
     """One voltage ramp as plain data (a Dask task): the RampResult fields."""
     import dataclasses
 
@@ -147,37 +173,124 @@ def ramp_task(case: str, h_rel: float, eig_every: int = EIG_EVERY,
     from debench.models.buckling.solver import voltage_ramp
     _limit_threads()
     mat_name, t0 = CASES[case]
-    r = voltage_ramp(Plate(thickness=t0), _material(mat_name),
-                     Discretisation(h_rel=h_rel, layers=LAYERS, order=ORDER),
+    r = voltage_ramp(Plate(thickness=t0, aspect=aspect), _material(mat_name),
+                     Discretisation(h_rel=h_rel, layers=layers, order=ORDER),
                      dv_max=dv_max, eig_every=eig_every)
     return {f.name: getattr(r, f.name) for f in dataclasses.fields(r)}
+
+
+def _cost(task: tuple) -> float:
+    """Rough relative cost of a task (DOFs ~ layers / h^2 x aspect^2; Ogden assembles ~3x
+    slower; a ramp is ~8 critical voltages): the longest tasks are submitted first."""
+    fn, case, h, *rest = task
+    layers = rest[2] if fn is ramp_task and len(rest) > 2 else (rest[0] if rest else 1)
+    aspect = (rest[3] if fn is ramp_task and len(rest) > 3
+              else rest[1] if fn is critical_task and len(rest) > 1 else 10.0)
+    c = (2 * layers + 1) / h**2 * (aspect / 10.0) ** 2
+    return c * (3.0 if CASES[case][0] == "ogden" else 1.0) * (8.0 if fn is ramp_task else 1.0)
 
 
 def run_tasks(tasks: list[tuple], scheduler=None, progress: bool = True) -> list:
     """Run ``(function, *args)`` tasks serially (``scheduler=None``) or on Dask
     ``distributed``: ``"local"`` starts a LocalCluster sized to the machine (one process per
-    core, one thread each), any other string is the address of an existing scheduler
-    (e.g. one started by dask-jobqueue on SLURM/PBS or by dask-kubernetes).  Results come
-    back in task order."""
+    core, one thread each; ``DEBENCH_WORKERS`` overrides the number), any other string is
+    the address of an existing scheduler (e.g. one started by dask-jobqueue on SLURM/PBS or
+    by dask-kubernetes).  Results come back in task order.  With ``DEBENCH_FE_CACHE`` set
+    to a directory, each finished task's result is kept there as it finishes (keyed on the
+    task and the git commit of a clean tree) so that a long sweep resumes after an
+    interruption (:class:`_TaskCache`)."""
+    cache = _TaskCache.from_env()
+    out = [cache.get(t) if cache is not None else None for t in tasks]
+    todo = [i for i, r in enumerate(out) if r is None]
+
+    def finished(i, result):
+        out[i] = result
+        if cache is not None:
+            cache.put(tasks[i], result)
+
+    if not todo:
+        return out
     if scheduler is None:
-        out = []
         try:
             from tqdm import tqdm
         except ImportError:  # pragma: no cover
             tqdm = None
-        it = tqdm(tasks, desc="ch5 FE", disable=not progress) if tqdm else tasks
-        for fn, *args in it:
-            out.append(fn(*args))
+        it = tqdm(todo, desc="ch5 FE", disable=not progress) if tqdm else todo
+        for i in it:
+            fn, *args = tasks[i]
+            finished(i, fn(*args))
         return out
     from distributed import Client, LocalCluster
     if scheduler == "local":
-        n = os.cpu_count() or 1
+        n = int(os.environ.get("DEBENCH_WORKERS", os.cpu_count() or 1))
         with LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                           dashboard_address=None) as cluster, Client(cluster) as client:
-            return client.gather([client.submit(fn, *args, pure=False)
-                                  for fn, *args in tasks])
-    with Client(scheduler) as client:
-        return client.gather([client.submit(fn, *args, pure=False) for fn, *args in tasks])
+            _gather(client, tasks, todo, finished, progress)
+    else:
+        with Client(scheduler) as client:
+            _gather(client, tasks, todo, finished, progress)
+    return out
+
+
+class _TaskCache:
+    """Finished FE task results on disk, so that an interrupted sweep resumes.
+
+    A result is keyed on the task (function name and arguments) and the git commit; the
+    cache is used only from a clean tree (a dirty tree could reuse results of code that
+    no longer exists), written atomically (temporary file + rename)."""
+
+    def __init__(self, root: Path, commit: str):
+        self.root, self.commit = Path(root), commit
+        self.root.mkdir(parents=True, exist_ok=True)
+
+    @classmethod
+    def from_env(cls):
+        root = os.environ.get("DEBENCH_FE_CACHE")
+        if not root:
+            return None
+        from debench.reference.provenance import git_commit
+        commit = git_commit()
+        if not commit or commit.endswith("-dirty") or commit == "unknown":
+            raise ValueError(f"DEBENCH_FE_CACHE needs a clean git tree (commit {commit!r})")
+        return cls(Path(root), commit)
+
+    def _path(self, task: tuple) -> Path:
+        fn, *args = task
+        key = repr((fn.__module__, fn.__name__, tuple(args), self.commit)).encode()
+        return self.root / f"{hashlib.sha256(key).hexdigest()[:32]}.pkl"
+
+    def get(self, task: tuple):
+        p = self._path(task)
+        if not p.exists():
+            return None
+        with p.open("rb") as fh:
+            return pickle.load(fh)
+
+    def put(self, task: tuple, result) -> None:
+        p = self._path(task)
+        tmp = p.with_suffix(f".tmp{os.getpid()}")
+        with tmp.open("wb") as fh:
+            pickle.dump(result, fh)
+        os.replace(tmp, p)
+
+
+def _gather(client, tasks: list[tuple], todo: list[int], finished, progress: bool) -> None:
+    """Submit the tasks ``todo`` longest first (:func:`_cost`), hand each result to
+    ``finished(index, result)`` as it arrives (a failed task raises its exception here)."""
+    from distributed import as_completed
+    order = sorted(todo, key=lambda i: -_cost(tasks[i]))
+    futures = {client.submit(tasks[i][0], *tasks[i][1:], pure=False): i for i in order}
+    try:
+        from tqdm import tqdm
+        bar = tqdm(total=len(todo), desc="ch5 FE (dask)", disable=not progress)
+    except ImportError:  # pragma: no cover
+        bar = None
+    for fut in as_completed(futures):
+        finished(futures[fut], fut.result())
+        if bar is not None:
+            bar.update()
+    if bar is not None:
+        bar.close()
 
 
 def coarse_values(*, cases=tuple(CASES)) -> dict[str, float]:
@@ -202,81 +315,179 @@ def coarse_values(*, cases=tuple(CASES)) -> dict[str, float]:
     return out
 
 
+def _at_pullin(r, arr) -> float:
+    """A path quantity interpolated (in the centre deflection) at the pull-in deflection."""
+    k = int(np.argmax(r.v))
+    return float(np.interp(r.w_pullin, r.w[: k + 2], arr[: k + 2]))
+
+
+def _level_fit(h, values) -> dict[str, float]:
+    """:func:`convergence_fit` with three or more levels (levels that do not converge
+    monotonically: the finest value, no rate, the largest distance of a level from it as the
+    error); with fewer, the finest value and (two levels) its change from the previous one
+    as the error (NaN with one level)."""
+    h, values = np.asarray(h, float), np.asarray(values, float)
+    if h.size >= 3:
+        try:
+            return convergence_fit(h, values)
+        except ConvergenceError:  # not monotone: no rate; the spread bounds the error
+            return {"v_inf": float(values[-1]), "p": float("nan"),
+                    "error": float(np.max(np.abs(values - values[-1]))), "residual": 0.0}
+    err = float(abs(values[-1] - values[-2])) if h.size == 2 else float("nan")
+    return {"v_inf": float(values[-1]), "p": float("nan"), "error": err, "residual": 0.0}
+
+
+def plan(full: bool = False) -> dict[str, list[tuple]]:
+    """The independent FE tasks of a build, by role: ``critical`` (case x level),
+    ``layers`` (case x layer count of the through-thickness study, at its in-plane size),
+    ``ramps`` (case x ramp level), ``wrinkling`` (Ogden film at radius/thickness
+    :data:`WRINKLING_ASPECT`, per level).  Scale copies are not computed."""
+    computed = [c for c in CASES if c not in SCALE_COPIES]
+    lay = LAYERS[full]
+    h_ls, layer_counts = LAYER_STUDY[full]
+    return {
+        "critical": [(critical_task, c, h, lay) for c in computed for h in LEVELS[full]],
+        "layers": [(critical_task, c, h_ls, n) for c in computed for n in layer_counts],
+        "ramps": [(ramp_task, c, h, EIG_EVERY, RAMP_DV_MAX, lay)
+                  for c in computed for h in RAMP_LEVELS[full]],
+        "wrinkling": [(ramp_task, "ogden_t1", h, EIG_EVERY, RAMP_DV_MAX, lay, WRINKLING_ASPECT)
+                      for h in WRINKLING_LEVELS[full]],
+    }
+
+
 def compute(full: bool = False, progress: bool = True, scheduler=None):
     """Run the FE computations; returns (critical dataset, ramps dataset, parameters).
 
-    Every (case, level) critical voltage and every ramp is an independent task (run
-    serially, or on Dask with ``scheduler``); scale copies (:data:`SCALE_COPIES`) are
-    filled from the case they copy.
+    Every task of :func:`plan` is independent (run serially, or on Dask with
+    ``scheduler``); a task that appears twice (a layer-study mesh that is also a level of
+    the sequence) runs once; scale copies (:data:`SCALE_COPIES`) are filled from the case
+    they copy.
     """
     from debench.models.buckling import analytic
     from debench.models.buckling.parameters import MU_REF
     from debench.models.buckling.solver import RampResult, southwell
-    levels = LEVELS[full]
-    computed = [c for c in CASES if c not in SCALE_COPIES]
-    tasks = ([(critical_task, c, h) for c in computed for h in levels]
-             + [(ramp_task, c, RAMP_H[full]) for c in computed])
-    results = run_tasks(tasks, scheduler=scheduler, progress=progress)
-    crit_res = {(c, h): results[k] for k, (c, h) in
-                enumerate((c, h) for c in computed for h in levels)}
-    ramps = {c: RampResult(**results[len(computed) * len(levels) + k])
-             for k, c in enumerate(computed)}
-    for copy, source in SCALE_COPIES.items():
-        for h in levels:
-            crit_res[(copy, h)] = crit_res[(source, h)]
-        ramps[copy] = ramps[source]
-    vcr = np.array([[crit_res[(c, h)]["v"] for h in levels] for c in CASES])
-    ndof = np.array([[crit_res[(c, h)]["ndof"] for h in levels] for c in CASES], dtype=np.int64)
-    nel = np.array([[crit_res[(c, h)]["nelements"] for h in levels] for c in CASES],
-                   dtype=np.int64)
+    levels, ramp_levels = LEVELS[full], RAMP_LEVELS[full]
+    h_ls, layer_counts = LAYER_STUDY[full]
+    roles = plan(full)
+    unique = list(dict.fromkeys(t for ts in roles.values() for t in ts))
+    done = dict(zip(unique, run_tasks(unique, scheduler=scheduler, progress=progress),
+                    strict=True))
+
+    def ramp(task):
+        fields = dict(done[task])
+        return RampResult(**fields)
 
     names = list(CASES)
-    v_inf, rate, err, v_k, v_m, v_sw, v_cr_ramp_mesh = [], [], [], [], [], [], []
+
+    def source(case):
+        return SCALE_COPIES.get(case, case)
+
+    lay = LAYERS[full]
+    crit_res = {(c, h): done[(critical_task, source(c), h, lay)] for c in names for h in levels}
+    layer_res = {(c, n): done[(critical_task, source(c), h_ls, n)]
+                 for c in names for n in layer_counts}
+    ramps = {(c, h): ramp((ramp_task, source(c), h, EIG_EVERY, RAMP_DV_MAX, lay))
+             for c in names for h in ramp_levels}
+    vcr = np.array([[crit_res[(c, h)]["v"] for h in levels] for c in names])
+    ndof = np.array([[crit_res[(c, h)]["ndof"] for h in levels] for c in names], dtype=np.int64)
+    nel = np.array([[crit_res[(c, h)]["nelements"] for h in levels] for c in names],
+                   dtype=np.int64)
+    secs = np.array([[crit_res[(c, h)]["seconds"] for h in levels] for c in names])
+    eig_res = np.array([[crit_res[(c, h)]["eig_residual"] for h in levels] for c in names])
+    v_layers = np.array([[layer_res[(c, n)]["v"] for n in layer_counts] for c in names])
+    ndof_layers = np.array([[layer_res[(c, n)]["ndof"] for n in layer_counts] for c in names],
+                           dtype=np.int64)
+
+    v_inf, rate, err, resid, v_k, v_m, v_sw, v_cr_ramp_mesh = ([] for _ in range(8))
+    lay_lim, lay_err, lay_corr = [], [], []
+    finest_ramp = ramp_levels[-1]
     for i, case in enumerate(names):
         fitted = convergence_fit(np.array(levels), vcr[i])
         v_inf.append(fitted["v_inf"])
         rate.append(fitted["p"])
         err.append(fitted["error"])
+        resid.append(fitted["residual"])
+        # through-thickness: v(n layers) ~ v_n_inf + C n^-q, i.e. a fit in 1/n
+        lf = _level_fit(1.0 / np.array(layer_counts, float), v_layers[i])
+        lay_lim.append(lf["v_inf"])
+        lay_err.append(lf["error"])
+        lay_corr.append(lf["v_inf"] - v_layers[i][list(layer_counts).index(lay)])
         mat = _material(CASES[case][0])
         v_k.append(analytic.critical_voltage_plate(mat, 10.0, mindlin=False))
         v_m.append(analytic.critical_voltage_plate(mat, 10.0, mindlin=True))
-        r = ramps[case]
-        j_ramp = list(levels).index(RAMP_H[full]) if RAMP_H[full] in levels else -1
+        r = ramps[(case, finest_ramp)]
+        j_ramp = list(levels).index(finest_ramp) if finest_ramp in levels else -1
         v_cr_ramp_mesh.append(vcr[i, j_ramp])
         v_sw.append(southwell(r.v, r.w_mid, v_guess=vcr[i, j_ramp]))
-    attrs1 = lambda ln, u="1": {"long_name": ln, "units": u}  # noqa: E731
+    v_ref = np.array(v_inf) + np.array(lay_corr)
+    v_ref_err = np.array(err) + np.abs(np.array(lay_err))
+
+    def attrs1(ln, u="1", accuracy=None):
+        out = {"long_name": ln, "units": u}
+        if accuracy:
+            out["accuracy"] = accuracy
+        return out
+
+    this_mesh = ("of this mesh: secant on the lowest eigenvalue to |dv| < 1e-6; the "
+                 "discretisation error is what the sequence measures")
     crit = xr.Dataset(
         {
             "v_cr": (("case", "level"), vcr, attrs1(
                 "normalised critical voltage Phi/t0 sqrt(eps/mu_ref) of the perfect film "
-                "(linearised eigen-analysis)")),
+                "(linearised eigen-analysis)", accuracy=this_mesh)),
             "ndof": (("case", "level"), ndof, attrs1("degrees of freedom")),
             "nelements": (("case", "level"), nel, attrs1("prism elements")),
+            "eig_residual": (("case", "level"), eig_res, attrs1(
+                "relative eigen-residual ||S x - lambda M x||/||M x|| at v_cr")),
+            "wall_seconds": (("case", "level"), secs, attrs1(
+                "wall time of the critical-voltage computation (one thread)", "s")),
             "v_cr_extrapolated": (("case",), np.array(v_inf), attrs1(
-                "mesh limit of v_cr (fit v_inf + C h^p over all levels; exact through "
-                "three)")),
+                "in-plane mesh limit of v_cr at the sequence's layer count (least-squares "
+                "fit v_inf + C h^p over all levels)", accuracy="+- v_cr_error")),
             "v_cr_error": (("case",), np.array(err), attrs1(
-                "error estimate of the mesh limit (dropping the coarsest level, fit "
-                "residual; with three levels: distance to the finest level)")),
+                "error estimate of the in-plane mesh limit (3 x the larger of the change "
+                "when the coarsest level is dropped and the largest fit residual)")),
+            "v_cr_fit_residual": (("case",), np.array(resid), attrs1(
+                "largest |fit - v_cr| over the levels")),
             "convergence_rate": (("case",), np.array(rate), attrs1(
                 "fitted convergence rate p of v_cr in the in-plane mesh size")),
+            "v_cr_layers": (("case", "layer_count"), v_layers, attrs1(
+                "v_cr at the layer-study in-plane size versus layers through the thickness",
+                accuracy=this_mesh)),
+            "ndof_layers": (("case", "layer_count"), ndof_layers,
+                            attrs1("degrees of freedom of the layer study")),
+            "v_cr_layer_limit": (("case",), np.array(lay_lim), attrs1(
+                "through-thickness limit of v_cr at the layer-study in-plane size (fit in "
+                "1/layers; with two counts: the finer)", accuracy="+- v_cr_layer_error")),
+            "v_cr_layer_error": (("case",), np.abs(np.array(lay_err)), attrs1(
+                "error estimate of the through-thickness limit")),
+            "layer_correction": (("case",), np.array(lay_corr), attrs1(
+                "v_cr_layer_limit minus v_cr with the sequence's layer count, same mesh")),
+            "v_cr_reference": (("case",), v_ref, attrs1(
+                "reference critical voltage: in-plane limit plus through-thickness "
+                "correction (errors assumed additive)", accuracy="+- v_cr_reference_error")),
+            "v_cr_reference_error": (("case",), v_ref_err, attrs1(
+                "error estimate of v_cr_reference: v_cr_error + v_cr_layer_error")),
             "v_cr_kirchhoff": (("case",), np.array(v_k), attrs1(
                 "Kirchhoff clamped-plate estimate (14.68 D/a^2, compressible flat film)")),
             "v_cr_mindlin": (("case",), np.array(v_m), attrs1(
                 "Mindlin (thick-plate) corrected clamped-plate estimate")),
             "v_cr_southwell": (("case",), np.array(v_sw), attrs1(
-                "Southwell estimate from the ramp of the imperfect film (ramp mesh)")),
+                "Southwell estimate from the ramp of the imperfect film (finest ramp mesh)")),
             "v_cr_ramp_mesh": (("case",), np.array(v_cr_ramp_mesh), attrs1(
-                "eigen-analysis critical voltage on the ramp mesh")),
+                "eigen-analysis critical voltage on the finest ramp mesh")),
             "thickness_m": (("case",), np.array([CASES[c][1] for c in names]),
                             attrs1("initial thickness t0", "m")),
         },
         coords={"case": ("case", names, {"long_name": "material and thickness case"}),
                 "level": ("level", np.arange(len(levels)), attrs1("mesh level")),
-                "h_rel": ("level", np.array(levels), attrs1("in-plane mesh size / t0"))},
+                "h_rel": ("level", np.array(levels), attrs1("in-plane mesh size / t0")),
+                "layer_count": ("layer_count", np.array(layer_counts, dtype=np.int64),
+                                attrs1("layers of quadratic prisms through the thickness"))},
     )
-    nstep = max(len(r.v) for r in ramps.values())
-    neig = max(len(r.eig_v) for r in ramps.values())
+    rfin = {c: ramps[(c, finest_ramp)] for c in names}
+    nstep = max(len(r.v) for r in rfin.values())
+    neig = max(len(r.eig_v) for r in rfin.values())
 
     def pad(a, n, extra=()):
         out = np.full((n,) + extra, np.nan)
@@ -294,67 +505,132 @@ def compute(full: bool = False, progress: bool = True, scheduler=None):
                           ("e_max", "largest sampled normalised true field (mid-plane radius)",
                            "1")):
         data[key] = (("case", "step"),
-                     np.array([pad(getattr(ramps[c], key), nstep) for c in names]),
+                     np.array([pad(getattr(rfin[c], key), nstep) for c in names]),
                      attrs1(ln, unit))
-    data["eig_v"] = (("case", "eig_record"), np.array([pad(ramps[c].eig_v, neig) for c in names]),
+    data["eig_v"] = (("case", "eig_record"), np.array([pad(rfin[c].eig_v, neig) for c in names]),
                      attrs1("normalised voltage of the eigen-analysis record"))
-    data["eig_w"] = (("case", "eig_record"), np.array([pad(ramps[c].eig_w, neig) for c in names]),
+    data["eig_w"] = (("case", "eig_record"), np.array([pad(rfin[c].eig_w, neig) for c in names]),
                      attrs1("centre deflection / t0 of the eigen-analysis record"))
     data["eig_lambda"] = (("case", "eig_record", "mode"),
-                          np.array([pad(ramps[c].eig_lam, neig, (3,)) for c in names]),
-                          attrs1("smallest-|lambda| eigenvalues of the condensed tangent "
+                          np.array([pad(rfin[c].eig_lam, neig, (3,)) for c in names]),
+                          attrs1("lowest eigenvalues of the condensed tangent "
                                  "S u = lambda M u (M: L2 mass / t0^2)"))
     data["eig_axisymmetry"] = (("case", "eig_record", "mode"),
-                               np.array([pad(ramps[c].eig_axisym, neig, (3,)) for c in names]),
+                               np.array([pad(rfin[c].eig_axisym, neig, (3,)) for c in names]),
                                attrs1("fraction of the mode in the angular harmonic n = 0"))
-    def at_pullin(r, arr):
-        w = r.w
-        k = int(np.argmax(r.v))
-        return float(np.interp(r.w_pullin, w[: k + 2], arr[: k + 2]))
 
-    rl = [ramps[c] for c in names]
+    rl = [rfin[c] for c in names]
+    pullin_acc = "parabola through the voltage maximum of this mesh (< 1e-3 relative)"
     data["v_pullin"] = (("case",), np.array([r.v_pullin for r in rl]), attrs1(
-        "pull-in: voltage limit point (vertex of the parabola v(w) through the maximum)"))
+        "pull-in on the finest ramp mesh: voltage limit point (vertex of the parabola v(w) "
+        "through the maximum)", accuracy=pullin_acc))
     data["v_max_computed"] = (("case",), np.array([np.max(r.v) for r in rl]), attrs1(
         "largest normalised voltage among the computed path points"))
     data["w_pullin"] = (("case",), np.array([r.w_pullin for r in rl]), attrs1(
-        "centre deflection / t0 at pull-in"))
-    data["thickness_pullin"] = (("case",), np.array([at_pullin(r, r.thickness) for r in rl]),
+        "centre deflection / t0 at pull-in (finest ramp mesh)", accuracy=pullin_acc))
+    data["thickness_pullin"] = (("case",), np.array([_at_pullin(r, r.thickness) for r in rl]),
                                 attrs1("centre thickness / t0 at pull-in"))
-    data["e_centre_pullin"] = (("case",), np.array([at_pullin(r, r.e_centre) for r in rl]),
+    data["e_centre_pullin"] = (("case",), np.array([_at_pullin(r, r.e_centre) for r in rl]),
                                attrs1("normalised true centre field at pull-in"))
-    data["e_max_pullin"] = (("case",), np.array([at_pullin(r, r.e_max) for r in rl]),
+    data["e_max_pullin"] = (("case",), np.array([_at_pullin(r, r.e_max) for r in rl]),
                             attrs1("largest sampled normalised true field at pull-in"))
-    won = [r.wrinkling_onset() for r in ramps.values()]
-    data["v_wrinkling"] = (("case",), np.array([w[0] if w else np.nan for w in won]), attrs1(
+
+    def onset(r, k):
+        o = r.wrinkling_onset()
+        return o[k] if o else np.nan
+
+    data["v_wrinkling"] = (("case",), np.array([onset(r, 0) for r in rl]), attrs1(
         "normalised voltage at the onset of a non-axisymmetric mode (NaN: none before pull-in)"))
-    data["w_wrinkling"] = (("case",), np.array([w[1] if w else np.nan for w in won]), attrs1(
+    data["w_wrinkling"] = (("case",), np.array([onset(r, 1) for r in rl]), attrs1(
         "centre deflection / t0 at the onset of a non-axisymmetric mode (NaN: none)"))
-    data["ndof"] = (("case",), np.array([r.ndof for r in ramps.values()]),
-                    attrs1("degrees of freedom"))
+    data["ndof"] = (("case",), np.array([r.ndof for r in rl]), attrs1("degrees of freedom"))
+    # pull-in on every ramp level and its mesh limit
+    by_level = {key: np.array([[getattr(ramps[(c, h)], key) for h in ramp_levels]
+                               for c in names], float) for key in ("v_pullin", "w_pullin")}
+    data["v_pullin_levels"] = (("case", "ramp_level"), by_level["v_pullin"], attrs1(
+        "pull-in voltage per ramp mesh", accuracy=pullin_acc))
+    data["w_pullin_levels"] = (("case", "ramp_level"), by_level["w_pullin"], attrs1(
+        "centre deflection / t0 at pull-in per ramp mesh", accuracy=pullin_acc))
+    data["v_wrinkling_levels"] = (("case", "ramp_level"), np.array(
+        [[onset(ramps[(c, h)], 0) for h in ramp_levels] for c in names]), attrs1(
+        "onset voltage of a non-axisymmetric mode per ramp mesh (NaN: none before pull-in)"))
+    data["ndof_ramp_levels"] = (("case", "ramp_level"), np.array(
+        [[ramps[(c, h)].ndof for h in ramp_levels] for c in names], dtype=np.int64),
+        attrs1("degrees of freedom of the ramp meshes"))
+    for key, ln in (("v_pullin", "pull-in voltage"), ("w_pullin", "pull-in deflection / t0")):
+        fits = [_level_fit(ramp_levels, by_level[key][i]) for i in range(len(names))]
+        data[f"{key}_extrapolated"] = (("case",), np.array([f["v_inf"] for f in fits]), attrs1(
+            f"mesh limit of the {ln} (fit v_inf + C h^p with three or more ramp levels; "
+            "else the finest level)", accuracy=f"+- {key}_error"))
+        data[f"{key}_error"] = (("case",), np.array([f["error"] for f in fits]), attrs1(
+            f"error estimate of the mesh limit of the {ln} (NaN: one ramp level)"))
+        data[f"{key}_rate"] = (("case",), np.array([f["p"] for f in fits]), attrs1(
+            f"fitted convergence rate of the {ln} (NaN: fewer than three levels)"))
     data["thickness_m"] = (("case",), np.array([CASES[c][1] for c in names]),
                            attrs1("initial thickness t0", "m"))
-    ramp_ds = xr.Dataset(data, coords={
+    coords = {
         "case": ("case", names, {"long_name": "material and thickness case"}),
         "step": ("step", np.arange(nstep), attrs1("converged load step")),
         "eig_record": ("eig_record", np.arange(neig), attrs1("eigen-analysis record")),
-        "mode": ("mode", np.arange(3), attrs1("mode index (ascending eigenvalue)"))})
+        "mode": ("mode", np.arange(3), attrs1("mode index (ascending eigenvalue)")),
+        "ramp_level": ("ramp_level", np.array(ramp_levels), attrs1(
+            "in-plane mesh size / t0 of the ramp"))}
+    wl = WRINKLING_LEVELS[full]
+    if wl:  # the Ogden film at radius/thickness WRINKLING_ASPECT, per level
+        wr = [ramp((ramp_task, "ogden_t1", h, EIG_EVERY, RAMP_DV_MAX, lay, WRINKLING_ASPECT))
+              for h in wl]
+        coords["wrinkling_level"] = ("wrinkling_level", np.array(wl), attrs1(
+            f"in-plane mesh size / t0 of the radius/thickness {WRINKLING_ASPECT:g} ramps"))
+        for key, vals, ln in (
+                ("v_pullin", [r.v_pullin for r in wr], "pull-in voltage"),
+                ("w_pullin", [r.w_pullin for r in wr], "pull-in deflection / t0"),
+                ("v_wrinkling", [onset(r, 0) for r in wr],
+                 "onset voltage of a non-axisymmetric mode (NaN: none before pull-in)"),
+                ("w_wrinkling", [onset(r, 1) for r in wr],
+                 "onset deflection / t0 of a non-axisymmetric mode (NaN: none)"),
+                ("min_nonaxisymmetric_lambda",
+                 [_min_nonaxisym(r) for r in wr],
+                 "smallest eigenvalue of a non-axisymmetric mode recorded before pull-in"),
+                ("ndof", [r.ndof for r in wr], "degrees of freedom")):
+            data[f"r20_{key}"] = (("wrinkling_level",), np.array(vals, float), attrs1(
+                f"Ogden film, radius/thickness {WRINKLING_ASPECT:g}: {ln}"))
+    data["min_nonaxisymmetric_lambda"] = (("case",), np.array([_min_nonaxisym(r) for r in rl]),
+                                          attrs1("smallest eigenvalue of a non-axisymmetric "
+                                                 "mode recorded before pull-in"))
+    ramp_ds = xr.Dataset(data, coords=coords)
     nh, og = _material("nh"), _material("ogden")
     params = {"mu_ref_Pa": MU_REF, "nh_mu_Pa": nh.mu, "k_Pa": nh.k,
               "ogden_alphas": list(og.alphas), "ogden_mus_Pa": list(og.mus),
               "ogden_delta": OGDEN_DELTA, "aspect": 10.0, "imperfection_rel": 1e-3,
-              "imperfection_shape": "t0*1e-3*(1-r^2/a^2)^2", "eps_r": 4.7, "layers": LAYERS,
-              "order": ORDER, "levels_h_rel": list(levels), "ramp_h_rel": RAMP_H[full],
+              "imperfection_shape": "t0*1e-3*(1-r^2/a^2)^2", "eps_r": 4.7, "layers": lay,
+              "order": ORDER, "levels_h_rel": list(levels), "ramp_h_rel": list(ramp_levels),
+              "layer_study_h_rel": h_ls, "layer_counts": list(layer_counts),
+              "wrinkling_aspect": WRINKLING_ASPECT, "wrinkling_h_rel": list(wl),
               "full": full, "ramp_dc_over_t0": 0.2, "ramp_dv_max": RAMP_DV_MAX,
+              "eig_every": EIG_EVERY, "fit_safety": FIT_SAFETY,
               "scale_copies": ", ".join(f"{a} = {b}" for a, b in SCALE_COPIES.items())}
     return crit, ramp_ds, params
 
 
+def _min_nonaxisym(r, axisym_max: float = 0.5) -> float:
+    """Smallest eigenvalue of a non-axisymmetric mode (n = 0 fraction below
+    ``axisym_max``) among the records up to the pull-in deflection (NaN: none recorded)."""
+    if len(r.eig_v) == 0:
+        return float("nan")
+    upto = np.asarray(r.eig_w) <= (r.w_pullin if r.w_pullin is not None else np.inf)
+    lam = np.where(np.asarray(r.eig_axisym) < axisym_max, np.asarray(r.eig_lam), np.nan)[upto]
+    return float(np.nanmin(lam)) if np.any(np.isfinite(lam)) else float("nan")
+
+
 def figures(crit, ramps, fig_dir: Path) -> list[Path]:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    """Figs 5.4 and 5.6 (deflection versus voltage, pull-in marked), the Fig 5.5
+    counterpart (the lowest non-axisymmetric eigenvalue along the path: wrinkling where it
+    crosses zero before pull-in), and the mesh convergence of the critical voltage, the
+    pull-in and the through-thickness study.  The thesis' printed values are overlaid in
+    the overlays of :mod:`debench.reference.builders.ch5_methods`."""
     from debench.models.buckling.parameters import Plate
+    from debench.reference.figures import LABELS, pyplot, save
+    plt = pyplot()
     fig_dir.mkdir(parents=True, exist_ok=True)
     out = []
     # Fig 5.4: thickness study (Ogden), deflection in mm vs voltage in kV (eps_r 4.7)
@@ -364,62 +640,85 @@ def figures(crit, ramps, fig_dir: Path) -> list[Path]:
         t0 = float(r.thickness_m)
         ok = np.isfinite(r.v.values)
         pl = Plate(thickness=t0)
-        axs[0].plot(r.v.values[ok], r.w.values[ok] * t0 * 1e3, style, label=f"t0 = {t0 * 1e3:g} mm")
-        axs[1].plot([pl.volts(x) / 1e3 for x in r.v.values[ok]], r.w.values[ok] * t0 * 1e3, style,
-                    label=f"t0 = {t0 * 1e3:g} mm")
+        lab = rf"$t_0$ = {t0 * 1e3:g} mm"
+        axs[0].plot(r.v.values[ok], r.w.values[ok] * t0 * 1e3, style, label=lab)
+        axs[1].plot([pl.volts(x) / 1e3 for x in r.v.values[ok]], r.w.values[ok] * t0 * 1e3,
+                    style, label=lab)
         axs[0].plot(float(r.v_pullin), float(r.w_pullin) * t0 * 1e3, "ko")
-    axs[0].set_xlabel("normalised voltage Phi/t0 sqrt(eps/mu), mu = 156 kPa")
-    axs[1].set_xlabel("voltage (kV), eps_r = 4.7")
+    axs[0].set_xlabel(LABELS["phibar_ch5"] + r", $\mu$ = 156 kPa")
+    axs[1].set_xlabel(r"voltage $\Phi$ [kV], $\varepsilon_r$ = 4.7")
     for ax in axs:
-        ax.set_ylabel("centre deflection (mm)")
+        ax.set_ylabel(LABELS["deflection_mm"])
         ax.legend()
-    fig.suptitle("Fig 5.4 (debench): Ogden plates, radius/thickness 10; dot = pull-in")
-    p = fig_dir / "fig5_4_deflection_voltage_thickness.png"
-    fig.savefig(p, dpi=110, bbox_inches="tight")
-    plt.close(fig)
-    out.append(p)
+    fig.suptitle("Fig 5.4 (debench): Ogden films, radius/thickness 10; dot = pull-in")
+    out += save(fig, fig_dir / "fig5_4_deflection_voltage_thickness")
     # Fig 5.6: material study at 1 mm
-    fig, ax = plt.subplots(figsize=(5.5, 4))
+    fig, ax = plt.subplots(figsize=(5.8, 4.2))
     for case, style, lab in (("nh_t1", "-", "neo-Hookean"), ("ogden_t1", "--", "Ogden")):
         r = ramps.sel(case=case)
         ok = np.isfinite(r.v.values)
         ax.plot(r.v.values[ok], r.w.values[ok], style, label=lab)
         ax.plot(float(r.v_pullin), float(r.w_pullin), "ko")
-    ax.set_xlabel("normalised voltage Phi/t0 sqrt(eps/mu), mu = 156 kPa")
-    ax.set_ylabel("centre deflection / t0")
+    ax.set_xlabel(LABELS["phibar_ch5"] + r", $\mu$ = 156 kPa")
+    ax.set_ylabel(r"centre deflection $w/t_0$")
     ax.legend()
-    ax.set_title("Fig 5.6 (debench): t0 = 1 mm; dot = pull-in")
-    p = fig_dir / "fig5_6_deflection_voltage_material.png"
-    fig.savefig(p, dpi=110, bbox_inches="tight")
-    plt.close(fig)
-    out.append(p)
-    # convergence of the critical voltage
-    fig, ax = plt.subplots(figsize=(5.5, 4))
+    ax.set_title(r"Fig 5.6 (debench): $t_0$ = 1 mm; dot = pull-in")
+    out += save(fig, fig_dir / "fig5_6_deflection_voltage_material")
+    # Fig 5.5 counterpart: the lowest non-axisymmetric eigenvalue along the path
+    fig, ax = plt.subplots(figsize=(5.8, 4.2))
+    for case, style in (("nh_t1", "-o"), ("ogden_t1", "--s")):
+        r = ramps.sel(case=case)
+        lam = np.where(r.eig_axisymmetry.values < 0.5, r.eig_lambda.values, np.nan)
+        lam_min = np.nanmin(np.where(np.isfinite(lam), lam, np.inf), axis=1)
+        ok = np.isfinite(r.eig_w.values) & np.isfinite(lam_min)
+        ax.plot(r.eig_w.values[ok], lam_min[ok], style, ms=3,
+                label=f"{case}, radius/thickness 10")
+        ax.axvline(float(r.w_pullin), color="0.5", lw=0.8, ls=":")
+    ax.axhline(0.0, color="k", lw=0.8)
+    ax.set_xlabel(r"centre deflection $w/t_0$ (dotted: pull-in)")
+    ax.set_ylabel(r"lowest non-axisymmetric eigenvalue $\lambda$")
+    ax.set_title("Fig 5.5 counterpart: wrinkling where a non-axisymmetric mode crosses 0")
+    ax.legend()
+    out += save(fig, fig_dir / "fig5_5_nonaxisymmetric_modes")
+    # convergence: critical voltage (in-plane), pull-in (ramps), through-thickness
+    fig, axs = plt.subplots(1, 3, figsize=(14, 4.2))
     for case in crit.case.values:
         c = crit.sel(case=case)
         err = np.abs(c.v_cr.values - float(c.v_cr_extrapolated))
-        ax.loglog(crit.h_rel.values, err, "o-",
-                  label=f"{case} (p = {float(c.convergence_rate):.2f})")
-    ax.set_xlabel("in-plane mesh size / t0")
-    ax.set_ylabel("|v_cr - Richardson limit|")
-    ax.legend()
-    p = fig_dir / "fig5_x_critical_voltage_convergence.png"
-    fig.savefig(p, dpi=110, bbox_inches="tight")
-    plt.close(fig)
-    out.append(p)
+        axs[0].loglog(crit.h_rel.values, err, "o-",
+                      label=f"{case} (p = {float(c.convergence_rate):.2f})")
+        axs[2].plot(c.layer_count.values, c.v_cr_layers.values, "o-", label=str(case))
+    axs[0].set_xlabel(LABELS["h_over_t0"])
+    axs[0].set_ylabel(r"$|v_{cr}(h) - v_{cr}(h \to 0)|$")
+    axs[0].set_title("critical voltage, in-plane sequence")
+    for case in ("nh_t1", "ogden_t1"):
+        r = ramps.sel(case=case)
+        axs[1].plot(r.ramp_level.values, r.v_pullin_levels.values, "o-", label=case)
+    axs[1].set_xlabel(LABELS["h_over_t0"])
+    axs[1].set_ylabel(r"pull-in voltage $v_{pi}(h)$")
+    axs[1].set_title("pull-in per ramp mesh")
+    axs[2].set_xlabel("layers through the thickness")
+    axs[2].set_ylabel(r"$v_{cr}$ at the layer-study mesh")
+    axs[2].set_title("through-thickness convergence")
+    for ax in axs:
+        ax.legend()
+    out += save(fig, fig_dir / "fig5_x_critical_voltage_convergence")
     return out
 
 
 def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) -> list[Path]:
     """Compute and write the Chapter 5 datasets and figures into ``out_dir``.
 
-    ``scheduler``: None runs the FE tasks serially; ``"local"`` on a Dask LocalCluster
-    sized to the machine; an address on an existing Dask scheduler.  ``full=True`` without
-    a scheduler uses ``"local"``.
+    ``scheduler``: ``"serial"`` runs the FE tasks one after the other in this process;
+    ``"local"`` on a Dask LocalCluster sized to the machine (``DEBENCH_WORKERS`` overrides
+    the number of worker processes; one thread each); an address on an existing Dask
+    scheduler.  None: ``"local"`` on a machine with more than one core, else serial.
     """
     out_dir = Path(out_dir)
-    if full and scheduler is None:
-        scheduler = "local"
+    if scheduler is None:
+        scheduler = "local" if (os.cpu_count() or 1) > 1 else "serial"
+    if scheduler == "serial":
+        scheduler = None
     crit, ramps, params = compute(full=full, scheduler=scheduler)
     size = "converged (full)" if full else "coarse"
     paths = [

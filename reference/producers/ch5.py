@@ -65,12 +65,17 @@ def _field_V_per_um(e_hat: float, eps_r: float = EPS_R) -> float:
 
 
 def critical_voltage(entry: Entry) -> Outcome:
-    """Richardson limit of the eigen-analysis critical voltage; Southwell, plate theory and
-    the Ogden-modulus normalisation in details."""
+    """Reference critical voltage of the eigen-analysis (in-plane mesh limit plus the
+    through-thickness correction, ``v_cr_reference``); the mesh sequence, its fit and error,
+    Southwell, plate theory and the Ogden-modulus normalisation in details."""
     c = _crit().sel(case=_case(entry))
-    v = float(c.v_cr_extrapolated)
+    v = float(c.v_cr_reference)
     details = {"v_cr_levels": c.v_cr.values.tolist(), "h_rel": c.h_rel.values.tolist(),
+               "ndof": c.ndof.values.tolist(),
                "convergence_rate": float(c.convergence_rate),
+               "v_cr_error": float(c.v_cr_reference_error),
+               "v_cr_in_plane_limit": float(c.v_cr_extrapolated),
+               "layer_correction": float(c.layer_correction),
                "v_southwell": float(c.v_cr_southwell), "v_eigen_ramp_mesh": float(c.v_cr_ramp_mesh),
                "v_kirchhoff": float(c.v_cr_kirchhoff), "v_mindlin": float(c.v_cr_mindlin)}
     if entry.parameters["material"] == "ogden":
@@ -80,37 +85,45 @@ def critical_voltage(entry: Entry) -> Outcome:
 
 def critical_ratio_ogden_nh(entry: Entry) -> Outcome:
     c = _crit()
-    r = float(c.sel(case="ogden_t1").v_cr_extrapolated / c.sel(case="nh_t1").v_cr_extrapolated)
+    r = float(c.sel(case="ogden_t1").v_cr_reference / c.sel(case="nh_t1").v_cr_reference)
     return Outcome(value=r, details={"sqrt_mu0_ratio": math.sqrt(MU0_OGDEN / MU_REF)},
                    evidence=f"{EV_FEM}::test_ogden_buckles_lower_than_neo_hookean")
 
 
 def pullin_voltage(entry: Entry) -> Outcome:
+    """Pull-in voltage: mesh limit over the ramp levels (the finest level when there are
+    fewer than three); the levels, the error estimate and the finest mesh in details."""
     r = _ramps().sel(case=_case(entry))
-    return Outcome(value=float(r.v_pullin), evidence=entry.evidence,
+    v = float(r.v_pullin_extrapolated)
+    return Outcome(value=v, evidence=entry.evidence,
                    details={"v_max_computed": float(r.v_max_computed),
-                            "thesis_over_ours": entry.value / float(r.v_pullin),
-                            "w_pullin_over_t0": float(r.w_pullin)})
+                            "v_pullin_finest_mesh": float(r.v_pullin),
+                            "v_pullin_levels": r.v_pullin_levels.values.tolist(),
+                            "ramp_h_rel": r.ramp_level.values.tolist(),
+                            "v_pullin_error": float(r.v_pullin_error),
+                            "thesis_over_ours": entry.value / v,
+                            "w_pullin_over_t0": float(r.w_pullin_extrapolated)})
 
 
 def pullin_ratio_ogden_nh(entry: Entry) -> Outcome:
     r = _ramps()
-    ratio = float(r.sel(case="ogden_t1").v_pullin / r.sel(case="nh_t1").v_pullin)
+    ratio = float(r.sel(case="ogden_t1").v_pullin_extrapolated
+                  / r.sel(case="nh_t1").v_pullin_extrapolated)
     return Outcome(value=ratio, evidence=f"{EV_DATA}::test_curated_pullin_ratio")
 
 
 def pullin_displacement(entry: Entry) -> Outcome:
     r = _ramps()
-    w_og = float(r.sel(case="ogden_t1").w_pullin) * 1.0   # t0 = 1 mm -> mm
-    w_nh = float(r.sel(case="nh_t1").w_pullin) * 1.0
+    w_og = float(r.sel(case="ogden_t1").w_pullin_extrapolated) * 1.0   # t0 = 1 mm -> mm
+    w_nh = float(r.sel(case="nh_t1").w_pullin_extrapolated) * 1.0
     return Outcome(value=w_og, details={"w_nh_mm": w_nh, "w_ogden_mm": w_og},
                    evidence=entry.evidence)
 
 
 def same_pullin_displacement(entry: Entry) -> Outcome:
     r = _ramps()
-    w_og = float(r.sel(case="ogden_t1").w_pullin)
-    w_nh = float(r.sel(case="nh_t1").w_pullin)
+    w_og = float(r.sel(case="ogden_t1").w_pullin_extrapolated)
+    w_nh = float(r.sel(case="nh_t1").w_pullin_extrapolated)
     return Outcome(value=bool(abs(w_nh - w_og) / w_nh < entry.tolerance),
                    details={"w_nh_mm": w_nh, "w_ogden_mm": w_og})
 
@@ -142,8 +155,8 @@ def field_at_instability(entry: Entry) -> Outcome:
 
 def thinner_buckles_lower_normalised(entry: Entry) -> Outcome:
     c = _crit()
-    a = float(c.sel(case="ogden_t0p5").v_cr_extrapolated)
-    b = float(c.sel(case="ogden_t1").v_cr_extrapolated)
+    a = float(c.sel(case="ogden_t0p5").v_cr_reference)
+    b = float(c.sel(case="ogden_t1").v_cr_reference)
     lower = a < b * (1 - SCALE_RTOL)
     return Outcome(value=bool(lower), details={"v_t0p5": a, "v_t1": b},
                    evidence=f"{EV_FEM}::test_normalised_results_are_scale_invariant")
@@ -154,7 +167,7 @@ def thinner_buckles_lower_volts(entry: Entry) -> Outcome:
     volts = {}
     for case in ("ogden_t0p5", "ogden_t1"):
         cc = c.sel(case=case)
-        volts[case] = float(cc.v_cr_extrapolated) * float(cc.thickness_m) * math.sqrt(
+        volts[case] = float(cc.v_cr_reference) * float(cc.thickness_m) * math.sqrt(
             MU_REF / (EPS_R * EPS0))
     return Outcome(value=volts["ogden_t0p5"] < volts["ogden_t1"], details={"volts": volts})
 
@@ -181,8 +194,8 @@ def thick_plate_fails_by_pullin(entry: Entry) -> Outcome:
 
 def ogden_buckles_lower_than_nh(entry: Entry) -> Outcome:
     c = _crit()
-    return Outcome(value=bool(float(c.sel(case="ogden_t1").v_cr_extrapolated)
-                              < float(c.sel(case="nh_t1").v_cr_extrapolated)),
+    return Outcome(value=bool(float(c.sel(case="ogden_t1").v_cr_reference)
+                              < float(c.sel(case="nh_t1").v_cr_reference)),
                    evidence=f"{EV_FEM}::test_ogden_buckles_lower_than_neo_hookean")
 
 
@@ -234,7 +247,7 @@ def clamped_plate_coefficient(entry: Entry) -> Outcome:
 
 def fe_critical_voltage_nh(entry: Entry) -> Outcome:
     c = _crit().sel(case="nh_t1")
-    return Outcome(value=float(c.v_cr_extrapolated),
+    return Outcome(value=float(c.v_cr_reference),
                    evidence=f"{EV_FEM}::test_eigen_critical_voltage_converges_to_clamped_plate_theory",
                    details={"kirchhoff": float(c.v_cr_kirchhoff), "mindlin": float(c.v_cr_mindlin)})
 
