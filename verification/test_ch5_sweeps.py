@@ -8,7 +8,7 @@ Claims:
   deterministic and single-threaded, so the values are bit-identical;
 * :func:`coarse_values` returns its documented keys with the values of the tasks it runs;
 * the task cache (``DEBENCH_FE_CACHE``) returns a finished task's result without running it
-  again, never serves results across commits, and refuses a dirty tree;
+  again and never serves a result computed by other model code;
 * the plan of the converged run meets the reference contract: more mesh levels than the
   fit has unknowns, a finest mesh of >= 150,000 DOFs with >= 2 layers, >= 3 ramp meshes.
 """
@@ -68,24 +68,27 @@ def test_coarse_values_keys_and_values():
 
 
 def test_task_cache_resumes_without_recomputing(tmp_path, monkeypatch):
-    """A cached result is returned without calling the task; another commit misses."""
-    cache = ch5._TaskCache(tmp_path, "a" * 40)
+    """A cached result is returned without calling the task; other model code misses."""
+    cache = ch5._TaskCache(tmp_path, "a" * 64)
     monkeypatch.setattr(ch5._TaskCache, "from_env", classmethod(lambda cls: cache))
     CALLS.clear()
     first = ch5.run_tasks([(_square, 3), (_square, 4)], progress=False)
     second = ch5.run_tasks([(_square, 4), (_square, 5)], progress=False)
     assert first == [{"x2": 9}, {"x2": 16}] and second == [{"x2": 16}, {"x2": 25}]
     assert CALLS == [3, 4, 5]
-    other = ch5._TaskCache(tmp_path, "b" * 40)
+    other = ch5._TaskCache(tmp_path, "b" * 64)
     assert other.get((_square, 3)) is None and cache.get((_square, 3)) == {"x2": 9}
 
 
-def test_task_cache_refuses_a_dirty_tree(tmp_path, monkeypatch):
-    from debench.reference import provenance
+def test_task_cache_key_follows_the_model_source(tmp_path, monkeypatch):
+    """The cache key includes the source of debench.models: a different digest misses;
+    from_env reads DEBENCH_FE_CACHE and digests the installed models package."""
     monkeypatch.setenv("DEBENCH_FE_CACHE", str(tmp_path))
-    monkeypatch.setattr(provenance, "git_commit", lambda *a, **k: "abc-dirty")
-    with pytest.raises(ValueError, match="clean git tree"):
-        ch5._TaskCache.from_env()
+    cache = ch5._TaskCache.from_env()
+    assert cache.code_digest == ch5.models_digest() and len(cache.code_digest) == 64
+    cache.put((_square, 2), {"x2": 4})
+    assert ch5._TaskCache(tmp_path, "0" * 64).get((_square, 2)) is None
+    assert cache.get((_square, 2)) == {"x2": 4}
 
 
 def test_full_plan_meets_the_reference_contract():

@@ -197,8 +197,8 @@ def run_tasks(tasks: list[tuple], scheduler=None, progress: bool = True) -> list
     the address of an existing scheduler (e.g. one started by dask-jobqueue on SLURM/PBS or
     by dask-kubernetes).  Results come back in task order.  With ``DEBENCH_FE_CACHE`` set
     to a directory, each finished task's result is kept there as it finishes (keyed on the
-    task and the git commit of a clean tree) so that a long sweep resumes after an
-    interruption (:class:`_TaskCache`)."""
+    task and the source of the code that computes it) so that a long sweep resumes after
+    an interruption (:class:`_TaskCache`)."""
     cache = _TaskCache.from_env()
     out = [cache.get(t) if cache is not None else None for t in tasks]
     todo = [i for i, r in enumerate(out) if r is None]
@@ -235,28 +235,25 @@ def run_tasks(tasks: list[tuple], scheduler=None, progress: bool = True) -> list
 class _TaskCache:
     """Finished FE task results on disk, so that an interrupted sweep resumes.
 
-    A result is keyed on the task (function name and arguments) and the git commit; the
-    cache is used only from a clean tree (a dirty tree could reuse results of code that
-    no longer exists), written atomically (temporary file + rename)."""
+    A result is keyed on the task (function, arguments, the function's source) and on the
+    source of every module of :mod:`debench.models` (the physics and the solvers): a change
+    of the code that computes a result is a miss, never a stale hit.  Written atomically
+    (temporary file + rename)."""
 
-    def __init__(self, root: Path, commit: str):
-        self.root, self.commit = Path(root), commit
+    def __init__(self, root: Path, code_digest: str):
+        self.root, self.code_digest = Path(root), code_digest
         self.root.mkdir(parents=True, exist_ok=True)
 
     @classmethod
     def from_env(cls):
         root = os.environ.get("DEBENCH_FE_CACHE")
-        if not root:
-            return None
-        from debench.reference.provenance import git_commit
-        commit = git_commit()
-        if not commit or commit.endswith("-dirty") or commit == "unknown":
-            raise ValueError(f"DEBENCH_FE_CACHE needs a clean git tree (commit {commit!r})")
-        return cls(Path(root), commit)
+        return cls(Path(root), models_digest()) if root else None
 
     def _path(self, task: tuple) -> Path:
+        import inspect
         fn, *args = task
-        key = repr((fn.__module__, fn.__name__, tuple(args), self.commit)).encode()
+        key = repr((fn.__module__, fn.__qualname__, tuple(args), inspect.getsource(fn),
+                    self.code_digest)).encode()
         return self.root / f"{hashlib.sha256(key).hexdigest()[:32]}.pkl"
 
     def get(self, task: tuple):
@@ -272,6 +269,17 @@ class _TaskCache:
         with tmp.open("wb") as fh:
             pickle.dump(result, fh)
         os.replace(tmp, p)
+
+
+def models_digest() -> str:
+    """sha256 of the source of every module of :mod:`debench.models` (path and content)."""
+    import debench.models as models
+    root = Path(models.__file__).parent
+    h = hashlib.sha256()
+    for f in sorted(root.rglob("*.py")):
+        h.update(str(f.relative_to(root)).encode())
+        h.update(f.read_bytes())
+    return h.hexdigest()
 
 
 def _gather(client, tasks: list[tuple], todo: list[int], finished, progress: bool) -> None:
