@@ -236,8 +236,8 @@ class _TaskCache:
     """Finished FE task results on disk, so that an interrupted sweep resumes.
 
     A result is keyed on the task (function, arguments, the function's source) and on the
-    source of every module of :mod:`debench.models` (the physics and the solvers): a change
-    of the code that computes a result is a miss, never a stale hit.  Written atomically
+    source of the modules of :mod:`debench.models` that it runs (:func:`models_digest`): a
+    change of the code that computes a result is a miss, never a stale hit.  Written atomically
     (temporary file + rename)."""
 
     def __init__(self, root: Path, code_digest: str):
@@ -271,12 +271,18 @@ class _TaskCache:
         os.replace(tmp, p)
 
 
+#: the parts of :mod:`debench.models` the FE tasks run: the buckling model, the
+#: constitutive library and the package's top-level modules (validation, errors)
+FE_SOURCES = ("buckling/**/*.py", "materials/**/*.py", "*.py")
+
+
 def models_digest() -> str:
-    """sha256 of the source of every module of :mod:`debench.models` (path and content)."""
+    """sha256 of the source (path and content) of the modules of :mod:`debench.models` that
+    the FE tasks run (:data:`FE_SOURCES`)."""
     import debench.models as models
     root = Path(models.__file__).parent
     h = hashlib.sha256()
-    for f in sorted(root.rglob("*.py")):
+    for f in sorted({f for pattern in FE_SOURCES for f in root.glob(pattern)}):
         h.update(str(f.relative_to(root)).encode())
         h.update(f.read_bytes())
     return h.hexdigest()
