@@ -9,7 +9,10 @@ Thread count fixed: OMP_NUM_THREADS=1 (named in the groups). Run:
   vs the naive baseline: ``solve_bvp`` from a cold start at every one of the 300 points
   (no events);
 * the whole chapter: :func:`debench.reference.builders.ch3.compute` (all datasets of Figs 3.2-3.9,
-  both equilibrium variants, the eps_r study);
+  both equilibrium variants, the eps_r study) against the previous code path (frozen in
+  ``benchmarks/previous``) in the same run, results asserted equal;
+* one RK4 integration of the chapter's 4,800 branch trajectories (complex step): the
+  term-by-term right-hand side, one call per variant, vs the factored one, one mixed call;
 * the Chapter 3 catalogue producers with the shared memoised computation vs each producer
   computing its own branches and curves (caches cleared before every entry).
 """
@@ -23,7 +26,7 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 from debench.models.circular import collocation, shooting  # noqa: E402
-from debench.models.circular.actuator import branch, curves  # noqa: E402
+from debench.models.circular.actuator import branch, branches, curves  # noqa: E402
 from debench.models.circular.params import Annulus  # noqa: E402
 from debench.reference.builders import ch3 as builder  # noqa: E402
 
@@ -78,8 +81,65 @@ def test_bench_curve_warm_collocation(benchmark):
 
 @pytest.mark.benchmark(group="ch3-chapter-1thread")
 def test_bench_whole_chapter(benchmark):
-    ds = benchmark.pedantic(builder.compute, rounds=3, iterations=1)
+    ds = benchmark.pedantic(builder.compute, rounds=5, iterations=1)
     assert set(ds) >= {"ch3_voltage_stretch", "ch3_c_sweep"}
+
+
+#: the previous path computes the same discrete solutions (same RK4 grids, events to
+#: EVENT_XTOL = 1e-14 in q): datasets agree to rounding amplified by the event location
+#: (measured <= 1.1e-11 relative); 1e-9 keeps a 100x margin
+SAME_RESULTS_RTOL = 1e-9
+
+
+@pytest.mark.benchmark(group="ch3-chapter-1thread")
+def test_bench_whole_chapter_previous_path(benchmark):
+    """The code path before the batched pass (frozen in ``benchmarks/previous``: one trace
+    and one event location per equilibrium variant, the term-by-term RK4, loss of tension
+    located per c): same datasets, timed in the same run as :func:`builder.compute`."""
+    from benchmarks.previous import ch3_builder as previous
+
+    old = benchmark.pedantic(previous.compute, rounds=5, iterations=1)
+    new = builder.compute()
+    for name, ds in old.items():
+        for var in ds.data_vars:
+            a, b = ds[var].values, new[name][var].values
+            if np.issubdtype(a.dtype, np.number):
+                np.testing.assert_allclose(b, a, rtol=SAME_RESULTS_RTOL, atol=1e-14)
+            else:
+                np.testing.assert_array_equal(b, a)
+
+
+#: the branch grids of the whole chapter: 8 pre-stretches x 300 points x 2 variants
+_BRS = branches([Annulus(lp, equilibrium=eq) for eq in ("printed", "membrane")
+                 for lp in builder.LAMP_CURVES])
+GRID_Q = np.concatenate([b.q for b in _BRS])
+GRID_LAMP = np.concatenate([np.full(b.q.size, b.annulus.lamP) for b in _BRS])
+GRID_MEM = np.concatenate([np.full(b.q.size, b.annulus.equilibrium == "membrane")
+                           for b in _BRS])
+
+
+@pytest.mark.benchmark(group="ch3-rk4-4800-trajectories-complex-1thread")
+def test_bench_rk4_term_by_term_two_calls(benchmark):
+    """The previous integrator: term-by-term right-hand side, one call per variant."""
+    an = {m: Annulus(2.0, equilibrium="membrane" if m else "printed") for m in (0, 1)}
+
+    def run():
+        return [shooting._integrate_inward_reference(an[m], GRID_Q[GRID_MEM == m] + 1e-30j,
+                                                     lamP=GRID_LAMP[GRID_MEM == m])
+                for m in (0, 1)]
+
+    out = benchmark.pedantic(run, rounds=3, iterations=1)
+    assert all(np.isfinite(o[0].real).all() for o in out)
+
+
+@pytest.mark.benchmark(group="ch3-rk4-4800-trajectories-complex-1thread")
+def test_bench_rk4_factored_one_mixed_call(benchmark):
+    """The current integrator: factored right-hand side, both variants in one call."""
+    l1, l2 = benchmark.pedantic(shooting._integrate_inward,
+                                args=(Annulus(2.0), GRID_Q + 1e-30j),
+                                kwargs={"lamP": GRID_LAMP, "membrane": GRID_MEM}, rounds=3,
+                                iterations=1)
+    assert np.isfinite(l1.real).all()
 
 
 # --------------------------------------------------------------------------- producers

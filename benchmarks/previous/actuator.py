@@ -1,0 +1,529 @@
+# ruff: noqa
+"""Frozen copy of `models/circular/actuator.py` at commit c9fb6ae (before the batched Chapter 3 pass):
+the previous code path, kept only so that the benchmarks time it against the current one
+in the same run. Not used by the package; imports adjusted to the package modules."""
+
+"""Voltage-stretch curves of circle A and their failure events (Zeng 2020, Sec. 3.5).
+
+The annulus problem does not involve the voltage nor c (only lambda^(A) enters B through
+(3.31)), so one annulus *branch* -- the interface stress T1^(B)(R_A) as a function of the
+circle-A stretch lambda, computed once per (lamP, R_B/R_A, Jm, equilibrium) -- serves every
+c and every eps_r: ``Phibar^2 = (s(lam) - lam T1B)/(lam^4 K(lam))`` (see
+:mod:`debench.models.circular.circle_a`). The branch is traced by the vectorised shooting method
+(:mod:`debench.models.circular.shooting`), parametrised by the radial stretch at the frame.
+
+Failure events on a curve (each located by a safeguarded secant (Illinois) iteration on
+the shooting parameter, to ``EVENT_XTOL`` relative, with exact complex-step derivatives):
+
+* ``pullin``: a local maximum of Phibar(lambda) -- the electromechanical instability;
+* ``minimum``: the local minimum that follows it (Gent stiffening, Zhao, Hong & Suo 2007);
+* ``loss_of_tension``: sigma1^(A) = 0, i.e. T1^(B)(R_A) = 0 (Sec. 3.5.3) -- independent of
+  c by construction;
+* ``breakdown``: Phibar = sqrt(eps_bar/mu) E_B(lambda)/lambda^2 (Sec. 3.5.5), crossed from
+  below;
+* ``locking``: the Gent locking stretch of circle A, 2 lam^2 + lam^-4 - 3 = Jm (3.23)
+  (bisection to machine precision), reported as the failure only when none of the
+  above occurs first (Phibar -> inf there, so breakdown normally precedes it);
+* ``end``: the end of the admissible annulus branch, likewise;
+* ``permittivity``: the stretch where the factor K = 1 + c(5 lam/2 - 2) of (3.30) reaches
+  0 (c < 0; Phibar undefined beyond), likewise (breakdown normally precedes it).
+
+The *failure* is the first of pullin, loss_of_tension, breakdown along increasing lambda
+(the thesis terminates its curves there, Sec. 3.5.3-3.5.5); ``lam_max`` and its Phibar are
+the failure point (Fig. 3.9).
+"""
+
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from debench.models import validation as v
+from debench.models.errors import ConvergenceError
+from scipy.interpolate import PchipInterpolator
+
+from debench.models.circular import circle_a
+from debench.models.circular.params import Annulus, CircularActuator, locking_stretch_equibiaxial
+from .shooting import (
+    DEFAULT_STEPS,
+    _integrate_inward,
+    _interface_state,
+    _stresses,
+    q_for_stretch,
+)
+
+#: relative tolerance on the shooting parameter q for event location: machine precision
+#: level (q ~ 1, |d lambda/dq| ~ 1e2, so lambda is located to ~1e-12)
+EVENT_XTOL = 1e-14
+EVENT_KINDS = ("pullin", "minimum", "loss_of_tension", "breakdown")
+FAILURE_KINDS = ("pullin", "loss_of_tension", "breakdown")
+
+
+@dataclass(frozen=True)
+class Branch:
+    """Annulus solution along the continuation in the circle-A stretch (c-independent).
+
+    Arrays over the stretch grid ``lam`` (= lambda^(A) = lambda_2^(B)(R_A)): ``q`` shooting
+    parameter lambda_1(R_B); ``lam1`` = lambda_1^(B)(R_A); ``T1`` = T1^(B)(R_A)/mu;
+    ``dlam``, ``dT1`` their q-derivatives; ``lam_end``: last admissible stretch traced.
+    """
+
+    annulus: Annulus
+    lam: np.ndarray
+    q: np.ndarray
+    lam1: np.ndarray
+    T1: np.ndarray
+    dlam: np.ndarray
+    dT1: np.ndarray
+    lam_end: float
+    steps: int
+
+    @property
+    def dT1_dlam(self) -> np.ndarray:
+        return self.dT1 / self.dlam
+
+
+def _scan_state(annulus: Annulus, q, steps: int, lamP):
+    """Interface stretch and T1 for shooting parameters q, without sensitivities (a real
+    integration: the real parts of the complex-step one up to rounding, measured
+    < 1e-13 relative; the scan only places the grid, whose points are exact solutions)."""
+    l1, l2 = _integrate_inward(annulus, np.asarray(q, float), steps=steps, lamP=lamP)
+    with np.errstate(all="ignore"):  # NaN marks inadmissible trajectories, by design
+        s1, *_ = _stresses(l1, l2, annulus.kappa)
+        return l2, s1 / l1
+
+
+def _scan(annulus: Annulus, steps: int, n: int = 160):
+    """Coarse scan of the shooting parameter: q = lamP - delta, delta geometric."""
+    delta = np.concatenate([[0.0], np.geomspace(1e-8, 0.95, n - 1) * annulus.lamP])
+    q = annulus.lamP - delta
+    lam, T1 = _scan_state(annulus, q, steps, None)
+    ok = np.isfinite(lam) & np.isfinite(T1)
+    first_bad = np.argmin(ok) if not ok.all() else len(ok)
+    keep = slice(0, first_bad)
+    lam, q = lam[keep], q[keep]
+    if lam.size < 4 or np.any(np.diff(lam) <= 0):
+        raise ConvergenceError(
+            f"annulus branch for {annulus} is not monotone in the shooting parameter "
+            "(or too short): cannot parametrise it by the circle-A stretch")
+    return lam, q
+
+
+def branch(annulus: Annulus, lam=None, *, n: int = 300, lam_end: float | None = None,
+           steps: int = DEFAULT_STEPS) -> Branch:
+    """Trace the annulus branch (vectorised shooting, no Newton iteration by default).
+
+    Parameters
+    ----------
+    lam
+        Exact stretches of circle A (>= lamP) at which to solve (Newton polish of the
+        shooting parameter). Default: ``n`` points whose shooting parameters are
+        interpolated from a coarse scan so that the stretches are nearly uniform from lamP
+        to ``lam_end`` (default: the last admissible stretch, at most 0.999 of the
+        circle-A Gent locking stretch); the points are exact solutions either way.
+    n, steps
+        Grid points (>= 4) and RK4 steps (>= 4).
+    lam_end
+        None or a finite stretch > lamP.
+    """
+    v.instance("annulus", annulus, Annulus)
+    v.integer_at_least("n", n, 4)
+    v.integer_at_least("steps", steps, 4)
+    if lam_end is not None:
+        v.in_range("lam_end", lam_end, annulus.lamP, math.inf, lo_open=True, hi_open=True)
+    if lam is not None:
+        lam = v.array("lam", lam)
+        if lam.ndim != 1 or lam.size < 1:
+            raise ValueError(f"lam must be a non-empty 1-D array, got shape {lam.shape}")
+    lam_scan, q_scan = _scan(annulus, steps)
+    top = min(lam_scan[-1], 0.999 * locking_stretch_equibiaxial(annulus.Jm))
+    if lam_end is None:
+        lam_end = top
+    if lam is None:
+        target = np.linspace(annulus.lamP, min(lam_end, lam_scan[-1]), n)
+        q = PchipInterpolator(lam_scan, q_scan)(target)
+        q[0] = annulus.lamP
+    else:
+        lam = np.asarray(lam, dtype=float)
+        if np.any(lam < annulus.lamP) or np.any(lam > top):
+            raise ValueError(
+                f"stretches must lie in [lamP, {top:.6g}] (the admissible branch of "
+                f"{annulus}, below the circle-A Gent locking stretch); got "
+                f"[{lam.min():.6g}, {lam.max():.6g}]")
+        q0 = PchipInterpolator(lam_scan, q_scan)(lam)
+        q = q_for_stretch(annulus, lam, q0, steps=steps)
+    st = _interface_state(annulus, q, steps=steps)
+    if not np.all(np.isfinite(st.lam)) or np.any(np.diff(st.lam) <= 0):
+        raise ConvergenceError(f"annulus branch of {annulus}: non-monotone or inadmissible "
+                               "points on the interpolated grid")
+    return Branch(annulus=annulus, lam=st.lam, q=q, lam1=st.lam1, T1=st.T1, dlam=st.dlam,
+                  dT1=st.dT1, lam_end=float(min(lam_end, top)), steps=steps)
+
+
+def branches(annuli, *, n: int = 300, steps: int = DEFAULT_STEPS) -> list[Branch]:
+    """Batched :func:`branch` (default grids) for annuli differing only in lamP."""
+    if isinstance(annuli, str | bytes) or not hasattr(annuli, "__iter__"):
+        raise TypeError(f"annuli must be an iterable of Annulus, got {annuli!r}")
+    annuli = list(annuli)
+    for a in annuli:
+        v.instance("annuli[i]", a, Annulus)
+    v.integer_at_least("n", n, 4)
+    v.integer_at_least("steps", steps, 4)
+    if not annuli:
+        return []
+    a0 = annuli[0]
+    if any((a.radius_ratio, a.Jm, a.equilibrium) != (a0.radius_ratio, a0.Jm, a0.equilibrium)
+           for a in annuli):
+        raise ValueError("branches(): annuli must differ only in lamP")
+    m = 160
+    delta = np.concatenate([[0.0], np.geomspace(1e-8, 0.95, m - 1)])
+    lamP = np.repeat([a.lamP for a in annuli], m)
+    q_scan = lamP - np.tile(delta, len(annuli)) * lamP
+    lam_scan, T1_scan = _scan_state(a0, q_scan, steps, lamP)
+    qs, lps = [], []
+    tops = []
+    for k, a in enumerate(annuli):
+        sl = slice(k * m, (k + 1) * m)
+        lam_k, q_k = lam_scan[sl], q_scan[sl]
+        ok = np.isfinite(lam_k) & np.isfinite(T1_scan[sl])
+        first_bad = np.argmin(ok) if not ok.all() else m
+        lam_k, q_k = lam_k[:first_bad], q_k[:first_bad]
+        if lam_k.size < 4 or np.any(np.diff(lam_k) <= 0):
+            raise ConvergenceError(f"annulus branch for {a} is not monotone in the shooting "
+                                   "parameter (or too short)")
+        top = min(lam_k[-1], 0.999 * locking_stretch_equibiaxial(a.Jm))
+        target = np.linspace(a.lamP, top, n)
+        q = PchipInterpolator(lam_k, q_k)(target)
+        q[0] = a.lamP
+        qs.append(q)
+        lps.append(np.full(n, a.lamP))
+        tops.append(top)
+    q = np.concatenate(qs)
+    st = _interface_state(a0, q, steps=steps, lamP=np.concatenate(lps))
+    out = []
+    for k, a in enumerate(annuli):
+        sl = slice(k * n, (k + 1) * n)
+        if not np.all(np.isfinite(st.lam[sl])) or np.any(np.diff(st.lam[sl]) <= 0):
+            raise ConvergenceError(f"annulus branch of {a}: non-monotone or inadmissible "
+                                   "points on the interpolated grid")
+        out.append(Branch(annulus=a, lam=st.lam[sl], q=q[sl], lam1=st.lam1[sl],
+                          T1=st.T1[sl], dlam=st.dlam[sl], dT1=st.dT1[sl],
+                          lam_end=float(tops[k]), steps=steps))
+    return out
+
+
+@dataclass(frozen=True)
+class Event:
+    """A failure event located on a voltage-stretch curve."""
+
+    kind: str
+    lam: float
+    phibar: float
+    q: float
+
+
+@dataclass(frozen=True)
+class Curve:
+    """A voltage-stretch curve of circle A (Figs 3.4, 3.5, 3.7, 3.8) and its events.
+
+    ``events[kind]`` is the first event of that kind along increasing lambda (or None);
+    ``failure`` the first of :data:`FAILURE_KINDS`; ``lam_max``/``phibar_max`` its point.
+    """
+
+    actuator: CircularActuator
+    lam: np.ndarray
+    phibar: np.ndarray
+    sigma1A: np.ndarray
+    phibar_breakdown: np.ndarray
+    events: dict = field(default_factory=dict)
+    failure: Event | None = None
+
+    @property
+    def lam_max(self) -> float:
+        return self.failure.lam if self.failure else math.nan
+
+    @property
+    def phibar_max(self) -> float:
+        return self.failure.phibar if self.failure else math.nan
+
+    @property
+    def pullin_suppressed(self) -> bool:
+        """No interior maximum of Phibar before loss of tension (definition, catalogued)."""
+        p, lot = self.events.get("pullin"), self.events.get("loss_of_tension")
+        return p is None or (lot is not None and p.lam >= lot.lam)
+
+
+def _event_function(kinds, annulus, q, c, eps_r, mu, steps, lamP=None):
+    """Functions whose zeros are the events, vectorised over (kind, q, c, eps_r).
+
+    ``pullin``/``minimum``: d(Phibar^2)/d lambda (exact, complex step through the
+    integrator); ``loss_of_tension``: T1^(B)(R_A); ``breakdown``: Phibar^2 - Phibar_B^2.
+    """
+    kinds = np.asarray(kinds)
+    bad = ~np.isin(kinds, EVENT_KINDS)
+    if bad.any():
+        raise ValueError(f"unknown event kind {kinds[bad][0]!r}; expected one of {EVENT_KINDS}")
+    st = _interface_state(annulus, q, steps=steps, lamP=lamP)
+    p2c = circle_a._p2(st.lam_c, st.T1_c, c, annulus.kappa)
+    deriv = (p2c.imag / 1e-30) / st.dlam
+    brk = p2c.real - circle_a._breakdown(st.lam, eps_r, mu) ** 2
+    return np.where(kinds == "loss_of_tension", st.T1,
+                    np.where(kinds == "breakdown", brk, deriv))
+
+
+def locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
+           xtol=EVENT_XTOL, maxiter=100, lamP=None, fa=None, fb=None, x0=None):
+    """Vectorised Illinois iteration for zeros bracketed in [qa, qb]; raises if it fails.
+
+    All events (any kinds, any c, any lamP) of compatible annuli are located together: one
+    shooting integration per iteration. ``fa``/``fb`` (the event functions at the bracket
+    ends, if already known) and ``x0`` (an interpolated estimate of the root) save
+    iterations: the bracket is first shrunk to [x0 - d, x0 + d] when it contains the root.
+    Converged when ``|b - a| <= xtol |b|`` (``xtol`` a finite tolerance in (0, 1)) or the
+    event function vanishes exactly; else ConvergenceError (with the bracket reached).
+    """
+    v.instance("annulus", annulus, Annulus)
+    v.integer_at_least("steps", steps, 4)
+    v.tolerance("xtol", xtol)
+    v.integer_at_least("maxiter", maxiter, 1)
+    v.positive("mu", mu)
+    v.finite("c", c)
+    v.positive("eps_r", eps_r)
+    v.positive("qa", qa)
+    v.positive("qb", qb)
+    if np.any(~np.isin(np.asarray(kinds), EVENT_KINDS)):
+        raise ValueError(f"kinds must be among {EVENT_KINDS}, got {kinds!r}")
+    a = np.array(qa, float)
+    b = np.array(qb, float)
+    kinds = np.broadcast_to(np.asarray(kinds), a.shape)
+    c = np.broadcast_to(c, a.shape).astype(float)
+    eps_r = np.broadcast_to(eps_r, a.shape).astype(float)
+    lp = None if lamP is None else np.broadcast_to(np.asarray(lamP, float), a.shape)
+
+    def F(x, mask=None):
+        if mask is None:
+            return _event_function(kinds, annulus, x, c, eps_r, mu, steps, lp)
+        return _event_function(kinds[mask], annulus, x, c[mask], eps_r[mask], mu, steps,
+                               None if lp is None else lp[mask])
+
+    if fa is None or fb is None:
+        cat = np.concatenate
+        fab = _event_function(cat([kinds, kinds]), annulus, cat([a, b]), cat([c, c]),
+                              cat([eps_r, eps_r]), mu, steps,
+                              None if lp is None else cat([lp, lp]))
+        fa, fb = fab[: a.size], fab[a.size:]
+    fa = np.array(fa, float)
+    fb = np.array(fb, float)
+    if np.any(np.sign(fa) * np.sign(fb) > 0) or not np.all(np.isfinite(fa * fb)):
+        raise ConvergenceError(f"events {sorted(set(kinds))}: not bracketed for {annulus}")
+    if x0 is not None:
+        x0 = np.clip(np.asarray(x0, float), np.minimum(a, b), np.maximum(a, b))
+        d = 1e-4 * np.abs(b - a)
+        lo = np.clip(x0 - d, np.minimum(a, b), np.maximum(a, b))
+        hi = np.clip(x0 + d, np.minimum(a, b), np.maximum(a, b))
+        cat = np.concatenate
+        f2 = _event_function(cat([kinds, kinds]), annulus, cat([lo, hi]), cat([c, c]),
+                             cat([eps_r, eps_r]), mu, steps,
+                             None if lp is None else cat([lp, lp]))
+        flo, fhi = f2[: a.size], f2[a.size:]
+        ok = np.isfinite(flo) & np.isfinite(fhi) & (np.sign(flo) * np.sign(fhi) <= 0)
+        # shrink to the tight bracket where it holds the root (keeps a as 'lo' side)
+        a = np.where(ok, lo, a)
+        fa_new = np.where(ok, flo, fa)
+        b = np.where(ok, hi, b)
+        fb = np.where(ok, fhi, fb)
+        fa = fa_new
+    side = np.zeros(a.shape, int)
+    for _ in range(maxiter):
+        done = (np.abs(b - a) <= xtol * np.abs(b)) | (fa == 0) | (fb == 0)
+        if done.all():
+            break
+        x = np.where(done, b, b - fb * (b - a) / (fb - fa))
+        x = np.clip(x, np.minimum(a, b), np.maximum(a, b))
+        fx = np.zeros_like(x)
+        fx[~done] = F(x[~done], ~done)
+        if not np.all(np.isfinite(fx)):
+            raise ConvergenceError(f"events: non-finite residual during location for {annulus}")
+        same = np.sign(fx) == np.sign(fb)
+        # Illinois: keep the bracket, halve the stale end's function value
+        new_a = np.where(same, a, b)
+        new_fa = np.where(same, np.where(side == 1, fa / 2, fa), fb)
+        side = np.where(same, 1, -1)
+        a, fa = np.where(done, a, new_a), np.where(done, fa, new_fa)
+        b, fb = np.where(done, b, x), np.where(done, fb, fx)
+    else:
+        raise ConvergenceError(f"events: Illinois did not reach xtol={xtol} in {maxiter} "
+                               f"iterations (max bracket {np.max(np.abs(b - a)):.3g})")
+    return np.where(np.abs(fa) < np.abs(fb), a, b)
+
+
+def curves(br: Branch, cs, *, eps_r=None, mu: float | None = None,
+           steps: int | None = None) -> list[Curve]:
+    """Voltage-stretch curves for several c on one annulus branch, events located.
+
+    ``eps_r`` is a scalar or one value per c (sensitivity studies in one batch).
+    """
+    return curves_many([(br, cs, eps_r)], mu=mu, steps=steps)[0]
+
+
+def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
+    """Batched :func:`curves`: ``jobs`` is a list of ``(branch, cs, eps_r)``.
+
+    Branches that differ only in the pre-stretch (same Jm, R_B/R_A, equilibrium, steps)
+    share one vectorised event location: one shooting integration per Illinois iteration
+    for all their events.
+
+    Every (branch, c, eps_r) must make a valid :class:`CircularActuator` (c finite with
+    K(lamP) > 0, eps_r > 0); ``mu > 0``; ``steps`` None or >= 4. Where the permittivity
+    factor K = 1 + c(5 lam/2 - 2) of (3.30) vanishes on the branch, Phibar is undefined
+    beyond it (NaN in ``phibar``); if no other failure occurs first, the curve ends there
+    with the failure kind ``"permittivity"``.
+    """
+    from debench.models.circular.params import EPS_R_ASSUMED, MU_VHB
+    mu = MU_VHB if mu is None else v.positive("mu", mu)
+    if steps is not None:
+        v.integer_at_least("steps", steps, 4)
+    if isinstance(jobs, str | bytes) or not hasattr(jobs, "__iter__"):
+        raise TypeError(f"jobs must be a list of (branch, cs, eps_r), got {jobs!r}")
+    checked = []
+    for job in jobs:
+        if not (isinstance(job, tuple | list) and len(job) == 3):
+            raise TypeError(f"each job must be a tuple (branch, cs, eps_r), got {job!r:.80}")
+        br, cs, eps_r = job
+        v.instance("branch", br, Branch)
+        if isinstance(cs, str | bytes) or not hasattr(cs, "__iter__"):
+            raise TypeError(f"cs must be a sequence of numbers, got {cs!r}")
+        cs = list(cs)
+        cs_ = np.atleast_1d(v.finite("cs", cs)) if cs else []
+        eps_r_ = EPS_R_ASSUMED if eps_r is None else eps_r
+        eps_rs = np.broadcast_to(v.positive("eps_r", eps_r_), (len(cs_),))
+        for c, e in zip(cs_, eps_rs, strict=True):
+            CircularActuator(br.annulus, c=float(c), eps_r=float(e), mu=mu)
+        checked.append((br, cs, eps_r))
+    jobs = checked
+    results = [None] * len(jobs)
+    pending = []  # (job index, curve index, kind, qa, qb, c, eps_r, lamP)
+    located = {}
+    prepared = []
+    for jb, (br, cs, eps_r) in enumerate(jobs):
+        eps_r = EPS_R_ASSUMED if eps_r is None else eps_r
+        an = br.annulus
+        kappa = an.kappa
+        cs = [float(c) for c in cs]
+        eps_rs = [float(e) for e in np.broadcast_to(np.asarray(eps_r, float), (len(cs),))]
+        lam = br.lam
+        data = []
+        for i, c in enumerate(cs):
+            pb = circle_a._breakdown(lam, eps_rs[i], mu)
+            K = circle_a._K(lam, c)
+            valid = K > 0
+            Ks = np.where(valid, K, 1.0)  # Phibar is undefined where K <= 0 (masked below)
+            p2 = np.where(valid, circle_a._p2(lam, br.T1, c, kappa) * K / Ks,
+                          np.nan)
+            h = 1e-30
+            with np.errstate(divide="ignore", invalid="ignore"):
+                p2c = circle_a._p2(lam + 1j * h * br.dlam,
+                                              br.T1 + 1j * h * br.dT1, c, kappa)
+            dp2 = np.where(valid, (p2c.imag / h) / br.dlam, np.nan)
+            fun = {"pullin": dp2, "minimum": dp2, "loss_of_tension": br.T1,
+                   "breakdown": p2 - pb**2}
+            for kind in EVENT_KINDS:
+                if kind == "loss_of_tension" and an.lamP == 1.0:
+                    # unstretched membrane: T1 = 0 at lamP exactly (rounding leaves
+                    # ~1e-56, which no bracketing can resolve), compressive beyond it
+                    located[(jb, i, kind)] = Event(kind, 1.0, 0.0, 1.0)
+                    continue
+                f = fun[kind]
+                if kind in ("minimum", "breakdown"):   # crossing from below
+                    idx = np.nonzero((f[:-1] < 0) & (f[1:] >= 0))[0]
+                else:                                   # crossing from above
+                    idx = np.nonzero((f[:-1] > 0) & (f[1:] <= 0))[0]
+                if idx.size:
+                    j = idx[0]
+                    # cubic through the 4 grid values around the crossing: root estimate
+                    lo_, hi_ = max(j - 1, 0), min(j + 3, f.size)
+                    qq, ff = br.q[lo_:hi_], f[lo_:hi_]
+                    x0 = br.q[j] - f[j] * (br.q[j + 1] - br.q[j]) / (f[j + 1] - f[j])
+                    if np.all(np.isfinite(ff)) and ff.size == 4:
+                        r = np.roots(np.polyfit(qq - br.q[j], ff, 3)) + br.q[j]
+                        r = r[np.isreal(r)].real
+                        r = r[(r - br.q[j]) * (r - br.q[j + 1]) <= 0]
+                        if r.size:
+                            x0 = r[0]
+                    pending.append((jb, i, kind, br.q[j], br.q[j + 1], c, eps_rs[i],
+                                    an.lamP, f[j], f[j + 1], x0))
+            data.append((np.sqrt(np.maximum(p2, 0.0)), pb))
+        prepared.append((br, cs, eps_rs, data))
+    # an event that does not depend on eps_r (all but breakdown) is located once per
+    # (branch, c) and shared by the curves of every eps_r
+    unique, copies = {}, []
+    for row in pending:
+        jb, _, kind, c_, e_ = row[0], row[1], row[2], row[5], row[6]
+        key = (id(jobs[jb][0]), kind, c_, e_ if kind == "breakdown" else None)
+        if key in unique:
+            copies.append((row, unique[key]))
+        else:
+            unique[key] = row
+    pending = list(unique.values())
+    # one location per group of compatible annuli
+    groups = {}
+    for row in pending:
+        an = jobs[row[0]][0].annulus
+        st = jobs[row[0]][0].steps if steps is None else steps
+        key = (an.radius_ratio, an.Jm, an.equilibrium, st)
+        groups.setdefault(key, []).append(row)
+    for (_, _, _, st), rows in groups.items():
+        an0 = jobs[rows[0][0]][0].annulus
+        kinds = np.array([r[2] for r in rows])
+        lamPs = np.array([r[7] for r in rows])
+        qroot = locate(kinds, an0, [r[3] for r in rows], [r[4] for r in rows],
+                       [r[5] for r in rows], [r[6] for r in rows], mu, steps=st,
+                       lamP=lamPs, fa=[r[8] for r in rows], fb=[r[9] for r in rows],
+                       x0=[r[10] for r in rows])
+        state = _interface_state(an0, qroot, steps=st, lamP=lamPs)
+        for k, r in enumerate(rows):
+            p2 = circle_a._p2(state.lam[k], state.T1[k], r[5], an0.kappa)
+            located[(r[0], r[1], r[2])] = Event(r[2], float(state.lam[k]),
+                                                float(np.sqrt(max(p2, 0.0))),
+                                                float(qroot[k]))
+    for row, rep in copies:
+        located[(row[0], row[1], row[2])] = located[(rep[0], rep[1], rep[2])]
+    for jb, (br, cs, eps_rs, data) in enumerate(prepared):
+        out = []
+        for i, c in enumerate(cs):
+            act = CircularActuator(br.annulus, c=c, eps_r=eps_rs[i], mu=mu)
+            phibar, pb = data[i]
+            events = {k: located.get((jb, i, k)) for k in EVENT_KINDS}
+            cands = [e for k, e in events.items() if k in FAILURE_KINDS and e is not None]
+            failure = min(cands, key=lambda e: e.lam) if cands else None
+            lam_K = _zero_of_K(c)
+            if failure is None and lam_K < br.lam_end:
+                # the permittivity factor K of (3.30) reaches 0 on the branch before any
+                # other failure: Phibar is undefined beyond, the model ends there
+                failure = Event("permittivity", lam_K, math.nan, math.nan)
+            if failure is None:
+                # nothing before the end of the traced branch: Gent locking of circle A
+                # (3.23) if the branch reaches it (Phibar -> inf there), else the end of
+                # the admissible annulus branch
+                lock = locking_stretch_equibiaxial(br.annulus.Jm)
+                kind = "locking" if br.lam_end >= 0.999 * lock * (1 - 1e-12) else "end"
+                failure = Event(kind, float(lock if kind == "locking" else br.lam_end),
+                                float("nan"), float("nan"))
+            sigma1A = (circle_a._s(br.lam, br.annulus.kappa)
+                       - phibar**2 * br.lam**4 * circle_a._K(br.lam, c))
+            out.append(Curve(actuator=act, lam=br.lam, phibar=phibar, sigma1A=sigma1A,
+                             phibar_breakdown=pb, events=events, failure=failure))
+        results[jb] = out
+    return results
+
+
+def _zero_of_K(c: float) -> float:
+    """Stretch at which K = 1 + c(5 lam/2 - 2) of (3.30) vanishes (inf if never, c >= 0)."""
+    return (2 - 1 / c) / 2.5 if c < 0 else math.inf
+
+
+def curve(actuator: CircularActuator, *, n: int = 400, steps: int = DEFAULT_STEPS) -> Curve:
+    """One voltage-stretch curve (convenience wrapper around :func:`branch`/:func:`curves`)."""
+    v.instance("actuator", actuator, CircularActuator)
+    br = branch(actuator.annulus, n=n, steps=steps)
+    return curves(br, [actuator.c], eps_r=actuator.eps_r, mu=actuator.mu)[0]

@@ -1,0 +1,247 @@
+# ruff: noqa
+"""Frozen copy of `models/circular/analysis.py` at commit c9fb6ae (before the batched Chapter 3 pass):
+the previous code path, kept only so that the benchmarks time it against the current one
+in the same run. Not used by the package; imports adjusted to the package modules."""
+
+"""Derived Chapter 3 quantities: states at a given voltage, thresholds, failure sweeps.
+
+Definitions (catalogued as ch3.assumption.* entries):
+
+* *pull-in suppressed* (Sec. 3.5.2): the voltage-stretch curve Phibar(lambda) has no
+  interior local maximum on (lamP, lambda_LoT], i.e. ``min dPhibar^2/dlambda >= 0`` there
+  (``definition="before_loss_of_tension"``, the thesis' "curves terminated at loss of
+  tension", Sec. 3.5.3). The alternative ``definition="monotonic"`` asks for no local
+  maximum on the whole traced branch (the local maximum and minimum merge: a cusp).
+* the stretch at a voltage: the first (stable) solution on the rising branch.
+"""
+
+
+import math
+
+import numpy as np
+from debench.models import validation as v
+from debench.models.errors import ConvergenceError
+from scipy.optimize import brentq
+
+from debench.models.circular import circle_a
+from .actuator import Branch, branch, curves
+from debench.models.circular.params import Annulus, CircularActuator
+from .shooting import _interface_state, q_for_stretch
+
+DEFINITIONS = ("before_loss_of_tension", "monotonic")
+#: absolute tolerance of the outer brentq searches over lamP or c (values printed to
+#: 2-3 significant digits; 1e-10 is far below that and above the ~1e-9 relative
+#: discretisation error of the inner solves, see test_ch3_solvers)
+OUTER_XTOL = 1e-10
+
+
+def dphibar2_dlam(br: Branch, c: float) -> np.ndarray:
+    """d(Phibar^2)/d lambda on the branch grid (exact q-derivatives, complex step).
+
+    ``c`` finite, with the factor K = 1 + c(5 lam/2 - 2) of (3.30) > 0 on the whole
+    branch (trace the branch with a smaller ``lam_end`` otherwise).
+    """
+    v.instance("br", br, Branch)
+    v.finite("c", c)
+    K = circle_a._K(br.lam, c)
+    if not np.all(K > 0):
+        raise ValueError(f"c = {c} makes K = 1 + c(5 lam/2 - 2) of (3.30) non-positive at "
+                         f"lam >= {(2 - 1 / c) / 2.5:.6g} on this branch (Phibar undefined "
+                         f"there): trace the branch with lam_end below it")
+    return _dphibar2_dlam(br, c)
+
+
+def _dphibar2_dlam(br: Branch, c: float) -> np.ndarray:
+    h = 1e-30
+    with np.errstate(divide="ignore", invalid="ignore"):  # K = 0 -> inf, masked by callers
+        p2c = circle_a._p2(br.lam + 1j * h * br.dlam, br.T1 + 1j * h * br.dT1,
+                                      c, br.annulus.kappa)
+    return (p2c.imag / h) / br.dlam
+
+
+@v.finite_result
+def state_at_voltage(br: Branch, c: float, phibar: float) -> dict:
+    """Circle-A stretch and interface state at a given Phibar on the rising branch.
+
+    Returns a dict with lam (= lambda^(A) = lambda_2^(B)(R_A)), lam1B (lambda_1^(B)(R_A)),
+    lam3A = lam^-2, lam3B = 1/(lam1B lam), q. ``c`` finite (K(lamP) > 0), ``phibar``
+    finite and >= 0; ValueError if Phibar is not reached on the branch.
+    """
+    v.instance("br", br, Branch)
+    v.nonnegative("phibar", phibar)
+    CircularActuator(br.annulus, c=v.finite("c", c))
+    return _states_at_voltage(br, [c], phibar)[0]
+
+
+def _states_at_voltage(br: Branch, cs, phibar: float) -> list[dict]:
+    """:func:`state_at_voltage` for several c on one branch, in one vectorised iteration.
+
+    Every c follows exactly the iteration of :func:`state_at_voltage` (same bracket, same
+    safeguarded Newton steps, same stopping rule); the shooting integrations of all c are
+    done together. No argument checks (callers validate); ValueError if Phibar is not
+    reached for some c, ConvergenceError if an iteration does not converge.
+    """
+    kappa = br.annulus.kappa
+    cs = np.asarray(cs, float)
+    a, b, fa, fb = (np.empty(cs.size) for _ in range(4))
+    for k, c in enumerate(cs):
+        with np.errstate(divide="ignore", invalid="ignore"):  # K <= 0: NaN, no crossing
+            p2 = np.where(circle_a._K(br.lam, c) > 0, circle_a._p2(br.lam, br.T1, c, kappa),
+                          np.nan)
+        f = p2 - phibar**2
+        idx = np.nonzero((f[:-1] < 0) & (f[1:] >= 0))[0]
+        if idx.size == 0:
+            raise ValueError(f"Phibar = {phibar} is not reached on the traced branch "
+                             f"(max {np.sqrt(np.nanmax(p2)):.4g})")
+        j = idx[0]
+        a[k], b[k], fa[k], fb[k] = br.q[j + 1], br.q[j], f[j + 1], f[j]
+    q = b - fb * (b - a) / (fb - fa)
+    done = np.zeros(cs.size, bool)
+    for _ in range(60):
+        act = np.nonzero(~done)[0]
+        if not act.size:
+            break
+        st = _interface_state(br.annulus, q[act], steps=br.steps)
+        p2c = circle_a._p2(st.lam_c, st.T1_c, cs[act], kappa)
+        r, dr = p2c.real - phibar**2, p2c.imag / 1e-30
+        zero = r == 0
+        done[act[zero]] = True
+        act, r, dr = act[~zero], r[~zero], dr[~zero]
+        lower = np.sign(r) == np.sign(fa[act])
+        a[act] = np.where(lower, q[act], a[act])
+        fa[act] = np.where(lower, r, fa[act])
+        b[act] = np.where(lower, b[act], q[act])
+        fb[act] = np.where(lower, fb[act], r)
+        qn = q[act] - r / dr
+        inside = (np.minimum(a[act], b[act]) < qn) & (qn < np.maximum(a[act], b[act]))
+        qn = np.where(inside, qn, 0.5 * (a[act] + b[act]))
+        done[act[np.abs(qn - q[act]) <= 1e-15 * np.abs(q[act])]] = True
+        q[act] = qn
+    else:
+        if not done.all():
+            raise ConvergenceError(f"state_at_voltage: no convergence for Phibar = {phibar}")
+    st = _interface_state(br.annulus, q, steps=br.steps)
+    return [{"lam": float(lam), "lam1B": float(lam1), "lam3A": float(lam) ** -2,
+             "lam3B": 1 / (float(lam1) * float(lam)), "q": float(qq)}
+            for lam, lam1, qq in zip(st.lam, st.lam1, q, strict=True)]
+
+
+def loss_of_tension_stretch(br: Branch) -> float:
+    """Stretch at which T1^(B)(R_A) = 0 (sigma1^(A) = 0); independent of c."""
+    v.instance("br", br, Branch)
+    cv = curves(br, [0.0])[0]
+    ev = cv.events["loss_of_tension"]
+    if ev is None:
+        raise ValueError(f"no loss of tension on the traced branch of {br.annulus}")
+    return ev.lam
+
+
+def _min_slope(br: Branch, c: float, definition: str, lam_lot: float | None) -> float:
+    with np.errstate(divide="ignore", invalid="ignore"):  # K = 0 -> inf, masked below
+        d = _dphibar2_dlam(br, c)
+    # only where the permittivity factor K of (3.30) is positive (Phibar finite)
+    mask = np.isfinite(d) & (br.lam > br.annulus.lamP) & (
+        circle_a._K(br.lam, c) > 0)
+    if definition == "before_loss_of_tension":
+        if lam_lot is not None:   # branch traced up to the located loss of tension
+            mask &= br.lam <= lam_lot * (1 + 1e-12)
+        else:                     # grid points before loss of tension (T1 > 0)
+            mask &= np.cumprod(br.T1 > 0) > 0
+    elif definition != "monotonic":
+        raise ValueError(f"definition must be one of {DEFINITIONS}, got {definition!r}")
+    if not mask.any():
+        raise ValueError(f"c = {c}: no point of the branch of {br.annulus} has a positive "
+                         f"factor K = 1 + c(5 lam/2 - 2) of (3.30) beyond lamP")
+    return float(np.min(d[mask]))
+
+
+def pullin_c_threshold(annulus: Annulus, *, definition: str = "before_loss_of_tension",
+                       c_range=(-0.2, 0.0), n: int = 1500) -> float:
+    """The c below which pull-in is suppressed at this pre-stretch (Sec. 3.5.2, Fig. 3.5).
+
+    Method: brentq on c of the minimum slope of Phibar^2 over the relevant stretch range
+    (dense branch, ``n`` points, refined by the branch being fixed: only circle A depends
+    on c). See :func:`pullin_c_threshold_closed_form` for the independent check.
+    ``c_range`` a finite window (lo < hi), ``n >= 4``; brentq to ``OUTER_XTOL``.
+    """
+    v.instance("annulus", annulus, Annulus)
+    v.choice("definition", definition, DEFINITIONS)
+    for c in v.window("c_range", c_range, lo=-math.inf):
+        CircularActuator(annulus, c=c)  # K(lamP) > 0 at both ends
+    v.integer_at_least("n", n, 4)
+    lam_lot = None
+    br = branch(annulus, n=n)
+    if definition == "before_loss_of_tension":
+        lam_lot = loss_of_tension_stretch(br)
+        br = branch(annulus, lam=np.linspace(annulus.lamP, lam_lot, n))
+    f = lambda c: _min_slope(br, c, definition, lam_lot)  # noqa: E731
+    lo, hi = c_range
+    if not (f(lo) > 0 > f(hi)):
+        raise ConvergenceError(f"pull-in c threshold not bracketed in {c_range} for {annulus}")
+    return _brentq(f, lo, hi, OUTER_XTOL, "pull-in c threshold")
+
+
+def _brentq(f, lo, hi, xtol, what):
+    """brentq on a checked bracket; its failures become ConvergenceError."""
+    try:
+        root, info = brentq(f, lo, hi, xtol=xtol, full_output=True)
+    except (ValueError, RuntimeError) as exc:
+        raise ConvergenceError(f"{what}: brentq failed on [{lo}, {hi}]: {exc}") from exc
+    if not info.converged:
+        raise ConvergenceError(f"{what}: brentq did not converge on [{lo}, {hi}] "
+                               f"({info.iterations} iterations, {info.flag})")
+    return root
+
+
+def pullin_c_threshold_closed_form(annulus: Annulus) -> float:
+    """c at which d(Phibar^2)/d lambda = 0 exactly at loss of tension (T1 = 0).
+
+    With s = s(lam), K = 1 + cA, A = 5 lam/2 - 2 (3.30) and T1(lam_L) = 0:
+    (s' - lam T1') K = s (4K/lam + 5c/2), linear in c:
+    c = (4s/lam - s' + lam T1') / ((s' - lam T1') A - 4 s A/lam - 5 s/2).
+    Valid when the slope first vanishes at the loss-of-tension end (checked in tests).
+    """
+    v.instance("annulus", annulus, Annulus)
+    br = branch(annulus, n=200)
+    lam_L = loss_of_tension_stretch(br)
+    q = q_for_stretch(annulus, np.array([lam_L]),
+                      np.interp(lam_L, br.lam, br.q))
+    st = _interface_state(annulus, q, steps=br.steps)
+    dT1 = float(st.dT1[0] / st.dlam[0])
+    kappa = annulus.kappa
+    h = 1e-30
+    s = float(circle_a._s(lam_L, kappa))
+    ds = float(circle_a._s(lam_L + 1j * h, kappa).imag / h)
+    A = 2.5 * lam_L - 2
+    num = 4 * s / lam_L - ds + lam_L * dT1
+    den = (ds - lam_L * dT1) * A - 4 * s * A / lam_L - 2.5 * s
+    return num / den
+
+
+def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
+                                  Jm: float = 120.0, equilibrium: str = "printed",
+                                  definition: str = "before_loss_of_tension",
+                                  bracket=(2.0, 3.2), n: int = 800,
+                                  xtol: float = 1e-8) -> float:
+    """The pre-stretch above which pull-in is suppressed (Sec. 3.5.2: 2.53 for c = 0).
+
+    ``bracket`` a window of pre-stretches >= 1 (each builds an :class:`Annulus`, so the
+    geometry and material arguments are validated there), ``n >= 4``, ``xtol`` a finite
+    tolerance in (0, 1) on lamP; brentq failures raise ConvergenceError.
+    """
+    v.finite("c", c)
+    v.choice("definition", definition, DEFINITIONS)
+    lo, hi = v.window("bracket", bracket, lo=-math.inf)
+    v.integer_at_least("n", n, 4)
+    v.tolerance("xtol", xtol)
+    CircularActuator(Annulus(lo, radius_ratio, Jm, equilibrium), c=c)
+    CircularActuator(Annulus(hi, radius_ratio, Jm, equilibrium), c=c)
+
+    def f(lamP):
+        an = Annulus(lamP, radius_ratio, Jm, equilibrium)
+        br = branch(an, n=n)
+        return _min_slope(br, c, definition, None)
+
+    if not (f(lo) < 0 < f(hi)):
+        raise ConvergenceError(f"suppression pre-stretch not bracketed in {bracket}")
+    return _brentq(f, lo, hi, xtol, "suppression pre-stretch")

@@ -1,0 +1,459 @@
+# ruff: noqa
+"""Frozen copy of `reference/builders/ch3.py` at commit c9fb6ae (before the batched Chapter
+3 pass), running on the frozen model modules of this folder: the previous code path, kept
+only so that the benchmarks time it against the current one in the same run."""
+
+"""Builder of the Chapter 3 datasets and figures (Figs 3.2-3.9 of Zeng 2020).
+
+Datasets (``ch3_*``, written with :func:`debench.reference.datasets.write_dataset`):
+
+* ``ch3_annulus_profiles``: lambda_1, lambda_2, lambda_3 along R/R_A in annulus B and the
+  circle-A stretch, lamP = 3, R_B/R_A = 15, Phibar = 0.2, c = 0 and -0.053 (Figs 3.2-3.3).
+* ``ch3_voltage_stretch``: Phibar(lambda), sigma1^(A)(lambda), the breakdown line, for the
+  pre-stretches and c values of Figs 3.4-3.8 (equilibrium as printed, Eq. 3.33).
+* ``ch3_failure_points``: pull-in, loss of tension, breakdown and the first failure per
+  (equilibrium variant, lamP, c) (Fig. 3.7 symbols; the printed/membrane comparison).
+* ``ch3_c_sweep``: lam_max and Phibar at failure over c in [-0.1, 0] for lamP = 1.25, 2,
+  3 (Fig. 3.9), with the failure mode.
+* ``ch3_eps_r_sensitivity``: lam_max and failure mode per eps_r (assumption
+  ch3.assumption.eps_r) for the Fig. 3.7 pre-stretches, c = 0 and -0.053.
+"""
+
+
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import xarray as xr
+from debench.models.circular import params
+from . import analysis
+from .actuator import (
+    EVENT_KINDS,
+    Event,
+    branch,
+    branches,
+    curves,
+    curves_many,
+)
+from debench.models.circular.circle_a import electrostriction_factor
+from debench.models.circular.params import Annulus
+from .shooting import DEFAULT_STEPS, integrate_inward
+from debench.reference.datasets import write_dataset
+from tqdm import tqdm
+
+LAMP_CURVES = (1.1, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0)
+C_CURVES = (0.0, -0.02, -0.04, -0.053, -0.06, -0.08, -0.1)
+LAMP_SWEEP = (1.25, 2.0, 3.0)
+EPS_R = (3.5, 4.05, 4.2, 4.7, 5.5)
+#: failure kinds, flag values 1..6; "permittivity": the factor K = 1 + c(5 lam/2 - 2) of
+#: (3.30) reaches 0 (at the pre-stretch itself: no admissible curve at all)
+MODES = ("pullin", "loss_of_tension", "breakdown", "locking", "end", "permittivity")
+RADIUS_RATIO = 15.0
+
+
+def _settings(full: bool) -> dict:
+    return {"n": 800 if full else 300, "n_c": 201 if full else 41,
+            "steps": 4 * DEFAULT_STEPS if full else DEFAULT_STEPS}
+
+
+def _mode_code(failure) -> int:
+    return 0 if failure is None else MODES.index(failure.kind) + 1
+
+
+def _mode_attrs() -> dict:
+    return {"long_name": "failure mode (first event along increasing stretch)", "units": "1",
+            "flag_values": np.arange(len(MODES) + 1, dtype=np.int8),
+            "flag_meanings": ("none pull_in loss_of_tension dielectric_breakdown "
+                              "gent_locking end_of_admissible_branch "
+                              "nonpositive_permittivity_factor")}
+
+
+def _inadmissible_curve(br, c: float, phibar_breakdown: np.ndarray) -> SimpleNamespace:
+    """The record of a (lamP, c) whose permittivity factor K = 1 + c(5 lam/2 - 2) of (3.30)
+    is non-positive already at the pre-stretch: no voltage-stretch curve exists; the
+    failure is computed (kind "permittivity", at lamP) and the curve holds no values."""
+    lamP = float(br.annulus.lamP)
+    nan = np.full(br.lam.size, np.nan)
+    fail = Event("permittivity", lamP, 0.0, float("nan"))
+    return SimpleNamespace(lam=br.lam, phibar=nan, sigma1A=nan,
+                           phibar_breakdown=phibar_breakdown,
+                           events={k: None for k in EVENT_KINDS}, failure=fail,
+                           lam_max=lamP, phibar_max=0.0, c=c)
+
+
+def _curves_many_admissible(jobs):
+    """:func:`curves_many` over ``jobs`` [(branch, cs, eps_r or None)], with the c values
+    whose K(lamP) <= 0 replaced by :func:`_inadmissible_curve` records (same order)."""
+    kept, slots = [], []
+    for br, cs, er in jobs:
+        ok = [i for i, c in enumerate(cs)
+              if float(electrostriction_factor(br.annulus.lamP, c)) > 0]
+        slots.append(ok)
+        if ok:
+            kept.append((br, [cs[i] for i in ok],
+                         None if er is None else [er[i] for i in ok]))
+    res = iter(curves_many(kept)) if kept else iter(())
+    out = []
+    for (br, cs, _), ok in zip(jobs, slots, strict=True):
+        got = next(res) if ok else []
+        row: list = [None] * len(cs)
+        for k, i in enumerate(ok):
+            row[i] = got[k]
+        pb = got[0].phibar_breakdown if ok else np.full(br.lam.size, np.nan)
+        out.append([r if r is not None else _inadmissible_curve(br, cs[i], pb)
+                    for i, r in enumerate(row)])
+    return out
+
+
+def _common_params(full: bool) -> dict:
+    s = _settings(full)
+    return {"mu": params.MU_VHB, "Jm": params.JM_VHB, "radius_ratio": RADIUS_RATIO,
+            "eps_r": params.EPS_R_ASSUMED, "eps0": params.EPS0,
+            "breakdown_field": "51e6 * lam**1.13 V/m", "rk4_steps": s["steps"],
+            "equilibrium": "printed (Eq. 3.33)"}
+
+
+# ------------------------------------------------------------------ datasets
+def annulus_profiles(full: bool = False, br=None) -> xr.Dataset:
+    s = _settings(full)
+    an = Annulus(3.0, RADIUS_RATIO)
+    br = br if br is not None else branch(an, n=s["n"], steps=s["steps"])
+    cs = (0.0, params.C_WISSLER_MAZZA)
+    rows = []
+    # both c in one vectorised iteration (the iteration of analysis.state_at_voltage)
+    sts = analysis._states_at_voltage(br, cs, 0.2)
+    _, _, t, P1, P2 = integrate_inward(an, np.array([st["q"] for st in sts]),
+                                       steps=s["steps"], profile=True)
+    for k, st in enumerate(sts):
+        rows.append((st, P1[::-1, k], P2[::-1, k], t[::-1]))
+    rho = np.exp(rows[0][3])
+    l1 = np.array([r[1] for r in rows])
+    l2 = np.array([r[2] for r in rows])
+    one = {"units": "1"}
+    return xr.Dataset(
+        {
+            "lambda1": (("c", "r_over_ra"), l1, {**one, "long_name": "radial stretch lambda_1 in annulus B"}),
+            "lambda2": (("c", "r_over_ra"), l2, {**one, "long_name": "hoop stretch lambda_2 in annulus B"}),
+            "lambda3": (("c", "r_over_ra"), 1 / (l1 * l2), {**one, "long_name": "thickness stretch lambda_3 in annulus B"}),
+            "lambda_a": ("c", [r[0]["lam"] for r in rows], {**one, "long_name": "equibiaxial stretch of circle A"}),
+            "lambda3_a": ("c", [r[0]["lam3A"] for r in rows], {**one, "long_name": "thickness stretch of circle A"}),
+        },
+        coords={
+            "c": ("c", np.array(cs), {**one, "long_name": "Zhao-Suo electrostrictive factor c (Eq. 3.27)"}),
+            "r_over_ra": ("r_over_ra", rho, {**one, "long_name": "normalised reference radius R/R_A"}),
+        },
+        attrs={"lamP": 3.0, "phibar": 0.2})
+
+
+def voltage_stretch(family) -> xr.Dataset:
+    lamPs = list(family)
+    n = family[lamPs[0]][0].lam.size
+    lam = np.array([family[p][0].lam for p in lamPs])
+    T1 = np.array([family[p][0].T1 for p in lamPs])
+    phi = np.array([[cv.phibar for cv in family[p][1]] for p in lamPs])
+    sig = np.array([[cv.sigma1A for cv in family[p][1]] for p in lamPs])
+    pb = np.array([family[p][1][0].phibar_breakdown for p in lamPs])
+    one = {"units": "1"}
+    return xr.Dataset(
+        {
+            "lambda_a": (("lamP", "point"), lam, {**one, "long_name": "equibiaxial stretch of circle A"}),
+            "t1_interface": (("lamP", "point"), T1, {**one, "long_name": "nominal radial stress of annulus B at R_A over mu"}),
+            "phibar": (("lamP", "c", "point"), phi, {**one, "long_name": "normalised voltage sqrt(eps_bar/mu) Phi/H"}),
+            "sigma1_a": (("lamP", "c", "point"), sig, {**one, "long_name": "true radial stress of circle A over mu (Eq. 3.30)"}),
+            "phibar_breakdown": (("lamP", "point"), pb, {**one, "long_name": "normalised voltage at dielectric breakdown"}),
+        },
+        coords={
+            "lamP": ("lamP", np.array(lamPs), {**one, "long_name": "equibiaxial pre-stretch"}),
+            "c": ("c", np.array(C_CURVES), {**one, "long_name": "Zhao-Suo electrostrictive factor c"}),
+            "point": ("point", np.arange(n), {**one, "long_name": "index along the continuation in the circle-A stretch"}),
+        })
+
+
+def failure_points(full: bool = False, family=None, membrane=None) -> xr.Dataset:
+    """``family``/``membrane``: {lamP: (branch, curves over C_CURVES)} per variant."""
+    s = _settings(full)
+    variants = ("printed", "membrane")
+    data = {k: np.full((2, len(LAMP_CURVES), len(C_CURVES)), np.nan) for k in
+            [f"{e}_{q}" for e in EVENT_KINDS for q in ("lambda", "phibar")]}
+    mode = np.zeros((2, len(LAMP_CURVES), len(C_CURVES)), np.int8)
+    for v, eq in enumerate(variants):
+        for i, lamP in enumerate(tqdm(LAMP_CURVES, desc=f"ch3 failures ({eq})", leave=False)):
+            if eq == "printed" and family is not None:
+                cvs = family[lamP][1]
+            elif eq == "membrane" and membrane is not None:
+                cvs = membrane[lamP][1]
+            else:
+                br = branch(Annulus(lamP, RADIUS_RATIO, equilibrium=eq), n=s["n"],
+                            steps=s["steps"])
+                cvs = curves(br, C_CURVES)
+            for j, cv in enumerate(cvs):
+                for k, ev in cv.events.items():
+                    if ev is not None:
+                        data[f"{k}_lambda"][v, i, j] = ev.lam
+                        data[f"{k}_phibar"][v, i, j] = ev.phibar
+                mode[v, i, j] = _mode_code(cv.failure)
+    one = {"units": "1"}
+    dims = ("equilibrium", "lamP", "c")
+    names = {"pullin": "pull-in (local maximum of Phibar)", "minimum": "local minimum of Phibar",
+             "loss_of_tension": "loss of tension (sigma1 of circle A = 0)",
+             "breakdown": "dielectric breakdown"}
+    dv = {}
+    for k in EVENT_KINDS:
+        dv[f"{k}_lambda"] = (dims, data[f"{k}_lambda"], {**one, "long_name": f"stretch at {names[k]}"})
+        dv[f"{k}_phibar"] = (dims, data[f"{k}_phibar"], {**one, "long_name": f"Phibar at {names[k]}"})
+    dv["failure_mode"] = (dims, mode, _mode_attrs())
+    return xr.Dataset(dv, coords={
+        "equilibrium": ("equilibrium", np.array(variants, dtype=object),
+                        {"long_name": "annulus equilibrium: printed Eq. (3.33) or thin-membrane balance d(R T1)/dR = T2"}),
+        "lamP": ("lamP", np.array(LAMP_CURVES), {**one, "long_name": "equibiaxial pre-stretch"}),
+        "c": ("c", np.array(C_CURVES), {**one, "long_name": "Zhao-Suo electrostrictive factor c"}),
+    })
+
+
+def c_sweep(full: bool = False, lamPs=LAMP_SWEEP, precomputed=None) -> xr.Dataset:
+    """``precomputed``: {lamP: curves over the c grid} (from :func:`compute`)."""
+    s = _settings(full)
+    cs = _c_grid(full)
+    lam = np.full((len(lamPs), cs.size), np.nan)
+    phi = np.full_like(lam, np.nan)
+    mode = np.zeros(lam.shape, np.int8)
+    for i, lamP in enumerate(tqdm(lamPs, desc="ch3 c sweep", leave=False)):
+        if precomputed is not None:
+            cvs = precomputed[lamP]
+        else:
+            br = branch(Annulus(lamP, RADIUS_RATIO), n=s["n"], steps=s["steps"])
+            cvs = curves(br, cs)
+        for j, cv in enumerate(cvs):
+            lam[i, j], phi[i, j] = cv.lam_max, cv.phibar_max
+            mode[i, j] = _mode_code(cv.failure)
+    one = {"units": "1"}
+    return xr.Dataset(
+        {"lambda_max": (("lamP", "c"), lam, {**one, "long_name": "maximum stretch of circle A (first failure)"}),
+         "phibar_at_lambda_max": (("lamP", "c"), phi, {**one, "long_name": "Phibar at the maximum stretch"}),
+         "failure_mode": (("lamP", "c"), mode, _mode_attrs())},
+        coords={"lamP": ("lamP", np.array(lamPs), {**one, "long_name": "equibiaxial pre-stretch"}),
+                "c": ("c", cs, {**one, "long_name": "Zhao-Suo electrostrictive factor c"})})
+
+
+def _c_grid(full: bool) -> np.ndarray:
+    return np.linspace(0.0, -0.1, _settings(full)["n_c"])
+
+
+def eps_r_sensitivity(full: bool = False, family=None, precomputed=None) -> xr.Dataset:
+    s = _settings(full)
+    cs2 = (0.0, params.C_WISSLER_MAZZA)
+    lam = np.full((len(EPS_R), len(LAMP_CURVES), 2), np.nan)
+    mode = np.zeros(lam.shape, np.int8)
+    for i, lamP in enumerate(tqdm(LAMP_CURVES, desc="ch3 eps_r sensitivity", leave=False)):
+        br = family[lamP][0] if family is not None else branch(
+            Annulus(lamP, RADIUS_RATIO), n=s["n"], steps=s["steps"])
+        allc = [c for _ in EPS_R for c in cs2]
+        alle = [e for e in EPS_R for _ in cs2]
+        res = precomputed[lamP] if precomputed is not None else curves(br, allc, eps_r=alle)
+        for k in range(len(EPS_R)):
+            for j in range(2):
+                cv = res[2 * k + j]
+                lam[k, i, j] = cv.lam_max
+                mode[k, i, j] = _mode_code(cv.failure)
+    one = {"units": "1"}
+    return xr.Dataset(
+        {"lambda_max": (("eps_r", "lamP", "c"), lam, {**one, "long_name": "maximum stretch of circle A (first failure)"}),
+         "failure_mode": (("eps_r", "lamP", "c"), mode, _mode_attrs())},
+        coords={"eps_r": ("eps_r", np.array(EPS_R), {**one, "long_name": "relative permittivity (assumption)"}),
+                "lamP": ("lamP", np.array(LAMP_CURVES), {**one, "long_name": "equibiaxial pre-stretch"}),
+                "c": ("c", np.array(cs2), {**one, "long_name": "Zhao-Suo electrostrictive factor c"})})
+
+
+def compute(full: bool = False) -> dict[str, xr.Dataset]:
+    """All Chapter 3 datasets (no I/O).
+
+    Two batched branch traces (printed and membrane equilibrium, all pre-stretches at
+    once) and two batched event locations serve every curve of the chapter.
+    """
+    s = _settings(full)
+    bar = tqdm(total=4, desc="ch3", leave=False)
+    pr = dict(zip(LAMP_CURVES, branches([Annulus(p, RADIUS_RATIO) for p in LAMP_CURVES],
+                                        n=s["n"], steps=s["steps"]), strict=True))
+    mb = dict(zip(LAMP_CURVES, branches([Annulus(p, RADIUS_RATIO, equilibrium="membrane")
+                                         for p in LAMP_CURVES], n=s["n"], steps=s["steps"]),
+                  strict=True))
+    bar.update()
+    cs2 = (0.0, params.C_WISSLER_MAZZA)
+    allc = [c for _ in EPS_R for c in cs2]
+    alle = [e for e in EPS_R for _ in cs2]
+    cgrid = _c_grid(full)
+    jobs = ([(pr[p], C_CURVES, None) for p in LAMP_CURVES]
+            + [(pr[p], cgrid, None) for p in LAMP_SWEEP]
+            + [(pr[p], allc, alle) for p in LAMP_CURVES])
+    res = _curves_many_admissible(jobs)
+    bar.update()
+    resm = _curves_many_admissible([(mb[p], C_CURVES, None) for p in LAMP_CURVES])
+    bar.update()
+    nL, nS = len(LAMP_CURVES), len(LAMP_SWEEP)
+    family = {p: (pr[p], res[k]) for k, p in enumerate(LAMP_CURVES)}
+    sweep = {p: res[nL + k] for k, p in enumerate(LAMP_SWEEP)}
+    sens = {p: res[nL + nS + k] for k, p in enumerate(LAMP_CURVES)}
+    membrane = {p: (mb[p], resm[k]) for k, p in enumerate(LAMP_CURVES)}
+    out = {
+        "ch3_annulus_profiles": annulus_profiles(full, pr[3.0]),
+        "ch3_voltage_stretch": voltage_stretch(family),
+        "ch3_failure_points": failure_points(full, family, membrane),
+        "ch3_c_sweep": c_sweep(full, precomputed=sweep),
+        "ch3_eps_r_sensitivity": eps_r_sensitivity(full, family, precomputed=sens),
+    }
+    bar.update()
+    bar.close()
+    return out
+
+
+_TEXT = {
+    "ch3_annulus_profiles": ("Chapter 3 annulus stretch profiles (Figs 3.2-3.3)",
+                             "Stretches along the radius of annulus B of the pre-stretched circular actuator, lamP = 3, RB/RA = 15, Phibar = 0.2, constant (c = 0) and Zhao-Suo (c = -0.053) permittivity."),
+    "ch3_voltage_stretch": ("Chapter 3 voltage-stretch curves (Figs 3.4-3.8)",
+                            "Normalised voltage and circle-A stress versus circle-A stretch for pre-stretches 1.1-5 and c from 0 to -0.1, RB/RA = 15, Gent Jm = 120; the dielectric breakdown line."),
+    "ch3_failure_points": ("Chapter 3 failure points (Fig. 3.7) for both annulus equilibrium variants",
+                           "Pull-in, local minimum, loss of tension and breakdown points and the governing failure mode for each pre-stretch and c, with Eq. (3.33) as printed and with the thin-membrane balance."),
+    "ch3_c_sweep": ("Chapter 3 maximum stretch versus c (Fig. 3.9)",
+                    "Maximum achievable stretch of circle A and the corresponding normalised voltage over c in [-0.1, 0] for lamP = 1.25, 2, 3."),
+    "ch3_eps_r_sensitivity": ("Chapter 3 sensitivity to the assumed relative permittivity",
+                              "Maximum stretch and failure mode for eps_r = 3.5 .. 5.5 (the thesis does not state eps_r), c = 0 and -0.053."),
+}
+
+
+# ------------------------------------------------------------------ figures
+def figures(ds: dict[str, xr.Dataset], fig_dir: Path) -> list[Path]:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig_dir.mkdir(parents=True, exist_ok=True)
+    out = []
+
+    def save(fig, name):
+        p = fig_dir / name
+        fig.tight_layout()
+        fig.savefig(p, dpi=110)
+        plt.close(fig)
+        out.append(p)
+
+    a = ds["ch3_annulus_profiles"]
+    fig, ax = plt.subplots(figsize=(5, 4))
+    for k, (c, ls) in enumerate(zip(a.c.values, ("-", "--"), strict=True)):
+        ax.plot(a.r_over_ra, a.lambda1[k], "b" + ls, label=f"lambda1, c={c:g}")
+        ax.plot(a.r_over_ra, a.lambda2[k], "r" + ls, label=f"lambda2, c={c:g}")
+    ax.set(xlabel="R/R_A", ylabel="stretch", title="Fig. 3.2: annulus B, lamP=3, Phibar=0.2")
+    ax.legend(fontsize=7)
+    save(fig, "fig3_2_annulus_stretches.png")
+
+    fig, ax = plt.subplots(figsize=(5, 4))
+    for k, (c, ls) in enumerate(zip(a.c.values, ("-", "--"), strict=True)):
+        ax.plot(a.r_over_ra, a.lambda3[k], "k" + ls, label=f"annulus B, c={c:g}")
+        ax.plot([0, 1], [a.lambda3_a[k]] * 2, "g" + ls, label=f"circle A, c={c:g}")
+    ax.set(xlabel="R/R_A", ylabel="lambda3", title="Fig. 3.3: thickness stretch")
+    ax.legend(fontsize=7)
+    save(fig, "fig3_3_thickness_stretch.png")
+
+    v = ds["ch3_voltage_stretch"]
+    f = ds["ch3_failure_points"].sel(equilibrium="printed")
+
+    def curve_upto(lp, c, stop):
+        lam = v.lambda_a.sel(lamP=lp).values
+        phi = v.phibar.sel(lamP=lp, c=c).values
+        m = lam <= stop
+        return lam[m], phi[m]
+
+    fig, ax = plt.subplots(figsize=(5, 4))
+    for lp in v.lamP.values:
+        lam, phi = curve_upto(lp, 0.0, np.inf)
+        ax.plot(lam, phi, lw=1, label=f"lamP={lp:g}")
+        pl = f.pullin_lambda.sel(lamP=lp, c=0.0)
+        if np.isfinite(pl):
+            ax.plot(pl, f.pullin_phibar.sel(lamP=lp, c=0.0), "kd", ms=4)
+    ax.set(xlabel="stretch of circle A", ylabel="Phibar", ylim=(0, 0.8),
+           title="Fig. 3.4: c = 0 (diamonds: pull-in)")
+    ax.legend(fontsize=6)
+    save(fig, "fig3_4_voltage_stretch_c0.png")
+
+    fig, ax = plt.subplots(figsize=(5, 4))
+    for c in v.c.values:
+        lam, phi = curve_upto(1.25, c, 4.0)
+        ax.plot(lam, phi, lw=1, label=f"c={c:g}")
+        pl = f.pullin_lambda.sel(lamP=1.25, c=c)
+        if np.isfinite(pl):
+            ax.plot(pl, f.pullin_phibar.sel(lamP=1.25, c=c), "kd", ms=4)
+    ax.set(xlabel="stretch of circle A", ylabel="Phibar", title="Fig. 3.5: lamP = 1.25")
+    ax.legend(fontsize=6)
+    save(fig, "fig3_5_voltage_stretch_lamP_1p25.png")
+
+    fig, ax = plt.subplots(figsize=(5, 4))
+    lam = v.lambda_a.sel(lamP=3.0).values
+    ax.plot(lam, v.sigma1_a.sel(lamP=3.0, c=0.0).values)
+    ax.axhline(0, color="k", lw=0.5)
+    lot = float(f.loss_of_tension_lambda.sel(lamP=3.0, c=0.0))
+    ax.axvline(lot, color="r", ls=":", label=f"loss of tension {lot:.3f}")
+    ax.set(xlabel="stretch of circle A", ylabel="sigma1^(A)/mu", title="Fig. 3.6: lamP=3, c=0")
+    ax.legend(fontsize=7)
+    save(fig, "fig3_6_sigma1_lamP_3.png")
+
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    sym = {1: "d", 2: "o", 3: "s", 4: "x", 5: "x"}
+    for lp in v.lamP.values:
+        for c, ls in ((0.0, "-"), (-0.053, ":")):
+            fp = f.sel(lamP=lp, c=c)
+            code = int(fp.failure_mode)
+            stop = float({1: fp.pullin_lambda, 2: fp.loss_of_tension_lambda,
+                          3: fp.breakdown_lambda}.get(code, np.inf))
+            lam, phi = curve_upto(lp, c, stop)
+            ax.plot(lam, phi, "k" + ls, lw=0.8)
+            if code:
+                ax.plot(stop, phi[-1] if phi.size else np.nan, "k" + sym[code], ms=4,
+                        mfc="none" if c else "k")
+    lam = np.linspace(1, 7.8, 200)
+    from debench.models.circular.circle_a import breakdown_phibar
+    ax.plot(lam, breakdown_phibar(lam, params.EPS_R_ASSUMED, params.MU_VHB), "r--", lw=1,
+            label="breakdown (eps_r = 4.7)")
+    ax.set(xlabel="stretch of circle A", ylabel="Phibar", ylim=(0, 0.8),
+           title="Fig. 3.7: c=0 (solid), c=-0.053 (dotted); d pull-in, o LoT, s breakdown")
+    ax.legend(fontsize=7)
+    save(fig, "fig3_7_failure_modes.png")
+
+    fig, axs = plt.subplots(1, 2, figsize=(9, 4))
+    for ax, lp in zip(axs, (2.0, 3.0), strict=True):
+        for c in v.c.values:
+            stop = float(f.loss_of_tension_lambda.sel(lamP=lp, c=c))
+            lam, phi = curve_upto(lp, c, stop if np.isfinite(stop) else np.inf)
+            ax.plot(lam, phi, lw=1, label=f"c={c:g}")
+        ax.set(xlabel="stretch of circle A", ylabel="Phibar", title=f"Fig. 3.8: lamP = {lp:g}")
+        ax.legend(fontsize=6)
+    save(fig, "fig3_8_voltage_stretch_c.png")
+
+    s = ds["ch3_c_sweep"]
+    fig, axs = plt.subplots(2, 3, figsize=(11, 6), sharex=True)
+    for k, lp in enumerate(s.lamP.values):
+        sel = s.sel(lamP=lp)
+        for code, col in ((1, "b"), (2, "g"), (3, "r")):
+            m = sel.failure_mode.values == code
+            axs[0, k].plot(s.c.values[m], sel.lambda_max.values[m], col + ".", ms=3,
+                           label=MODES[code - 1])
+            axs[1, k].plot(s.c.values[m], sel.phibar_at_lambda_max.values[m], col + ".", ms=3)
+        axs[0, k].set(title=f"Fig. 3.9: lamP = {lp:g}", ylabel="lambda_max")
+        axs[1, k].set(xlabel="c", ylabel="Phibar at lambda_max")
+        axs[0, k].legend(fontsize=6)
+    save(fig, "fig3_9_c_sweep.png")
+    return out
+
+
+def build(out_dir: Path, *, full: bool = False) -> list[Path]:
+    """Write the Chapter 3 datasets and figures into ``out_dir`` (and ``out_dir/figures``)."""
+    out_dir = Path(out_dir)
+    ds = compute(full)
+    paths = []
+    for name, d in ds.items():
+        title, summary = _TEXT[name]
+        prm = {**_common_params(full), "full": full, **{k: v for k, v in d.attrs.items()}}
+        d = d.copy()
+        d.attrs = {}
+        paths.append(write_dataset(d, name, title=title, summary=summary, parameters=prm,
+                                   out_dir=out_dir, overwrite=True))
+    paths += figures(ds, out_dir / "figures")
+    return paths
