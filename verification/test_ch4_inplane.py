@@ -172,6 +172,35 @@ def test_fe_refuses_crossings_within_round_off():
                                  window=(3.0, 4.0), n_scan=30)
 
 
+def test_compression_window_clears_the_fe_round_off_at_lam_E():
+    """theta = 0: an FE eigenvalue vanishes at lam_E (vanishing L21 modulus). Within
+    1e-9 of lam_E it is inside the FE round-off guard; at the builder's window start
+    lam_E (1 + LAM_E_MARGIN) it is > 10x above the guard in the worst case of the full
+    sweep (xi = 1, Dhat = 2, smallest kH); at Dhat = 0 both methods find the wrinkling
+    root on that window (with Dhat >= 1 the plate is buckled already at 0.999)."""
+    from debench.reference.builders import ch4_inplane as builder
+
+    kh = min(builder.KH_FULL)
+    p = PlateParams(xi=1.0, Dhat=2.0)
+    lam_e, lo = builder._lo(0.0, p)
+    assert lo == lam_e * (1 + builder.LAM_E_MARGIN)
+
+    def nearest_and_guard(lam):
+        e = ip.fe_eigenvalues(lam, kh, 0.0, p)
+        noise = np.finfo(float).eps * np.linalg.norm(ip.fe_stiffness(lam, kh, 0.0, p), 1)
+        return np.min(np.abs(e)), ip.ROUNDOFF_FACTOR * noise
+
+    e, guard = nearest_and_guard(lam_e * (1 + 1e-9))
+    assert e < guard
+    e, guard = nearest_and_guard(lo)
+    assert e > 10 * guard
+    p = PlateParams(xi=1.0, Dhat=0.0)
+    _, lo = builder._lo(0.0, p)
+    det = ip.critical_stretches_det(kh, 0.0, p, window=(lo, 0.999), n_scan=builder.N_SCAN)
+    fe = ip.critical_stretches_fe(kh, 0.0, p, window=(lo, 0.999), n_scan=builder.N_SCAN)
+    assert det.size == fe.size >= 1 and np.max(np.abs(det - fe)) <= prod.TOL_AGREE
+
+
 def test_voltage_control_needs_zero_dhat():
     with pytest.raises(ValueError, match="Dhat"):
         ip.critical_stretches_det(2.0, 45.0, PlateParams(xi=5.0, Dhat=1.0), Vhat=0.5)
