@@ -20,10 +20,10 @@ Figs 5.4 / 5.6 counterparts with the thesis' printed values overlaid.
     check: quadratic prisms lock as k/mu grows, the cubic ones much less), and the
     extrapolation to k/mu = infinity;
 
-* figures: ``fig5_4_overlay.png`` and ``fig5_6_overlay.png`` (the ramps of
+* figures (PNG and SVG): ``fig5_4_overlay`` and ``fig5_6_overlay`` (the ramps of
   ``ch5_ramps.nc`` with the thesis' printed pull-in / critical / wrinkling values as
   printed and converted under the "mu in MPa" hypothesis, factor sqrt(0.156) = 0.395),
-  ``ch5_methods_convergence.png``.
+  ``ch5_methods_convergence``.
 
 ``full=False``: meshes h = 3, 2 t0 (about a minute on one core); ``full=True``: h = 3, 2,
 1.4, 1 t0 for the methods and h = 3, 2 for the bulk-modulus study (minutes).
@@ -178,9 +178,8 @@ def figures(ramps: xr.Dataset, methods: xr.Dataset, fig_dir: Path) -> list[Path]
     """Figs 5.4 and 5.6 with the thesis' printed values, as printed (open markers) and
     converted to our normalisation under the "mu in MPa" hypothesis (filled markers:
     printed / 0.395); the convergence of the three methods."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from debench.reference import figures as style
+    plt = style.pyplot()
     fig_dir.mkdir(parents=True, exist_ok=True)
     f = MU_IN_MPA_FACTOR
     pr = _printed(["ch5.pullin_voltage.t1_nh", "ch5.pullin_voltage.t1_ogden",
@@ -190,10 +189,7 @@ def figures(ramps: xr.Dataset, methods: xr.Dataset, fig_dir: Path) -> list[Path]
     out = []
 
     def save(fig, name):
-        path = fig_dir / name
-        fig.savefig(path, dpi=110, bbox_inches="tight")
-        plt.close(fig)
-        out.append(path)
+        out.extend(style.save(fig, fig_dir / name))
 
     def curve(ax, case, style, label, mm):
         r = ramps.sel(case=case)
@@ -204,14 +200,14 @@ def figures(ramps: xr.Dataset, methods: xr.Dataset, fig_dir: Path) -> list[Path]
 
     def thesis(ax, v, w, color, label):
         ax.plot(v, w, "o", mfc="none", color=color, label=f"{label}, as printed")
-        ax.plot(v / f, w, "o", color=color, label=f"{label} / {f:.3f} (mu in MPa)")
+        ax.plot(v / f, w, "o", color=color, label=rf"{label} / {f:.3f} ($\mu$ in MPa)")
         ax.annotate("", xy=(v / f, w), xytext=(v, w),
                     arrowprops={"arrowstyle": "->", "color": color, "lw": 0.8})
 
     # Fig 5.4: Ogden, t0 = 1 mm and 0.5 mm, deflection in mm
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    curve(ax, "ogden_t1", "-", "ours, t0 = 1 mm", True)
-    curve(ax, "ogden_t0p5", "--", "ours, t0 = 0.5 mm", True)
+    curve(ax, "ogden_t1", "-", r"ours, $t_0$ = 1 mm", True)
+    curve(ax, "ogden_t0p5", "--", r"ours, $t_0$ = 0.5 mm", True)
     thesis(ax, pr["ch5.pullin_voltage.t1_ogden"], pr["ch5.pullin_displacement.t1"], "C3",
            "thesis pull-in 1 mm")
     for key, c, lab in (("ch5.critical_voltage.t1_ogden", "C0", "thesis critical 1 mm"),
@@ -220,11 +216,11 @@ def figures(ramps: xr.Dataset, methods: xr.Dataset, fig_dir: Path) -> list[Path]
         ax.axvline(pr[key] / f, color=c, ls="-.", lw=1, label=f"{lab} / {f:.3f}")
     ax.axhline(pr["ch5.wrinkling_displacement.t0p5"], color="C2", lw=0.6,
                label="thesis wrinkling deflection 0.5 mm")
-    ax.set_xlabel("normalised voltage Phi/t0 sqrt(eps/mu), mu = 156 kPa")
-    ax.set_ylabel("centre deflection (mm)")
-    ax.set_title("Fig 5.4 with the thesis' values: Ogden, R/t0 = 10")
-    ax.legend(fontsize=6.5)
-    save(fig, "fig5_4_overlay.png")
+    ax.set_xlabel(style.LABELS["phibar_ch5"] + r", $\mu$ = 156 kPa")
+    ax.set_ylabel(style.LABELS["deflection_mm"])
+    ax.set_title(r"Fig 5.4 with the thesis' values: Ogden, $R/t_0$ = 10")
+    ax.legend(fontsize=7.5, loc="center left", bbox_to_anchor=(1.01, 0.5))
+    save(fig, "fig5_4_overlay")
     # Fig 5.6: materials at 1 mm, deflection in mm
     fig, ax = plt.subplots(figsize=(7, 4.5))
     curve(ax, "nh_t1", "-", "ours, neo-Hookean", True)
@@ -232,11 +228,11 @@ def figures(ramps: xr.Dataset, methods: xr.Dataset, fig_dir: Path) -> list[Path]
     w = pr["ch5.pullin_displacement.t1"]
     thesis(ax, pr["ch5.pullin_voltage.t1_nh"], w, "C3", "thesis pull-in NH")
     thesis(ax, pr["ch5.pullin_voltage.t1_ogden"], w, "C0", "thesis pull-in Ogden")
-    ax.set_xlabel("normalised voltage Phi/t0 sqrt(eps/mu), mu = 156 kPa")
-    ax.set_ylabel("centre deflection (mm)")
-    ax.set_title("Fig 5.6 with the thesis' values: t0 = 1 mm")
-    ax.legend(fontsize=7)
-    save(fig, "fig5_6_overlay.png")
+    ax.set_xlabel(style.LABELS["phibar_ch5"] + r", $\mu$ = 156 kPa")
+    ax.set_ylabel(style.LABELS["deflection_mm"])
+    ax.set_title(r"Fig 5.6 with the thesis' values: $t_0$ = 1 mm")
+    ax.legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
+    save(fig, "fig5_6_overlay")
     # methods on the mesh sequence
     fig, ax = plt.subplots(figsize=(5.5, 4))
     h = methods.h_rel.values
@@ -244,11 +240,11 @@ def figures(ramps: xr.Dataset, methods: xr.Dataset, fig_dir: Path) -> list[Path]
         ax.plot(h, methods.v_cr.isel(method=i).values, "o-", label=str(m))
     ax.axhline(float(methods.v_cr_kirchhoff), color="k", ls="--", label="Kirchhoff")
     ax.axhline(float(methods.v_cr_mindlin), color="k", ls=":", label="Mindlin")
-    ax.set_xlabel("in-plane mesh size h / t0")
-    ax.set_ylabel("critical normalised voltage")
-    ax.set_title("neo-Hookean, R/t0 = 10: three methods")
+    ax.set_xlabel(style.LABELS["h_over_t0"])
+    ax.set_ylabel(style.LABELS["phibar_cr"])
+    ax.set_title(r"neo-Hookean, $R/t_0$ = 10: three methods")
     ax.legend(fontsize=8)
-    save(fig, "ch5_methods_convergence.png")
+    save(fig, "ch5_methods_convergence")
     return out
 
 
