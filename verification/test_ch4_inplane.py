@@ -183,7 +183,7 @@ def test_compression_window_clears_the_fe_round_off_at_lam_E():
     kh = min(builder.KH_FULL)
     p = PlateParams(xi=1.0, Dhat=2.0)
     lam_e, lo = builder._lo(0.0, p)
-    assert lo == lam_e * (1 + builder.LAM_E_MARGIN)
+    assert lo == lam_e * (1 + ip.LAM_E_MARGIN)
 
     def nearest_and_guard(lam):
         e = ip.fe_eigenvalues(lam, kh, 0.0, p)

@@ -462,13 +462,26 @@ MAX_SPLIT = 30
 ROUNDOFF_FACTOR = 100.0
 
 
+#: relative margin above the ellipticity limit lam_E at which a compression window
+#: should start (lam_E (1 + LAM_E_MARGIN)). At theta = 0 an eigenvalue of K vanishes at
+#: lam_E (the mode of the vanishing L21 modulus), linearly: e ~ 0.04 kH (lam/lam_E - 1),
+#: while the round-off of K grows like eps ||K||_1 ~ kH^-3 (measured, N_ELEMENTS). Above
+#: :data:`ROUNDOFF_FACTOR` x that round-off it needs a relative distance of 8.7e-5 at
+#: kH = 0.25 (worst case xi = 1, Dhat = 2 of xi <= 10, Dhat <= 2, Vhat <= 0.5, measured;
+#: ~kH^-4 below); 1e-3 keeps > 10x over that for kH >= 0.25. Wrinkling roots lie well
+#: above lam_E, so the band left out holds none of the largest roots
+LAM_E_MARGIN = 1e-3
+
+
 def ellipticity_limit(theta: float, params: PlateParams, *, window=(0.45, 0.999),
                       n_scan: int = 200, Vhat: float | None = None) -> float:
     """Largest lam in ``window`` at which plane strong ellipticity fails (compression).
 
     Scanned on a geometric grid and refined by bisection to 1e-12; returns the lower end
     of ``window`` when the model is strongly elliptic on the whole window. Every root of
-    :func:`critical_stretches_det` / :func:`critical_stretches_fe` lies above it.
+    :func:`critical_stretches_det` / :func:`critical_stretches_fe` lies above it; a
+    compression window starts at lam_E (1 + :data:`LAM_E_MARGIN`), where the FE
+    eigenvalue that vanishes at lam_E is clear of the round-off guard.
     ``Vhat``: voltage control as in :func:`critical_stretches_det`.
     """
     lo, hi = v.window("window", window)

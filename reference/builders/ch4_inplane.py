@@ -5,7 +5,7 @@ Datasets (in ``out_dir``), all by the models of :mod:`debench.models.plate.inpla
 * ``ch4_inplane_lam_cr.nc`` - lam_cr(kH, theta, xi, Dhat) in equibiaxial compression,
   charge control, by both methods (exponential-ansatz determinant and through-thickness
   FE), with the strong-ellipticity limit lam_E(theta, xi). lam_cr is the largest
-  bifurcation stretch in [max(lam_E (1 + LAM_E_MARGIN), LAM_LO), 0.999]; NaN where
+  bifurcation stretch in [max(lam_E (1 + ip.LAM_E_MARGIN), LAM_LO), 0.999]; NaN where
   there is none;
 * ``ch4_inplane_curves.nc`` - lam_cr(kH) on a kH grid (determinant), compression, for
   the figure;
@@ -13,7 +13,7 @@ Datasets (in ``out_dir``), all by the models of :mod:`debench.models.plate.inpla
   charge control: lam_cr in [1 + 5e-4, 2] by both methods and the membrane limit
   (zero of the total lateral stress tau11, the kH -> 0 limit);
 * ``ch4_inplane_voltage.nc`` - voltage control (Dhat = Vhat lam^2/beta along the
-  path), window [max(lam_E (1 + LAM_E_MARGIN), LAM_LO), V_HI] across lam = 1, both
+  path), window [max(lam_E (1 + ip.LAM_E_MARGIN), LAM_LO), V_HI] across lam = 1, both
   methods;
 
 and the figure ``figures/ch4_beyond_inplane.png`` (lam_cr against kH, theta, xi; tension
@@ -55,15 +55,6 @@ V_HI = 1.5
 LAM_LO = 0.6
 #: grid points of the scan (each method)
 N_SCAN = 40
-#: relative margin of the compression window above the ellipticity limit lam_E. At
-#: theta = 0 an FE eigenvalue vanishes at lam_E (the mode of the vanishing L21 modulus),
-#: linearly: e ~ 0.04 kH (lam/lam_E - 1), while the round-off of K grows like
-#: eps ||K|| ~ kH^-3 (measured, 24 elements). The FE round-off guard
-#: (|e| > ROUNDOFF_FACTOR eps ||K||) then needs a relative margin of 8.7e-5 at the
-#: smallest kH of the FE datasets (0.25; worst case xi = 1, Dhat = 2 over the full
-#: sweep, measured); 1e-3 keeps > 10x over that. The band removed holds no largest
-#: root of the datasets (the wrinkling roots lie well above lam_E)
-LAM_E_MARGIN = 1e-3
 COMMON = {"alpha": 0.0, "beta": 0.5, "mu": 1.0, "eps": 1.0,
           "fibre": "A = (cos theta, 0, sin theta), in the plane of the plate",
           "units": "mu = eps = 1, Dhat = D2/sqrt(mu eps), Vhat = V sqrt(eps/mu)/H",
@@ -83,10 +74,10 @@ def _largest(roots):
 
 
 def _lo(theta, p, Vhat=None):
-    """(lam_E, lower end of the compression window): above LAM_LO and LAM_E_MARGIN
-    above the ellipticity limit lam_E."""
+    """(lam_E, lower end of the compression window): above LAM_LO and a relative
+    :data:`debench.models.plate.inplane.LAM_E_MARGIN` above the ellipticity limit lam_E."""
     lam_e = ip.ellipticity_limit(theta, p, window=(0.45, 0.999), Vhat=Vhat)
-    return lam_e, max(LAM_LO, lam_e * (1 + LAM_E_MARGIN))
+    return lam_e, max(LAM_LO, lam_e * (1 + ip.LAM_E_MARGIN))
 
 
 def lam_cr_dataset(full: bool) -> xr.Dataset:
@@ -295,7 +286,7 @@ def build(out_dir: Path, *, full: bool = False, progress: bool = True) -> list[P
     out_dir = Path(out_dir)
     lc, cu = lam_cr_dataset(full), curves_dataset(full)
     te, vo = tension_dataset(full), voltage_dataset(full)
-    common = {**COMMON, "full": full, "lam_lo": LAM_LO, "lam_e_margin": LAM_E_MARGIN,
+    common = {**COMMON, "full": full, "lam_lo": LAM_LO, "lam_e_margin": ip.LAM_E_MARGIN,
               "n_scan": N_SCAN}
     note = "Our results beyond the thesis, not thesis values."
     paths = [

@@ -130,7 +130,7 @@ def voltage_roots(theta: float, Vhat: float = VHAT, kH: float = KH, xi: float = 
     """(determinant roots, FE roots) at fixed voltage on :data:`V_WINDOW`."""
     p = PlateParams(xi=xi)
     lo = max(V_WINDOW[0], ip.ellipticity_limit(theta, p, window=(0.45, 0.999), Vhat=Vhat)
-             * (1 + 1e-9))
+             * (1 + ip.LAM_E_MARGIN))
     w = (lo, V_WINDOW[1])
     return (tuple(ip.critical_stretches_det(kH, theta, p, window=w, n_scan=N_SCAN, Vhat=Vhat)),
             tuple(ip.critical_stretches_fe(kH, theta, p, window=w, n_scan=N_SCAN, Vhat=Vhat)))
