@@ -121,9 +121,13 @@ def _gram(n: int, g: float):
         Bt = B.transpose(1, 3, 0, 2).reshape(n, -1, kb)
         loc = (Aw @ Bt).reshape(n, A.shape[0], A.shape[2], B.shape[0], B.shape[2])
         loc = loc.transpose(1, 3, 0, 2, 4)              # (m, k, e, a, b)
-        out = np.zeros((A.shape[0], B.shape[0]) + size)
-        np.add.at(out, (slice(None), slice(None), ia[:, :, None], ib[:, None, :]), loc)
-        return out
+        # scatter-add into every (m, k) plane at once (contributions summed in element
+        # order, as np.add.at would)
+        planes = A.shape[0] * B.shape[0]
+        idx = (ia[:, :, None] * size[1] + ib[:, None, :]).ravel()
+        idx = (np.arange(planes)[:, None] * (size[0] * size[1]) + idx[None, :]).ravel()
+        out = np.bincount(idx, weights=loc.reshape(-1), minlength=planes * size[0] * size[1])
+        return out.reshape((A.shape[0], B.shape[0]) + size)
 
     Gpp = assemble(dpsi, dpsi, ip, ip, (npsi, npsi))
     Gpf = assemble(dpsi, dphi, ip, iF, (npsi, nphi))
@@ -155,11 +159,18 @@ def stiffness(lam: float, kH: float, params: PlateParams, n: int = N_ELEMENTS):
     cpf = _CPSI.conj() @ S @ _CPHI.T
     cff = _CPHI.conj() @ S @ _CPHI.T
     tp = t ** (1.0 - np.arange(3))                 # t^(1-m), m = 0, 1, 2
-    K[:npsi, :npsi] = np.einsum("mk,mkij->ij", cpp * tp[:, None] / t * tp[None, :], Gpp)
-    blk = np.einsum("mk,mkij->ij", cpf * tp[:, None] / t * tp[None, :2], Gpf)
+
+    def contract(c, G):
+        """sum_mk c[m, k] G[m, k] (complex c, real G: two real matrix-vector products)."""
+        w = c.reshape(-1)
+        G2 = G.reshape(w.size, -1)
+        return ((w.real @ G2) + 1j * (w.imag @ G2)).reshape(G.shape[2:])
+
+    K[:npsi, :npsi] = contract(cpp * tp[:, None] / t * tp[None, :], Gpp)
+    blk = contract(cpf * tp[:, None] / t * tp[None, :2], Gpf)
     K[:npsi, npsi:] = blk
     K[npsi:, :npsi] = blk.conj().T
-    K[npsi:, npsi:] = np.einsum("mk,mkij->ij", cff * tp[:2, None] / t * tp[None, :2], Gff)
+    K[npsi:, npsi:] = contract(cff * tp[:2, None] / t * tp[None, :2], Gff)
     # The zero crossings do not depend on the SPD matrix M; the L2 Gram matrix of the
     # Hermite basis is ill conditioned (slope dofs ~ he^3) and amplified rounding to
     # ~1e-5 in omega, so the identity is used (omega = eigenvalues of K itself).
