@@ -336,6 +336,20 @@ def test_suppression_prestretch_bracketed_by_collocation():
     assert 2.530 < shoot < 2.538
 
 
+def test_lockstep_suppression_prestretch_equals_brentq_within_xtol():
+    """The producers' lockstep search over both variants (one batched branch trace per
+    iteration) solves the same function of lamP as pullin_suppression_prestretch: both
+    bracket its root to xtol, so they agree within xtol."""
+    from debench.models.circular import analysis
+
+    xtol = 1e-6
+    both = analysis._suppression_prestretches(0.0, ("printed", "membrane"), n=200,
+                                              xtol=xtol)
+    for eq, got in zip(("printed", "membrane"), both, strict=True):
+        ref = analysis.pullin_suppression_prestretch(0.0, equilibrium=eq, n=200, xtol=xtol)
+        assert abs(got - ref) <= xtol
+
+
 def test_gent_locking_is_the_failure_when_nothing_else_occurs():
     """With breakdown removed (eps_r huge) and no pull-in / loss of tension (lamP = 5,
     c = 0), the curve ends at the circle-A Gent locking stretch (3.23)."""

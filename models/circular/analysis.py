@@ -20,7 +20,7 @@ from debench.models.errors import ConvergenceError
 from scipy.optimize import brentq
 
 from . import circle_a
-from .actuator import Branch, branch, curves
+from .actuator import Branch, branch, branches, curves
 from .params import Annulus, CircularActuator
 from .shooting import _interface_state, q_for_stretch
 
@@ -241,3 +241,56 @@ def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
     if not (f(lo) < 0 < f(hi)):
         raise ConvergenceError(f"suppression pre-stretch not bracketed in {bracket}")
     return _brentq(f, lo, hi, xtol, "suppression pre-stretch")
+
+
+def _suppression_prestretches(c: float, equilibria, *, radius_ratio: float = 15.0,
+                              Jm: float = 120.0, definition: str = "before_loss_of_tension",
+                              bracket=(2.0, 3.2), n: int = 800,
+                              xtol: float = 1e-8) -> list[float]:
+    """:func:`pullin_suppression_prestretch` for several equilibrium variants at once.
+
+    The same function of lamP (minimum slope on the branch of ``n`` points) is solved for
+    every variant in lockstep by a vectorised Anderson-Bjorck iteration (regula falsi
+    with scaling of the retained end): each iteration traces
+    the branches of all variants in one batched integration (:func:`branches`). The root
+    of each is bracketed to ``xtol`` (as brentq's, so both agree within ``xtol``);
+    ConvergenceError when a bracket does not hold a sign change or does not shrink.
+    """
+    v.finite("c", c)
+    v.choice("definition", definition, DEFINITIONS)
+    lo, hi = v.window("bracket", bracket, lo=-math.inf)
+    v.integer_at_least("n", n, 4)
+    v.tolerance("xtol", xtol)
+    eqs = list(equilibria)
+    for eq in eqs:
+        CircularActuator(Annulus(lo, radius_ratio, Jm, eq), c=c)
+        CircularActuator(Annulus(hi, radius_ratio, Jm, eq), c=c)
+
+    def f(lamPs, which):
+        brs = branches([Annulus(float(x), radius_ratio, Jm, eqs[k])
+                        for x, k in zip(lamPs, which, strict=True)], n=n)
+        return np.array([_min_slope(br, c, definition, None) for br in brs])
+
+    m = len(eqs)
+    idx = np.arange(m)
+    vals = f(np.r_[np.full(m, lo), np.full(m, hi)], np.r_[idx, idx])
+    a, b = np.full(m, float(lo)), np.full(m, float(hi))
+    fa, fb = vals[:m], vals[m:]
+    if not (np.all(fa < 0) and np.all(fb > 0)):
+        raise ConvergenceError(f"suppression pre-stretch not bracketed in {bracket}")
+    for _ in range(200):
+        act = np.nonzero(np.abs(b - a) > xtol)[0]
+        if not act.size:
+            return [float(x) for x in 0.5 * (a + b)]
+        x = b[act] - fb[act] * (b[act] - a[act]) / (fb[act] - fa[act])
+        x = np.clip(x, np.minimum(a[act], b[act]), np.maximum(a[act], b[act]))
+        fx = f(x, act)
+        same = np.sign(fx) == np.sign(fb[act])
+        # Anderson-Bjorck: keep the bracket; when the same end is kept, scale its value
+        # by 1 - f(x)/f(b) (by 1/2 where that is not positive)
+        g = 1 - fx / fb[act]
+        g = np.where(g > 0, g, 0.5)
+        fa[act] = np.where(same, fa[act] * g, fb[act])
+        a[act] = np.where(same, a[act], b[act])
+        b[act], fb[act] = x, fx
+    raise ConvergenceError(f"suppression pre-stretch: no bracket below xtol={xtol}")

@@ -196,10 +196,10 @@ def pullin_voltage(entry: Entry) -> Outcome:
 
 def suppression_prestretch(entry: Entry) -> Outcome:
     d = _p(entry, "definition", "before_loss_of_tension")
-    vals = {v: analysis.pullin_suppression_prestretch(_p(entry, "c"), equilibrium=v,
-                                                      definition=d, n=200,
-                                                      xtol=SUPPRESSION_XTOL)
-            for v in VARIANTS}
+    # both variants in lockstep (one batched branch trace per iteration); the same
+    # function of lamP as analysis.pullin_suppression_prestretch, bracketed to the same xtol
+    vals = dict(zip(VARIANTS, analysis._suppression_prestretches(
+        _p(entry, "c"), VARIANTS, definition=d, n=200, xtol=SUPPRESSION_XTOL), strict=True))
     acc = Accuracy(rtol=0.0, atol=10 * SUPPRESSION_XTOL,
                    reason=f"brentq bracket xtol {SUPPRESSION_XTOL:g} on lamP, 10x margin")
     return Outcome(value=vals["printed"], details={"membrane": vals["membrane"]}, accuracy=acc,
