@@ -334,8 +334,11 @@ def _locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
         n = a.size
         return f[:n], f[n:], (lam[:n], T1[:n]), (lam[n:], T1[n:])
 
-    if fa is None or fb is None or sa is None or sb is None:
+    if fa is None or fb is None:
         fa, fb, sa, sb = F2(a, b)
+    nan = np.full(a.shape, np.nan)
+    sa = (nan, nan) if sa is None else sa   # unknown states: computed at the end if needed
+    sb = (nan, nan) if sb is None else sb
     fa = np.array(fa, float)
     fb = np.array(fb, float)
     la, Ta = (np.array(z, float) for z in sa)
@@ -418,7 +421,14 @@ def _locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
         raise ConvergenceError(f"events: Illinois did not reach xtol={xtol} in {maxiter} "
                                f"iterations (max bracket {np.max(np.abs(b - a)):.3g})")
     use_a = np.abs(fa) < np.abs(fb)
-    return np.where(use_a, a, b), np.where(use_a, la, lb), np.where(use_a, Ta, Tb)
+    q, lam, T1 = np.where(use_a, a, b), np.where(use_a, la, lb), np.where(use_a, Ta, Tb)
+    miss = ~np.isfinite(lam)
+    if miss.any():    # a root at a bracket end given without its state
+        st = _interface_state(annulus, q[miss], steps=steps,
+                              lamP=None if lp is None else lp[miss],
+                              membrane=None if mb is None else mb[miss])
+        lam[miss], T1[miss] = st.lam, st.T1
+    return q, lam, T1
 
 
 def curves(br: Branch, cs, *, eps_r=None, mu: float | None = None,
