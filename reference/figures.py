@@ -99,9 +99,68 @@ def printed_values(figure: str) -> list[Any]:
     return out
 
 
-def mark_thesis(ax, x, y, label: str = "thesis (printed value)") -> None:
-    """Draw the thesis' printed value(s) at ``(x, y)`` in the one thesis style."""
-    ax.plot(x, y, label=label, **THESIS_STYLE)
+#: Prefix of the SVG group id of every drawn thesis value, followed by the catalogue entry
+#: ids joined by ``+`` (so a test can find each drawn entry in the saved SVG).
+THESIS_GID = "thesis:"
+
+
+def thesis_gid(entries) -> str:
+    """The SVG group id under which the printed values of catalogue ``entries`` are drawn."""
+    return THESIS_GID + "+".join(entries)
+
+
+def drawn_entries(svg_text: str) -> set[str]:
+    """Catalogue entry ids drawn with :func:`mark_thesis` / :func:`mark_thesis_x` in an SVG."""
+    import re
+
+    out: set[str] = set()
+    for gid in re.findall(r'id="' + re.escape(THESIS_GID) + r'([^"]+)"', svg_text):
+        out.update(gid.split("+"))
+    return out
+
+
+def _note(ax, x, y, note, arrow=False, **kw) -> None:
+    if arrow:
+        kw["arrowprops"] = {"arrowstyle": "-", "color": THESIS_STYLE["mec"], "lw": 0.6,
+                            "shrinkA": 1, "shrinkB": 6}
+    ax.annotate(note, (x, y), xytext=kw.pop("xytext", (6, 5)), textcoords="offset points",
+                fontsize=8, color=THESIS_STYLE["mec"], **kw)
+
+
+def mark_thesis(ax, x, y, label: str | None = "thesis (printed value)", *,
+                entries=(), note: str | None = None, note_offset=(6, 5),
+                arrow: bool = False) -> None:
+    """Draw the thesis' printed value(s) at ``(x, y)`` in the one thesis style.
+
+    ``entries``: the catalogue ids whose printed values the marker shows (written as the
+    SVG group id, see :func:`thesis_gid`); ``label=None`` keeps it out of the legend;
+    ``note``: a short text (e.g. the printed percentage) ``note_offset`` points from a
+    single marker, joined to it by a thin line when ``arrow``.
+    """
+    (line,) = ax.plot(x, y, label=label if label is not None else "_nolegend_",
+                      **THESIS_STYLE)
+    if entries:
+        line.set_gid(thesis_gid(entries))
+    if note:
+        _note(ax, x, y, note, arrow, xytext=note_offset, ha="center" if arrow else "left")
+
+
+def mark_thesis_x(ax, x: float, label: str | None = "thesis (printed value)", *,
+                  entries=(), note: str | None = None, note_y: float = 0.03) -> None:
+    """A printed value of the quantity on the x axis (e.g. a threshold): a vertical line
+    in the thesis colour, with the same ``entries``/``note`` conventions as
+    :func:`mark_thesis` (the note at height ``note_y``, in axes fraction)."""
+    line = ax.axvline(x, color=THESIS_STYLE["mec"], ls="--", lw=1.2,
+                      label=label if label is not None else "_nolegend_", zorder=4)
+    if entries:
+        line.set_gid(thesis_gid(entries))
+    if note:
+        _note(ax, x, note_y, note, xycoords=ax.get_xaxis_transform(), xytext=(4, 0))
+
+
+def percent_note(entry_id: str, sign: str = "+") -> str:
+    """``"+15.6 %"``: the printed percentage of ``entry_id`` as a marker note."""
+    return f"{sign}{printed_value(entry_id):g} %"
 
 
 def printed_value(entry_id: str) -> float:

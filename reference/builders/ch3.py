@@ -319,7 +319,13 @@ _TEXT = {
 # ------------------------------------------------------------------ figures
 def figures(ds: dict[str, xr.Dataset], fig_dir: Path) -> list[Path]:
     from debench.reference.figures import LABELS as L
-    from debench.reference.figures import mark_thesis, printed_value, pyplot
+    from debench.reference.figures import (
+        mark_thesis,
+        mark_thesis_x,
+        percent_note,
+        printed_value,
+        pyplot,
+    )
     from debench.reference.figures import save as save_figure
 
     plt = pyplot()
@@ -329,73 +335,105 @@ def figures(ds: dict[str, xr.Dataset], fig_dir: Path) -> list[Path]:
         out.extend(save_figure(fig, fig_dir / name))
 
     a = ds["ch3_annulus_profiles"]
-    fig, ax = plt.subplots(figsize=(5, 4))
+
+    def implied(entry_id, base, sign):
+        """The c = -0.053 value the thesis' printed percentage implies from our c = 0 one."""
+        return base * (1 + sign * printed_value(entry_id) / 100)
+
+    pct_label = r"thesis: printed % change, applied to our $c$ = 0 value"
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for k, (c, ls) in enumerate(zip(a.c.values, ("-", "--"), strict=True)):
         ax.plot(a.r_over_ra, a.lambda1[k], "b" + ls, label=rf"$\lambda_1$, $c$ = {c:g}")
         ax.plot(a.r_over_ra, a.lambda2[k], "r" + ls, label=rf"$\lambda_2$, $c$ = {c:g}")
+    at_ra = a.sel(c=0.0).isel(r_over_ra=0)
+    for eid, var, sign, off in (("ch3.annulus.lam1_interface_increase", "lambda1", 1, (7, -12)),
+                                ("ch3.annulus.lam2_interface_decrease", "lambda2", -1, (7, -12))):
+        mark_thesis(ax, 1.0, implied(eid, float(at_ra[var]), sign),
+                    pct_label if sign > 0 else None, entries=[eid],
+                    note=percent_note(eid, "+" if sign > 0 else "\u2212"), note_offset=off)
     ax.set(xlabel=L["r_over_ra"], ylabel=L["lambda_12"],
            title=r"Fig. 3.2: annulus B, $\lambda_P$ = 3, $\bar\Phi$ = 0.2")
-    ax.legend()
+    ax.legend(fontsize=8)
     save(fig, "fig3_2_annulus_stretches.png")
 
-    fig, ax = plt.subplots(figsize=(5, 4))
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for k, (c, ls) in enumerate(zip(a.c.values, ("-", "--"), strict=True)):
         ax.plot(a.r_over_ra, a.lambda3[k], "k" + ls, label=f"annulus B, $c$ = {c:g}")
         ax.plot([0, 1], [a.lambda3_a[k]] * 2, "g" + ls, label=f"circle A, $c$ = {c:g}")
-    ax.set(xlabel=L["r_over_ra"], ylabel=L["lambda_3"], title="Fig. 3.3: thickness stretch")
-    ax.legend()
+    eid = "ch3.annulus.thickness_A_increase"
+    mark_thesis(ax, 0.5, implied(eid, float(a.lambda3_a.sel(c=0.0)), 1), pct_label,
+                entries=[eid], note=percent_note(eid))
+    eid = "ch3.annulus.lam3_interface_decrease"
+    mark_thesis(ax, 1.0, implied(eid, float(at_ra.lambda3), -1), None, entries=[eid],
+                note=percent_note(eid, "\u2212"), note_offset=(7, 4))
+    ax.set(xlabel=L["r_over_ra"], ylabel=L["lambda_3"],
+           title=r"Fig. 3.3: thickness stretch, $\lambda_P$ = 3, $\bar\Phi$ = 0.2")
+    ax.legend(fontsize=8, loc="center right")
     save(fig, "fig3_3_thickness_stretch.png")
 
     v = ds["ch3_voltage_stretch"]
     f = ds["ch3_failure_points"].sel(equilibrium="printed")
 
-    def curve_upto(lp, c, stop):
+    def curve_upto(lp, c, stop, phi_stop=np.nan):
+        """The computed curve below ``stop``, closed by the event point (stop, phi_stop)."""
         lam = v.lambda_a.sel(lamP=lp).values
         phi = v.phibar.sel(lamP=lp, c=c).values
-        m = lam <= stop
-        return lam[m], phi[m]
+        m = (lam < stop) & np.isfinite(phi)
+        lam, phi = lam[m], phi[m]
+        if np.isfinite(stop) and np.isfinite(phi_stop):
+            lam, phi = np.append(lam, stop), np.append(phi, phi_stop)
+        return lam, phi
 
     def end_of(lp, c):
-        """Where the membrane model ends: loss of tension (wrinkling of circle A)."""
-        lot = float(f.loss_of_tension_lambda.sel(lamP=lp, c=c))
-        return lot if np.isfinite(lot) else np.inf
+        """Where a curve ends: loss of tension (the membrane model ends) or dielectric
+        breakdown (the material fails), whichever comes first: (lambda, Phibar, kind)."""
+        fp = f.sel(lamP=lp, c=c)
+        ends = [(float(fp.loss_of_tension_lambda), float(fp.loss_of_tension_phibar), "lot"),
+                (float(fp.breakdown_lambda), float(fp.breakdown_phibar), "breakdown")]
+        ends = [e for e in ends if np.isfinite(e[0])]
+        return min(ends) if ends else (np.inf, np.nan, None)
 
-    def mark_breakdown(ax, lp, c):
-        """Square at dielectric breakdown when it comes before loss of tension."""
-        bd = float(f.breakdown_lambda.sel(lamP=lp, c=c))
-        if np.isfinite(bd) and bd <= end_of(lp, c):
-            lam, phi = curve_upto(lp, c, bd)
-            ax.plot(bd, phi[-1] if phi.size else np.nan, "ks", ms=5, mfc="none")
+    def draw(ax, lp, c, label):
+        """One voltage-stretch curve up to its end, dotted past pull-in (the unstable
+        branch), with the pull-in diamond and the breakdown square."""
+        stop, phi_stop, kind = end_of(lp, c)
+        lam, phi = curve_upto(lp, c, stop, phi_stop)
+        fp = f.sel(lamP=lp, c=c)
+        pl, pp = float(fp.pullin_lambda), float(fp.pullin_phibar)
+        if np.isfinite(pl) and pl < stop:
+            st = lam < pl
+            (ln,) = ax.plot(np.append(lam[st], pl), np.append(phi[st], pp), label=label)
+            ax.plot(np.insert(lam[~st], 0, pl), np.insert(phi[~st], 0, pp), ":",
+                    color=ln.get_color(), lw=1.1)
+            ax.plot(pl, pp, "kd", ms=5)
+        else:
+            ax.plot(lam, phi, label=label)
+        if kind == "breakdown":
+            ax.plot(stop, phi_stop, "ks", ms=5, mfc="none")
 
-    fig, ax = plt.subplots(figsize=(5, 4))
+    ends_note = ("diamond pull-in (dotted beyond), square breakdown;\n"
+                 "curves end at loss of tension or breakdown")
+    fig, ax = plt.subplots(figsize=(5.5, 4.5))
     for lp in v.lamP.values:
-        lam, phi = curve_upto(lp, 0.0, end_of(lp, 0.0))
-        ax.plot(lam, phi, label=rf"$\lambda_P$ = {lp:g}")
-        pl = f.pullin_lambda.sel(lamP=lp, c=0.0)
-        if np.isfinite(pl):
-            ax.plot(pl, f.pullin_phibar.sel(lamP=lp, c=0.0), "kd", ms=5)
-        mark_breakdown(ax, lp, 0.0)
-    ax.set(xlabel=L["lambda_A"], ylabel=L["phibar"], ylim=(0, 0.8),
-           title="Fig. 3.4: $c$ = 0 (diamond pull-in, square breakdown;\n"
-                 "curves end at loss of tension)")
-    ax.legend(fontsize=8)
+        draw(ax, lp, 0.0, rf"$\lambda_P$ = {lp:g}")
+    eid = "ch3.pullin.suppression_prestretch"
+    mark_thesis(ax, printed_value(eid), 0.0,
+                rf"thesis: no pull-in for $\lambda_P \geq$ {printed_value(eid):g}",
+                entries=[eid])
+    ax.set(xlabel=L["lambda_A"], ylabel=L["phibar"], ylim=(-0.02, 0.8),
+           title="Fig. 3.4: $c$ = 0; " + ends_note)
+    ax.legend(fontsize=8, ncol=2)
     save(fig, "fig3_4_voltage_stretch_c0.png")
 
-    fig, ax = plt.subplots(figsize=(5, 4))
+    fig, ax = plt.subplots(figsize=(5.5, 4.5))
     for c in v.c.values:
-        lam, phi = curve_upto(1.25, c, end_of(1.25, c))
-        ax.plot(lam, phi, label=f"$c$ = {c:g}")
-        pl = f.pullin_lambda.sel(lamP=1.25, c=c)
-        if np.isfinite(pl):
-            ax.plot(pl, f.pullin_phibar.sel(lamP=1.25, c=c), "kd", ms=5)
-        mark_breakdown(ax, 1.25, c)
-    mark_thesis(ax, float(f.pullin_lambda.sel(lamP=1.25, c=0.0)),
-                printed_value("ch3.pullin.voltage_lamP_1p25"),
-                r"thesis: pull-in $\bar\Phi$, $c$ = 0")
+        draw(ax, 1.25, c, f"$c$ = {c:g}")
+    eid = "ch3.pullin.voltage_lamP_1p25"
+    mark_thesis(ax, float(f.pullin_lambda.sel(lamP=1.25, c=0.0)), printed_value(eid),
+                r"thesis: pull-in $\bar\Phi$, $c$ = 0", entries=[eid])
     ax.set(xlabel=L["lambda_A"], ylabel=L["phibar"],
-           title="Fig. 3.5: $\\lambda_P$ = 1.25 (diamond pull-in, square breakdown;\n"
-                 "curves end at loss of tension)")
-    ax.legend(fontsize=8)
+           title="Fig. 3.5: $\\lambda_P$ = 1.25; " + ends_note)
+    ax.legend(fontsize=8, loc="lower right")
     save(fig, "fig3_5_voltage_stretch_lamP_1p25.png")
 
     fig, ax = plt.subplots(figsize=(5, 4))
@@ -405,58 +443,102 @@ def figures(ds: dict[str, xr.Dataset], fig_dir: Path) -> list[Path]:
     ax.plot(lam[m], v.sigma1_a.sel(lamP=3.0, c=0.0).values[m], label="computed (Eq. 3.33)")
     ax.axhline(0, color="k", lw=0.5)
     ax.axvline(lot, color="r", ls=":", label=f"loss of tension {lot:.3f}")
-    mark_thesis(ax, printed_value("ch3.loss_of_tension.stretch_lamP_3"), 0.0,
-                "thesis: loss of tension")
+    eid = "ch3.loss_of_tension.stretch_lamP_3"
+    mark_thesis(ax, printed_value(eid), 0.0, "thesis: loss of tension", entries=[eid])
     ax.set(xlabel=L["lambda_A"], ylabel=L["sigma1_mu"],
            title=r"Fig. 3.6: $\lambda_P$ = 3, $c$ = 0")
     ax.legend()
     save(fig, "fig3_6_sigma1_lamP_3.png")
 
-    fig, ax = plt.subplots(figsize=(6, 4.5))
+    def failure(lp, c):
+        """(lambda_max, Phibar there, failure code) of one curve (Fig. 3.7 symbols)."""
+        fp = f.sel(lamP=lp, c=c)
+        code = int(fp.failure_mode)
+        ev = {1: "pullin", 2: "loss_of_tension", 3: "breakdown"}.get(code)
+        if ev is None:
+            return np.inf, np.nan, code
+        return float(fp[f"{ev}_lambda"]), float(fp[f"{ev}_phibar"]), code
+
+    from debench.models.circular.circle_a import breakdown_phibar
+    fig, ax = plt.subplots(figsize=(6.5, 4.8))
     sym = {1: "d", 2: "o", 3: "s", 4: "x", 5: "x"}
     for lp in v.lamP.values:
         for c, ls in ((0.0, "-"), (-0.053, ":")):
-            fp = f.sel(lamP=lp, c=c)
-            code = int(fp.failure_mode)
-            stop = float({1: fp.pullin_lambda, 2: fp.loss_of_tension_lambda,
-                          3: fp.breakdown_lambda}.get(code, np.inf))
-            lam, phi = curve_upto(lp, c, stop)
+            stop, phi_stop, code = failure(lp, c)
+            lam, phi = curve_upto(lp, c, stop, phi_stop)
             ax.plot(lam, phi, "k" + ls, lw=0.9)
-            if code:
-                ax.plot(stop, phi[-1] if phi.size else np.nan, "k" + sym[code], ms=5,
-                        mfc="none" if c else "k")
+            if code in sym:
+                ax.plot(stop, phi_stop, "k" + sym[code], ms=5, mfc="none" if c else "k")
     lam = np.linspace(1, 7.8, 200)
-    from debench.models.circular.circle_a import breakdown_phibar
     ax.plot(lam, breakdown_phibar(lam, params.EPS_R_ASSUMED, params.MU_VHB), "r--", lw=1,
             label=r"breakdown ($\varepsilon_r$ = 4.7)")
+    first = True
+    for lp, stretch, eid, off in (
+            (3.0, 4.5, "ch3.voltage_increase.lamP_3_stretch_4p5", (95, 118)),
+            (4.0, 5.0, "ch3.voltage_increase.lamP_4_stretch_5", (100, -50))):
+        lam0, phi0 = curve_upto(lp, 0.0, np.inf)
+        mark_thesis(ax, stretch, implied(eid, float(np.interp(stretch, lam0, phi0)), 1),
+                    pct_label if first else None, entries=[eid],
+                    note=percent_note(eid) + rf" $\bar\Phi$ ($\lambda_P$ = {lp:g})",
+                    note_offset=off, arrow=True)
+        first = False
+    eid = "ch3.max_stretch_gain.lamP_2"     # loss of tension of c = -0.053 at this stretch
+    mark_thesis(ax, implied(eid, failure(2.0, 0.0)[0], 1), failure(2.0, -0.053)[1], None,
+                entries=[eid], note=percent_note(eid) + r" $\lambda_{\max}$ ($\lambda_P$ = 2)",
+                note_offset=(120, 120), arrow=True)
+    eid = "ch3.max_stretch_reduction.lamP_4"  # breakdown of c = -0.053 at this stretch
+    x = implied(eid, failure(4.0, 0.0)[0], -1)
+    mark_thesis(ax, x, float(breakdown_phibar(x, params.EPS_R_ASSUMED, params.MU_VHB)), None,
+                entries=[eid],
+                note=percent_note(eid, "\u2212") + r" $\lambda_{\max}$ ($\lambda_P$ = 4)",
+                note_offset=(55, 63), arrow=True)
     ax.set(xlabel=L["lambda_A"], ylabel=L["phibar"], ylim=(0, 0.8),
-           title="Fig. 3.7: $c$ = 0 (solid), $c$ = -0.053 (dotted);\n"
+           title="Fig. 3.7: $c$ = 0 (solid), $c$ = -0.053 (dotted), ends at the first failure:\n"
                  "diamond pull-in, circle loss of tension, square breakdown")
-    ax.legend()
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2)
     save(fig, "fig3_7_failure_modes.png")
 
-    fig, axs = plt.subplots(1, 2, figsize=(9, 4))
+    fig, axs = plt.subplots(1, 2, figsize=(10, 4.3))
     for ax, lp in zip(axs, (2.0, 3.0), strict=True):
         for c in v.c.values:
-            lam, phi = curve_upto(lp, c, end_of(lp, c))
-            ax.plot(lam, phi, label=f"$c$ = {c:g}")
+            draw(ax, lp, c, f"$c$ = {c:g}")
         ax.set(xlabel=L["lambda_A"], ylabel=L["phibar"],
                title=rf"Fig. 3.8: $\lambda_P$ = {lp:g}")
         ax.legend(fontsize=8)
+    fig.suptitle(ends_note.replace(";\n", "; "), fontsize=10)
     save(fig, "fig3_8_voltage_stretch_c.png")
 
     s = ds["ch3_c_sweep"]
-    fig, axs = plt.subplots(2, 3, figsize=(11, 6), sharex=True)
+    names = {1: "pull-in", 2: "loss of tension", 3: "breakdown"}
+    fig, axs = plt.subplots(2, 3, figsize=(11, 6.5), sharex=True, layout="constrained")
     for k, lp in enumerate(s.lamP.values):
         sel = s.sel(lamP=lp)
         for code, col in ((1, "b"), (2, "g"), (3, "r")):
             m = sel.failure_mode.values == code
-            axs[0, k].plot(s.c.values[m], sel.lambda_max.values[m], col + ".", ms=3,
-                           label=MODES[code - 1])
-            axs[1, k].plot(s.c.values[m], sel.phibar_at_lambda_max.values[m], col + ".", ms=3)
-        axs[0, k].set(title=rf"Fig. 3.9: $\lambda_P$ = {lp:g}", ylabel=L["lambda_max"])
-        axs[1, k].set(xlabel=L["c"], ylabel=L["phibar_at_max"])
-        axs[0, k].legend(fontsize=8)
+            axs[0, k].plot(s.c.values[m], sel.lambda_max.values[m], col + ".", ms=4,
+                           label=f"fails by {names[code]}")
+            axs[1, k].plot(s.c.values[m], sel.phibar_at_lambda_max.values[m], col + ".", ms=4)
+        axs[0, k].set_title(rf"({'abc'[k]}) $\lambda_P$ = {lp:g}")
+        axs[1, k].set_xlabel(L["c"])
+    axs[0, 0].set_ylabel(L["lambda_max"])
+    axs[1, 0].set_ylabel(L["phibar_at_max"])
+    eid = "ch3.pullin.voltage_lamP_1p25"    # Phibar at lam_max = pull-in voltage for c = 0
+    mark_thesis(axs[1, 0], 0.0, printed_value(eid), "thesis (printed value)", entries=[eid],
+                note=rf"{printed_value(eid):g} (pull-in, $c$ = 0)", note_offset=(-40, 125),
+                arrow=True)
+    eids = ["ch3.pullin.c_threshold_lamP_1p25", "ch3.pullin.c_threshold_lamP_1p25_before_lot"]
+    mark_thesis_x(axs[0, 0], printed_value(eids[0]), None, entries=eids, note_y=0.3,
+                  note=f"no pull-in below\n$c$ = {printed_value(eids[0]):g}")
+    eid = "ch3.max_stretch_gain.lamP_2"
+    lam0 = float(s.lambda_max.sel(lamP=2.0, c=0.0))
+    mark_thesis(axs[0, 1], -0.053, implied(eid, lam0, 1), None, entries=[eid],
+                note=percent_note(eid) + r" at $c$ = -0.053", note_offset=(6, -3))
+    handles = {}
+    for ax in axs.flat:
+        for h, lab in zip(*ax.get_legend_handles_labels(), strict=True):
+            handles.setdefault(lab, h)
+    fig.legend(handles.values(), handles.keys(), loc="outside lower center", ncol=4)
+    fig.suptitle(r"Fig. 3.9: maximum stretch $\lambda_{\max}$ and its voltage over $c$")
     save(fig, "fig3_9_c_sweep.png")
     return out
 
