@@ -290,9 +290,11 @@ def figures(out: Path, c42: xr.Dataset, c45: xr.Dataset, lim: xr.Dataset, ar: xr
                label=f"{v}, {'TI' if xi else 'iso'}")
     ax.set_xticks(x, [f"({t}) {D:g}" for t, D in zip("abcdefghi", FIG42_D, strict=True)])
     ax.set_xlabel(r"case, $\hat D$")
-    ax.set_ylabel(r"area of $\{\det < 0\}$, $kH \in [0.01, 10]$")
+    ax.set_ylabel(r"area of $\{\det < 0\}$ in the $(kH, \lambda)$ plane")
     ax.legend(fontsize=8)
-    ax.set_title("Fig. 4.3: unstable-region areas (window: ch4.assumption.area_window)")
+    ax.set_title("Fig. 4.3: unstable-region areas, assumed window "
+                 rf"$kH \in$ [0.01, 10], $\lambda \in$ [{prod.AREA_LAM[0]:g}, {prod.AREA_LAM[1]:g}]"
+                 "\n(the thesis' areas are in its figure image only)")
     paths += save(fig, out / "fig4_3_areas")
     # Fig 4.4
     fig, ax = plt.subplots(figsize=(7, 4))
@@ -304,7 +306,8 @@ def figures(out: Path, c42: xr.Dataset, c45: xr.Dataset, lim: xr.Dataset, ar: xr
     ax.set_ylabel(r"$\lambda_{cr}$ ($kH \to 0$)")
     ax.set_ylim(0.9, None)
     ax.legend(fontsize=8, ncol=2)
-    ax.set_title("Fig. 4.4: thin-plate limit (root of a - c)")
+    ax.set_title(r"Fig. 4.4: thin-plate limit $kH \to 0$ (root of $a - c$)" "\n"
+                 "(the thesis' values are in its figure image only)")
     paths += save(fig, out / "fig4_4_thin_limit")
     # Fig 4.5
     fig, axs = plt.subplots(1, 3, figsize=(13, 4), sharey=True)
@@ -314,22 +317,30 @@ def figures(out: Path, c42: xr.Dataset, c45: xr.Dataset, lim: xr.Dataset, ar: xr
             for j in range(sel.shape[1]):
                 ax.semilogx(c45.kH, sel[:, j], ".", ms=1.5, color=f"C{k}",
                             label=rf"$\xi$ = {xi:g}" if j == 0 else None)
+            lamE = float(c45.lam_ellipticity.sel(variant=v, xi=xi))
+            if np.isfinite(lamE):
+                ax.axhline(lamE, color=f"C{k}", lw=0.7, ls=":",
+                           label=r"loss of ellipticity (per $\xi$)" if k == len(FIG45_XI) - 1
+                           else None)
         ax.set_title(rf"Fig. 4.5 ({v}), $\hat D$ = 2")
         ax.set_xlabel(L["kH"])
         ax.set_ylim(0.4, 3.0)
     axs[0].set_ylabel(L["lam_cr"])
     axs[0].legend(fontsize=8, markerscale=5)
     paths += save(fig, out / "fig4_5_anisotropy")
+    names = {"max_area": r"$\hat D$ of the largest unstable area",
+             "thin_extensional": r"first extensional mode as $kH \to 0$"}
     # Fig 4.6
     fig, ax = plt.subplots(figsize=(6, 4))
     for v, m in (("printed", "o-"), ("literal", "s--")):
         for c in crit.candidate.values:
             ax.plot(crit.xi, crit.Dhat_critical.sel(variant=v, candidate=c), m,
-                    label=f"{v}: {c}")
+                    label=f"{v}: {names.get(str(c), c)}")
     ax.set_xlabel(L["xi"])
     ax.set_ylabel(r"critical $\hat D$")
-    ax.legend(fontsize=8)
-    ax.set_title(r"Fig. 4.6: critical $\hat D$ vs $\xi$ (two candidate definitions)")
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=1)
+    ax.set_title(r"Fig. 4.6: critical $\hat D$ vs $\xi$ (two candidate definitions;" "\n"
+                 "the thesis' values are in its figure image only)")
     paths += save(fig, out / "fig4_6_critical_D")
     return paths
 
@@ -403,5 +414,5 @@ def _voltage_figure(out: Path, vc: xr.Dataset) -> list[Path]:
         ax.set_xlabel(L["kH"])
         ax.set_ylim(0.4, 3.0)
     axs[0].set_ylabel(L["lam_cr"])
-    axs[0].legend(fontsize=8, markerscale=4)
+    axs[0].legend(fontsize=8, markerscale=4, loc="upper right", bbox_to_anchor=(1.0, 0.9))
     return save(fig, out / "ch4_beyond_voltage_control")
