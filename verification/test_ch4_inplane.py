@@ -172,6 +172,34 @@ def test_fe_refuses_crossings_within_round_off():
                                  window=(3.0, 4.0), n_scan=30)
 
 
+def test_fe_accepts_a_grid_point_on_a_resolved_root():
+    """Voltage control, xi = 5, Vhat = 0.1, theta = 60 deg, kH = 0.25: a scan point lies
+    8e-6 from the root, inside the round-off band of the eigenvalue, but the slope
+    resolves the root (round-off ~1e-7): both methods agree. A root whose round-off is
+    1.7e-4 (tension, Dhat = 3, kH = 0.5, theta = 80 deg) is still refused."""
+    w = (0.7753712659110396, 1.5)   # lam_E (1 + LAM_E_MARGIN) of the builder
+    p = PlateParams(xi=5.0)
+    g = np.geomspace(*w, 40)
+    e = ip.fe_eigenvalues(g[15], 0.25, 60.0, _on_voltage_path(p, 0.1, g[15]))
+    K = ip.fe_stiffness(g[15], 0.25, 60.0, _on_voltage_path(p, 0.1, g[15]))
+    assert np.min(np.abs(e)) < ip.ROUNDOFF_FACTOR * np.finfo(float).eps * np.linalg.norm(K, 1)
+    fe = ip.critical_stretches_fe(0.25, 60.0, p, window=w, n_scan=40, Vhat=0.1)
+    det = ip.critical_stretches_det(0.25, 60.0, p, window=w, n_scan=40, Vhat=0.1)
+    assert det.size == fe.size == 1 and abs(det[0] - fe[0]) <= prod.TOL_AGREE
+    with pytest.raises(ConvergenceError, match="round-off"):
+        ip.critical_stretches_fe(0.5, 80.0, PlateParams(xi=5.0, Dhat=3.0),
+                                 window=(1.0005, 2.0), n_scan=40)
+
+
+def _on_voltage_path(p, Vhat, lam):
+    """The parameters of the voltage-controlled path at lam (Dhat = Dhat(lam))."""
+    from dataclasses import replace
+
+    from debench.models.plate.voltage import dhat_at_voltage
+
+    return replace(p, Dhat=float(dhat_at_voltage(lam, Vhat, p)))
+
+
 def test_compression_window_clears_the_fe_round_off_at_lam_E():
     """theta = 0: an FE eigenvalue vanishes at lam_E (vanishing L21 modulus). Within
     1e-9 of lam_E it is inside the FE round-off guard; at the builder's window start

@@ -402,7 +402,8 @@ def critical_stretches_fe(kH: float, theta: float, params: PlateParams, *,
     ``window`` and ``Vhat`` as in :func:`critical_stretches_det`. The inertia of K is
     counted on the grid; a crossing is refined by brentq on the eigenvalue that changes
     sign. ConvergenceError where that eigenvalue is within :data:`ROUNDOFF_FACTOR` x the
-    round-off of K at a bracket end: thin plates in tension (t = kH lam^-2 small) make K
+    round-off of K at a bracket end and the root's round-off (eigenvalue round-off over
+    its slope) exceeds :data:`FE_ROOT_ROUNDOFF`: thin plates in tension (t = kH lam^-2 small) make K
     so ill-conditioned (||K|| ~ n^3 t^-3) that the membrane eigenvalue drowns in
     round-off (measured at kH = 0.1, lam > 3); the determinant has no such limit.
     """
@@ -440,12 +441,18 @@ def critical_stretches_fe(kH: float, theta: float, params: PlateParams, *,
         if not (ell[i] and ell[i + 1]):
             continue
         for a, b, ea, eb, j in split(g[i], g[i + 1], evs[i], evs[i + 1]):
-            for e, noise in (ea, eb):
-                if abs(e[j]) < ROUNDOFF_FACTOR * noise:
+            noise = max(ea[1], eb[1])
+            # root round-off: eigenvalue round-off over its secant slope on the bracket
+            spread = noise * (b - a) / max(abs(eb[0][j] - ea[0][j]), np.finfo(float).tiny)
+            for e in (ea, eb):
+                # an end inside the round-off band: refused unless the end merely lies
+                # near the root and the slope resolves the root (grid point on the root)
+                if abs(e[0][j]) < ROUNDOFF_FACTOR * e[1] and spread > FE_ROOT_ROUNDOFF:
                     raise ConvergenceError(
                         f"eigenvalue crossing in [{a:.6g}, {b:.6g}] at kH={kH}, "
-                        f"theta={theta} is within round-off of K (|e| = {abs(e[j]):.2e}, "
-                        f"eps ||K|| = {noise:.2e}): the FE cannot resolve this thin plate")
+                        f"theta={theta} is within round-off of K (|e| = {abs(e[0][j]):.2e}, "
+                        f"eps ||K|| = {e[1]:.2e}, root round-off {spread:.1e}): the FE "
+                        "cannot resolve this thin plate")
             out.append(brentq(ev, a, b, args=(j,), xtol=1e-14, rtol=1e-15))
     return np.asarray(out)
 
@@ -460,6 +467,14 @@ MAX_SPLIT = 30
 #: bracket ends exceeds this multiple of eps ||K||_1 (its round-off); genuine crossings
 #: measured >= 1e3 x above it on the windows of the datasets
 ROUNDOFF_FACTOR = 100.0
+
+
+#: largest round-off of an FE root, eps ||K||_1 / |de/dlam| (secant slope on the bracket),
+#: accepted when a bracket end lies inside the ROUNDOFF_FACTOR band (a grid point within
+#: ~1e-5 of the root): a tenth of the 1e-5 to which the two methods must agree, and eps
+#: ||K||_1 overstates the measured eigenvalue round-off ~3x. Resolved roots measured
+#: <= 1e-7 (kH = 0.25), drowned ones (thin plates in tension) >= 1e-4
+FE_ROOT_ROUNDOFF = 1e-6
 
 
 #: relative margin above the ellipticity limit lam_E at which a compression window
