@@ -449,37 +449,3 @@ def hypothesis_thickness(entry: Entry) -> Outcome:
                             "ratio_error": err, "normalisation_factor": scale,
                             "thesis_interval": [t - dt, t + dt]})
 
-
-def hypothesis_radius_kept_wrinkling(entry: Entry) -> Outcome:
-    """§5.3.1's wrinkling of the 0.5 mm film (onset at a centre deflection of 3.64 mm) under
-    the hypothesis that its model kept R = 10 mm (radius/thickness 20): the Ogden ramps at
-    radius/thickness 20 of ``ch5_ramps.nc`` (``r20_*``, two circumferential resolutions)
-    with the eigen-analysis along the path. ``explained`` when a non-axisymmetric mode
-    becomes unstable before pull-in on the finer mesh at a deflection whose interval (the
-    change between the two meshes) meets the printed one; ``unexplained`` otherwise, with
-    the lowest non-axisymmetric eigenvalue met before pull-in in details."""
-    from debench.reference import catalogue
-
-    target = catalogue.by_id()[entry.parameters["target"]]
-    r = _ramps()
-    if "r20_w_wrinkling" not in r:
-        return Outcome(value=None, status="unexplained", details={"r20_ramps": False},
-                       diagnosis="The curated ramps hold no radius/thickness 20 runs "
-                       "(`debench reproduce ch5 --full` computes them).")
-    t0_mm = float(r.sel(case="ogden_t0p5").thickness_m) * 1e3
-    w = r.r20_w_wrinkling.values * t0_mm
-    w_pi = r.r20_w_pullin.values * t0_mm
-    lam = r.r20_min_nonaxisymmetric_lambda.values
-    details = {"h_rel": r.wrinkling_level.values.tolist(), "w_wrinkling_mm": w.tolist(),
-               "w_pullin_mm": w_pi.tolist(), "v_pullin": r.r20_v_pullin.values.tolist(),
-               "min_nonaxisymmetric_lambda": lam.tolist(),
-               "min_nonaxisymmetric_lambda_finest": float(lam[-1])}
-    if not np.isfinite(w[-1]):
-        return Outcome(value=None, status="unexplained", details=details,
-                       evidence=f"{EV_DATA}::test_curated_radius_20_ramps")
-    err = float(abs(w[-1] - w[-2])) if len(w) > 1 and np.isfinite(w[-2]) else float("inf")
-    t, dt = float(target.value), target.implied_tolerance()
-    explained = (w[-1] - err) <= t + dt and (w[-1] + err) >= t - dt
-    details["w_mesh_change_mm"] = err
-    return Outcome(value=float(w[-1]), status="explained" if explained else "unexplained",
-                   details=details, evidence=f"{EV_DATA}::test_curated_radius_20_ramps")
