@@ -518,7 +518,7 @@ def ellipticity_limit(theta: float, params: PlateParams, *, window=(0.45, 0.999)
 
 
 def membrane_limit(theta: float, params: PlateParams, *, window=(0.45, 8.0),
-                   Vhat: float | None = None) -> float:
+                   Vhat: float | None = None) -> float | None:
     """kH -> 0 limit of lam_cr: the largest zero of the total lateral stress tau11.
 
     A thin plate wrinkles with wave vector e1 when its membrane stress along e1,
@@ -528,7 +528,7 @@ def membrane_limit(theta: float, params: PlateParams, *, window=(0.45, 8.0),
         tau11 = lam^2 - lam^-4 + 2 xi cos^2(theta) lam^2 (lam^2 - 1) - beta Dhat^2 = 0,
 
     with Dhat = Dhat(lam) under voltage control. Bracketed on a grid of ``window`` and
-    refined with brentq; NaN when tau11 has no sign change in ``window``.
+    refined with brentq; None when tau11 has no sign change in ``window``.
     """
     lo, hi = v.window("window", window)
     _check(lo, theta, params)
@@ -542,6 +542,6 @@ def membrane_limit(theta: float, params: PlateParams, *, window=(0.45, 8.0),
     f = np.array([tau11(x) for x in g])
     idx = np.nonzero(np.sign(f[:-1]) != np.sign(f[1:]))[0]
     if not idx.size:
-        return math.nan
+        return None
     i = int(idx[-1])
     return float(brentq(tau11, g[i], g[i + 1], xtol=1e-15, rtol=4 * np.finfo(float).eps))

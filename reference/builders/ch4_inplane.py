@@ -147,7 +147,8 @@ def tension_dataset(full: bool) -> xr.Dataset:
     for b, D in enumerate(ds_):
         p = PlateParams(xi=xi, Dhat=D)
         for c, th in enumerate(thetas):
-            memb[b, c] = ip.membrane_limit(th, p, window=(1.0, 8.0))
+            m = ip.membrane_limit(th, p, window=(1.0, 8.0))
+            memb[b, c] = np.nan if m is None else m
             for d, kh in enumerate(khs):
                 det[b, c, d] = _largest(ip.critical_stretches_det(
                     kh, th, p, window=TENSION_WINDOW, n_scan=N_SCAN))
