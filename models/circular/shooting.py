@@ -233,6 +233,24 @@ def _membrane_flags(annulus: Annulus, membrane, shape):
     return bool(m.flat[0]) if (m.all() or not m.any()) else m
 
 
+def _start(annulus: Annulus, q, steps: int, lamP, profile: bool):
+    """Initial state of an inward integration: (l1, l2) at R_A, the grid in t = ln(R/R_A),
+    the inadmissible starts, and the profile arrays (None without ``profile``)."""
+    dtype = np.complex128 if np.iscomplexobj(q) else np.float64
+    l1 = q.astype(dtype, copy=True)
+    # lamP (array like q) batches annuli that differ only in the pre-stretch (3.38)
+    l2 = np.full_like(l1, annulus.lamP) if lamP is None else (
+        np.broadcast_to(np.asarray(lamP, float), l1.shape).astype(dtype))
+    tgrid = _grid(np.log(annulus.radius_ratio), steps)
+    bad = ~(l1.real > 0)
+    P1 = P2 = None
+    if profile:
+        P1 = np.empty((steps + 1,) + l1.shape, dtype)
+        P2 = np.empty_like(P1)
+        P1[0], P2[0] = l1, l2
+    return l1, l2, tgrid, bad, P1, P2
+
+
 def _integrate_inward(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
                       profile: bool = False, lamP=None, membrane=None):
     """:func:`integrate_inward` without checks: NaN marks inadmissible trajectories.
@@ -262,18 +280,8 @@ def _integrate_inward(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
                     P1[:, back].reshape(P1.shape[:1] + q.shape),
                     P2[:, back].reshape(P2.shape[:1] + q.shape))
         return out[0][back].reshape(q.shape), out[1][back].reshape(q.shape)
-    dtype = np.complex128 if np.iscomplexobj(q) else np.float64
-    l1 = q.astype(dtype, copy=True)
-    # lamP (array like q) batches annuli that differ only in the pre-stretch (3.38)
-    l2 = np.full_like(l1, annulus.lamP) if lamP is None else (
-        np.broadcast_to(np.asarray(lamP, float), l1.shape).astype(dtype))
+    l1, l2, tgrid, bad, P1, P2 = _start(annulus, q, steps, lamP, profile)
     kappa = annulus.kappa
-    tgrid = _grid(np.log(annulus.radius_ratio), steps)
-    bad = ~(l1.real > 0)
-    if profile:
-        P1 = np.empty((steps + 1,) + l1.shape, dtype)
-        P2 = np.empty_like(P1)
-        P1[0], P2[0] = l1, l2
     worst = np.full(l1.shape, np.inf)   # running minimum of the admissibility quantities
 
     def rhs(x1, x2):
@@ -366,19 +374,9 @@ def _integrate_inward_reference(annulus: Annulus, q, *, steps: int = DEFAULT_STE
     :func:`_integrate_inward` optimises; kept for the tests and benchmarks that compare
     them: same steps, same results to rounding)."""
     q = np.asarray(q)
-    dtype = np.complex128 if np.iscomplexobj(q) else np.float64
-    l1 = q.astype(dtype, copy=True)
-    # lamP (array like q) batches annuli that differ only in the pre-stretch (3.38)
-    l2 = np.full_like(l1, annulus.lamP) if lamP is None else (
-        np.broadcast_to(np.asarray(lamP, float), l1.shape).astype(dtype))
+    l1, l2, tgrid, bad, P1, P2 = _start(annulus, q, steps, lamP, profile)
     kappa = annulus.kappa
     membrane = annulus.equilibrium == "membrane"
-    tgrid = _grid(np.log(annulus.radius_ratio), steps)
-    bad = ~(l1.real > 0)
-    if profile:
-        P1 = np.empty((steps + 1,) + l1.shape, dtype)
-        P2 = np.empty_like(P1)
-        P1[0], P2[0] = l1, l2
     with np.errstate(all="ignore"):
         # admissibility: Gent energy defined (den > 0) and radial equation elliptic
         # (slope > 0) at every stage; tracked as a running minimum (real parts)
