@@ -50,7 +50,7 @@ def curves_dataset(xis, Ds, kH, variants=VARIANTS, progress=True) -> xr.Dataset:
     par = np.full(lam.shape, -1, dtype=np.int8)
     jobs = [(iv, ix, iD) for iv in range(len(variants)) for ix in range(len(xis))
             for iD in range(len(Ds))]
-    for iv, ix, iD in tqdm(jobs, desc="ch4 curves", disable=not progress, leave=False):
+    for iv, ix, iD in tqdm(jobs, desc="ch4 curves", disable=(not progress) or None, leave=False):
         p = PlateParams(xi=float(xis[ix]), Dhat=float(Ds[iD]), variant=variants[iv])
         lam[iv, ix, iD], par[iv, ix, iD] = curves_vectorised(kH, p, max_roots=MAX_ROOTS)
     lamE = np.array([[ellipticity_limit_stretch(PlateParams(xi=float(x), variant=v))
@@ -117,7 +117,7 @@ def areas_dataset(progress=True) -> xr.Dataset:
     kmax = (5.0, 10.0, 20.0)
     A = np.full((len(variants), 2, len(FIG42_D), len(defs), len(kmax)), np.nan)
     jobs = [(iv, ix, iD) for iv in range(3) for ix in range(2) for iD in range(len(FIG42_D))]
-    for iv, ix, iD in tqdm(jobs, desc="ch4 areas", disable=not progress, leave=False):
+    for iv, ix, iD in tqdm(jobs, desc="ch4 areas", disable=(not progress) or None, leave=False):
         for idf, d in enumerate(defs):
             for ik, k in enumerate(kmax):
                 A[iv, ix, iD, idf, ik] = _area((0.0, 5.0)[ix], FIG42_D[iD], variants[iv], d,
@@ -163,7 +163,8 @@ def agreement_dataset(kHs=(0.3, 2.0, 10.0), progress=True) -> xr.Dataset:
     cases = [(x, D) for D in FIG42_D for x in (0.0, 5.0)] + [(3.0, 2.0), (10.0, 2.0)]
     rec = {k: [] for k in ("variant", "xi", "Dhat", "kH", "lam_det", "lam_fe", "n_el")}
     for v in ("derived", "printed"):
-        for x, D in tqdm(cases, desc=f"ch4 agreement {v}", disable=not progress, leave=False):
+        for x, D in tqdm(cases, desc=f"ch4 agreement {v}", disable=(not progress) or None,
+                         leave=False):
             p = PlateParams(x, D, variant=v)
             for kH in kHs:
                 roots = critical_stretches(kH, p).lam
@@ -202,7 +203,7 @@ def voltage_dataset(progress=True) -> xr.Dataset:
     kH = np.geomspace(0.01, 20.0, 81)
     lam = np.full((2, 2, len(Vs), kH.size, MAX_ROOTS), np.nan)
     jobs = [(a, b, c) for a in range(2) for b in range(2) for c in range(len(Vs))]
-    for iv, ix, iV in tqdm(jobs, desc="ch4 voltage control", disable=not progress,
+    for iv, ix, iV in tqdm(jobs, desc="ch4 voltage control", disable=(not progress) or None,
                            leave=False):
         p = PlateParams(xis[ix], 0.0, variant=variants[iv])
         # all kH in one pass (the roots of critical_stretches_at_voltage at each kH)

@@ -224,7 +224,7 @@ def run_tasks(tasks: list[tuple], scheduler=None, progress: bool = True) -> list
             from tqdm import tqdm
         except ImportError:  # pragma: no cover
             tqdm = None
-        it = tqdm(todo, desc="ch5 FE", disable=not progress) if tqdm else todo
+        it = tqdm(todo, desc="ch5 FE", disable=(not progress) or None) if tqdm else todo
         for i in it:
             fn, *args = tasks[i]
             finished(i, fn(*args))
@@ -305,7 +305,7 @@ def _gather(client, tasks: list[tuple], todo: list[int], finished, progress: boo
     futures = {client.submit(tasks[i][0], *tasks[i][1:], pure=False): i for i in order}
     try:
         from tqdm import tqdm
-        bar = tqdm(total=len(todo), desc="ch5 FE (dask)", disable=not progress)
+        bar = tqdm(total=len(todo), desc="ch5 FE (dask)", disable=(not progress) or None)
     except ImportError:  # pragma: no cover
         bar = None
     for fut in as_completed(futures):
