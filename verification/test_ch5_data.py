@@ -137,19 +137,32 @@ def test_observed_order_is_the_edge_singularity_order(crit):
     the film predicts for quadratic elements, 2 s(nu) with s the Williams exponent of the
     90 degree clamped-free corner at Table 5.1's Poisson ratio (not the 2p = 4 of smooth
     eigenfunctions): observed on the three finest levels of every computed case."""
-    from debench.models.buckling.singularity import expected_eigenvalue_order, poisson_ratio
-    from debench.reference.builders.ch5 import CASES, SCALE_COPIES, _material, richardson
+    from debench.reference.builders.ch5 import SCALE_COPIES, expected_order, richardson
 
     for case in crit.case.values:
         if case in SCALE_COPIES:
             continue
-        mat = _material(CASES[case][0])
-        mu0 = getattr(mat, "mu", None) or float(sum(mat.mus))   # initial shear modulus
-        expected = expected_eigenvalue_order(poisson_ratio(mu0, mat.k))
+        expected = expected_order(case)
         assert expected == pytest.approx(1.2, abs=0.01)          # nu ~ 0.49-0.4955
         c = crit.sel(case=case)
         _, p = richardson(c.h_rel.values, c.v_cr.values)
         assert p == pytest.approx(expected, abs=ORDER_ATOL), case
+
+
+@converged_only
+def test_coarse_error_estimate_covers_the_converged_limit(crit):
+    """The error bar the coarse default reports -- the three coarsest levels fitted with
+    the expected order's bound (:func:`~debench.reference.builders.ch5.convergence_fit`)
+    -- contains the limit of the whole converged sequence, within the two error bars."""
+    from debench.reference.builders.ch5 import SCALE_COPIES, convergence_fit, expected_order
+
+    for case in crit.case.values:
+        if case in SCALE_COPIES:
+            continue
+        c = crit.sel(case=case)
+        coarse = convergence_fit(c.h_rel.values[:3], c.v_cr.values[:3], expected_order(case))
+        assert abs(coarse["v_inf"] - float(c.v_cr_extrapolated)) <= (
+            coarse["error"] + float(c.v_cr_error)), (case, coarse, float(c.v_cr_extrapolated))
 
 
 def test_every_curated_ch5_value_states_its_accuracy(crit, ramps):
