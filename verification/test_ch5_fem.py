@@ -66,6 +66,9 @@ EIG_DENSE_RTOL = 1e-7
 # axisymmetric mode, 0 for n >= 1; the unstructured coarse mesh mixes them (measured 0.86
 # for the pull-in mode), so the class boundary is the midpoint
 AXISYM_DOMINANT = 0.5
+# pull-in from two different sets of three path points around the maximum: the parabola's
+# interpolation error over steps <= dc (measured < 1e-3 relative on the coarse mesh)
+PULLIN_BRACKET_RTOL = 1e-3
 
 
 @pytest.fixture(scope="module")
@@ -384,3 +387,36 @@ def test_pullin_is_insensitive_to_the_imperfection_amplitude(nh_pullin_ramp):
     1e-3 t0 changes it by < 1e-4 (measured 1e-7)."""
     r = voltage_ramp(Plate(imperfection=1e-4), NeoHookean(), COARSE, dv0=0.02, dv_max=0.04)
     assert r.v_pullin == pytest.approx(nh_pullin_ramp.v_pullin, rel=1e-4)
+
+
+def test_ramp_ends_at_a_singular_tangent_only_past_the_limit_point(nh_pullin_ramp, monkeypatch):
+    """The deflection-controlled continuation stops without an error when its tangent
+    becomes singular *past* the voltage maximum (the limit point is bracketed, so the
+    pull-in vertex is the same), and still raises when that happens before it. The
+    singular tangent is simulated by a bordered Newton that fails when asked for a centre
+    deflection beyond a given one."""
+    from debench.models.buckling import fem
+    from debench.models.errors import ConvergenceError
+
+    assert nh_pullin_ramp.end == "voltage drop"
+    k = int(np.argmax(nh_pullin_ramp.v))
+    real = fem.newton_deflection
+
+    def failing_beyond(c_fail):
+        def newton_deflection(model, c, **kw):
+            if c > c_fail:
+                raise ConvergenceError("simulated singular tangent")
+            return real(model, c, **kw)
+        return newton_deflection
+
+    # past the maximum: the states beyond the first recorded point past it fail (the
+    # control variable is the mean centre deflection, i.e. the mid-plane's)
+    monkeypatch.setattr(fem, "newton_deflection",
+                        failing_beyond(nh_pullin_ramp.w_mid[k + 1] - 1e-6))
+    r = voltage_ramp(Plate(), NeoHookean(), COARSE, dv0=0.02, dv_max=0.04)
+    assert r.end == "singular past the limit point"
+    assert r.v_pullin == pytest.approx(nh_pullin_ramp.v_pullin, rel=PULLIN_BRACKET_RTOL)
+    # before any maximum (every deflection-controlled step fails): the error propagates
+    monkeypatch.setattr(fem, "newton_deflection", failing_beyond(-np.inf))
+    with pytest.raises(ConvergenceError, match="simulated"):
+        voltage_ramp(Plate(), NeoHookean(), COARSE, dv0=0.02, dv_max=0.04)

@@ -138,7 +138,11 @@ class RampResult:
     What was achieved: ``newton_its`` and ``newton_residual`` (residual norm reached) per
     point, ``eig_residual`` per eigen-record, the mesh (``ndof``, ``nelements``,
     ``h_rel``, ``layers``, ``order``) and ``stats`` (timings, factorisations, Newton
-    steps, eigen-analyses).
+    steps, eigen-analyses).  ``end`` says why the path stopped: ``"v_max"`` (voltage
+    control reached ``v_max``), ``"voltage drop"`` (the voltage fell ``drop`` below its
+    maximum), ``"c_max"``, or ``"singular past the limit point"`` (past the maximum the
+    deflection-controlled tangent became singular: a second eigenvalue of the tangent
+    crossed zero, a bifurcation of the controlled path; the maximum is bracketed).
     """
 
     v: np.ndarray
@@ -163,6 +167,7 @@ class RampResult:
     h_rel: float = float("nan")
     layers: int = 0
     order: int = 0
+    end: str = ""
 
     def wrinkling_onset(self, axisym_max: float = 0.5):
         """First recorded state where a non-axisymmetric mode (n = 0 fraction below
@@ -191,7 +196,8 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
                  dw_max: float = 0.5, inverse: str = "sparsecholesky", reuse: bool = True,
                  eigensolver: str = "lobpcg", progress=None,
                  max_steps: int = 2000, eig_every: int = 0, v_switch: float | None = None,
-                 dc: float = 0.2, c_max: float = 12.0, drop: float = 0.01) -> RampResult:
+                 dc: float | None = None, c_max: float | None = None,
+                 drop: float = 0.01) -> RampResult:
     """Continuation of the imperfect film to and past pull-in.
 
     Phase 1, voltage control (Newton in v, secant predictor) up to ``v_switch`` (default:
@@ -200,9 +206,12 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
     iteration slid back towards the unstable flat branch or jumped to the mirror branch),
     or when it jumps by more than ``dw_max`` t0.
     Phase 2, deflection control (bordered Newton, the voltage is an unknown): the centre
-    deflection is raised in steps ``dc`` t0 (halved on failure) until the voltage has
-    dropped by ``drop`` below its maximum (pull-in = the voltage limit point, passed) or
-    ``c_max``.  The pull-in voltage is the vertex of the parabola through the three points
+    deflection is raised in steps ``dc`` t0 (halved on failure; default 0.02 x the
+    radius/thickness ratio, i.e. 0.2 t0 at the thesis' 10, since the deflections scale
+    with the radius) until the voltage has dropped by ``drop`` below its maximum (pull-in =
+    the voltage limit point, passed) or ``c_max`` (default 1.2 x radius/thickness); a
+    singular tangent past the maximum also ends the path (``RampResult.end``).
+    The pull-in voltage is the vertex of the parabola through the three points
     around the maximum.  With ``eig_every > 0`` the three algebraically smallest
     eigenvalues of the condensed tangent (LOBPCG: negative ones at any depth) and the
     axisymmetric fraction of their modes are recorded every ``eig_every`` steps and at the
@@ -222,7 +231,10 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
     """
     require(v_max > 0, f"v_max must be > 0, got {v_max}")
     require(0 < dv0 <= dv_max, f"need 0 < dv0 <= dv_max, got {dv0}, {dv_max}")
+    dc = 0.02 * plate.aspect if dc is None else dc
+    c_max = 1.2 * plate.aspect if c_max is None else c_max
     require(dc > 0, f"dc must be > 0, got {dc}")
+    require(c_max > 0, f"c_max must be > 0, got {c_max}")
     from debench.models.buckling.fem import control_deflection, newton_deflection
     model = MembraneModel(plate, mat, disc, with_imperfection=True, inverse=inverse,
                           reuse=reuse, eigensolver=eigensolver)
@@ -295,6 +307,7 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
 
     bracket = None
     v_pull = w_pull = None
+    end = "v_max"
     if v_switch < v_max:
         c = control_deflection(model)
         step = dc
@@ -312,6 +325,9 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
                 model.set_state(x_prev)
                 model.set_voltage(v_prev)
                 if step < 1e-3:
+                    if _past_maximum(rec["v"]):
+                        end = "singular past the limit point"
+                        break
                     raise
                 step /= 2
                 continue
@@ -324,8 +340,11 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
                 eig_record()      # first state past the limit point: lambda_1 < 0 expected
             vmax_seen = max(vmax_seen, model.v)
             if model.v < (1 - drop) * vmax_seen:
+                end = "voltage drop"
                 break
             step = min(step * 1.5, dc)
+        else:
+            end = "c_max"
         vv = np.array(rec["v"])
         k = int(np.argmax(vv))
         if 0 < k < len(vv) - 1:
@@ -344,7 +363,15 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
                       eig_lam=np.array(eig["lam"]).reshape(-1, 3),
                       eig_axisym=np.array(eig["ax"]).reshape(-1, 3),
                       newton_residual=arr["res"], eig_residual=np.array(eig["res"]),
-                      h_rel=disc.h_rel, layers=disc.layers, order=disc.order)
+                      h_rel=disc.h_rel, layers=disc.layers, order=disc.order, end=end)
+
+
+def _past_maximum(v) -> bool:
+    """The recorded voltages have an interior maximum followed by a lower point: the
+    limit point is bracketed by three path points."""
+    v = np.asarray(v)
+    k = int(np.argmax(v))
+    return 0 < k < v.size - 1 and v[-1] < v[k]
 
 
 def southwell(v: np.ndarray, w_mid: np.ndarray, *, v_guess: float, window=(0.4, 0.9)) -> float:
