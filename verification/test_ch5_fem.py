@@ -24,7 +24,7 @@ import ngsolve
 import numpy as np
 import pytest
 from debench.models.buckling import analytic, fem
-from debench.models.buckling.fem import MembraneModel, mode_axisymmetry
+from debench.models.buckling.fem import MembraneModel, mode_axisymmetry, mode_harmonics
 from debench.models.buckling.parameters import COARSE, Discretisation, NeoHookean, Ogden, Plate
 from debench.models.buckling.solver import (
     CRITICAL_VTOL,
@@ -237,6 +237,10 @@ def test_mode_axisymmetry_detects_the_axisymmetric_buckling_mode():
     ax = [mode_axisymmetry(m, modes[:, j]) for j in range(3)]
     assert ax[0] > 0.99 and ax[1] < 0.05 and ax[2] < 0.05
     assert lam[1] / lam[0] > 1.5
+    harm = [mode_harmonics(m, modes[:, j]) for j in range(3)]
+    assert [int(np.argmax(hj)) for hj in harm] == [0, 1, 1]    # the n = 1 pair
+    assert all(hj.sum() == pytest.approx(1.0, abs=1e-12) for hj in harm)   # Parseval
+    assert harm[0][0] == pytest.approx(ax[0], abs=1e-12)
 
 
 def test_critical_voltage_sensitivity_to_bulk_modulus_is_small():

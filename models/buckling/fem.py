@@ -704,13 +704,16 @@ def _unit_mesh():
     return ngs.Mesh(ngm)
 
 
-def mode_axisymmetry(model: MembraneModel, mode: np.ndarray, n_theta: int = 24) -> float:
-    """Fraction of a mode's displacement in the angular harmonic n = 0.
+def mode_harmonics(model: MembraneModel, mode: np.ndarray, n_theta: int = 24) -> np.ndarray:
+    """Fractions of a mode's displacement in the angular harmonics n = 0 .. n_theta/2.
 
-    The mode's cylindrical components (u_r, u_theta, u_z) are sampled on the mid-plane
-    circle r = a/2; returns sum_c |mean_theta u_c|^2 / mean_theta sum_c |u_c|^2, which is
-    1 for an axisymmetric mode and 0 for a pure n >= 1 (wrinkling) mode.
+    The mode's cylindrical components (u_r, u_theta, u_z) are sampled at ``n_theta``
+    equally spaced points of the mid-plane circle r = a/2 and Fourier-analysed (discrete
+    Parseval): entry n is sum_c (|c_n|^2 + |c_-n|^2) / mean_theta sum_c |u_c|^2, so the
+    entries sum to 1; entry 0 is 1 for an axisymmetric mode, a wrinkling mode of angular
+    wavenumber n has its weight at n (resolved for n < n_theta/2).
     """
+    n_theta = val.integer_at_least("n_theta", n_theta, 4)
     gf = ngs.GridFunction(model.X)
     gf.vec.FV().NumPy()[:] = mode
     gu = gf.components[0]
@@ -721,11 +724,23 @@ def mode_axisymmetry(model: MembraneModel, mode: np.ndarray, n_theta: int = 24) 
     for th in np.linspace(0, 2 * np.pi, n_theta, endpoint=False):
         ux, uy, uz = gu(model.mesh(r * np.cos(th), r * np.sin(th), 0.5 * t0 + w))
         comps.append((ux * np.cos(th) + uy * np.sin(th), -ux * np.sin(th) + uy * np.cos(th), uz))
-    comps = np.array(comps)
-    total = float(np.mean(np.sum(comps**2, axis=1)))
+    c = np.fft.fft(np.array(comps), axis=0) / n_theta          # (harmonic, component)
+    power = np.sum(np.abs(c) ** 2, axis=1)
+    total = float(np.sum(power))
     if total == 0:
         raise ValueError("mode is zero on the sampling circle")
-    return float(np.sum(np.mean(comps, axis=0) ** 2) / total)
+    half = n_theta // 2
+    out = np.zeros(half + 1)
+    out[0] = power[0]
+    for n in range(1, half + 1):
+        out[n] = power[n] + (power[n_theta - n] if n_theta - n != n else 0.0)
+    return out / total
+
+
+def mode_axisymmetry(model: MembraneModel, mode: np.ndarray, n_theta: int = 24) -> float:
+    """Fraction of a mode's displacement in the angular harmonic n = 0 (1 for an
+    axisymmetric mode, 0 for a pure n >= 1 wrinkling mode): :func:`mode_harmonics`."""
+    return float(mode_harmonics(model, mode, n_theta)[0])
 
 
 def _control_dofs(model: MembraneModel) -> tuple[int, int]:

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from debench.models import validation as val
 from debench.models.buckling.analytic import critical_voltage_plate
-from debench.models.buckling.fem import MembraneModel, mode_axisymmetry
+from debench.models.buckling.fem import MembraneModel, mode_harmonics
 from debench.models.buckling.parameters import Discretisation, NeoHookean, Ogden, Plate
 from debench.models.errors import ConvergenceError, require
 
@@ -162,6 +162,7 @@ class RampResult:
     eig_w: np.ndarray = field(default_factory=lambda: np.zeros(0))
     eig_lam: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     eig_axisym: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    eig_wavenumber: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), np.int64))
     newton_residual: np.ndarray = field(default_factory=lambda: np.zeros(0))
     eig_residual: np.ndarray = field(default_factory=lambda: np.zeros(0))
     h_rel: float = float("nan")
@@ -239,7 +240,7 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
     model = MembraneModel(plate, mat, disc, with_imperfection=True, inverse=inverse,
                           reuse=reuse, eigensolver=eigensolver)
     rec = {k: [] for k in ("v", "w", "w_mid", "thickness", "e_centre", "e_max", "its", "res")}
-    eig = {"v": [], "w": [], "lam": [], "ax": [], "res": []}
+    eig = {"v": [], "w": [], "lam": [], "ax": [], "n": [], "res": []}
     last_modes = [None]
     if v_switch is None:
         v_switch = 1.3 * critical_voltage_plate(mat, plate.aspect)
@@ -266,7 +267,9 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
         eig["v"].append(model.v)
         eig["w"].append(rec["w"][-1])
         eig["lam"].append(lam)
-        eig["ax"].append([mode_axisymmetry(model, modes[:, j]) for j in range(3)])
+        harm = [mode_harmonics(model, modes[:, j]) for j in range(3)]
+        eig["ax"].append([float(hj[0]) for hj in harm])
+        eig["n"].append([int(np.argmax(hj)) for hj in harm])
 
     record(0)
     states = [model.state()]
@@ -362,6 +365,7 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
                       eig_v=np.array(eig["v"]), eig_w=np.array(eig["w"]),
                       eig_lam=np.array(eig["lam"]).reshape(-1, 3),
                       eig_axisym=np.array(eig["ax"]).reshape(-1, 3),
+                      eig_wavenumber=np.array(eig["n"], dtype=np.int64).reshape(-1, 3),
                       newton_residual=arr["res"], eig_residual=np.array(eig["res"]),
                       h_rel=disc.h_rel, layers=disc.layers, order=disc.order, end=end)
 
