@@ -424,3 +424,8 @@ def test_ramp_ends_at_a_singular_tangent_only_past_the_limit_point(nh_pullin_ram
     monkeypatch.setattr(fem, "newton_deflection", failing_beyond(-np.inf))
     with pytest.raises(ConvergenceError, match="simulated"):
         voltage_ramp(Plate(), NeoHookean(), COARSE, dv0=0.02, dv_max=0.04)
+    # ... unless asked to stop there: no pull-in, the last state's eigen-analysis recorded
+    r = voltage_ramp(Plate(), NeoHookean(), COARSE, dv0=0.02, dv_max=0.04, eig_every=50,
+                     stop_on_stall=True)
+    assert r.end == "stalled before the limit point" and r.v_pullin is None
+    assert r.eig_v[-1] == r.v[-1] and r.eig_wavenumber.shape == (len(r.eig_v), 3)

@@ -16,6 +16,7 @@ Claims:
 from __future__ import annotations
 
 import pytest
+from debench.models.errors import ConvergenceError
 from debench.reference.builders import ch5
 
 CALLS: list = []
@@ -78,6 +79,22 @@ def test_task_cache_resumes_without_recomputing(tmp_path, monkeypatch):
     assert CALLS == [3, 4, 5]
     other = ch5._TaskCache(tmp_path, "b" * 64)
     assert other.get((_square, 3)) is None and cache.get((_square, 3)) == {"x2": 9}
+
+
+def _fails(x):
+    raise ConvergenceError(f"task {x} did not converge")
+
+
+def test_a_failed_task_does_not_lose_the_others(tmp_path, monkeypatch):
+    """A sweep with a failing task still runs and caches every other task, then raises
+    naming the failed one (so that a rerun computes only what failed)."""
+    cache = ch5._TaskCache(tmp_path, "c" * 64)
+    monkeypatch.setattr(ch5._TaskCache, "from_env", classmethod(lambda cls: cache))
+    CALLS.clear()
+    with pytest.raises(ConvergenceError, match=r"1 of 3 FE tasks failed \(_fails\(7,\)\)"):
+        ch5.run_tasks([(_fails, 7), (_square, 3), (_square, 4)], progress=False)
+    assert CALLS == [3, 4]
+    assert cache.get((_square, 3)) == {"x2": 9} and cache.get((_square, 4)) == {"x2": 16}
 
 
 def test_task_cache_key_follows_the_model_source(tmp_path, monkeypatch):

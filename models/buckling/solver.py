@@ -140,9 +140,10 @@ class RampResult:
     ``h_rel``, ``layers``, ``order``) and ``stats`` (timings, factorisations, Newton
     steps, eigen-analyses).  ``end`` says why the path stopped: ``"v_max"`` (voltage
     control reached ``v_max``), ``"voltage drop"`` (the voltage fell ``drop`` below its
-    maximum), ``"c_max"``, or ``"singular past the limit point"`` (past the maximum the
+    maximum), ``"c_max"``, ``"singular past the limit point"`` (past the maximum the
     deflection-controlled tangent became singular: a second eigenvalue of the tangent
-    crossed zero, a bifurcation of the controlled path; the maximum is bracketed).
+    crossed zero, a bifurcation of the controlled path; the maximum is bracketed), or
+    ``"stalled before the limit point"`` (only with ``stop_on_stall``).
     """
 
     v: np.ndarray
@@ -198,7 +199,7 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
                  eigensolver: str = "lobpcg", progress=None,
                  max_steps: int = 2000, eig_every: int = 0, v_switch: float | None = None,
                  dc: float | None = None, c_max: float | None = None,
-                 drop: float = 0.01) -> RampResult:
+                 drop: float = 0.01, stop_on_stall: bool = False) -> RampResult:
     """Continuation of the imperfect film to and past pull-in.
 
     Phase 1, voltage control (Newton in v, secant predictor) up to ``v_switch`` (default:
@@ -211,7 +212,12 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
     radius/thickness ratio, i.e. 0.2 t0 at the thesis' 10, since the deflections scale
     with the radius) until the voltage has dropped by ``drop`` below its maximum (pull-in =
     the voltage limit point, passed) or ``c_max`` (default 1.2 x radius/thickness); a
-    singular tangent past the maximum also ends the path (``RampResult.end``).
+    singular tangent past the maximum also ends the path (``RampResult.end``); before it,
+    a deflection step that cannot be completed (step below 1e-3 t0) raises
+    ConvergenceError, or with ``stop_on_stall`` ends the path with ``end = "stalled before
+    the limit point"`` after an eigen-analysis of the last converged state (with
+    ``eig_every > 0``), which documents what made the tangent singular (e.g. a
+    non-axisymmetric bifurcation); ``v_pullin`` is then None.
     The pull-in voltage is the vertex of the parabola through the three points
     around the maximum.  With ``eig_every > 0`` the three algebraically smallest
     eigenvalues of the condensed tangent (LOBPCG: negative ones at any depth) and the
@@ -331,6 +337,11 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
                     if _past_maximum(rec["v"]):
                         end = "singular past the limit point"
                         break
+                    if stop_on_stall:
+                        end = "stalled before the limit point"
+                        if eig_every:
+                            eig_record()
+                        break
                     raise
                 step /= 2
                 continue
@@ -350,7 +361,7 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
             end = "c_max"
         vv = np.array(rec["v"])
         k = int(np.argmax(vv))
-        if 0 < k < len(vv) - 1:
+        if 0 < k < len(vv) - 1 and end != "stalled before the limit point":
             ww = np.array(rec["w"][k - 1:k + 2])
             cf = np.polyfit(ww, vv[k - 1:k + 2], 2)
             xs = -cf[1] / (2 * cf[0])

@@ -25,6 +25,7 @@ import hashlib
 import math
 import os
 import pickle
+import sys
 import time
 from pathlib import Path
 
@@ -58,15 +59,6 @@ RAMP_LAYERS = 1
 tangent at v = 0.449, just below its pull-in (direct solve residual NaN in the
 eigen-analysis along the path), and the converged run stopped; the layer effect on the
 critical voltage is measured by the through-thickness study (``v_cr_layers``)."""
-WRINKLING_ASPECT = 20.0
-WRINKLING_LEVELS = {False: (), True: ()}
-"""Ramps of the Ogden film at radius/thickness 20 (the thesis' 0.5 mm film if it kept
-R = 10 mm), with the eigen-analysis along the path: non-axisymmetric modes on two
-circumferential resolutions (about 31 and 42 quadratic elements around the rim, levels
-(4, 3) t0). Empty: at radius/thickness 20, h = 3 t0 with two layers, the deflection-controlled
-phase of the Ogden ramp stops converging at a centre deflection of 10.7 t0 (bordered Newton,
-step below 1e-3 t0) before the voltage has dropped past a maximum; the converged run does
-not include these ramps until that is resolved."""
 ORDER = 2
 EIG_EVERY = 4
 RAMP_DV_MAX = 0.02  # largest voltage step of the ramps (normalised): >= 3 points in the
@@ -223,6 +215,8 @@ def ramp_task(case: str, h_rel: float, eig_every: int = EIG_EVERY,
 def _cost(task: tuple) -> float:
     """Rough relative cost of a task (DOFs ~ layers / h^2 x aspect^2; Ogden assembles ~3x
     slower; a ramp is ~8 critical voltages): the longest tasks are submitted first."""
+    if task[0] not in (critical_task, ramp_task):
+        return 1.0
     fn, case, h, *rest = task
     layers = rest[2] if fn is ramp_task and len(rest) > 2 else (rest[0] if rest else 1)
     aspect = (rest[3] if fn is ramp_task and len(rest) > 3
@@ -243,11 +237,22 @@ def run_tasks(tasks: list[tuple], scheduler=None, progress: bool = True) -> list
     cache = _TaskCache.from_env()
     out = [cache.get(t) if cache is not None else None for t in tasks]
     todo = [i for i, r in enumerate(out) if r is None]
+    failed: list[tuple[int, BaseException]] = []
+    log = progress and not sys.stderr.isatty()     # a line per task in logs (no bar)
 
-    def finished(i, result):
-        out[i] = result
-        if cache is not None:
-            cache.put(tasks[i], result)
+    def finished(i, result, error=None):
+        if error is not None:
+            failed.append((i, error))
+        else:
+            out[i] = result
+            if cache is not None:
+                cache.put(tasks[i], result)
+        if log:
+            fn, *args = tasks[i]
+            print(f"ch5 FE: {fn.__name__}{tuple(args)} "
+                  f"{'FAILED: ' + repr(error) if error is not None else 'done'} "
+                  f"[{len(todo) - sum(r is None for r in out) + len(failed)}/{len(todo)}]",
+                  file=sys.stderr, flush=True)
 
     if not todo:
         return out
@@ -259,8 +264,25 @@ def run_tasks(tasks: list[tuple], scheduler=None, progress: bool = True) -> list
         it = tqdm(todo, desc="ch5 FE", disable=(not progress) or None) if tqdm else todo
         for i in it:
             fn, *args = tasks[i]
-            finished(i, fn(*args))
-        return out
+            try:
+                result = fn(*args)
+            except Exception as exc:  # noqa: BLE001 - the others still run (and are cached)
+                finished(i, None, exc)
+            else:
+                finished(i, result)
+    else:
+        _run_distributed(scheduler, tasks, todo, finished, progress)
+    if failed:
+        i, exc = failed[0]
+        names = ", ".join(f"{tasks[j][0].__name__}{tuple(tasks[j][1:])}" for j, _ in failed)
+        msg = f"{len(failed)} of {len(todo)} FE tasks failed ({names}); the first: {exc}"
+        raise (ConvergenceError(msg) if isinstance(exc, ConvergenceError)
+               else RuntimeError(msg)) from exc
+    return out
+
+
+def _run_distributed(scheduler, tasks, todo, finished, progress) -> None:
+    """Run ``todo`` on Dask (see :func:`run_tasks`)."""
     from distributed import Client, LocalCluster
     if scheduler == "local":
         n = int(os.environ.get("DEBENCH_WORKERS", os.cpu_count() or 1))
@@ -270,7 +292,6 @@ def run_tasks(tasks: list[tuple], scheduler=None, progress: bool = True) -> list
     else:
         with Client(scheduler) as client:
             _gather(client, tasks, todo, finished, progress)
-    return out
 
 
 class _TaskCache:
@@ -331,7 +352,8 @@ def models_digest() -> str:
 
 def _gather(client, tasks: list[tuple], todo: list[int], finished, progress: bool) -> None:
     """Submit the tasks ``todo`` longest first (:func:`_cost`), hand each result to
-    ``finished(index, result)`` as it arrives (a failed task raises its exception here)."""
+    ``finished(index, result, error)`` as it arrives; a failed task does not stop the
+    others (their results are kept; :func:`run_tasks` raises after all have finished)."""
     from distributed import as_completed
     order = sorted(todo, key=lambda i: -_cost(tasks[i]))
     futures = {client.submit(tasks[i][0], *tasks[i][1:], pure=False): i for i in order}
@@ -341,7 +363,12 @@ def _gather(client, tasks: list[tuple], todo: list[int], finished, progress: boo
     except ImportError:  # pragma: no cover
         bar = None
     for fut in as_completed(futures):
-        finished(futures[fut], fut.result())
+        try:
+            result = fut.result()
+        except Exception as exc:  # noqa: BLE001 - reported by run_tasks after the others
+            finished(futures[fut], None, exc)
+        else:
+            finished(futures[fut], result)
         if bar is not None:
             bar.update()
     if bar is not None:
@@ -396,8 +423,8 @@ def plan(full: bool = False) -> dict[str, list[tuple]]:
     """The independent FE tasks of a build, by role: ``critical`` (case x level),
     ``layers`` (case x layer count of the through-thickness study, at its in-plane size),
     ``ramp_mesh`` (the critical voltage on the finest ramp mesh, for Southwell), ``ramps``
-    (case x ramp level), ``wrinkling`` (Ogden film at radius/thickness
-    :data:`WRINKLING_ASPECT`, per level).  Scale copies are not computed."""
+    (case x ramp level).  Scale copies are not computed.  (The radius/thickness 20
+    wrinkling ramps are :mod:`debench.reference.builders.ch5_wrinkling`.)"""
     computed = [c for c in CASES if c not in SCALE_COPIES]
     lay = LAYERS[full]
     h_ls, layer_counts = LAYER_STUDY[full]
@@ -407,8 +434,6 @@ def plan(full: bool = False) -> dict[str, list[tuple]]:
         "ramp_mesh": [(critical_task, c, RAMP_LEVELS[full][-1], RAMP_LAYERS) for c in computed],
         "ramps": [(ramp_task, c, h, EIG_EVERY, RAMP_DV_MAX, RAMP_LAYERS)
                   for c in computed for h in RAMP_LEVELS[full]],
-        "wrinkling": [(ramp_task, "ogden_t1", h, EIG_EVERY, RAMP_DV_MAX, lay, WRINKLING_ASPECT)
-                      for h in WRINKLING_LEVELS[full]],
     }
 
 
@@ -642,25 +667,6 @@ def compute(full: bool = False, progress: bool = True, scheduler=None):
         "mode": ("mode", np.arange(3), attrs1("mode index (ascending eigenvalue)")),
         "ramp_level": ("ramp_level", np.array(ramp_levels), attrs1(
             "in-plane mesh size / t0 of the ramp"))}
-    wl = WRINKLING_LEVELS[full]
-    if wl:  # the Ogden film at radius/thickness WRINKLING_ASPECT, per level
-        wr = [ramp((ramp_task, "ogden_t1", h, EIG_EVERY, RAMP_DV_MAX, lay, WRINKLING_ASPECT))
-              for h in wl]
-        coords["wrinkling_level"] = ("wrinkling_level", np.array(wl), attrs1(
-            f"in-plane mesh size / t0 of the radius/thickness {WRINKLING_ASPECT:g} ramps"))
-        for key, vals, ln in (
-                ("v_pullin", [r.v_pullin for r in wr], "pull-in voltage"),
-                ("w_pullin", [r.w_pullin for r in wr], "pull-in deflection / t0"),
-                ("v_wrinkling", [onset(r, 0) for r in wr],
-                 "onset voltage of a non-axisymmetric mode (NaN: none before pull-in)"),
-                ("w_wrinkling", [onset(r, 1) for r in wr],
-                 "onset deflection / t0 of a non-axisymmetric mode (NaN: none)"),
-                ("min_nonaxisymmetric_lambda",
-                 [_min_nonaxisym(r) for r in wr],
-                 "smallest eigenvalue of a non-axisymmetric mode recorded before pull-in"),
-                ("ndof", [r.ndof for r in wr], "degrees of freedom")):
-            data[f"r20_{key}"] = (("wrinkling_level",), np.array(vals, float), attrs1(
-                f"Ogden film, radius/thickness {WRINKLING_ASPECT:g}: {ln}"))
     data["min_nonaxisymmetric_lambda"] = (("case",), np.array([_min_nonaxisym(r) for r in rl]),
                                           attrs1("smallest eigenvalue of a non-axisymmetric "
                                                  "mode recorded before pull-in"))
@@ -673,7 +679,6 @@ def compute(full: bool = False, progress: bool = True, scheduler=None):
               "order": ORDER, "levels_h_rel": list(levels), "ramp_h_rel": list(ramp_levels),
               "ramp_layers": RAMP_LAYERS,
               "layer_study_h_rel": h_ls, "layer_counts": list(layer_counts),
-              "wrinkling_aspect": WRINKLING_ASPECT, "wrinkling_h_rel": list(wl),
               "full": full, "ramp_dc_over_t0": 0.2, "ramp_dv_max": RAMP_DV_MAX,
               "eig_every": EIG_EVERY, "fit_safety": FIT_SAFETY,
               "scale_copies": ", ".join(f"{a} = {b}" for a, b in SCALE_COPIES.items())}
@@ -774,6 +779,15 @@ def figures(crit, ramps, fig_dir: Path) -> list[Path]:
     return out
 
 
+def resolve_scheduler(scheduler: str | None):
+    """The ``scheduler`` of :func:`run_tasks` for a builder's ``scheduler`` option: None
+    means ``"local"`` on a machine with more than one core, else serial; ``"serial"``
+    means None (this process)."""
+    if scheduler is None:
+        scheduler = "local" if (os.cpu_count() or 1) > 1 else "serial"
+    return None if scheduler == "serial" else scheduler
+
+
 def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) -> list[Path]:
     """Compute and write the Chapter 5 datasets and figures into ``out_dir``.
 
@@ -783,11 +797,7 @@ def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) ->
     scheduler.  None: ``"local"`` on a machine with more than one core, else serial.
     """
     out_dir = Path(out_dir)
-    if scheduler is None:
-        scheduler = "local" if (os.cpu_count() or 1) > 1 else "serial"
-    if scheduler == "serial":
-        scheduler = None
-    crit, ramps, params = compute(full=full, scheduler=scheduler)
+    crit, ramps, params = compute(full=full, scheduler=resolve_scheduler(scheduler))
     size = "converged (full)" if full else "coarse"
     paths = [
         write_dataset(crit, "ch5_critical_voltage", out_dir=out_dir, overwrite=True,

@@ -1,0 +1,207 @@
+"""Chapter 5 wrinkling search at radius/thickness 20 (§5.3.1, Fig. 5.5, Table 5.3).
+
+The thesis reports that the 0.5 mm Ogden film wrinkles (a non-axisymmetric instability)
+at a centre deflection of 3.64 mm, before pull-in, while the 1 mm film fails by pull-in.
+At the stated radius/thickness 10 both thicknesses are the same normalised problem (scale
+invariance), and the ramps of :mod:`debench.reference.builders.ch5` find no
+non-axisymmetric instability before pull-in. The hypothesis of the
+``ch5.hypothesis.radius_kept`` entries is that the 0.5 mm model kept R = 10 mm, i.e.
+R/t0 = 20.
+
+``build(out_dir, full=False)`` follows the imperfect Ogden film (Table 5.1, t0 = 0.5 mm) at
+R/t0 = 20 to and past pull-in (:func:`debench.models.buckling.solver.voltage_ramp`; one
+layer of quadratic prisms as the radius/thickness 10 ramps) with the eigen-analysis of the
+condensed tangent every :data:`EIG_EVERY` steps (the three algebraically smallest
+eigenvalues, their axisymmetric fraction and dominant angular wavenumber on the mid-plane
+circle r = R/2, :func:`debench.models.buckling.fem.mode_harmonics`), on one mesh by default
+and on two circumferential resolutions with ``full``. It writes ``ch5_wrinkling.nc``: the
+path, the eigen-records, the pull-in, the first non-axisymmetric instability (its voltage,
+deflection and wavenumber, NaN when there is none before pull-in) and the smallest
+non-axisymmetric eigenvalue before pull-in, per mesh. A path whose deflection-controlled
+phase cannot continue before a voltage maximum is kept (``stop_on_stall``) and says so
+(``path_end``), with the eigen-analysis of its last state.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+from debench.reference.datasets import write_dataset
+
+NAME = "ch5_wrinkling"
+CASE = "ogden_t0p5"
+ASPECT = 20.0
+LEVELS = {False: (5.0,), True: (3.0, 2.5)}
+"""In-plane mesh sizes / t0: about 2 pi R/h = 25 (default), 42 and 50 (``full``) quadratic
+elements around the rim: angular wavenumbers up to ~n = 6, 10, 12 resolved by at least four
+elements per half-wave."""
+LAYERS = 1
+ORDER = 2
+EIG_EVERY = 4
+DV_MAX = 0.02
+#: a mode is non-axisymmetric when less than half of it is in the n = 0 harmonic
+AXISYM_MAX = 0.5
+
+
+def wrinkling_task(h_rel: float) -> dict:
+    """One radius/thickness 20 ramp as plain data (a Dask task): the RampResult fields."""
+    import dataclasses
+
+    from debench.models.buckling.parameters import Discretisation, Plate
+    from debench.models.buckling.solver import voltage_ramp
+    from debench.reference.builders.ch5 import CASES, _limit_threads, _material
+    _limit_threads()
+    mat_name, t0 = CASES[CASE]
+    r = voltage_ramp(Plate(thickness=t0, aspect=ASPECT), _material(mat_name),
+                     Discretisation(h_rel=h_rel, layers=LAYERS, order=ORDER),
+                     dv_max=DV_MAX, eig_every=EIG_EVERY, stop_on_stall=True)
+    return {f.name: getattr(r, f.name) for f in dataclasses.fields(r)}
+
+
+def first_instability(r) -> dict[str, float]:
+    """The first eigen-record with a negative eigenvalue of a non-axisymmetric mode:
+    voltage, deflection (linear interpolation of the eigenvalue's zero between the last
+    stable and the first unstable record) and the mode's dominant wavenumber; NaN if none.
+    The smallest non-axisymmetric eigenvalue recorded up to pull-in (or the path's end)."""
+    lam, ax = np.asarray(r.eig_lam), np.asarray(r.eig_axisym)
+    n = np.asarray(r.eig_wavenumber)
+    onset = r.wrinkling_onset(AXISYM_MAX)
+    out = {"v": math.nan, "w": math.nan, "n": math.nan}
+    if onset is not None:
+        i = int(np.flatnonzero(np.any((lam < 0) & (ax < AXISYM_MAX), axis=1))[0])
+        j = int(np.argmin(np.where((lam[i] < 0) & (ax[i] < AXISYM_MAX), lam[i], np.inf)))
+        out = {"v": onset[0], "w": onset[1], "n": float(n[i, j])}
+    upto = np.asarray(r.eig_w) <= (r.w_pullin if r.w_pullin is not None else np.inf)
+    non = np.where(ax < AXISYM_MAX, lam, np.nan)[upto]
+    out["min_lambda"] = float(np.nanmin(non)) if np.any(np.isfinite(non)) else math.nan
+    if np.any(np.isfinite(non)):
+        i, j = np.unravel_index(np.nanargmin(non), non.shape)
+        out["min_lambda_n"] = float(n[upto][i, j])
+    else:
+        out["min_lambda_n"] = math.nan
+    return out
+
+
+def _pad(rows, width, fill=np.nan):
+    out = np.full((len(rows), width) + np.shape(rows[0])[1:], fill, dtype=float)
+    for i, r in enumerate(rows):
+        out[i, : len(r)] = r
+    return out
+
+
+def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dataset:
+    from debench.models.buckling.solver import RampResult
+    from debench.reference.builders.ch5 import run_tasks
+
+    levels = LEVELS[full]
+    tasks = [(wrinkling_task, h) for h in levels]
+    ramps = [RampResult(**d) for d in run_tasks(tasks, scheduler=scheduler, progress=progress)]
+    found = [first_instability(r) for r in ramps]
+    nstep = max(len(r.v) for r in ramps)
+    neig = max(len(r.eig_v) for r in ramps)
+
+    def a(ln, u="1", **kw):
+        return {"long_name": ln, "units": u, **kw}
+
+    def per_level(values):
+        return np.array([np.nan if x is None else x for x in values], float)
+
+    pullin_acc = ("of this mesh: vertex of the parabola through three path points around the "
+                  "voltage maximum (interpolation error < 1e-3 relative); NaN: no maximum")
+    data = {
+        "v": (("level", "step"), _pad([r.v for r in ramps], nstep), a(
+            "normalised voltage Phi/t0 sqrt(eps/mu_ref) along the path")),
+        "w": (("level", "step"), _pad([r.w for r in ramps], nstep), a(
+            "centre deflection of the top surface / t0 along the path")),
+        "eig_v": (("level", "eig_record"), _pad([r.eig_v for r in ramps], neig), a(
+            "normalised voltage of the eigen-record")),
+        "eig_w": (("level", "eig_record"), _pad([r.eig_w for r in ramps], neig), a(
+            "centre deflection / t0 of the eigen-record")),
+        "eig_lam": (("level", "eig_record", "mode"), _pad([r.eig_lam for r in ramps], neig), a(
+            "three algebraically smallest eigenvalues of the condensed tangent (L2 mass)")),
+        "eig_axisym": (("level", "eig_record", "mode"),
+                       _pad([r.eig_axisym for r in ramps], neig), a(
+                           "fraction of the mode in the angular harmonic n = 0")),
+        "eig_wavenumber": (("level", "eig_record", "mode"),
+                           _pad([r.eig_wavenumber for r in ramps], neig), a(
+                               "dominant angular wavenumber n of the mode on r = R/2")),
+        "v_pullin": (("level",), per_level([r.v_pullin for r in ramps]), a(
+            "pull-in voltage (voltage maximum of the path)", accuracy=pullin_acc)),
+        "w_pullin": (("level",), per_level([r.w_pullin for r in ramps]), a(
+            "centre deflection / t0 at pull-in", accuracy=pullin_acc)),
+        "path_end": (("level",), np.array([r.end for r in ramps], dtype=str), a(
+            "why the path stopped (RampResult.end)")),
+        "v_wrinkling": (("level",), per_level([f["v"] for f in found]), a(
+            "normalised voltage at the first negative eigenvalue of a non-axisymmetric mode "
+            "(NaN: none recorded)", accuracy=f"eigen-records every {EIG_EVERY} path points")),
+        "w_wrinkling": (("level",), per_level([f["w"] for f in found]), a(
+            "centre deflection / t0 at the first non-axisymmetric instability (NaN: none)")),
+        "n_wrinkling": (("level",), per_level([f["n"] for f in found]), a(
+            "angular wavenumber of the first unstable non-axisymmetric mode (NaN: none)")),
+        "min_nonaxisymmetric_lambda": (("level",), per_level([f["min_lambda"] for f in found]),
+                                       a("smallest eigenvalue of a non-axisymmetric mode "
+                                         "recorded up to pull-in")),
+        "min_nonaxisymmetric_n": (("level",), per_level([f["min_lambda_n"] for f in found]), a(
+            "wavenumber of that mode")),
+        "ndof": (("level",), np.array([r.ndof for r in ramps], np.int64), a(
+            "degrees of freedom")),
+        "rim_elements": (("level",), np.array([2 * math.pi * ASPECT / h for h in levels]), a(
+            "nominal number of elements around the rim, 2 pi R / h")),
+        "wall_seconds_assembly": (("level",), np.array(
+            [r.stats.get("assemble_s", np.nan) for r in ramps]), a(
+                "time spent assembling (one thread)", "s")),
+    }
+    return xr.Dataset(data, coords={
+        "level": ("level", np.arange(len(levels)), a("mesh level")),
+        "h_rel": ("level", np.array(levels), a("in-plane mesh size / t0")),
+        "step": ("step", np.arange(nstep), a("converged path point")),
+        "eig_record": ("eig_record", np.arange(neig), a("eigen-analysis record")),
+        "mode": ("mode", np.arange(3), a("mode index (ascending eigenvalue)"))})
+
+
+def figure(ds: xr.Dataset, fig_dir: Path) -> list[Path]:
+    """Fig. 5.5 counterpart at radius/thickness 20: the lowest non-axisymmetric eigenvalue
+    along the path per mesh (wrinkling where it crosses zero before pull-in)."""
+    from debench.reference.figures import pyplot, save
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(5.8, 4.2))
+    for lev, style in zip(ds.level.values, ("-o", "--s", ":^"), strict=False):
+        r = ds.sel(level=lev)
+        lam = np.where(r.eig_axisym.values < AXISYM_MAX, r.eig_lam.values, np.nan)
+        lam_min = np.nanmin(np.where(np.isfinite(lam), lam, np.inf), axis=1)
+        ok = np.isfinite(r.eig_w.values) & np.isfinite(lam_min)
+        ax.plot(r.eig_w.values[ok], lam_min[ok], style, ms=3,
+                label=f"h = {float(r.h_rel):g} t0 ({float(r.rim_elements):.0f} rim elements)")
+        if np.isfinite(float(r.w_pullin)):
+            ax.axvline(float(r.w_pullin), color="0.5", lw=0.8, ls=":")
+    ax.axhline(0.0, color="k", lw=0.8)
+    ax.set_xlabel(r"centre deflection $w/t_0$ (dotted: pull-in)")
+    ax.set_ylabel(r"lowest non-axisymmetric eigenvalue $\lambda$")
+    ax.set_title("Fig 5.5 counterpart, Ogden, radius/thickness 20")
+    ax.legend()
+    return save(fig, fig_dir / "fig5_5_nonaxisymmetric_modes_r20")
+
+
+def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) -> list[Path]:
+    """Compute and write ``ch5_wrinkling.nc`` and its figure into ``out_dir``
+    (``scheduler``: as :func:`debench.reference.builders.ch5.build`)."""
+    from debench.reference.builders.ch5 import CASES, resolve_scheduler
+    out_dir = Path(out_dir)
+    ds = compute(full, scheduler=resolve_scheduler(scheduler))
+    return [write_dataset(
+        ds, NAME, out_dir=out_dir, overwrite=True,
+        title="Chapter 5 wrinkling search: the Ogden film at radius/thickness 20",
+        summary=("Voltage ramp of the imperfect clamped Ogden film (Table 5.1, t0 = 0.5 mm) "
+                 "at radius/thickness 20 to and past pull-in with the eigen-analysis along "
+                 "the path: the first non-axisymmetric instability (voltage, deflection, "
+                 "wavenumber) or its absence before pull-in, on one or two circumferential "
+                 "resolutions: the data behind the hypothesis that the thesis' 0.5 mm model "
+                 "kept R = 10 mm (§5.3.1, Fig. 5.5)."),
+        parameters={"full": full, "levels_h_rel": list(LEVELS[full]), "layers": LAYERS,
+                    "order": ORDER, "aspect": ASPECT, "eig_every": EIG_EVERY,
+                    "dv_max": DV_MAX, "axisym_max": AXISYM_MAX, "case": CASE,
+                    "thickness_m": CASES[CASE][1]},
+    )] + figure(ds, out_dir / "figures")
