@@ -184,9 +184,11 @@ def _elliptic(lam, theta, p):
     return bool(np.all(np.linalg.eigvalsh(P)[..., 0] > 0))
 
 
-def _boundary_rows(S, s, w=_W):
-    """Rows (T21, T22, T23, E1) per unit amplitude of each root, shape (4, len(s))."""
-    adj = _adjugate(_symbol(S, s))
+def _boundary_rows(S, s, w=_W, adj=None):
+    """Rows (T21, T22, T23, E1) per unit amplitude of each root, shape (4, len(s));
+    ``adj``: the adjugate of the symbol at the roots when already known."""
+    if adj is None:
+        adj = _adjugate(_symbol(S, s))
     amp = adj @ w                                           # (n, 3)
     z = np.einsum("nai,ni->na", _B(1.0, 1j * s), amp)      # (n, 8)
     Sz = z @ S.T
@@ -197,7 +199,13 @@ def _boundary_rows(S, s, w=_W):
 def _adjugate(M):
     """Adjugate of 3 x 3 matrices (stacked): columns r1 x r2, r2 x r0, r0 x r1 of the rows."""
     r0, r1, r2 = M[..., 0, :], M[..., 1, :], M[..., 2, :]
-    return np.stack([np.cross(r1, r2), np.cross(r2, r0), np.cross(r0, r1)], axis=-1)
+
+    def cross(a, b):
+        return np.stack([a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
+                         a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+                         a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]], axis=-1)
+
+    return np.stack([cross(r1, r2), cross(r2, r0), cross(r0, r1)], axis=-1)
 
 
 def det_function(lam: float, kH: float, theta: float, params: PlateParams) -> complex:
@@ -213,10 +221,21 @@ def det_function(lam: float, kH: float, theta: float, params: PlateParams) -> co
 
 
 def _det(lam, kH, theta, p, w=_W):
+    return _det_weighted(_det_parts(lam, kH, theta, p), w)
+
+
+def _det_parts(lam, kH, theta, p):
+    """What the determinant needs at one stretch, independent of the weight vector:
+    (S, roots, adjugate of the symbol at the roots, thickness t)."""
     S = _S(lam, theta, p)
     s = _roots(S)
-    t = kH * lam**-2
-    rows = _boundary_rows(S, s, w)
+    return S, s, _adjugate(_symbol(S, s)), kH * lam**-2
+
+
+def _det_weighted(parts, w):
+    """:func:`det_function` from :func:`_det_parts` and the weight vector ``w``."""
+    S, s, adj, t = parts
+    rows = _boundary_rows(S, s, w, adj)
     scale = np.exp(-np.abs(s.real) * t / 2)
     top = rows * (np.exp(-s * t / 2) * scale)
     bot = rows * (np.exp(s * t / 2) * scale)
@@ -275,9 +294,11 @@ def critical_stretches_det(kH: float, theta: float, params: PlateParams, *,
     if g.size < 2 or not ell[-1]:
         return np.zeros(0)
     out = []
+    # the roots and adjugates of a grid point serve both weight vectors
+    parts = [_det_parts(x, kH, theta, path(x)) if e else None
+             for x, e in zip(g, ell, strict=True)]
     for w in _WS:
-        vals = np.array([_det(x, kH, theta, path(x), w) if e else np.nan
-                         for x, e in zip(g, ell, strict=True)])
+        vals = np.array([_det_weighted(q, w) if q is not None else np.nan for q in parts])
         vals = np.where(ell, vals, vals[ell][0])
         phase = vals[np.argmax(np.abs(vals))]
         phase /= abs(phase)
@@ -368,21 +389,19 @@ def _K(lam, kH, theta, p, n):
     K = np.zeros((npsi + 2 * nq, npsi + 2 * nq), complex)
     for a in C:
         for b in C:
-            for m in range(C[a].shape[0]):
-                for k in range(C[b].shape[0]):
-                    cmk = C[a][m].conj() @ S @ C[b][k]
-                    if cmk == 0:
-                        continue
-                    if a == "psi" and b == "psi":
-                        G = Gpp[m, k]
-                    elif a == "psi":
-                        G = Gpf[m, k]
-                    elif b == "psi":
-                        G = Gpf[k, m].T
-                    else:
-                        G = Gff[m, k]
-                    # eta = t zeta: D_eta^m = t^-m D_zeta^m, d eta = t d zeta
-                    K[sl[a], sl[b]] += cmk * t ** (1 - m - k) * G
+            # c[m, k] = C_a[m]^H S C_b[k]; eta = t zeta: D_eta^m = t^-m D_zeta^m,
+            # d eta = t d zeta
+            c = C[a].conj() @ S @ C[b].T
+            c = c * t ** (1.0 - np.add.outer(np.arange(c.shape[0]), np.arange(c.shape[1])))
+            if a == "psi" and b == "psi":
+                G = Gpp
+            elif a == "psi":
+                G = Gpf
+            elif b == "psi":
+                G = Gpf.transpose(1, 0, 3, 2)
+            else:
+                G = Gff
+            K[sl[a], sl[b]] = np.tensordot(c, G, axes=([0, 1], [0, 1]))
     return 0.5 * (K + K.conj().T)
 
 
