@@ -9,8 +9,9 @@ Thread count fixed: OMP_NUM_THREADS=1 (named in the groups). Run:
   vs the naive baseline: ``solve_bvp`` from a cold start at every one of the 300 points
   (no events);
 * the whole chapter: :func:`debench.reference.builders.ch3.compute` (all datasets of Figs 3.2-3.9,
-  both equilibrium variants, the eps_r study) against the previous code path (frozen in
-  ``benchmarks/previous``) in the same run, results asserted equal;
+  both equilibrium variants, the eps_r study) against the previous code path (read from
+  git history by :mod:`benchmarks.baseline`; skipped without a git checkout) in the same
+  run, results asserted equal;
 * one RK4 integration of the chapter's 4,800 branch trajectories (complex step): the
   term-by-term right-hand side, one call per variant, vs the factored one, one mixed call;
 * the Chapter 3 catalogue producers with the shared memoised computation vs each producer
@@ -93,11 +94,16 @@ SAME_RESULTS_RTOL = 1e-9
 
 @pytest.mark.benchmark(group="ch3-chapter-1thread")
 def test_bench_whole_chapter_previous_path(benchmark):
-    """The code path before the batched pass (frozen in ``benchmarks/previous``: one trace
+    """The code path before the batched pass (commit
+    :data:`benchmarks.baseline.CH3_BEFORE_BATCHED_PASS`, loaded from git history: one trace
     and one event location per equilibrium variant, the term-by-term RK4, loss of tension
     located per c): same datasets, timed in the same run as :func:`builder.compute`."""
-    from benchmarks.previous import ch3_builder as previous
+    from benchmarks import baseline
 
+    try:
+        previous = baseline.load()["ch3_builder"]
+    except baseline.BaselineUnavailable as exc:
+        pytest.skip(f"previous Chapter 3 code not available from git: {exc}")
     old = benchmark.pedantic(previous.compute, rounds=5, iterations=1)
     new = builder.compute()
     for name, ds in old.items():
