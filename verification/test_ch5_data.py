@@ -151,16 +151,16 @@ def test_observed_order_is_the_edge_singularity_order(crit):
 
 @converged_only
 def test_coarse_error_estimate_covers_the_converged_limit(crit):
-    """The error bar the coarse default reports -- the three coarsest levels fitted with
-    the expected order's bound (:func:`~debench.reference.builders.ch5.convergence_fit`)
-    -- contains the limit of the whole converged sequence, within the two error bars."""
-    from debench.reference.builders.ch5 import SCALE_COPIES, convergence_fit, expected_order
+    """The error bar the coarse default reports -- the three coarsest levels fitted at the
+    expected order (:func:`~debench.reference.builders.ch5.asymptotic_fit`) -- contains
+    the limit of the whole converged sequence, within the two error bars."""
+    from debench.reference.builders.ch5 import SCALE_COPIES, asymptotic_fit, expected_order
 
     for case in crit.case.values:
         if case in SCALE_COPIES:
             continue
         c = crit.sel(case=case)
-        coarse = convergence_fit(c.h_rel.values[:3], c.v_cr.values[:3], expected_order(case))
+        coarse = asymptotic_fit(c.h_rel.values[:3], c.v_cr.values[:3], expected_order(case))
         assert abs(coarse["v_inf"] - float(c.v_cr_extrapolated)) <= (
             coarse["error"] + float(c.v_cr_error)), (case, coarse, float(c.v_cr_extrapolated))
 
@@ -199,6 +199,26 @@ def test_curated_wrinkling_search_agrees_across_resolutions(ramps):
     for case in ("nh_t1", "ogden_t1"):
         found = np.isfinite(ramps.sel(case=case).v_wrinkling_levels.values)
         assert found.all() or not found.any(), case
+
+
+def test_curated_r20_wrinkling_search():
+    """§5.3.1 / Fig. 5.5 at radius/thickness 20 (the 0.5 mm film if its model kept
+    R = 10 mm; ``ch5_wrinkling.nc``): the search gives the same outcome -- a
+    non-axisymmetric mode unstable before pull-in, or none -- on both circumferential
+    resolutions, with the same wavenumber when there is one; every path reached pull-in or
+    says why it stopped."""
+    from debench.reference.producers.ch5 import wrinkling_search
+
+    ds = read_dataset("ch5_wrinkling")
+    assert ds.sizes["level"] >= 2 and np.all(np.diff(ds.rim_elements.values) > 0)
+    found = wrinkling_search(ds)
+    assert found["consistent"], found
+    if all(found["first"]):
+        assert len(set(ds.n_wrinkling.values.tolist())) == 1, ds.n_wrinkling.values
+    for end, vp in zip(found["path_end"], ds.v_pullin.values, strict=True):
+        assert end in ("voltage drop", "singular past the limit point",
+                       "stalled before the limit point"), end
+        assert np.isfinite(vp) == (end != "stalled before the limit point")
 
 
 CH5 = [e for e in catalogue.load() if e.file == "ch5.toml"]

@@ -8,7 +8,7 @@ import pytest
 from debench.models.buckling import analytic
 from debench.models.buckling.parameters import Ogden
 from debench.reference import catalogue
-from debench.reference.builders.ch5 import convergence_fit
+from debench.reference.builders.ch5 import asymptotic_fit, convergence_fit
 from debench.reference.builders.ch5_thickness import ratio_limit
 from debench.reference.datasets import read_dataset
 
@@ -50,6 +50,26 @@ def test_convergence_fit_recovers_a_known_limit_and_bounds_its_error():
     for d in (0.002, 0.005, 0.01):   # h^3 term 1-4 % of the leading one at h = 3
         fit = convergence_fit(hh, 0.5 + 0.2 * hh**1.7 + d * hh**3)
         assert abs(fit["v_inf"] - 0.5) <= fit["error"], (d, fit)
+
+
+def test_asymptotic_fit_recovers_the_limit_and_bounds_its_error():
+    """At the known order q: exact data v_inf + C h^q give the limit to round-off; with a
+    higher-order term D h^(2q) (5-40 % of the leading one at the coarsest of six levels
+    h = 3 ... 0.45) and with three pre-asymptotic levels (an h^5 term dominant), the
+    error estimate covers the true error of the limit."""
+    h = np.array([3.0, 2.0, 1.4, 1.0, 0.7, 0.45])
+    q = 1.2
+    fit = asymptotic_fit(h, 0.22 + 0.004 * h**q, q)
+    assert fit["v_inf"] == pytest.approx(0.22, abs=1e-12) and fit["p"] == pytest.approx(q)
+    assert fit["error"] < 1e-10                       # round-off of the exact data only
+    for d in (0.00005, 0.0002, 0.0004):
+        fit = asymptotic_fit(h, 0.22 + 0.004 * h**q + d * h ** (2 * q), q)
+        assert abs(fit["v_inf"] - 0.22) <= fit["error"], (d, fit)
+    coarse = h[:3]
+    fit = asymptotic_fit(coarse, 0.22 + 0.0035 * coarse**q + 1e-4 * coarse**5, q)
+    assert abs(fit["v_inf"] - 0.22) <= fit["error"], fit
+    with pytest.raises(ValueError, match="order"):
+        asymptotic_fit(h, h, 0.0)
 
 
 def test_convergence_fit_with_the_expected_order_covers_a_pre_asymptotic_sequence():
