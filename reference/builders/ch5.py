@@ -679,7 +679,7 @@ def compute(full: bool = False, progress: bool = True, scheduler=None):
                             attrs1("largest sampled normalised true field at pull-in"))
 
     def onset(r, k):
-        o = r.wrinkling_onset()
+        o = onset_before_pullin(r.eig_v, r.eig_w, r.eig_lam, r.eig_axisym, r.w_pullin)
         return o[k] if o else np.nan
 
     data["v_wrinkling"] = (("case",), np.array([onset(r, 0) for r in rl]), attrs1(
@@ -696,7 +696,7 @@ def compute(full: bool = False, progress: bool = True, scheduler=None):
         "centre deflection / t0 at pull-in per ramp mesh", accuracy=pullin_acc))
     data["v_wrinkling_levels"] = (("case", "ramp_level"), np.array(
         [[onset(ramps[(c, h)], 0) for h in ramp_levels] for c in names]), attrs1(
-        "onset voltage of a non-axisymmetric mode per ramp mesh (NaN: none before pull-in)"))
+        "onset voltage of a non-axisymmetric mode before pull-in per ramp mesh (NaN: none)"))
     data["ndof_ramp_levels"] = (("case", "ramp_level"), np.array(
         [[ramps[(c, h)].ndof for h in ramp_levels] for c in names], dtype=np.int64),
         attrs1("degrees of freedom of the ramp meshes"))
@@ -734,6 +734,31 @@ def compute(full: bool = False, progress: bool = True, scheduler=None):
               "eig_every": EIG_EVERY, "fit_safety": FIT_SAFETY,
               "scale_copies": ", ".join(f"{a} = {b}" for a, b in SCALE_COPIES.items())}
     return crit, ramp_ds, params
+
+
+def onset_before_pullin(eig_v, eig_w, eig_lam, eig_axisym, w_pullin,
+                        axisym_max: float = 0.5) -> tuple[float, float, int, int] | None:
+    """Wrinkling as the first instability: the first eigen-record *up to the pull-in
+    deflection* ``w_pullin`` (all records when it is None or NaN) where a non-axisymmetric
+    mode (n = 0 fraction below ``axisym_max``) has a negative eigenvalue. Returns (v, w)
+    interpolated linearly to the zero of that eigenvalue between the previous record and
+    this one, and the record and mode indices; None when there is none. (Past pull-in the
+    path is unstable anyway; a non-axisymmetric mode that goes negative there is not
+    wrinkling first.)"""
+    eig_w = np.asarray(eig_w, float)
+    lam, ax = np.asarray(eig_lam, float), np.asarray(eig_axisym, float)
+    limit = np.inf if w_pullin is None or not np.isfinite(w_pullin) else w_pullin
+    non = np.where(ax < axisym_max, lam, np.inf)
+    for i in np.flatnonzero(np.isfinite(eig_w) & (eig_w <= limit)):
+        j = int(np.argmin(non[i]))
+        if non[i, j] < 0:
+            if i == 0 or not np.isfinite(np.min(non[i - 1])):
+                return float(eig_v[i]), float(eig_w[i]), int(i), j
+            lam0, lam1 = float(np.min(non[i - 1])), float(non[i, j])
+            f = lam0 / (lam0 - lam1)
+            return (float(eig_v[i - 1] + f * (eig_v[i] - eig_v[i - 1])),
+                    float(eig_w[i - 1] + f * (eig_w[i] - eig_w[i - 1])), int(i), j)
+    return None
 
 
 def _min_nonaxisym(r, axisym_max: float = 0.5) -> float:

@@ -65,18 +65,18 @@ def wrinkling_task(h_rel: float) -> dict:
 
 
 def first_instability(r) -> dict[str, float]:
-    """The first eigen-record with a negative eigenvalue of a non-axisymmetric mode:
-    voltage, deflection (linear interpolation of the eigenvalue's zero between the last
-    stable and the first unstable record) and the mode's dominant wavenumber; NaN if none.
+    """The first eigen-record before pull-in with a negative eigenvalue of a
+    non-axisymmetric mode (:func:`debench.reference.builders.ch5.onset_before_pullin`):
+    voltage, deflection and the mode's dominant wavenumber; NaN if none.
     The smallest non-axisymmetric eigenvalue recorded up to pull-in (or the path's end)."""
+    from debench.reference.builders.ch5 import onset_before_pullin
     lam, ax = np.asarray(r.eig_lam), np.asarray(r.eig_axisym)
     n = np.asarray(r.eig_wavenumber)
-    onset = r.wrinkling_onset(AXISYM_MAX)
+    onset = onset_before_pullin(r.eig_v, r.eig_w, lam, ax, r.w_pullin, AXISYM_MAX)
     out = {"v": math.nan, "w": math.nan, "n": math.nan}
     if onset is not None:
-        i = int(np.flatnonzero(np.any((lam < 0) & (ax < AXISYM_MAX), axis=1))[0])
-        j = int(np.argmin(np.where((lam[i] < 0) & (ax[i] < AXISYM_MAX), lam[i], np.inf)))
-        out = {"v": onset[0], "w": onset[1], "n": float(n[i, j])}
+        v, w, i, j = onset
+        out = {"v": v, "w": w, "n": float(n[i, j])}
     upto = np.asarray(r.eig_w) <= (r.w_pullin if r.w_pullin is not None else np.inf)
     non = np.where(ax < AXISYM_MAX, lam, np.nan)[upto]
     out["min_lambda"] = float(np.nanmin(non)) if np.any(np.isfinite(non)) else math.nan

@@ -449,3 +449,41 @@ def hypothesis_thickness(entry: Entry) -> Outcome:
                             "ratio_error": err, "normalisation_factor": scale,
                             "thesis_interval": [t - dt, t + dt]})
 
+
+
+@lru_cache(maxsize=4)
+def _wrinkling():
+    return read_dataset("ch5_wrinkling")
+
+
+def wrinkling_search(ds) -> dict:
+    """What the radius/thickness 20 ramps (``ch5_wrinkling.nc``) found, per mesh level:
+    ``first`` -- a non-axisymmetric mode became unstable before pull-in (or before the path
+    stalled); ``consistent`` -- the same outcome on every circumferential resolution; the
+    finest level's onset voltage, deflection / t0 and wavenumber (NaN: none)."""
+    v_w = ds.v_wrinkling.values            # onsets before pull-in only (NaN: none)
+    first = [bool(np.isfinite(a)) for a in v_w]
+    return {"first": first, "consistent": all(first) or not any(first),
+            "v": float(v_w[-1]), "w_over_t0": float(ds.w_wrinkling.values[-1]),
+            "n": float(ds.n_wrinkling.values[-1]),
+            "w_pullin_over_t0": [float(x) for x in ds.w_pullin.values],
+            "path_end": [str(x) for x in ds.path_end.values],
+            "min_nonaxisymmetric_lambda": [float(x) for x in
+                                           ds.min_nonaxisymmetric_lambda.values],
+            "h_rel": [float(x) for x in ds.h_rel.values]}
+
+
+def hypothesis_wrinkling(entry: Entry) -> Outcome:
+    """§5.3.1: the 0.5 mm film wrinkles before pull-in, at a centre deflection of 3.64 mm.
+    Under the hypothesis that its model kept R = 10 mm (R/t0 = 20): ``explained`` when the
+    ramps at R/t0 = 20 find a non-axisymmetric instability before pull-in on every
+    resolution (value: its centre deflection in mm, t0 = 0.5 mm), ``unexplained`` when none
+    or when the outcome depends on the resolution."""
+    ds = _wrinkling()
+    found = wrinkling_search(ds)
+    t0_mm = float(entry.parameters["thickness_mm"])
+    wrinkles = found["consistent"] and all(found["first"])
+    value = found["w_over_t0"] * t0_mm if wrinkles else None
+    status = "explained" if wrinkles else "unexplained"
+    return Outcome(value, status=status, details=found | {"thickness_mm": t0_mm},
+                   evidence=f"{EV_DATA}::test_curated_r20_wrinkling_search")
