@@ -48,6 +48,7 @@ The model is the membrane limit (thickness t -> 0): the film thickness does not 
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import ngsolve as ng
@@ -59,7 +60,7 @@ from debench.models.errors import ConvergenceError
 from debench.models.materials.membrane import GentMembrane, ZhaoSuoPermittivity
 from netgen.meshing import Element0D, Element1D, MeshPoint, Pnt
 from netgen.meshing import Mesh as NetgenMesh
-from scipy.optimize import brentq
+from scipy.optimize import brentq, minimize_scalar
 
 from .params import JM_VHB, locking_stretch_equibiaxial
 
@@ -74,6 +75,10 @@ MAX_HALVINGS = 12
 #: root location (pull-in, loss of tension) to this tolerance in lam; far below the
 #: discretisation error of any mesh used (>= 1e-7, test_ch3_fe)
 ROOT_XTOL = 1e-11
+#: the minimum of dPhibar^2/dlam (suppression search) is located to this in lam: at a
+#: smooth minimum the value is then exact to ~(d3/dlam3) xtol^2 ~ 1e-12, far below the
+#: Newton floor of the slope (~1e-10)
+MIN_XTOL = 1e-6
 
 
 @dataclass(frozen=True)
@@ -117,7 +122,119 @@ class FEState:
         return math.sqrt(self.phibar2) if self.phibar2 >= 0 else math.nan
 
 
-class CircularFE:
+class BorderedContinuation:
+    """Load-controlled continuation with a bordered Newton system (shared by the membrane
+    and the solid models).
+
+    The load is one prescribed unknown ``x[_i] = lam``; ``Phibar^2`` is an unknown, so that
+    the branch is followed through the pull-in maximum of Phibar. A subclass provides
+    ``lamP``, ``lam_step``, ``_states``, the index sets ``_E`` (equations), ``_F`` (free
+    unknowns), ``_i`` (the load), and ``_system(x, p) -> (residual, d residual/dp)``,
+    ``_bordered(x, p) -> (M, J)``, ``_admissible(x)``, ``_finish(x, p, it, resid)``; states
+    have ``lam``, ``phibar2``, ``dphibar2_dlam``, ``sigma1A`` and ``x``.
+    """
+
+    def _newton(self, x, p, lam):
+        x = x.copy()
+        x[self._i] = self._load_value(lam)
+        E, F = self._E, self._F
+        res, _ = self._system(x, p)
+        for it in range(1, NEWTON_MAXITER + 1):
+            if not np.all(np.isfinite(res[E])):
+                raise ConvergenceError(f"FE Newton: inadmissible state at lam = {lam:.6g} "
+                                       f"(Gent locking or lambda <= 0), lamP = {self.lamP}")
+            M, _ = self._bordered(x, p)
+            dz = _solve(M, -res[E], lam)
+            scale = 1.0
+            for _ in range(30):  # damping: keep the trial state admissible
+                xt = x.copy()
+                xt[F] += scale * dz[:-1]
+                pt = p + scale * dz[-1]
+                rt, _ = self._system(xt, pt)
+                if np.all(np.isfinite(rt[E])) and self._admissible(xt):
+                    break
+                scale *= 0.5
+            else:
+                raise ConvergenceError(f"FE Newton: no admissible step at lam = {lam:.6g}")
+            x, p, res = xt, pt, rt
+            step = scale * np.max(np.abs(dz))
+            if scale == 1.0 and step <= NEWTON_RTOL * (1 + np.max(np.abs(x)) + abs(p)):
+                return x, p, it, float(np.max(np.abs(res[E])))
+        raise ConvergenceError(f"FE Newton: |dz| = {step:.3g} after {NEWTON_MAXITER} "
+                               f"iterations at lam = {lam:.6g}, lamP = {self.lamP}")
+
+    def _tangent(self, x, p):
+        """d(x_F, p)/dlam from the bordered tangent (x_i = lam fixed by the load)."""
+        M, J = self._bordered(x, p)
+        return _solve(M, -self._load_column(J), float(x[self._i]))
+
+    def solve(self, lam: float) -> FEState:
+        """Equilibrium with r(R_A) = lam R_A on the rising branch (continuation from the
+        nearest solved state with an Euler predictor; steps halved on a Newton failure).
+
+        ``lam`` >= lamP; raises ConvergenceError when no admissible state is reached.
+        """
+        lam = v.at_least("lam", lam, self.lamP)
+        base = min(self._states, key=lambda s: abs(s.lam - lam))
+        while abs(base.lam - lam) > 0:
+            target = base.lam + math.copysign(min(self.lam_step, abs(lam - base.lam)),
+                                              lam - base.lam)
+            for _ in range(MAX_HALVINGS + 1):
+                try:
+                    state = self._step(base, target)
+                    break
+                except ConvergenceError:
+                    target = base.lam + 0.5 * (target - base.lam)
+            else:
+                raise ConvergenceError(f"FE continuation stalled at lam = {base.lam:.6g} "
+                                       f"towards {lam:.6g}, lamP = {self.lamP}")
+            self._states.append(state)
+            base = state
+        return base
+
+    def _step(self, base: FEState, lam: float) -> FEState:
+        t = self._tangent(base.x, base.phibar2)
+        d = lam - base.lam
+        x0 = base.x.copy()
+        x0[self._F] += d * t[:-1]
+        p0 = base.phibar2 + d * t[-1]
+        x, p, it, resid = self._newton(x0, p0, lam)
+        return self._finish(x, p, it, resid)
+
+    def pullin(self, lam_hi: float) -> FEState:
+        """First local maximum of Phibar along lam in (lamP, lam_hi]: dPhibar^2/dlam = 0
+        located by brentq on FE states. Raises ValueError when there is none."""
+        lam_hi = v.at_least("lam_hi", lam_hi, self.lamP)
+        return self._first_root(lambda s: s.dphibar2_dlam, lam_hi, "pull-in")
+
+    def loss_of_tension(self, lam_hi: float) -> FEState:
+        """First zero of sigma1 in circle A along lam in (lamP, lam_hi]."""
+        lam_hi = v.at_least("lam_hi", lam_hi, self.lamP)
+        return self._first_root(lambda s: s.sigma1A, lam_hi, "loss of tension")
+
+    def _first_root(self, g, lam_hi, what) -> FEState:
+        lams = np.arange(self.lamP, lam_hi + 0.5 * self.lam_step, self.lam_step)
+        prev = self.solve(float(lams[0]))
+        for lam in lams[1:]:
+            cur = self.solve(float(lam))
+            if g(prev) > 0 >= g(cur):
+                root = brentq(lambda t: g(self.solve(t)), prev.lam, cur.lam,
+                              xtol=ROOT_XTOL, rtol=4 * np.finfo(float).eps)
+                return self.solve(root)
+            prev = cur
+        raise ValueError(f"no {what} for lam in [{self.lamP}, {lam_hi}] (lamP = {self.lamP},"
+                         f" c = {self.c})")
+
+    def _load_value(self, lam):
+        """The prescribed value of the load unknown at stretch ``lam`` (here r(R_A))."""
+        return lam
+
+    def _load_column(self, J):
+        """The tangent's column of the load unknown, restricted to the equations."""
+        return J[self._E, self._i]
+
+
+class CircularFE(BorderedContinuation):
     """Finite-element model of the Chapter 3 actuator at one pre-stretch and one c.
 
     Parameters
@@ -132,10 +249,15 @@ class CircularFE:
         Gent parameter (3.23), > 0.
     mesh
         :class:`FEMesh`.
+    lam_step
+        Continuation step in lam and the grid on which events are bracketed (> 0; halved
+        automatically on a Newton failure). Events are located exactly on any grid; a
+        grid coarser than the spacing of two events of the same kind may miss both.
     """
 
     def __init__(self, lamP: float, c: float = 0.0, *, radius_ratio: float = 15.0,
-                 Jm: float = JM_VHB, mesh: FEMesh = FEMesh()):
+                 Jm: float = JM_VHB, mesh: FEMesh = FEMesh(), lam_step: float = LAM_STEP):
+        self.lam_step = v.positive("lam_step", lam_step)
         self.lamP = v.at_least("lamP", lamP, 1.0)
         self.c = v.finite("c", c)
         self.radius_ratio = v.positive("radius_ratio", radius_ratio)
@@ -209,11 +331,15 @@ class CircularFE:
         return self._tmp.FV().NumPy().copy()
 
     def _mat(self, form, x):
+        """The tangent as a dense array (a 1-D mesh: at most a few hundred unknowns, where
+        dense LU is faster than any sparse overhead)."""
         self.gf.vec.FV().NumPy()[:] = x
         form.AssembleLinearization(self.gf.vec)
         rows, cols, vals = form.mat.COO()
         n = self.fes.ndof
-        return sp.csr_matrix((np.array(vals), (np.array(rows), np.array(cols))), shape=(n, n))
+        out = np.zeros((n, n))
+        np.add.at(out, (np.asarray(rows), np.asarray(cols)), np.asarray(vals))
+        return out
 
     def _system(self, x, p):
         with np.errstate(all="ignore"):
@@ -226,38 +352,10 @@ class CircularFE:
         J = self._mat(self._am, x) + p * self._mat(self._ae, x)
         _, re = self._system(x, p)
         E, F = self._E, self._F
-        M = sp.hstack([J[E][:, F], sp.csr_matrix(re[E][:, None])]).tocsc()
+        M = np.column_stack([J[np.ix_(E, F)], re[E]])
         return M, J
 
     # ------------------------------------------------------------------ solve
-    def _newton(self, x, p, lam):
-        x = x.copy()
-        x[self._i] = lam
-        E, F = self._E, self._F
-        res, _ = self._system(x, p)
-        for it in range(1, NEWTON_MAXITER + 1):
-            if not np.all(np.isfinite(res[E])):
-                raise ConvergenceError(f"FE Newton: inadmissible state at lam = {lam:.6g} "
-                                       f"(Gent locking or lambda <= 0), lamP = {self.lamP}")
-            M, _ = self._bordered(x, p)
-            dz = spla.spsolve(M, -res[E])
-            scale = 1.0
-            for _ in range(30):  # damping: keep the trial state admissible
-                xt = x.copy()
-                xt[F] += scale * dz[:-1]
-                pt = p + scale * dz[-1]
-                rt, _ = self._system(xt, pt)
-                if np.all(np.isfinite(rt[E])) and self._admissible(xt):
-                    break
-                scale *= 0.5
-            else:
-                raise ConvergenceError(f"FE Newton: no admissible step at lam = {lam:.6g}")
-            x, p, res = xt, pt, rt
-            step = scale * np.max(np.abs(dz))
-            if scale == 1.0 and step <= NEWTON_RTOL * (1 + np.max(np.abs(x)) + abs(p)):
-                return x, p, it, float(np.max(np.abs(res[E])))
-        raise ConvergenceError(f"FE Newton: |dz| = {step:.3g} after {NEWTON_MAXITER} "
-                               f"iterations at lam = {lam:.6g}, lamP = {self.lamP}")
 
     def _admissible(self, x) -> bool:
         l1, l2 = self._stretches_at_nodes(x)
@@ -265,54 +363,20 @@ class CircularFE:
             return False
         return bool(np.all(l1**2 + l2**2 + (l1 * l2) ** -2 - 3 < self.Jm))
 
-    def _tangent(self, x, p):
-        """d(x_F, p)/dlam from the bordered tangent (x_i = lam fixed by the load)."""
-        M, J = self._bordered(x, p)
-        rhs = -np.asarray(J[self._E][:, [self._i]].todense()).ravel()
-        return spla.spsolve(M, rhs)
-
     def _finish(self, x, p, it, resid) -> FEState:
         lam = float(x[self._i])
         dp = float(self._tangent(x, p)[-1])
-        T1A = self._T1(x, p, 1.0 - 1e-9)
-        T1B = self._T1(x, p, 1.0 + 1e-9)
-        l1c, _ = self._stretch_at(x, 0.5 / self.mesh_spec.n_a)
-        sig = l1c * self._T1(x, p, 0.5 / self.mesh_spec.n_a)
-        return FEState(lam=lam, phibar2=float(p), dphibar2_dlam=dp, T1A=T1A, T1B=T1B,
+        # one-sided T1 at R_A and sigma1 = lambda1 T1 at the centre of the first element
+        self._set(x)
+        R = np.array([1.0 - 1e-9, 1.0 + 1e-9, 0.5 / self.mesh_spec.n_a])
+        pts = self.mesh(R)
+        l1 = ng.grad(self.gf)[0](pts).ravel()
+        l2 = self.gf(pts).ravel() / R
+        T1A, T1B, T1c = _T1(self.material, l1, l2, np.array([p, 0.0, p]))
+        sig = l1[2] * T1c
+        return FEState(lam=lam, phibar2=float(p), dphibar2_dlam=dp, T1A=float(T1A),
+                       T1B=float(T1B),
                        sigma1A=float(sig), iterations=it, residual=resid, x=x)
-
-    def solve(self, lam: float) -> FEState:
-        """Equilibrium with r(R_A) = lam R_A on the rising branch (continuation from the
-        nearest solved state with an Euler predictor; steps halved on a Newton failure).
-
-        ``lam`` >= lamP; raises ConvergenceError when no admissible state is reached.
-        """
-        lam = v.at_least("lam", lam, self.lamP)
-        base = min(self._states, key=lambda s: abs(s.lam - lam))
-        while abs(base.lam - lam) > 0:
-            target = base.lam + math.copysign(min(LAM_STEP, abs(lam - base.lam)),
-                                              lam - base.lam)
-            for _ in range(MAX_HALVINGS + 1):
-                try:
-                    state = self._step(base, target)
-                    break
-                except ConvergenceError:
-                    target = base.lam + 0.5 * (target - base.lam)
-            else:
-                raise ConvergenceError(f"FE continuation stalled at lam = {base.lam:.6g} "
-                                       f"towards {lam:.6g}, lamP = {self.lamP}")
-            self._states.append(state)
-            base = state
-        return base
-
-    def _step(self, base: FEState, lam: float) -> FEState:
-        t = self._tangent(base.x, base.phibar2)
-        d = lam - base.lam
-        x0 = base.x.copy()
-        x0[self._F] += d * t[:-1]
-        p0 = base.phibar2 + d * t[-1]
-        x, p, it, resid = self._newton(x0, p0, lam)
-        return self._finish(x, p, it, resid)
 
     # ------------------------------------------------------------------ post-processing
     def _set(self, x):
@@ -326,9 +390,9 @@ class CircularFE:
     def _stretches_at_nodes(self, x):
         self._set(x)
         R = 0.5 * (self.nodes[1:] + self.nodes[:-1])
-        pts = [self.mesh(float(r)) for r in R]
-        l1 = np.array([ng.grad(self.gf)[0](p) for p in pts])
-        l2 = np.array([self.gf(p) for p in pts]) / R
+        pts = self.mesh(R)
+        l1 = ng.grad(self.gf)[0](pts).ravel()
+        l2 = self.gf(pts).ravel() / R
         return l1, l2
 
     def _T1(self, x, p, R) -> float:
@@ -346,29 +410,104 @@ class CircularFE:
         return {"lam1": l1, "lam2": l2, "lam3": 1 / (l1 * l2)}
 
     # ------------------------------------------------------------------ events
-    def pullin(self, lam_hi: float) -> FEState:
-        """First local maximum of Phibar along lam in (lamP, lam_hi]: dPhibar^2/dlam = 0
-        located by brentq on FE states. Raises ValueError when there is none."""
-        lam_hi = v.at_least("lam_hi", lam_hi, self.lamP)
-        return self._first_root(lambda s: s.dphibar2_dlam, lam_hi, "pull-in")
 
-    def loss_of_tension(self, lam_hi: float) -> FEState:
-        """First zero of sigma1 in circle A along lam in (lamP, lam_hi]."""
-        lam_hi = v.at_least("lam_hi", lam_hi, self.lamP)
-        return self._first_root(lambda s: s.sigma1A, lam_hi, "loss of tension")
+    def min_slope_before_loss_of_tension(self, lam_hi: float = 8.0) -> tuple[float, float]:
+        """``(min dPhibar^2/dlam, lam at the minimum)`` over (lamP, lam_LoT].
 
-    def _first_root(self, g, lam_hi, what) -> FEState:
-        lams = np.arange(self.lamP, lam_hi + 0.5 * LAM_STEP, LAM_STEP)
-        prev = self.solve(float(lams[0]))
-        for lam in lams[1:]:
-            cur = self.solve(float(lam))
-            if g(prev) > 0 >= g(cur):
-                root = brentq(lambda t: g(self.solve(t)), prev.lam, cur.lam,
-                              xtol=ROOT_XTOL, rtol=4 * np.finfo(float).eps)
-                return self.solve(root)
-            prev = cur
-        raise ValueError(f"no {what} for lam in [{self.lamP}, {lam_hi}] (lamP = {self.lamP},"
-                         f" c = {self.c})")
+        Pull-in is suppressed (Sec. 3.5.2; definition ``before_loss_of_tension`` of
+        ``ch3.assumption.pullin_suppressed``) when this minimum is >= 0: no interior maximum
+        of Phibar before loss of tension. The slope comes from the bordered FE tangent; the
+        minimum is bracketed on the solved states (grid ``lam_step`` plus the loss-of-tension
+        root) and an interior one is refined by bounded Brent to :data:`MIN_XTOL` in lam.
+        ValueError when there is no loss of tension up to ``lam_hi``.
+        """
+        lot = self.loss_of_tension(lam_hi)
+        sts, last = [], -math.inf
+        for s in sorted((s for s in self._states if self.lamP < s.lam <= lot.lam),
+                        key=lambda s: s.lam):
+            if s.lam > last + MIN_XTOL:     # one state per distinct stretch
+                sts.append(s)
+                last = s.lam
+        d = np.array([s.dphibar2_dlam for s in sts])
+        k = int(np.argmin(d))
+        if k in (0, len(sts) - 1):          # at an end of the window: no interior minimum
+            return float(d[k]), sts[k].lam
+        res = minimize_scalar(lambda t: self.solve(t).dphibar2_dlam, method="bounded",
+                              bounds=(sts[k - 1].lam, sts[k + 1].lam),
+                              options={"xatol": MIN_XTOL})
+        if not res.success:
+            raise ConvergenceError(f"FE minimum slope: {res.message} (lamP = {self.lamP})")
+        if res.fun > d[k]:                  # never worse than the bracketing grid point
+            return float(d[k]), sts[k].lam
+        return float(res.fun), float(res.x)
+
+
+@dataclass(frozen=True)
+class Suppression:
+    """Result of :func:`pullin_suppression_prestretch`: the pre-stretch ``lamP``, the
+    stretch ``lam_cusp`` at which the minimum slope of Phibar^2 vanishes there, the
+    bracket ``[lo, hi]`` it lies in and the number of FE branches traced."""
+
+    lamP: float
+    lam_cusp: float
+    lo: float
+    hi: float
+    evaluations: int
+
+
+def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
+                                  Jm: float = JM_VHB, mesh: FEMesh = FEMesh(),
+                                  bracket=(2.0, 3.2), xtol: float = 1e-8,
+                                  lam_step: float = 0.1) -> Suppression:
+    """The pre-stretch above which pull-in is suppressed (Sec. 3.5.2), by FE alone.
+
+    Root in lamP of ``g(lamP)`` = min of dPhibar^2/dlam over (lamP, lam_LoT]
+    (:meth:`CircularFE.min_slope_before_loss_of_tension`), each ``g`` from a fresh FE
+    branch; brentq on ``bracket`` (a window of pre-stretches, g < 0 at its lower end and
+    > 0 at its upper end, else ConvergenceError) to ``xtol`` in lamP. No analytic
+    equation (ODE, closed forms of circle A) is used.
+    """
+    v.finite("c", c)
+    lo, hi = v.window("bracket", bracket, lo=1.0)
+    v.tolerance("xtol", xtol)
+    seen = {}
+
+    def g(lamP):
+        model = CircularFE(lamP, c, radius_ratio=radius_ratio, Jm=Jm, mesh=mesh,
+                           lam_step=lam_step)
+        seen[lamP] = model.min_slope_before_loss_of_tension()
+        return seen[lamP][0]
+
+    glo, ghi = g(lo), g(hi)
+    if not (glo < 0 < ghi):
+        raise ConvergenceError(f"FE suppression pre-stretch not bracketed in {bracket}: "
+                               f"min slopes {glo:.3g}, {ghi:.3g}")
+    try:
+        root, info = brentq(g, lo, hi, xtol=xtol, full_output=True)
+    except (ValueError, RuntimeError) as exc:
+        raise ConvergenceError(f"FE suppression pre-stretch: brentq failed: {exc}") from exc
+    if not info.converged:
+        raise ConvergenceError(f"FE suppression pre-stretch: brentq did not converge "
+                               f"({info.flag})")
+    neg = [x for x in seen if seen[x][0] < 0]
+    pos = [x for x in seen if seen[x][0] >= 0]
+    if root not in seen:
+        g(root)
+    return Suppression(lamP=float(root), lam_cusp=float(seen[root][1]), lo=float(max(neg)),
+                       hi=float(min(pos)), evaluations=len(seen))
+
+
+def _solve(M, b, lam):
+    """Solve of the bordered system (dense, or sparse LU for a scipy sparse ``M``); a
+    singular tangent is a ConvergenceError."""
+    try:
+        if sp.issparse(M):
+            with warnings.catch_warnings():
+                warnings.simplefilter("error", spla.MatrixRankWarning)
+                return spla.splu(M.tocsc()).solve(np.asarray(b, dtype=float))
+        return np.linalg.solve(M, b)
+    except (np.linalg.LinAlgError, RuntimeError, spla.MatrixRankWarning) as exc:
+        raise ConvergenceError(f"FE: singular bordered tangent at lam = {lam:.6g}") from exc
 
 
 def _T1(material, l1, l2, I4):
@@ -377,7 +516,8 @@ def _T1(material, l1, l2, I4):
     h = 1e-30
     w0 = np.imag(material.free_energy(l1 + 1j * h, l2, 0.0)) / h
     w1 = np.imag(material.free_energy(l1 + 1j * h, l2, 1.0)) / h
-    return float(w0 + I4 * (w1 - w0))
+    out = w0 + I4 * (w1 - w0)
+    return float(out) if np.ndim(out) == 0 else out
 
 
 def energy_cf(l1, l2, material: GentMembrane):
