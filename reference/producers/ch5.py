@@ -485,5 +485,6 @@ def hypothesis_wrinkling(entry: Entry) -> Outcome:
     wrinkles = found["consistent"] and all(found["first"])
     value = found["w_over_t0"] * t0_mm if wrinkles else None
     status = "explained" if wrinkles else "unexplained"
-    return Outcome(value, status=status, details=found | {"thickness_mm": t0_mm},
+    return Outcome(value, status=status, details=found | {
+        "thickness_mm": t0_mm, "w_mm_finest": found["w_over_t0"] * t0_mm},
                    evidence=f"{EV_DATA}::test_curated_r20_wrinkling_search")
