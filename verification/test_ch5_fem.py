@@ -429,3 +429,24 @@ def test_ramp_ends_at_a_singular_tangent_only_past_the_limit_point(nh_pullin_ram
                      stop_on_stall=True)
     assert r.end == "stalled before the limit point" and r.v_pullin is None
     assert r.eig_v[-1] == r.v[-1] and r.eig_wavenumber.shape == (len(r.eig_v), 3)
+
+
+def test_energy_compiler_is_found_beside_the_interpreter(monkeypatch, tmp_path):
+    """``realcompile`` runs NGSolve's ``ngscxx`` through the shell: a wrapper beside the
+    Python interpreter (a venv used without activation) is put on PATH; with none
+    anywhere the compiled tree is used without a shell call."""
+    import os
+    import sys
+
+    from debench.models.buckling import fem
+
+    fake = tmp_path / "bin"
+    fake.mkdir()
+    (fake / "python").write_text("")
+    monkeypatch.setattr(sys, "executable", str(fake / "python"))
+    monkeypatch.setenv("PATH", str(tmp_path / "empty"))
+    assert fem._ngscxx() is False
+    (fake / "ngscxx").write_text("#!/bin/sh\n")
+    (fake / "ngscxx").chmod(0o755)
+    assert fem._ngscxx() is True
+    assert os.environ["PATH"].split(os.pathsep)[0] == str(fake)

@@ -169,12 +169,32 @@ def _compile(cf, mode: str, ndof: int):
     """Compile an energy CF: C++ (``realcompile``) when asked or, with ``"auto"``, when
     the problem is large; falls back to the interpreted compiled tree when no compiler
     works.  Returns (cf, how)."""
-    if mode is True or (mode == "auto" and ndof >= REALCOMPILE_MIN_DOFS):
+    if (mode is True or (mode == "auto" and ndof >= REALCOMPILE_MIN_DOFS)) and _ngscxx():
         try:
             return cf.Compile(realcompile=True, wait=True), "realcompile"
-        except Exception:  # noqa: BLE001 - no compiler or a failed build: fall back
+        except Exception:  # noqa: BLE001 - a failed build: fall back
             pass
     return cf.Compile(), "compiled-tree"
+
+
+def _ngscxx() -> bool:
+    """Whether NGSolve's compiler wrapper ``ngscxx`` (which ``realcompile`` runs through
+    the shell) can be found. The wheel installs it beside the Python interpreter; when the
+    environment is used without being activated that directory is not on ``PATH``, so it
+    is put first there (as activation would). False when it is nowhere: compile as a tree
+    without a failed shell call."""
+    import os
+    import shutil
+    import sys
+    from pathlib import Path
+
+    if shutil.which("ngscxx"):
+        return True
+    here = Path(sys.executable).parent
+    if (here / "ngscxx").exists():
+        os.environ["PATH"] = f"{here}{os.pathsep}{os.environ.get('PATH', '')}"
+        return True
+    return False
 
 
 # --------------------------------------------------------------------------- problem
