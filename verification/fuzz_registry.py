@@ -49,6 +49,10 @@ EXCLUDED_MODULES = {
         "NGSolve FE cross-check of Chapter 3 (seconds per call): validates at its boundary "
         "(ValueError naming the bound, ConvergenceError); bad inputs tested in "
         "verification/test_ch3_fe.py"),
+    "debench.models.circular.fe_solid": (
+        "NGSolve thin-solid (r, z) FE cross-check of Chapter 3 (seconds per call): "
+        "validates at its boundary (ValueError naming the bound, ConvergenceError); bad "
+        "inputs tested in verification/test_ch3_fe_solid.py"),
     "debench.models.plate.strip_fe": (
         "NGSolve strip FE cross-check of Chapter 4 (seconds per call): validates at its "
         "boundary (require, ConvergenceError); bad inputs tested in "
