@@ -788,6 +788,14 @@ def onset_before_pullin(eig_v, eig_w, eig_lam, eig_axisym, w_pullin,
     return None
 
 
+def lowest_nonaxisymmetric(eig_lam, eig_axisym, axisym_max: float = 0.5) -> np.ndarray:
+    """Per eigen-record, the lowest eigenvalue of a non-axisymmetric mode (n = 0 fraction
+    below ``axisym_max``); inf where a record has none or is NaN padding (the Fig. 5.5
+    counterparts plot it against the deflection)."""
+    lam = np.where(np.asarray(eig_axisym) < axisym_max, np.asarray(eig_lam), np.nan)
+    return np.nanmin(np.where(np.isfinite(lam), lam, np.inf), axis=1)
+
+
 def _min_nonaxisym(r, axisym_max: float = 0.5) -> float:
     """Smallest eigenvalue of a non-axisymmetric mode (n = 0 fraction below
     ``axisym_max``) among the records up to the pull-in deflection (NaN: none recorded)."""
@@ -844,8 +852,7 @@ def figures(crit, ramps, fig_dir: Path) -> list[Path]:
     fig, ax = plt.subplots(figsize=(5.8, 4.2))
     for case, style in (("nh_t1", "-o"), ("ogden_t1", "--s")):
         r = ramps.sel(case=case)
-        lam = np.where(r.eig_axisymmetry.values < 0.5, r.eig_lambda.values, np.nan)
-        lam_min = np.nanmin(np.where(np.isfinite(lam), lam, np.inf), axis=1)
+        lam_min = lowest_nonaxisymmetric(r.eig_lambda.values, r.eig_axisymmetry.values)
         ok = np.isfinite(r.eig_w.values) & np.isfinite(lam_min)
         ax.plot(r.eig_w.values[ok], lam_min[ok], style, ms=3,
                 label=f"{case}, radius/thickness 10")

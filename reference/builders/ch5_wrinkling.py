@@ -168,13 +168,13 @@ def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dat
 def figure(ds: xr.Dataset, fig_dir: Path) -> list[Path]:
     """Fig. 5.5 counterpart at radius/thickness 20: the lowest non-axisymmetric eigenvalue
     along the path per mesh (wrinkling where it crosses zero before pull-in)."""
+    from debench.reference.builders.ch5 import lowest_nonaxisymmetric
     from debench.reference.figures import pyplot, save
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(5.8, 4.2))
     for lev, style in zip(ds.level.values, ("-o", "--s", ":^"), strict=False):
         r = ds.sel(level=lev)
-        lam = np.where(r.eig_axisym.values < AXISYM_MAX, r.eig_lam.values, np.nan)
-        lam_min = np.nanmin(np.where(np.isfinite(lam), lam, np.inf), axis=1)
+        lam_min = lowest_nonaxisymmetric(r.eig_lam.values, r.eig_axisym.values, AXISYM_MAX)
         ok = np.isfinite(r.eig_w.values) & np.isfinite(lam_min)
         ax.plot(r.eig_w.values[ok], lam_min[ok], style, ms=3,
                 label=f"h = {float(r.h_rel):g} t0 ({float(r.rim_elements):.0f} rim elements)")
