@@ -6,6 +6,8 @@ Claims:
   results as tasks on a 2-worker ``LocalCluster`` (one thread per worker, reached by its
   scheduler address as an existing cluster would be) as in the serial run: each task is
   deterministic and single-threaded, so the values are bit-identical;
+* the default LocalCluster's workers keep glibc's adaptive malloc thresholds (Dask's
+  default ``MALLOC_TRIM_THRESHOLD_`` is unset for them);
 * :func:`coarse_values` returns its documented keys with the values of the tasks it runs;
 * the task cache (``DEBENCH_FE_CACHE``) returns a finished task's result without running it
   again and never serves a result computed by other model code;
@@ -15,6 +17,9 @@ Claims:
 
 from __future__ import annotations
 
+import os
+
+import dask
 import pytest
 from debench.models.errors import ConvergenceError
 from debench.reference.builders import ch5
@@ -35,14 +40,25 @@ def test_two_worker_dask_sweep_equals_serial_run():
 
     tasks = [(ch5.critical_task, "nh_t1", 3.0), (ch5.critical_task, "nh_t1", 2.5)]
     serial = ch5.run_tasks(tasks, scheduler=None, progress=False)
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                      dashboard_address=None) as cluster:
+    with dask.config.set(ch5.WORKER_CONFIG), \
+            LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                         dashboard_address=None) as cluster:
         parallel = ch5.run_tasks(tasks, scheduler=cluster.scheduler_address)
     def values(results):  # everything but the wall time
         return [{k: v for k, v in r.items() if k != "seconds"} for r in results]
 
     assert values(parallel) == values(serial)
     assert serial[0]["ndof"] < serial[1]["ndof"]
+
+
+@pytest.mark.skipif("MALLOC_TRIM_THRESHOLD_" in os.environ,
+                    reason="the test process itself sets MALLOC_TRIM_THRESHOLD_")
+def test_local_cluster_workers_keep_the_adaptive_malloc_threshold(monkeypatch):
+    """The workers of the default LocalCluster do not get Dask's MALLOC_TRIM_THRESHOLD_
+    (which fixes glibc's mmap threshold and made an FE case 3-7x slower in a worker)."""
+    monkeypatch.setenv("DEBENCH_WORKERS", "2")
+    tasks = [(os.getenv, "MALLOC_TRIM_THRESHOLD_", "unset")] * 2
+    assert ch5.run_tasks(tasks, scheduler="local", progress=False) == ["unset", "unset"]
 
 
 def test_scale_copies_are_the_cases_scale_invariance_makes_identical():
