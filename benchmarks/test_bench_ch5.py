@@ -42,7 +42,7 @@ ngsolve.SetNumThreads(1)
 
 SIZES = tuple(float(x) for x in os.environ.get("CH5_BENCH_SIZES", "3,2,1.4").split(","))
 ENGINE_H = float(os.environ.get("CH5_ENGINE_H", "1.4"))
-OLD = {"inverse": "umfpack", "reuse": False, "eigensolver": "subspace"}
+OLD = {"inverse": "umfpack", "reuse": False, "eigensolver": "subspace", "chord": False}
 
 
 def _working_solvers():

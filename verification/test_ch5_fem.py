@@ -309,15 +309,56 @@ def test_lowest_eigenvalues_find_the_negative_eigenvalues_of_the_unstable_flat_f
     assert m.last_eig["residual"] <= fem.EIG_RTOL
 
 
+CHORD_STATE_TOL = 1e-8
+"""Chord and full Newton both stop within fem.NEWTON_TOL t0 (1e-9) of the discrete
+equilibrium (the chord's stop uses the contraction estimate of its error), so their states
+differ by at most ~2e-9 t0; 1e-8 t0 leaves a factor 5 for the estimate."""
+
+
+@pytest.mark.parametrize("material", [NeoHookean(), Ogden()], ids=["neo-Hookean", "Ogden"])
+def test_chord_newton_reaches_the_equilibrium_of_full_newton(material):
+    """Newton with the previous load's factorised tangent (chord steps, refreshed when the
+    contraction is weaker than fem.CHORD_RATE) reaches the same equilibrium of the imperfect
+    film as Newton with a new tangent at every step, and uses chord steps to get there."""
+    states = {}
+    for chord in (True, False):
+        m = MembraneModel(Plate(), material, COARSE, chord=chord)
+        for v in (0.05, 0.10):
+            m.set_voltage(v)
+            m.newton()
+        states[chord] = (m.state(), m.stats["chord_steps"], m.last_newton["residual"])
+    (x_chord, n_chord, _), (x_full, n_full, _) = states[True], states[False]
+    assert n_full == 0 < n_chord
+    assert np.max(np.abs(x_chord - x_full)) <= CHORD_STATE_TOL * Plate().thickness
+
+
+def test_failed_newton_leaves_no_tangent_for_a_chord_step():
+    """A Newton solve that raises may have factorised the tangent of a rejected iterate: no
+    later chord step reuses it (the next solve assembles a new tangent first)."""
+    m = MembraneModel(Plate(), NeoHookean(), COARSE)
+    m.set_voltage(0.05)
+    m.newton()
+    assert m.chord_usable()
+    m.set_voltage(0.5)
+    with pytest.raises(ConvergenceError):
+        m.newton(maxit=1)
+    assert not m.chord_usable()
+
+
 def test_sparse_direct_solvers_agree_on_the_critical_voltage():
-    """The default engine (sparsecholesky, one factorisation object updated, LOBPCG) and the
-    former one (umfpack, a new factorisation per step, subspace iteration) give the same
-    critical voltage within the secant tolerance (both within CRITICAL_VTOL of the zero)."""
+    """The default engine (sparsecholesky, one factorisation object updated, chord steps
+    with a reused tangent, LOBPCG) and the former one (umfpack, a new factorisation per
+    Newton step, subspace iteration) give the same critical voltage within the secant
+    tolerance (both within CRITICAL_VTOL of the zero); the chord steps save
+    factorisations (every other Newton step has its own)."""
     new = critical_voltage(Plate(), NeoHookean(), COARSE)
     old = critical_voltage(Plate(), NeoHookean(), COARSE, inverse="umfpack", reuse=False,
-                           eigensolver="subspace")
+                           eigensolver="subspace", chord=False)
     assert abs(new.v - old.v) <= 2 * CRITICAL_VTOL
-    assert new.stats["factorisations"] >= new.stats["newton_steps"]
+    assert old.stats["factorisations"] >= old.stats["newton_steps"]
+    assert old.stats["chord_steps"] == 0 < new.stats["chord_steps"]
+    assert new.stats["factorisations"] >= new.stats["newton_steps"] - new.stats["chord_steps"]
+    assert new.stats["factorisations"] < old.stats["factorisations"]
     assert new.eig_residual <= fem.EIG_RTOL and new.ndof == old.ndof
 
 
