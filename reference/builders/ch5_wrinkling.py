@@ -205,7 +205,7 @@ def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) ->
         summary=("Voltage ramp of the imperfect clamped Ogden film (Table 5.1, t0 = 0.5 mm) "
                  "at radius/thickness 20 to and past pull-in with the eigen-analysis along "
                  "the path: the first non-axisymmetric instability (voltage, deflection, "
-                 "wavenumber) or its absence before pull-in, on one or two circumferential "
+                 "wavenumber) or its absence before pull-in, on several circumferential "
                  "resolutions: the data behind the hypothesis that the thesis' 0.5 mm model "
                  "kept R = 10 mm (§5.3.1, Fig. 5.5)."),
         parameters={"full": full, "levels_h_rel": list(LEVELS[full]), "layers": LAYERS,
