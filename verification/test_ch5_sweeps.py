@@ -42,7 +42,7 @@ def test_two_worker_dask_sweep_equals_serial_run():
     serial = ch5.run_tasks(tasks, scheduler=None, progress=False)
     with dask.config.set(ch5.WORKER_CONFIG), \
             LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                         dashboard_address=None) as cluster:
+                         dashboard_address=":0") as cluster:
         parallel = ch5.run_tasks(tasks, scheduler=cluster.scheduler_address)
     def values(results):  # everything but the wall time
         return [{k: v for k, v in r.items() if k != "seconds"} for r in results]

@@ -361,9 +361,11 @@ def _run_distributed(scheduler, tasks, todo, finished, progress) -> None:
     from distributed import Client, LocalCluster
     if scheduler == "local":
         n = int(os.environ.get("DEBENCH_WORKERS", os.cpu_count() or 1))
+        # the dashboard on a free port: None still starts it on 8787 and warns when a
+        # second sweep runs
         with dask.config.set(WORKER_CONFIG), \
                 LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                             dashboard_address=None) as cluster, Client(cluster) as client:
+                             dashboard_address=":0") as cluster, Client(cluster) as client:
             _gather(client, tasks, todo, finished, progress)
     else:
         with Client(scheduler) as client:
