@@ -152,13 +152,37 @@ def _roots(S):
     r = np.roots(_char_poly(S))
     if r.size != 8:
         raise ConvergenceError(f"characteristic polynomial has {r.size} roots, expected 8")
-    # polish with Newton on the determinant (np.roots error ~ eps * cond)
+    return _polish(S, r)
+
+
+def _polish(S, r):
+    """Newton on the determinant (np.roots error ~ eps * cond), then sorted; ``S`` and
+    ``r`` may carry a leading stack axis (one symbol per row of roots)."""
     for _ in range(3):
         h = 1e-7 * (1 + np.abs(r))
         f = np.linalg.det(_symbol(S, r))
         df = (np.linalg.det(_symbol(S, r + h)) - np.linalg.det(_symbol(S, r - h))) / (2 * h)
         r = r - f / df
-    return r[np.lexsort((r.imag, r.real))]
+    if r.ndim == 1:
+        return r[np.lexsort((r.imag, r.real))]
+    return np.stack([x[np.lexsort((x.imag, x.real))] for x in r])
+
+
+def _roots_many(S):
+    """:func:`_roots` for a stack of energy matrices ``S`` (n, 8, 8): the characteristic
+    polynomials and their companion eigenvalues (as :func:`numpy.roots` computes them)
+    in stacked calls; a polynomial with a vanishing end coefficient goes through
+    :func:`_roots`."""
+    nodes = np.exp(2j * np.pi * np.arange(9) / 9) * 1.3
+    vals = np.linalg.det(_symbol(S[:, None], nodes))                      # (n, 9)
+    V = np.broadcast_to(np.vander(nodes, 9), (len(S), 9, 9))
+    coef = np.linalg.solve(V, vals[..., None])[..., 0]                     # (n, 9)
+    if np.any(coef[:, 0] == 0) or np.any(coef[:, -1] == 0):
+        return np.stack([_roots(x) for x in S])
+    comp = np.zeros((len(S), 8, 8), complex)
+    comp[:, 1:, :-1] = np.eye(7)
+    comp[:, 0, :] = -coef[:, 1:] / coef[:, :1]
+    return _polish(S[:, None], np.linalg.eigvals(comp))
 
 
 def strongly_elliptic(lam: float, theta: float, params: PlateParams) -> bool:
@@ -182,6 +206,15 @@ def _elliptic(lam, theta, p):
     P = _B_MINUS_T @ _S(lam, theta, p) @ _B_PLUS
     P = 0.5 * (P + np.conj(np.swapaxes(P, -1, -2)))
     return bool(np.all(np.linalg.eigvalsh(P)[..., 0] > 0))
+
+
+def _elliptic_grid(g, theta, path) -> np.ndarray:
+    """:func:`_elliptic` at every stretch of the grid ``g`` (parameters ``path(lam)``),
+    all symbols in one stacked eigenvalue call."""
+    S = np.stack([_S(x, theta, path(x)) for x in g])[:, None]     # (n, 1, 8, 8)
+    P = _B_MINUS_T @ S @ _B_PLUS                                    # (n, dirs, 3, 3)
+    P = 0.5 * (P + np.conj(np.swapaxes(P, -1, -2)))
+    return np.all(np.linalg.eigvalsh(P)[..., 0] > 0, axis=-1)
 
 
 def _boundary_rows(S, s, w=_W, adj=None):
@@ -230,6 +263,17 @@ def _det_parts(lam, kH, theta, p):
     S = _S(lam, theta, p)
     s = _roots(S)
     return S, s, _adjugate(_symbol(S, s)), kH * lam**-2
+
+
+def _det_parts_grid(g, kH, theta, path) -> list:
+    """:func:`_det_parts` at every stretch of ``g`` (parameters ``path(lam)``), the
+    roots and adjugates of all points in stacked calls."""
+    if len(g) == 0:
+        return []
+    S = np.stack([_S(x, theta, path(x)) for x in g])
+    s = _roots_many(S)
+    adj = _adjugate(_symbol(S[:, None], s))
+    return [(S[i], s[i], adj[i], kH * x**-2) for i, x in enumerate(g)]
 
 
 def _det_weighted(parts, w):
@@ -289,14 +333,14 @@ def critical_stretches_det(kH: float, theta: float, params: PlateParams, *,
             r = critical_stretches_at_voltage(kH, Vhat, iso, window=(lo, hi))[0]
         return np.sort(np.asarray(r, float))
     g = np.geomspace(lo, hi, v.integer_at_least("n_scan", n_scan, 2))
-    ell = np.array([_elliptic(x, theta, path(x)) for x in g])
+    ell = _elliptic_grid(g, theta, path)
     g, ell = (g[np.argmax(ell):], ell[np.argmax(ell):]) if ell.any() else (g[:0], ell[:0])
     if g.size < 2 or not ell[-1]:
         return np.zeros(0)
     out = []
     # the roots and adjugates of a grid point serve both weight vectors
-    parts = [_det_parts(x, kH, theta, path(x)) if e else None
-             for x, e in zip(g, ell, strict=True)]
+    found = iter(_det_parts_grid(g[ell], kH, theta, path))
+    parts = [next(found) if e else None for e in ell]
     for w in _WS:
         vals = np.array([_det_weighted(q, w) if q is not None else np.nan for q in parts])
         vals = np.where(ell, vals, vals[ell][0])
@@ -433,10 +477,17 @@ def critical_stretches_fe(kH: float, theta: float, params: PlateParams, *,
     path = _path(params, Vhat)
     g = np.geomspace(lo, hi, v.integer_at_least("n_scan", n_scan, 2))
 
+    seen = {}
+
     def ev(x, j=None):
-        K = _K(x, kH, theta, path(x), n)
-        e = sla.eigh(K, eigvals_only=True, subset_by_index=(0, max_index - 1))
-        return (e, np.finfo(float).eps * np.linalg.norm(K, 1)) if j is None else e[j]
+        """(lowest eigenvalues, their round-off) at x, or eigenvalue j; each stretch's
+        eigenvalues are computed once per scan (brentq starts from grid points)."""
+        x = float(x)
+        if x not in seen:
+            K = _K(x, kH, theta, path(x), n)
+            e = sla.eigh(K, eigvals_only=True, subset_by_index=(0, max_index - 1))
+            seen[x] = (e, np.finfo(float).eps * np.linalg.norm(K, 1))
+        return seen[x] if j is None else seen[x][0][j]
 
     def split(a, b, ea, eb, depth=0):
         """Brackets of single crossings in [a, b] (bisect where several eigenvalues
@@ -453,7 +504,7 @@ def critical_stretches_fe(kH: float, theta: float, params: PlateParams, *,
         em = ev(m)
         return split(a, m, ea, em, depth + 1) + split(m, b, em, eb, depth + 1)
 
-    ell = np.array([_elliptic(x, theta, path(x)) for x in g])
+    ell = _elliptic_grid(g, theta, path)
     evs = [ev(x) if e else None for x, e in zip(g, ell, strict=True)]
     out = []
     for i in range(len(g) - 1):
@@ -523,7 +574,7 @@ def ellipticity_limit(theta: float, params: PlateParams, *, window=(0.45, 0.999)
     _check(hi, theta, params)
     path = _path(params, Vhat)
     g = np.geomspace(lo, hi, v.integer_at_least("n_scan", n_scan, 2))
-    ell = np.array([_elliptic(x, theta, path(x)) for x in g])
+    ell = _elliptic_grid(g, theta, path)
     if ell.all():
         return float(lo)
     if not ell[-1]:
