@@ -39,9 +39,14 @@ ACCURACY = Accuracy(rtol=1e-7, atol=1e-9, reason="in-plane fibre roots: brentq t
                     "(< 1e-10), 100x margin")
 
 
-@lru_cache(maxsize=64)
 def roots(theta: float, xi: float = XI, Dhat: float = 0.0, kH: float = KH):
-    """(determinant roots, FE roots, ellipticity limit) on :data:`WINDOW`."""
+    """(determinant roots, FE roots, ellipticity limit) on :data:`WINDOW` (memoised on the
+    values of the parameters, however they are passed)."""
+    return _roots(float(theta), float(xi), float(Dhat), float(kH))
+
+
+@lru_cache(maxsize=64)
+def _roots(theta: float, xi: float, Dhat: float, kH: float):
     p = PlateParams(xi=xi, Dhat=Dhat)
     det = ip.critical_stretches_det(kH, theta, p, window=WINDOW, n_scan=N_SCAN)
     fe = ip.critical_stretches_fe(kH, theta, p, window=WINDOW, n_scan=N_SCAN)
@@ -125,9 +130,14 @@ KH_TENSION = (0.5, 2.0)
 KH_THIN = (0.01, 0.02, 0.05)
 
 
-@lru_cache(maxsize=64)
 def voltage_roots(theta: float, Vhat: float = VHAT, kH: float = KH, xi: float = XI):
-    """(determinant roots, FE roots) at fixed voltage on :data:`V_WINDOW`."""
+    """(determinant roots, FE roots) at fixed voltage on :data:`V_WINDOW` (memoised on
+    the values of the parameters)."""
+    return _voltage_roots(float(theta), float(Vhat), float(kH), float(xi))
+
+
+@lru_cache(maxsize=64)
+def _voltage_roots(theta: float, Vhat: float, kH: float, xi: float):
     p = PlateParams(xi=xi)
     lo = max(V_WINDOW[0], ip.ellipticity_limit(theta, p, window=(0.45, 0.999), Vhat=Vhat)
              * (1 + ip.LAM_E_MARGIN))
@@ -150,9 +160,14 @@ def voltage_methods_agree(entry: Entry) -> Outcome:
                    details={"max_abs_diff": err, "same_count": same, "roots": rows})
 
 
-@lru_cache(maxsize=64)
 def tension_roots(theta: float, Dhat: float, kH: float, xi: float = XI, fe: bool = True):
-    """(determinant roots, FE roots or ()) in the tension window :data:`T_WINDOW`."""
+    """(determinant roots, FE roots or ()) in the tension window :data:`T_WINDOW`
+    (memoised on the values of the parameters)."""
+    return _tension_roots(float(theta), float(Dhat), float(kH), float(xi), bool(fe))
+
+
+@lru_cache(maxsize=64)
+def _tension_roots(theta: float, Dhat: float, kH: float, xi: float, fe: bool):
     p = PlateParams(xi=xi, Dhat=Dhat)
     det = ip.critical_stretches_det(kH, theta, p, window=T_WINDOW, n_scan=N_SCAN)
     fer = (ip.critical_stretches_fe(kH, theta, p, window=T_WINDOW, n_scan=N_SCAN)
