@@ -165,11 +165,18 @@ def pullin_c_threshold(annulus: Annulus, *, definition: str = "before_loss_of_te
     for c in v.window("c_range", c_range, lo=-math.inf):
         CircularActuator(annulus, c=c)  # K(lamP) > 0 at both ends
     v.integer_at_least("n", n, 4)
+    return _c_threshold_on(branch(annulus, n=n), definition, c_range)
+
+
+def _c_threshold_on(br: Branch, definition: str, c_range=(-0.2, 0.0)) -> float:
+    """:func:`pullin_c_threshold` on the default-grid branch ``br`` (its ``n`` points),
+    without the argument checks (a caller that holds the branch shares it between the
+    definitions)."""
+    annulus = br.annulus
     lam_lot = None
-    br = branch(annulus, n=n)
     if definition == "before_loss_of_tension":
         lam_lot = loss_of_tension_stretch(br)
-        br = branch(annulus, lam=np.linspace(annulus.lamP, lam_lot, n))
+        br = branch(annulus, lam=np.linspace(annulus.lamP, lam_lot, br.lam.size))
     f = lambda c: _min_slope(br, c, definition, lam_lot)  # noqa: E731
     lo, hi = c_range
     if not (f(lo) > 0 > f(hi)):

@@ -206,10 +206,15 @@ def suppression_prestretch(entry: Entry) -> Outcome:
                    evidence=f"{EV}::test_suppression_prestretch_both_definitions_agree")
 
 
+#: branch points of the c-threshold search (as the evidence test)
+C_THRESHOLD_POINTS = 800
+
+
 def c_threshold(entry: Entry) -> Outcome:
+    """:func:`debench.models.circular.analysis.pullin_c_threshold` on the cached branch
+    (one per variant, shared by both definitions)."""
     d = _p(entry, "definition", "monotonic")
-    vals = {v: analysis.pullin_c_threshold(Annulus(_p(entry, "lamP"), equilibrium=v),
-                                           definition=d, n=800)
+    vals = {v: analysis._c_threshold_on(_branch(_p(entry, "lamP"), v, n=C_THRESHOLD_POINTS), d)
             for v in VARIANTS}
     diag = entry.diagnosis
     return Outcome(value=vals["printed"], details={"membrane": vals["membrane"]},
