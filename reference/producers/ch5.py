@@ -460,10 +460,24 @@ def wrinkling_search(ds) -> dict:
     """What the radius/thickness 20 ramps (``ch5_wrinkling.nc``) found, per mesh level:
     ``first`` -- a non-axisymmetric mode became unstable before pull-in (or before the path
     stalled); ``consistent`` -- the same outcome on every circumferential resolution; the
-    finest level's onset voltage, deflection / t0 and wavenumber (NaN: none)."""
+    finest level's onset voltage, deflection / t0 and wavenumber (NaN: none); per level the
+    deflection / t0 where the lowest non-axisymmetric eigenvalue is smallest before pull-in
+    (``w_min_lambda_over_t0``), that eigenvalue and its largest value on the same path."""
+    from debench.reference.builders.ch5 import lowest_nonaxisymmetric
     v_w = ds.v_wrinkling.values            # onsets before pull-in only (NaN: none)
     first = [bool(np.isfinite(a)) for a in v_w]
+    w_min, lam_max = [], []                # where the lowest non-axisymmetric eigenvalue dips,
+    #                                        and its largest value along the path
+    for lev in ds.level.values:
+        r = ds.sel(level=lev)
+        lam = lowest_nonaxisymmetric(r.eig_lam.values, r.eig_axisym.values)
+        upto = r.eig_w.values <= (float(r.w_pullin) if np.isfinite(float(r.w_pullin))
+                                  else np.inf)
+        lam = np.where(upto & np.isfinite(lam), lam, np.inf)
+        w_min.append(float(r.eig_w.values[int(np.argmin(lam))]))
+        lam_max.append(float(np.max(np.where(np.isfinite(lam), lam, -np.inf))))
     return {"first": first, "consistent": all(first) or not any(first),
+            "w_min_lambda_over_t0": w_min, "max_nonaxisymmetric_lambda": lam_max,
             "v": float(v_w[-1]), "w_over_t0": float(ds.w_wrinkling.values[-1]),
             "n": float(ds.n_wrinkling.values[-1]),
             "w_pullin_over_t0": [float(x) for x in ds.w_pullin.values],
@@ -485,6 +499,14 @@ def hypothesis_wrinkling(entry: Entry) -> Outcome:
     wrinkles = found["consistent"] and all(found["first"])
     value = found["w_over_t0"] * t0_mm if wrinkles else None
     status = "explained" if wrinkles else "unexplained"
+    from debench.reference.builders.ch5 import lowest_nonaxisymmetric
+    r10 = _ramps().sel(case="ogden_t0p5")     # the same film at the stated R/t0 = 10
+    lam10 = lowest_nonaxisymmetric(r10.eig_lambda.values, r10.eig_axisymmetry.values)
+    lam10 = lam10[np.isfinite(lam10) & (r10.eig_w.values <= float(r10.w_pullin))]
     return Outcome(value, status=status, details=found | {
-        "thickness_mm": t0_mm, "w_mm_finest": found["w_over_t0"] * t0_mm},
+        "thickness_mm": t0_mm, "w_mm_finest": found["w_over_t0"] * t0_mm,
+        "w_mm_dip_finest": found["w_min_lambda_over_t0"][-1] * t0_mm,
+        "dip_ratio": [a / b for a, b in zip(found["min_nonaxisymmetric_lambda"],
+                                            found["max_nonaxisymmetric_lambda"], strict=True)],
+        "dip_ratio_r10": float(np.min(lam10) / np.max(lam10))},
                    evidence=f"{EV_DATA}::test_curated_r20_wrinkling_search")
