@@ -235,7 +235,13 @@ def critical_D_max_area(params: PlateParams, Dhats, kH, lam, which="thesis") -> 
     Dhats = np.asarray(v.nonnegative("Dhats", Dhats), float)
     if Dhats.ndim != 1 or Dhats.size < 3 or np.any(np.diff(Dhats) <= 0):
         raise ValueError("Dhats must be an increasing 1-D array of >= 3 values")
-    A = area_curve(params, Dhats, kH, lam, which)
+    return _max_area_D(Dhats, area_curve(params, Dhats, kH, lam, which))
+
+
+def _max_area_D(Dhats, A) -> float:
+    """:func:`critical_D_max_area` from the areas ``A`` at ``Dhats`` (a caller that holds
+    memoised areas passes them)."""
+    Dhats, A = np.asarray(Dhats, float), np.asarray(A, float)
     i = int(np.argmax(A))
     if i == 0 or i == len(A) - 1:
         raise ConvergenceError(f"area maximum at the end of the Dhat range {Dhats[[0, -1]]}")

@@ -17,8 +17,8 @@ from functools import lru_cache
 import numpy as np
 from debench.models.plate import PlateParams, ellipticity_limit_stretch
 from debench.models.plate.analysis import (
+    _max_area_D,
     biot_equibiaxial_closed_form,
-    critical_D_max_area,
     critical_D_thin_extensional,
     half_space_limit,
     region,
@@ -238,8 +238,10 @@ def thin_plates_more_affected(entry: Entry) -> Outcome:
 def critical_D(xi: float, candidate: str, variant: str = "printed") -> float:
     p = PlateParams(xi=xi, variant=variant)
     if candidate == "max_area":
+        # critical_D_max_area(p, Ds, _kH(), _lam()) on the memoised areas (the Fig. 4.2
+        # producers use the same regions)
         Ds = np.round(np.arange(1.0, 4.01, 0.2), 6)
-        return critical_D_max_area(p, Ds, _kH(), _lam())
+        return _max_area_D(Ds, [area(float(xi), float(D), variant) for D in Ds])
     return critical_D_thin_extensional(p)
 
 
