@@ -4,7 +4,7 @@
 models (the analytic Chapter 3 model and :mod:`debench.models.circular.fe`) drop. These
 tests check its energy against the constitutive library and its pre-stretched state
 against the closed form; the thickness study (difference from the membrane FE as H -> 0)
-is not yet in the suite.
+is in ``verification/test_ch3_fe_thickness.py``.
 """
 
 from __future__ import annotations

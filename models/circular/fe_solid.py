@@ -248,6 +248,10 @@ class CircularSolidFE(BorderedContinuation):
               if abs(vx.point[0] - 1.0) < 1e-12 and abs(vx.point[1]) < 1e-14]
         self._i = self.fes.Range(0).start + VR.GetDofNrs(ng.NodeId(ng.VERTEX, iv[0]))[0]
         self._psi = np.arange(self.fes.Range(3).start, self.fes.Range(3).stop)
+        is_psi = np.zeros(self.fes.ndof)
+        is_psi[self._psi] = 1.0
+        self._rows_e = sp.diags(is_psi, format="csr")
+        self._rows_m = sp.diags(1.0 - is_psi, format="csr")
         self._E = np.nonzero(free)[0]
         self._F = self._E[self._E != self._i]
         self._tmp = self.gf.vec.CreateVector()
@@ -296,9 +300,7 @@ class CircularSolidFE(BorderedContinuation):
     def _bordered(self, x, p):
         Jm = self._mat(self._am, x)
         Je = self._mat(self._ae, x)
-        J = (Jm + p * Je).tolil()
-        J[self._psi, :] = Je[self._psi, :]
-        J = J.tocsr()
+        J = self._rows_m @ (Jm + p * Je) + self._rows_e @ Je   # psi rows: r_e alone
         _, dp = self._system(x, p)
         E, F = self._E, self._F
         M = sp.hstack([J[E][:, F], sp.csr_matrix(dp[E][:, None])]).tocsc()
@@ -325,6 +327,20 @@ class CircularSolidFE(BorderedContinuation):
             RR, ZZ = np.meshgrid(Rc, Zc)
             self._pts = self.mesh(RR.ravel(), ZZ.ravel())
         return self._pts
+
+    def at_centre_stretch(self, lam_centre: float) -> SolidState:
+        """The state on the rising branch whose centre stretch (lambda_theta at the axis,
+        the homogeneous stretch of circle A in the membrane theories) is ``lam_centre``
+        (> lamP): bracketed on the continuation grid in the edge stretch ``lam`` and
+        located by brentq to ROOT_XTOL in ``lam``. Raises ConvergenceError when the branch
+        cannot be followed that far."""
+        target = v.at_least("lam_centre", lam_centre, self.lamP)
+        if target == self.lamP:
+            return self.solve(self.lamP)
+        # lam <= lam_centre on the rising branch (circle A stretches most at its centre),
+        # so the crossing lies below lam = target + lam_step
+        return self._first_root(lambda s: target - s.lam_centre, target + self.lam_step,
+                                "centre stretch")
 
     # ------------------------------------------------------------------ post-processing
     def _finish(self, x, p, it, resid) -> SolidState:

@@ -273,6 +273,158 @@ def fe_suppression_prestretch(entry: Entry) -> Outcome:
                    evidence=entry.evidence)
 
 
+# ------------------------------------------------------------------ film thickness
+#: The thin-solid model (:mod:`debench.models.circular.fe_solid`) at lamP = 3 compared at
+#: equal centre stretch (lambda_theta at the axis, the homogeneous stretch of circle A in
+#: the membrane theories). Its mesh scales with H (square elements of size H/(2 nz) at the
+#: electrode edge), so that the edge layer of width ~H is resolved alike for every H.
+SOLID_LAMP = 3.0
+SOLID_LAM_CENTRE = 4.0
+SOLID_MESH_COARSE = dict(n_a=2, n_b=10, nz=1)
+#: films of the default run (H/R_A, halving); the converged study adds 0.025
+THICKNESS_H = (0.2, 0.1, 0.05)
+THICKNESS_H_FINE = (0.2, 0.1, 0.05, 0.025)
+#: the membrane FE reference of the H -> 0 limit: n_b = 40 is within 4e-8 of the
+#: membrane variant in Phibar (order 4, module docstring), far below the extrapolation
+#: uncertainty (>= 1e-6) it is compared with
+MEMBRANE_REFERENCE_MESH = dict(n_a=2, n_b=40, order=2)
+#: the edge layer of the solid (fringing field, electrode-edge singularity) has a width
+#: ~H, so the difference from the membrane is expected to fall at order 1 in H
+THICKNESS_ORDER_EXPECTED = 1.0
+#: the sequence counts as convergent in H when successive differences shrink at an
+#: observed order of at least this (a factor 2^0.5 per halving); measured on
+#: SOLID_MESH_COARSE at lam_centre = 4: 0.75 from H = 0.2, 0.1, 0.05 and 0.92 from
+#: 0.1, 0.05, 0.025 (pre-asymptotic, tending to the expected 1)
+THICKNESS_ORDER_MIN = 0.5
+#: floor of the extrapolation uncertainty: 25x the membrane reference's error (4e-8) and
+#: far above the Newton floor of Phibar (~1e-12)
+EXTRAPOLATION_FLOOR = 1e-6
+#: penalties of the independence check (the default PENALTY and a decade either side)
+PENALTIES = (1e4, 1e5, 1e6)
+
+
+def _solid(lamP, H, mesh, penalty=None):
+    from debench.models.circular.fe_solid import PENALTY, CircularSolidFE, SolidMesh
+
+    return CircularSolidFE(lamP, H, mesh=SolidMesh(**mesh),
+                           penalty=PENALTY if penalty is None else penalty)
+
+
+def solid_phibar(lamP: float, H: float, lam_centre: float, mesh: dict,
+                 penalty: float | None = None) -> float:
+    """Phibar of the thin solid of thickness H/R_A at centre stretch ``lam_centre``."""
+    return _solid(lamP, H, mesh, penalty).at_centre_stretch(lam_centre).phibar
+
+
+def penalty_spread(lamP: float, H: float, lam_centre: float, mesh: dict,
+                   penalties=PENALTIES) -> dict:
+    """Phibar of the solid at ``lam_centre`` for each augmented-Lagrangian factor kappa
+    (:data:`debench.models.circular.fe_solid.PENALTY`), the spread max - min, and the
+    thickness effect (solid - membrane FE) it is compared with."""
+    vals = [solid_phibar(lamP, H, lam_centre, mesh, k) for k in penalties]
+    mem = _fe(lamP, 0.0, MEMBRANE_REFERENCE_MESH).solve(lam_centre).phibar
+    return {"penalty": list(penalties), "phibar": vals,
+            "spread": float(max(vals) - min(vals)), "membrane_fe": mem,
+            "thickness_effect": float(vals[list(penalties).index(1e5)] - mem)
+            if 1e5 in penalties else math.nan}
+
+
+def h_limit(Hs, f, variants: dict) -> dict:
+    """Extrapolation of values ``f`` on films ``Hs`` (constant ratio r = H_k/H_k+1 > 1,
+    at least three) to H -> 0, beside the analytic ``variants`` {name: value}.
+
+    Observed order from the last three films, ``log(d1/d2)/log r`` with d1, d2 the
+    successive differences; Richardson at the expected order 1 from the two thinnest
+    films; its uncertainty ``extrapolation_error`` = |that - the extrapolation at the
+    observed order| (Aitken; covers a pre-asymptotic order), at least EXTRAPOLATION_FLOOR.
+    ``supports`` names the variant within that uncertainty of the H -> 0 value,
+    ``convergent`` says the observed order is >= THICKNESS_ORDER_MIN."""
+    Hs = [float(h) for h in Hs]
+    f = np.asarray(f, dtype=float)
+    if len(Hs) < 3 or len(f) != len(Hs):
+        raise ValueError(f"Hs must be >= 3 thicknesses with one value each, got {Hs}")
+    r = Hs[0] / Hs[1]
+    if not r > 1 or any(abs(a / b - r) > 1e-12 * r for a, b in zip(Hs[:-1], Hs[1:],
+                                                                    strict=True)):
+        raise ValueError(f"Hs must decrease at a constant ratio, got {Hs}")
+    d1, d2 = f[-3] - f[-2], f[-2] - f[-1]
+    order = math.log(d1 / d2) / math.log(r) if d1 * d2 > 0 else math.nan
+    rich = float(f[-1] - d2 / (r**THICKNESS_ORDER_EXPECTED - 1.0))
+    aitken = float(f[-1] - d2 / (r**order - 1.0)) if math.isfinite(order) and order > 0 \
+        else math.nan
+    err = max(abs(rich - aitken), EXTRAPOLATION_FLOOR) if math.isfinite(aitken) \
+        else math.inf
+    out = {"H": Hs, "values": f.tolist(), "order": float(order), "extrapolated": rich,
+           "extrapolated_observed_order": aitken, "extrapolation_error": float(err)}
+    for v, x in variants.items():
+        out[v] = float(x)
+        out[f"diff_{v}"] = rich - float(x)
+    near = [v for v in variants if abs(out[f"diff_{v}"]) <= err]
+    out["supports"] = near[0] if len(near) == 1 else ("both" if near else "neither")
+    out["convergent"] = bool(order >= THICKNESS_ORDER_MIN)
+    return out
+
+
+def thickness_study(lamP: float, lam_centre: float, Hs, mesh: dict,
+                    steps: int = ANALYTIC_STEPS) -> dict:
+    """Phibar of the thin solid at ``lam_centre`` for the films ``Hs``, its difference
+    from the membrane FE with the orders of that difference, and :func:`h_limit` beside
+    both analytic variants."""
+    f = np.array([solid_phibar(lamP, h, lam_centre, mesh) for h in Hs])
+    mem = _fe(lamP, 0.0, MEMBRANE_REFERENCE_MESH).solve(lam_centre).phibar
+    out = h_limit(Hs, f, {v: analytic_phibar(lamP, 0.0, v, [lam_centre], steps)[0]
+                          for v in VARIANTS})
+    diffs = f - mem
+    out.update(phibar=f.tolist(), membrane_fe=float(mem), diff_membrane_fe=diffs.tolist(),
+               orders=[math.log(a / b) / math.log(Hs[0] / Hs[1])
+                       for a, b in zip(diffs[:-1], diffs[1:], strict=True)])
+    return out
+
+
+#: loss of tension of the solid: searched up to this edge stretch (membrane 5.783,
+#: printed 6.729 in the centre stretch; the edge stretch is lower)
+LOT_LAM_HI = 7.0
+
+
+def thickness_loss_of_tension(lamP: float, Hs, mesh: dict,
+                              steps: int = ANALYTIC_STEPS) -> dict:
+    """The centre stretch at loss of tension of the thin solid (thickness-averaged radial
+    stress at the centre vanishes) for the films ``Hs``, beside the membrane FE and
+    :func:`h_limit` beside both analytic variants. ConvergenceError when a branch cannot
+    be followed to loss of tension."""
+    states = [_solid(lamP, h, mesh).loss_of_tension(LOT_LAM_HI) for h in Hs]
+    f = np.array([s.lam_centre for s in states])
+    mem = _fe(lamP, 0.0, MEMBRANE_REFERENCE_MESH).loss_of_tension(8.0).lam
+    out = h_limit(Hs, f, {v: analytic_events(lamP, 0.0, v, steps)["loss_of_tension"]
+                          for v in VARIANTS})
+    diffs = f - mem
+    out.update(lam_centre=f.tolist(), lam_edge=[s.lam for s in states],
+               phibar=[s.phibar for s in states], membrane_fe=float(mem),
+               diff_membrane_fe=diffs.tolist(),
+               orders=[math.log(a / b) / math.log(Hs[0] / Hs[1])
+                       for a, b in zip(diffs[:-1], diffs[1:], strict=True)])
+    return out
+
+
+def fe_thickness_phibar(entry: Entry) -> Outcome:
+    """``ch3.fe.thickness_*``: true when the thin solid's Phibar at the entry's centre
+    stretch, extrapolated to H -> 0 from :data:`THICKNESS_H` on
+    :data:`SOLID_MESH_COARSE`, meets exactly the variant named in ``parameters.variant``
+    and the sequence converges in H (observed order >= THICKNESS_ORDER_MIN)."""
+    p = entry.parameters
+    d = thickness_study(float(p["lamP"]), float(p["lam_centre"]), THICKNESS_H,
+                        SOLID_MESH_COARSE)
+    details = {k: d[k] for k in ("extrapolated", "extrapolation_error", "order",
+                                 "membrane_fe", "printed", "membrane", "diff_printed",
+                                 "diff_membrane")}
+    details["phibar_thickest"] = d["phibar"][0]
+    details["diff_thickest"] = d["diff_membrane_fe"][0]
+    return Outcome(value=bool(d["supports"] == p["variant"] and d["convergent"]),
+                   details=details, evidence=entry.evidence)
+
+
 __all__ = ["ACCURACY", "analytic_events", "analytic_phibar", "erratum_eq_3_32",
-           "event_support", "fe_event", "fe_suppression_prestretch", "interface_balance",
+           "event_support", "fe_event", "fe_suppression_prestretch", "fe_thickness_phibar",
+           "h_limit", "interface_balance", "penalty_spread", "solid_phibar",
+           "thickness_loss_of_tension", "thickness_study",
            "profile_comparison", "suppression_support", "voltage_stretch"]
