@@ -82,3 +82,13 @@ def test_thin_solid_tends_to_the_membrane_balance_converged(lam_centre, nz):
     Hs = P.THICKNESS_H_FINE if nz == 1 else P.THICKNESS_H
     d = P.thickness_study(P.SOLID_LAMP, lam_centre, Hs, mesh)
     assert d["supports"] == "membrane" and d["convergent"], d
+
+
+@pytest.mark.slow
+def test_solid_penalty_spread_with_the_edge_layer_refined():
+    """With the electrode-edge layer resolved twice as finely (nz = 2, H = 0.2) the spread
+    over kappa grows (the penalty acts at the edge singularity) but stays within
+    TOL_PENALTY."""
+    d = P.penalty_spread(P.SOLID_LAMP, 0.2, P.SOLID_LAM_CENTRE,
+                         dict(P.SOLID_MESH_COARSE, nz=2))
+    assert d["spread"] <= TOL_PENALTY, d

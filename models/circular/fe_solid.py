@@ -42,8 +42,9 @@ at Phibar = 0), then the stretch ``lam = 1 + u_R(R_A, 0)`` of the mid-plane at t
 edge is prescribed and ``Phibar^2`` is an unknown (bordered Newton,
 :class:`debench.models.circular.fe.BorderedContinuation`), so that pull-in can be passed.
 Reported stretch of circle A: ``lam_centre`` = lambda_theta at the axis (mid-plane), the
-homogeneous stretch of the membrane theory; loss of tension: the thickness-averaged radial
-Cauchy stress at the centre of circle A vanishes.
+homogeneous stretch of the membrane theory (:meth:`CircularSolidFE.at_centre_stretch`
+finds the state at a given one); loss of tension: the thickness-averaged radial Cauchy
+stress at the centre of circle A vanishes.
 
 Mesh: ``nz`` element rows through the half thickness; radially, square elements
 (size H/(2 nz)) at the electrode edge R = R_A, growing linearly away from it by
@@ -51,7 +52,20 @@ Mesh: ``nz`` element rows through the half thickness; radially, square elements
 ln-uniform size ln(R_B/R_A)/n_b in annulus B.
 
 Accuracy contract: Newton as :mod:`~debench.models.circular.fe` (relative update 1e-10);
-the discretisation error is that of the mesh (measured in ``verification/test_ch3_fe_solid.py``).
+the discretisation error is that of the mesh. It is dominated by the electrode edge, where
+the potential switches from Dirichlet to natural on the top face (a singular field) and
+the stretch lambda_R drops from the value in circle A to that of the annulus over a width
+~H: at H = 0.2, lamP = 3, centre stretch 4, Phibar moves by 4.4e-4 from nz = 1 to 2 and by
+2.7e-4 from 2 to 4 (order ~0.7 in the edge element size), by 4e-7 from n_b = 10 to 20
+and by 0 from n_a = 2 to 4. Because the mesh scales with H, this error is an edge-layer
+term of order H like the thickness effect itself: the limit H -> 0 on a fixed ``nz`` is
+the membrane (``verification/test_ch3_fe_thickness.py``).
+
+Limits: on under-resolved edge layers the bordered tangent becomes singular before loss
+of tension (a checkerboard pressure mode with the top-surface node just outside the
+electrode edge, where J departs from 1 by up to 9 % and lambda_R < 1), and the
+continuation raises ConvergenceError; where it occurs depends on the mesh, not
+monotonically on H or ``nz``.
 """
 
 from __future__ import annotations
@@ -73,7 +87,9 @@ from .params import JM_VHB, locking_stretch_equibiaxial
 #: augmented-Lagrangian factor kappa/mu of the consistent term kappa/2 (J - 1)^2 (zero with
 #: its derivative at J = 1): the Q2/Q1 multiplier enforces J = 1 only weakly, and at fixed
 #: potential the electric enthalpy has curvature ~ -3 Phibar^2 lambda^6 along pointwise
-#: J-violating modes (~1e4 near loss of tension at lamP = 3), which the term must dominate
+#: J-violating modes (~1e4 near loss of tension at lamP = 3), which the term must dominate.
+#: Phibar at lamP = 3, centre stretch 4 spreads by 2.4e-5 (H = 0.1, nz = 1) and 1.0e-4
+#: (H = 0.2, nz = 2) over kappa = 1e4 .. 1e6 (verification/test_ch3_fe_thickness.py)
 PENALTY = 1e5
 
 

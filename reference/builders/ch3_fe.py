@@ -9,6 +9,9 @@ equilibrium variants).
   analytic values of both variants (the convergence study behind the tolerances).
 * ``ch3_fe_profiles``: lambda1, lambda2, lambda3 in annulus B at lamP = 3, lam = 4 by FE and
   both variants (Figs 3.2-3.3).
+* ``ch3_fe_thickness``: Phibar of the thin solid (models/circular/fe_solid.py) at fixed
+  centre stretches, lamP = 3, per film thickness H, and its limit H -> 0 beside the
+  membrane FE and both variants.
 """
 
 from __future__ import annotations
@@ -115,6 +118,48 @@ def profiles(full: bool) -> xr.Dataset:
     return ds
 
 
+#: centre stretches of the thickness dataset (lamP = 3)
+THICKNESS_LAM_CENTRE = (4.0, 4.5)
+
+
+def thickness(full: bool) -> xr.Dataset:
+    """Phibar of the thin solid at fixed centre stretches (lamP = 3) per film thickness H
+    and through-thickness resolution nz, the membrane FE, both analytic variants and the
+    H -> 0 extrapolation per (nz, lam_centre)."""
+    Hs = P.THICKNESS_H_FINE if full else P.THICKNESS_H
+    nzs = (1, 2) if full else (1,)
+    lc = np.array(THICKNESS_LAM_CENTRE)
+    phib = np.full((len(nzs), len(Hs), len(lc)), np.nan)
+    extrap = np.empty((len(nzs), len(lc)))
+    err = np.empty((len(nzs), len(lc)))
+    order = np.empty((len(nzs), len(lc)))
+    for i, nz in enumerate(nzs):
+        mesh = dict(P.SOLID_MESH_COARSE, nz=nz)
+        hs = Hs if nz == 1 else P.THICKNESS_H
+        for k, lam_c in enumerate(lc):
+            d = P.thickness_study(P.SOLID_LAMP, float(lam_c), hs, mesh)
+            phib[i, :len(hs), k] = d["phibar"]
+            extrap[i, k], err[i, k], order[i, k] = (d["extrapolated"], d["extrapolation_error"],
+                                                    d["order"])
+    mem = np.array([P._fe(P.SOLID_LAMP, 0.0, P.MEMBRANE_REFERENCE_MESH).solve(float(x)).phibar for x in lc])
+    a = lambda what: {"long_name": what, "units": "1"}  # noqa: E731
+    vars_ = {"phibar_solid": (("nz", "H", "lam_centre"), phib, a("Phibar of the thin axisymmetric solid (NaN: not computed)")),
+             "phibar_extrapolated": (("nz", "lam_centre"), extrap, a("solid Phibar extrapolated to H -> 0 (Richardson, order 1, two thinnest films)")),
+             "extrapolation_error": (("nz", "lam_centre"), err, a("|order-1 minus observed-order extrapolation|")),
+             "order_observed": (("nz", "lam_centre"), order, a("observed order in H of the solid Phibar (three thinnest films)")),
+             "phibar_membrane_fe": ("lam_centre", mem, a("Phibar of the membrane FE"))}
+    for v in P.VARIANTS:
+        vars_[f"phibar_{v}"] = ("lam_centre", P.analytic_phibar(P.SOLID_LAMP, 0.0, v, lc), a(f"Phibar, analytic ({v})"))
+    ds = xr.Dataset(vars_, coords={
+        "nz": ("nz", np.array(nzs), a("element rows through the half thickness (edge elements H/(2 nz) square)")),
+        "H": ("H", np.array(Hs), a("undeformed film thickness H/R_A")),
+        "lam_centre": ("lam_centre", lc, a("centre stretch of circle A (lambda_theta at the axis)"))})
+    ds.attrs = {"model": "thin axisymmetric solid FE (models/circular/fe_solid.py) beside the membrane FE (models/circular/fe.py)",
+                "lamP": P.SOLID_LAMP, "solid_n_a": P.SOLID_MESH_COARSE["n_a"],
+                "solid_n_b": P.SOLID_MESH_COARSE["n_b"], "membrane_n_b": P.MEMBRANE_REFERENCE_MESH["n_b"]}
+    return ds
+
+
 DATASETS = {
     "ch3_fe_voltage_stretch": (voltage_stretch, "Chapter 3 voltage-stretch curves: finite elements vs both equilibrium variants",
                                "Phibar(lam) of the circular actuator by the axisymmetric membrane FE and by the analytic model with the printed (3.33) and the thin-membrane equilibrium."),
@@ -122,6 +167,8 @@ DATASETS = {
                            "Loss of tension (lamP = 3), pull-in (lamP = 1.25) and the interface stress jump per mesh, beside the analytic values of both equilibrium variants."),
     "ch3_fe_profiles": (profiles, "Chapter 3 annulus stretch profiles: finite elements vs both equilibrium variants",
                         "lambda1, lambda2, lambda3 in annulus B at lamP = 3, lambda(R_A) = 4 by FE and by the analytic model (printed and membrane)."),
+    "ch3_fe_thickness": (thickness, "Chapter 3 film thickness: the thin axisymmetric solid tends to the membrane balance",
+                         "Phibar at fixed centre stretches (lamP = 3) of the thin solid FE per film thickness H and through-thickness resolution, its extrapolation to H -> 0, the membrane FE and both analytic variants."),
 }
 
 
