@@ -137,15 +137,15 @@ def thickness(full: bool) -> xr.Dataset:
         mesh = dict(P.SOLID_MESH_COARSE, nz=nz)
         hs = Hs if nz == 1 else P.THICKNESS_H
         for k, lam_c in enumerate(lc):
-            d = P.thickness_study(P.SOLID_LAMP, float(lam_c), hs, mesh)
-            phib[i, :len(hs), k] = d["phibar"]
+            d = P.thickness_study("phibar", P.SOLID_LAMP, hs, mesh, float(lam_c))
+            phib[i, :len(hs), k] = d["values"]
             extrap[i, k], err[i, k], order[i, k] = (d["extrapolated"], d["extrapolation_error"],
                                                     d["order"])
     mem = np.array([P._fe(P.SOLID_LAMP, 0.0, P.MEMBRANE_REFERENCE_MESH).solve(float(x)).phibar for x in lc])
     a = lambda what: {"long_name": what, "units": "1"}  # noqa: E731
     vars_ = {"phibar_solid": (("nz", "H", "lam_centre"), phib, a("Phibar of the thin axisymmetric solid (NaN: not computed)")),
              "phibar_extrapolated": (("nz", "lam_centre"), extrap, a("solid Phibar extrapolated to H -> 0 (Richardson, order 1, two thinnest films)")),
-             "extrapolation_error": (("nz", "lam_centre"), err, a("|order-1 minus observed-order extrapolation|")),
+             "extrapolation_error": (("nz", "lam_centre"), err, a("uncertainty of the extrapolation: |order-1 minus observed-order extrapolation| + the in-plane mesh error of the membrane limit")),
              "order_observed": (("nz", "lam_centre"), order, a("observed order in H of the solid Phibar (three thinnest films)")),
              "phibar_membrane_fe": ("lam_centre", mem, a("Phibar of the membrane FE"))}
     for v in P.VARIANTS:
