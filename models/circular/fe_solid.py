@@ -65,7 +65,9 @@ Limits: on under-resolved edge layers the bordered tangent becomes singular befo
 of tension (a checkerboard pressure mode with the top-surface node just outside the
 electrode edge, where J departs from 1 by up to 9 % and lambda_R < 1), and the
 continuation raises ConvergenceError; where it occurs depends on the mesh, not
-monotonically on H or ``nz``.
+monotonically on H or ``nz``. It is not a turning point of the load: prescribing u_R at a
+mid-plane node inside circle A (R = 0.55) instead of at R_A stalls at the same state
+(H = 0.1, nz = 1: centre stretch 5.0704 both ways).
 """
 
 from __future__ import annotations
