@@ -130,7 +130,8 @@ class BorderedContinuation:
     the branch is followed through the pull-in maximum of Phibar. A subclass provides
     ``lamP``, ``lam_step``, ``_states``, the index sets ``_E`` (equations), ``_F`` (free
     unknowns), ``_i`` (the load), and ``_system(x, p) -> (residual, d residual/dp)``,
-    ``_bordered(x, p) -> (M, J)``, ``_admissible(x)``, ``_finish(x, p, it, resid)``; states
+    ``_bordered(x, p) -> (M, J)``, ``_admissible(x)``, ``_finish(x, p, it, resid)`` (and
+    ``gf``, ``_tmp`` for :meth:`_vec`); states
     have ``lam``, ``phibar2``, ``dphibar2_dlam``, ``sigma1A`` and ``x``.
     """
 
@@ -224,6 +225,13 @@ class BorderedContinuation:
             prev = cur
         raise ValueError(f"no {what} for lam in [{self.lamP}, {lam_hi}] (lamP = {self.lamP},"
                          f" c = {self.c})")
+
+    def _vec(self, form, x):
+        """The form applied at the nodal values ``x`` (the subclass's NGSolve GridFunction
+        ``gf`` and work vector ``_tmp``), as a new array."""
+        self.gf.vec.FV().NumPy()[:] = x
+        form.Apply(self.gf.vec, self._tmp)
+        return self._tmp.FV().NumPy().copy()
 
     def _load_value(self, lam):
         """The prescribed value of the load unknown at stretch ``lam`` (here r(R_A))."""
@@ -325,11 +333,6 @@ class CircularFE(BorderedContinuation):
         return self._finish(x, 0.0, 0, 0.0)
 
     # ------------------------------------------------------------------ assembly
-    def _vec(self, form, x):
-        self.gf.vec.FV().NumPy()[:] = x
-        form.Apply(self.gf.vec, self._tmp)
-        return self._tmp.FV().NumPy().copy()
-
     def _mat(self, form, x):
         """The tangent as a dense array (a 1-D mesh: at most a few hundred unknowns, where
         dense LU is faster than any sparse overhead)."""

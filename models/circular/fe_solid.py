@@ -290,11 +290,6 @@ class CircularSolidFE(BorderedContinuation):
         return self._finish(x, p2, it, resid)
 
     # ------------------------------------------------------------------ assembly
-    def _vec(self, form, x):
-        self.gf.vec.FV().NumPy()[:] = x
-        form.Apply(self.gf.vec, self._tmp)
-        return self._tmp.FV().NumPy().copy()
-
     def _mat(self, form, x):
         self.gf.vec.FV().NumPy()[:] = x
         form.AssembleLinearization(self.gf.vec)
