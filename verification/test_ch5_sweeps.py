@@ -137,3 +137,23 @@ def test_full_plan_meets_the_reference_contract():
     assert len([t for t in plan["ramps"] if t[1] == "nh_t1"]) >= 3
     assert len(ch5.LAYER_STUDY[True][1]) >= 3
     assert not any(t[1] in ch5.SCALE_COPIES for ts in plan.values() for t in ts)
+
+
+def test_task_cache_key_follows_the_task_module_settings(tmp_path, monkeypatch):
+    """A module-level setting that a task reads (e.g. a builder's EIG_EVERY) is part of the
+    key: the same function and arguments under another module source miss."""
+    import importlib
+    import inspect
+    import linecache
+    monkeypatch.syspath_prepend(str(tmp_path))
+    mod = tmp_path / "cache_probe_task.py"
+    mod.write_text("SETTING = 1\n\ndef task(x):\n    return {'y': x * SETTING}\n")
+    probe = importlib.import_module("cache_probe_task")
+    cache = ch5._TaskCache(tmp_path / "cache", "d" * 64)
+    cache.put((probe.task, 2), probe.task(2))
+    assert cache.get((probe.task, 2)) == {"y": 2}
+    mod.write_text("SETTING = 3\n\ndef task(x):\n    return {'y': x * SETTING}\n")
+    linecache.clearcache()
+    probe = importlib.reload(probe)
+    assert "SETTING = 3" in inspect.getsource(probe)
+    assert cache.get((probe.task, 2)) is None

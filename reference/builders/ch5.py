@@ -375,9 +375,10 @@ def _run_distributed(scheduler, tasks, todo, finished, progress) -> None:
 class _TaskCache:
     """Finished FE task results on disk, so that an interrupted sweep resumes.
 
-    A result is keyed on the task (function, arguments, the function's source) and on the
-    source of the modules of :mod:`debench.models` that it runs (:func:`models_digest`): a
-    change of the code that computes a result is a miss, never a stale hit.  Written atomically
+    A result is keyed on the task (function, arguments, the source of the whole module that
+    defines the function, so that its module-level settings count too) and on the source
+    of the modules of :mod:`debench.models` that it runs (:func:`models_digest`): a change of
+    the code that computes a result is a miss, never a stale hit.  Written atomically
     (temporary file + rename)."""
 
     def __init__(self, root: Path, code_digest: str):
@@ -392,8 +393,8 @@ class _TaskCache:
     def _path(self, task: tuple) -> Path:
         import inspect
         fn, *args = task
-        key = repr((fn.__module__, fn.__qualname__, tuple(args), inspect.getsource(fn),
-                    self.code_digest)).encode()
+        key = repr((fn.__module__, fn.__qualname__, tuple(args),
+                    inspect.getsource(sys.modules[fn.__module__]), self.code_digest)).encode()
         return self.root / f"{hashlib.sha256(key).hexdigest()[:32]}.pkl"
 
     def get(self, task: tuple):

@@ -35,22 +35,27 @@ from debench.reference.datasets import write_dataset
 NAME = "ch5_wrinkling"
 CASE = "ogden_t0p5"
 ASPECT = 20.0
-LEVELS = {False: (), True: (4.0, 3.0, 2.5, 2.0)}
-"""In-plane mesh sizes / t0: about 2 pi R/h = 31, 42, 50 and 63 quadratic elements around
-the rim (angular wavenumbers up to n ~ 8, 10, 12 and 15 resolved by at least two quadratic
-elements per half-wave). The search is converged-only: one R/t0 = 20 Ogden ramp with eigen-analyses
-costs ~10-20 CPU minutes, beyond the default reproduce's budget, so the default build
-writes nothing."""
+LEVELS = {False: (), True: (4.0, 3.0, 2.5, 2.0, 1.5)}
+"""In-plane mesh sizes / t0: about 2 pi R/h = 31, 42, 50, 63 and 84 quadratic elements
+around the rim (angular wavenumbers up to n ~ 8, 10, 12, 15 and 21 resolved by at least two
+quadratic elements per half-wave). The search is converged-only: one R/t0 = 20 Ogden ramp
+with eigen-analyses costs ~10-25 CPU minutes, beyond the default reproduce's budget, so the
+default build writes nothing."""
 LAYERS = 1
 ORDER = 2
-EIG_EVERY = 4
+EIG_EVERY = 1
+"""Eigen-analysis at every path point: the path steps 0.4 t0 in deflection at R/t0 = 20,
+and the lowest non-axisymmetric eigenvalue dips close to zero over ~1-2 t0, so sparser
+records could step over a short excursion below zero. An eigen-analysis costs ~1/10 of
+the Newton steps of one path point."""
 DV_MAX = 0.02
 #: a mode is non-axisymmetric when less than half of it is in the n = 0 harmonic
 AXISYM_MAX = 0.5
 
 
-def wrinkling_task(h_rel: float) -> dict:
-    """One radius/thickness 20 ramp as plain data (a Dask task): the RampResult fields."""
+def wrinkling_task(h_rel: float, eig_every: int) -> dict:
+    """One radius/thickness 20 ramp as plain data (a Dask task): the RampResult fields,
+    with the eigen-analysis every ``eig_every`` path points."""
     import dataclasses
 
     from debench.models.buckling.parameters import Discretisation, Plate
@@ -60,7 +65,7 @@ def wrinkling_task(h_rel: float) -> dict:
     mat_name, t0 = CASES[CASE]
     r = voltage_ramp(Plate(thickness=t0, aspect=ASPECT), _material(mat_name),
                      Discretisation(h_rel=h_rel, layers=LAYERS, order=ORDER),
-                     dv_max=DV_MAX, eig_every=EIG_EVERY, stop_on_stall=True)
+                     dv_max=DV_MAX, eig_every=eig_every, stop_on_stall=True)
     return {f.name: getattr(r, f.name) for f in dataclasses.fields(r)}
 
 
@@ -100,7 +105,7 @@ def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dat
     from debench.reference.builders.ch5 import run_tasks
 
     levels = LEVELS[full]
-    tasks = [(wrinkling_task, h) for h in levels]
+    tasks = [(wrinkling_task, h, EIG_EVERY) for h in levels]
     ramps = [RampResult(**d) for d in run_tasks(tasks, scheduler=scheduler, progress=progress)]
     found = [first_instability(r) for r in ramps]
     nstep = max(len(r.v) for r in ramps)
@@ -172,7 +177,7 @@ def figure(ds: xr.Dataset, fig_dir: Path) -> list[Path]:
     from debench.reference.figures import pyplot, save
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(5.8, 4.2))
-    for lev, style in zip(ds.level.values, ("-o", "--s", ":^"), strict=False):
+    for lev, style in zip(ds.level.values, ("-o", "--s", ":^", "-.v", "-D"), strict=False):
         r = ds.sel(level=lev)
         lam_min = lowest_nonaxisymmetric(r.eig_lam.values, r.eig_axisym.values, AXISYM_MAX)
         ok = np.isfinite(r.eig_w.values) & np.isfinite(lam_min)
