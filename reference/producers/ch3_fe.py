@@ -21,6 +21,7 @@ on n_b = 80: 1.3e-7 and 2.1e-9.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
@@ -303,10 +304,10 @@ EXTRAPOLATION_FLOOR = 1e-6
 PENALTIES = (1e4, 1e5, 1e6)
 
 
-def _solid(lamP, H, mesh, penalty=None):
+def _solid(lamP, H, mesh, penalty=None, c=0.0):
     from debench.models.circular.fe_solid import PENALTY, CircularSolidFE, SolidMesh
 
-    return CircularSolidFE(lamP, H, mesh=SolidMesh(**mesh),
+    return CircularSolidFE(lamP, H, c, mesh=SolidMesh(**mesh),
                            penalty=PENALTY if penalty is None else penalty)
 
 
@@ -366,8 +367,9 @@ def h_limit(Hs, f, variants: dict, mesh_error: float = 0.0) -> dict:
     return out
 
 
-def _membrane_fe_value(quantity: str, lamP: float, lam_centre: float, mesh: dict) -> float:
-    fe = _fe(lamP, 0.0, mesh)
+def _membrane_fe_value(quantity: str, lamP: float, c: float, lam_centre: float,
+                       mesh: dict) -> float:
+    fe = _fe(lamP, c, mesh)
     if quantity == "phibar":
         return fe.solve(lam_centre).phibar
     if quantity == "pullin_phibar":
@@ -375,8 +377,11 @@ def _membrane_fe_value(quantity: str, lamP: float, lam_centre: float, mesh: dict
     return fe.loss_of_tension(8.0).lam
 
 
-def _solid_value(quantity: str, lamP: float, H: float, lam_centre: float, mesh: dict):
-    model = _solid(lamP, H, mesh)
+def solid_value(quantity: str, lamP: float, c: float, H: float, lam_centre: float,
+                mesh: dict) -> float:
+    """One film of a thickness sequence: the thin solid's ``quantity`` (see
+    :func:`thickness_study`) at film thickness H/R_A on the solid mesh ``mesh``."""
+    model = _solid(lamP, H, mesh, c=c)
     if quantity == "phibar":
         return model.at_centre_stretch(lam_centre).phibar
     if quantity == "pullin_phibar":
@@ -384,11 +389,11 @@ def _solid_value(quantity: str, lamP: float, H: float, lam_centre: float, mesh: 
     return model.loss_of_tension(LOT_LAM_HI).lam_centre
 
 
-def _analytic_value(quantity: str, lamP: float, lam_centre: float, variant: str,
+def _analytic_value(quantity: str, lamP: float, c: float, lam_centre: float, variant: str,
                     steps: int) -> float:
     if quantity == "phibar":
-        return float(analytic_phibar(lamP, 0.0, variant, [lam_centre], steps)[0])
-    return float(analytic_events(lamP, 0.0, variant, steps)[quantity])
+        return float(analytic_phibar(lamP, c, variant, [lam_centre], steps)[0])
+    return float(analytic_events(lamP, c, variant, steps)[quantity])
 
 
 #: loss of tension of the solid: searched up to this edge stretch (membrane 5.783,
@@ -397,58 +402,166 @@ LOT_LAM_HI = 7.0
 THICKNESS_QUANTITIES = ("phibar", "pullin_phibar", "loss_of_tension")
 
 
-def thickness_study(quantity: str, lamP: float, Hs, mesh: dict, lam_centre: float = math.nan,
+def thickness_limit(quantity: str, lamP: float, c: float, lam_centre: float, Hs, f,
+                    membrane_fe: float, mesh_error: float,
                     steps: int = ANALYTIC_STEPS) -> dict:
-    """A quantity of the thin solid for the films ``Hs``: ``"phibar"`` (Phibar at centre
-    stretch ``lam_centre``), ``"pullin_phibar"`` (the maximum of Phibar, independent of the
-    stretch measure) or ``"loss_of_tension"`` (the centre stretch at which the
-    thickness-averaged radial stress at the centre vanishes); its difference from the
-    membrane FE with the orders of that difference, and :func:`h_limit` beside both
-    analytic variants. ``mesh_error``: the membrane FE on the solid's in-plane mesh (n_a,
-    n_b, P2) minus the reference, the error the H -> 0 limit inherits from that mesh."""
+    """:func:`h_limit` of the solid values ``f`` on the films ``Hs`` beside both analytic
+    variants, with the difference of each film from the membrane FE ``membrane_fe`` and
+    the orders of that difference. The FE values are inputs (recomputed by
+    :func:`thickness_study`, or read from the ``ch3_fe_thickness`` dataset); only the
+    analytic model (cheap) is evaluated here."""
     if quantity not in THICKNESS_QUANTITIES:
         raise ValueError(f"quantity must be one of {THICKNESS_QUANTITIES}, got {quantity!r}")
-    f = np.array([_solid_value(quantity, lamP, h, lam_centre, mesh) for h in Hs])
-    mem = _membrane_fe_value(quantity, lamP, lam_centre, MEMBRANE_REFERENCE_MESH)
-    inplane = dict(n_a=mesh["n_a"], n_b=mesh["n_b"], order=2)
-    mesh_error = _membrane_fe_value(quantity, lamP, lam_centre, inplane) - mem
-    out = h_limit(Hs, f, {v: _analytic_value(quantity, lamP, lam_centre, v, steps)
+    f = np.asarray(f, dtype=float)
+    out = h_limit(Hs, f, {v: _analytic_value(quantity, lamP, c, lam_centre, v, steps)
                           for v in VARIANTS}, mesh_error=mesh_error)
-    diffs = f - mem
-    out.update(quantity=quantity, membrane_fe=float(mem), mesh_error=float(mesh_error),
-               diff_membrane_fe=diffs.tolist(),
-               orders=[math.log(a / b) / math.log(Hs[0] / Hs[1])
+    diffs = f - membrane_fe
+    r = float(Hs[0]) / float(Hs[1])
+    out.update(quantity=quantity, lamP=float(lamP), c=float(c),
+               lam_centre=float(lam_centre), membrane_fe=float(membrane_fe),
+               mesh_error=float(mesh_error), diff_membrane_fe=diffs.tolist(),
+               orders=[math.log(a / b) / math.log(r) if a * b > 0 else math.nan
                        for a, b in zip(diffs[:-1], diffs[1:], strict=True)])
     return out
 
 
-#: films of each thickness entry on SOLID_MESH_COARSE. Loss of tension: ratio 4, because
-#: on this mesh family the continuation stalls (singular tangent at the electrode edge,
+def thickness_study(quantity: str, lamP: float, Hs, mesh: dict, lam_centre: float = math.nan,
+                    steps: int = ANALYTIC_STEPS, c: float = 0.0,
+                    stalled_as_nan: bool = False) -> dict:
+    """A quantity of the thin solid for the films ``Hs``, computed here: ``"phibar"``
+    (Phibar at centre stretch ``lam_centre``), ``"pullin_phibar"`` (the maximum of Phibar,
+    independent of the stretch measure) or ``"loss_of_tension"`` (the centre stretch at
+    which the thickness-averaged radial stress at the centre vanishes); its difference
+    from the membrane FE with the orders of that difference, and :func:`h_limit` beside
+    both analytic variants (:func:`thickness_limit`). ``mesh_error``: the membrane FE on
+    the solid's in-plane mesh (n_a, n_b, P2) minus the reference, the error the H -> 0
+    limit inherits from that mesh. ``stalled_as_nan``: a film whose continuation stalls
+    (ConvergenceError: the singular edge tangent of the solid) gets the value NaN, and
+    with it the limit (the dataset records the stall); otherwise the error propagates."""
+    from debench.models.errors import ConvergenceError
+
+    if quantity not in THICKNESS_QUANTITIES:
+        raise ValueError(f"quantity must be one of {THICKNESS_QUANTITIES}, got {quantity!r}")
+    f = []
+    for h in Hs:
+        try:
+            f.append(solid_value(quantity, lamP, c, h, lam_centre, mesh))
+        except ConvergenceError:
+            if not stalled_as_nan:
+                raise
+            f.append(math.nan)
+    f = np.array(f)
+    mem = _membrane_fe_value(quantity, lamP, c, lam_centre, MEMBRANE_REFERENCE_MESH)
+    inplane = dict(n_a=mesh["n_a"], n_b=mesh["n_b"], order=2)
+    mesh_error = _membrane_fe_value(quantity, lamP, c, lam_centre, inplane) - mem
+    return thickness_limit(quantity, lamP, c, lam_centre, Hs, f, mem, mesh_error, steps)
+
+
+#: films of the loss-of-tension sequence on SOLID_MESH_COARSE: ratio 4, because on this
+#: mesh family the continuation stalls (singular tangent at the electrode edge,
 #: :mod:`debench.models.circular.fe_solid`) before loss of tension at H = 0.1 and 0.025
-THICKNESS_FILMS = {"phibar": THICKNESS_H, "pullin_phibar": THICKNESS_H,
-                   "loss_of_tension": (0.2, 0.05, 0.0125)}
+LOT_FILMS = (0.2, 0.05, 0.0125)
+
+
+@dataclass(frozen=True)
+class FilmSequence:
+    """One thickness sequence of the ``ch3_fe_thickness`` dataset: the solid's
+    ``quantity`` at pre-stretch ``lamP``, Zhao-Suo factor ``c`` and (for ``"phibar"``)
+    centre stretch ``lam_centre`` on the films ``films`` (H/R_A, constant ratio), on
+    SOLID_MESH_COARSE with ``nz`` element rows through the half thickness."""
+
+    quantity: str
+    lamP: float
+    c: float
+    films: tuple
+    lam_centre: float = math.nan
+    nz: int = 1
+
+    @property
+    def name(self) -> str:
+        lc = "" if math.isnan(self.lam_centre) else f"_lc{self.lam_centre:g}"
+        return f"{self.quantity}_lamP{self.lamP:g}_c{self.c:g}{lc}_nz{self.nz}"
+
+
+#: the sequences of the default build (every ``ch3.fe.thickness_*`` entry reads one)
+THICKNESS_SEQUENCES = (
+    FilmSequence("phibar", SOLID_LAMP, 0.0, THICKNESS_H, SOLID_LAM_CENTRE),
+    FilmSequence("pullin_phibar", 1.25, 0.0, THICKNESS_H),
+    FilmSequence("loss_of_tension", SOLID_LAMP, 0.0, LOT_FILMS),
+    FilmSequence("phibar", SOLID_LAMP, -0.053, THICKNESS_H, SOLID_LAM_CENTRE),
+    # the other pre-stretches of Figs 3.4, 3.5, 3.8 at centre stretch lamP + 1
+    FilmSequence("phibar", 2.0, 0.0, THICKNESS_H, 3.0),
+    FilmSequence("phibar", 4.0, 0.0, THICKNESS_H, 5.0),
+)
+#: the converged build (``--full``) replaces the first and adds films and edge-layer
+#: resolutions: four films to H = 0.025 (nz = 1) and nz = 2, at centre stretches 4, 4.5
+THICKNESS_SEQUENCES_FULL = (
+    *(FilmSequence("phibar", SOLID_LAMP, 0.0, THICKNESS_H_FINE, lc) for lc in (4.0, 4.5)),
+    *(FilmSequence("phibar", SOLID_LAMP, 0.0, THICKNESS_H, lc, nz=2) for lc in (4.0, 4.5)),
+    *THICKNESS_SEQUENCES[1:],
+)
+
+
+def thickness_sequences(full: bool) -> tuple[FilmSequence, ...]:
+    """The film sequences of the ``ch3_fe_thickness`` dataset."""
+    return THICKNESS_SEQUENCES_FULL if full else THICKNESS_SEQUENCES
+
+
+@lru_cache(maxsize=2)
+def _thickness_data():
+    from debench.reference.datasets import read_dataset
+
+    return read_dataset("ch3_fe_thickness")
+
+
+def stored_sequence(ds, quantity: str, lamP: float, c: float,
+                    lam_centre: float = math.nan, nz: int = 1) -> dict:
+    """The films, solid values, membrane FE and in-plane mesh error of one sequence of
+    the ``ch3_fe_thickness`` dataset ``ds`` (matched on quantity, lamP, c, lam_centre,
+    nz); LookupError when the dataset holds no such sequence."""
+    lc = ds.lam_centre.values
+    hit = ((ds.quantity.values == quantity) & np.isclose(ds.lamP.values, lamP, rtol=0, atol=1e-12)
+           & np.isclose(ds.c.values, c, rtol=0, atol=1e-12) & (ds.nz.values == nz)
+           & ((np.isnan(lc) & math.isnan(lam_centre))
+              | np.isclose(lc, lam_centre, rtol=0, atol=1e-12)))
+    k = np.nonzero(hit)[0]
+    if len(k) != 1:
+        raise LookupError(f"ch3_fe_thickness holds {len(k)} sequences of {quantity} at "
+                          f"lamP = {lamP}, c = {c}, lam_centre = {lam_centre}, nz = {nz}")
+    k = int(k[0])
+    H = ds.H.values[k]
+    ok = np.isfinite(H)
+    return {"sequence": str(ds.sequence.values[k]), "H": H[ok].tolist(),
+            "values": ds.value_solid.values[k][ok].tolist(),
+            "membrane_fe": float(ds.membrane_fe.values[k]),
+            "mesh_error": float(ds.mesh_error.values[k])}
 
 
 def fe_thickness(entry: Entry) -> Outcome:
-    """``ch3.fe.thickness_*``: true when the thin solid's ``parameters.quantity``,
-    extrapolated to H -> 0 from :data:`THICKNESS_FILMS` on :data:`SOLID_MESH_COARSE`,
-    meets exactly the variant named in ``parameters.variant`` and the sequence converges
-    in H (observed order >= THICKNESS_ORDER_MIN)."""
+    """``ch3.fe.thickness_*``: true when the thin solid's ``parameters.quantity`` on the
+    film sequence stored in the ``ch3_fe_thickness`` dataset (SOLID_MESH_COARSE, nz = 1,
+    at ``parameters.c``), extrapolated to H -> 0, meets exactly the variant named in
+    ``parameters.variant`` and the sequence converges in H (observed order >=
+    THICKNESS_ORDER_MIN). No FE runs here: the evidence tests recompute the films."""
     p = entry.parameters
-    q = p["quantity"]
-    d = thickness_study(q, float(p["lamP"]), THICKNESS_FILMS[q], SOLID_MESH_COARSE,
-                        float(p.get("lam_centre", math.nan)))
+    q, lamP, c = p["quantity"], float(p["lamP"]), float(p["c"])
+    lc = float(p.get("lam_centre", math.nan))
+    s = stored_sequence(_thickness_data(), q, lamP, c, lc)
+    d = thickness_limit(q, lamP, c, lc, s["H"], s["values"], s["membrane_fe"],
+                        s["mesh_error"])
     details = {k: d[k] for k in ("extrapolated", "extrapolation_error", "mesh_error",
                                  "order", "membrane_fe", "printed", "membrane",
                                  "diff_printed", "diff_membrane")}
+    details["films"] = s["H"]
     details["thickest"] = d["values"][0]
     details["diff_thickest"] = d["diff_membrane_fe"][0]
     return Outcome(value=bool(d["supports"] == p["variant"] and d["convergent"]),
                    details=details, evidence=entry.evidence)
 
 
-__all__ = ["ACCURACY", "analytic_events", "analytic_phibar", "erratum_eq_3_32",
-           "event_support", "fe_event", "fe_suppression_prestretch", "fe_thickness",
-           "h_limit", "interface_balance", "penalty_spread", "solid_phibar",
+__all__ = ["ACCURACY", "FilmSequence", "analytic_events", "analytic_phibar",
+           "erratum_eq_3_32", "event_support", "fe_event", "fe_suppression_prestretch",
+           "fe_thickness", "h_limit", "interface_balance", "penalty_spread", "solid_phibar",
+           "solid_value", "stored_sequence", "thickness_limit", "thickness_sequences",
            "thickness_study",
            "profile_comparison", "suppression_support", "voltage_stretch"]
