@@ -39,6 +39,7 @@ leaves it, whatever its status.
 
 from __future__ import annotations
 
+import hashlib
 import importlib
 import math
 import re
@@ -200,33 +201,59 @@ _ENTRY_FIELDS = set(Entry.__dataclass_fields__) - {"file"}
 
 
 def load(directory: Path = CATALOGUE_DIR) -> list[Entry]:
-    """All catalogue entries, validated, in file then file order."""
+    """All catalogue entries, validated, in file then file order.
+
+    The files are parsed once per process and content: the parsed entries are memoised
+    on the directory and the bytes of its ``*.toml`` files (a sha256 of each), so an edit
+    of a file is seen by the next call while repeated calls (producers resolving a target
+    id, the report, the CLI) cost one read of the files. Every call returns a new list of
+    the same (frozen) entries: their tables (``parameters``, ``source``) are shared and
+    must not be mutated.
+    """
+    directory = Path(directory).resolve()
+    files = tuple((path.name, path.read_bytes())
+                  for path in sorted(directory.glob("*.toml")))
+    key = (str(directory), tuple((name, hashlib.sha256(text).hexdigest())
+                                 for name, text in files))
+    cached = _LOADED.get(key)
+    if cached is None:
+        cached = _parse(files)
+        _LOADED.clear()   # one content per directory and process is all that is reused
+        _LOADED[key] = cached
+    return list(cached)
+
+
+#: parsed entries by (directory, file names and content digests): see :func:`load`
+_LOADED: dict[tuple, tuple[Entry, ...]] = {}
+
+
+def _parse(files: tuple[tuple[str, bytes], ...]) -> tuple[Entry, ...]:
+    """Entries of the catalogue files given as (name, bytes), validated."""
     entries: list[Entry] = []
     seen: dict[str, str] = {}
-    for path in sorted(Path(directory).glob("*.toml")):
-        with open(path, "rb") as fh:
-            try:
-                doc = tomllib.load(fh)
-            except tomllib.TOMLDecodeError as exc:
-                raise CatalogueError(f"{path.name}: {exc}") from exc
+    for name, text in files:
+        try:
+            doc = tomllib.loads(text.decode("utf-8"))
+        except tomllib.TOMLDecodeError as exc:
+            raise CatalogueError(f"{name}: {exc}") from exc
         for raw in doc.get("entry", []):
             unknown = set(raw) - _ENTRY_FIELDS
             if unknown:
                 raise CatalogueError(
-                    f"{path.name}: {raw.get('id')}: unknown fields {sorted(unknown)}")
+                    f"{name}: {raw.get('id')}: unknown fields {sorted(unknown)}")
             if raw.get("kind") == "assumption" and "expected_status" not in raw:
                 raw = {**raw, "expected_status": "assumed"}
             try:
-                entry = Entry(**raw, file=path.name)
+                entry = Entry(**raw, file=name)
             except TypeError as exc:
-                raise CatalogueError(f"{path.name}: {raw.get('id')}: {exc}") from exc
+                raise CatalogueError(f"{name}: {raw.get('id')}: {exc}") from exc
             _validate(entry)
             if entry.id in seen:
                 raise CatalogueError(
-                    f"duplicate id {entry.id!r} in {path.name} and {seen[entry.id]}")
-            seen[entry.id] = path.name
+                    f"duplicate id {entry.id!r} in {name} and {seen[entry.id]}")
+            seen[entry.id] = name
             entries.append(entry)
-    return entries
+    return tuple(entries)
 
 
 def _validate(e: Entry) -> None:
