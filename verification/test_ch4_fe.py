@@ -112,6 +112,29 @@ def test_strip_fe_thin_limit_is_euler():
     assert fe == pytest.approx(det, rel=EULER_RTOL)
 
 
+def test_curated_euler_limit_is_the_live_one():
+    """The producer's FE root at kH = KH_EULER (ch4_fe_limits.nc) is the one solved now on
+    the same mesh, within the accuracy of a recomputed FE root (ACCURACY), beside the same
+    determinant root."""
+    live, curated = P.limit_comparison("euler"), P.curated_limit("euler")
+    assert curated.lam_det == live.lam_det and curated.level == live.level == 0
+    assert abs(curated.lam_fe - live.lam_fe) <= P.ACCURACY.tolerance(live.lam_fe)
+
+
+def test_a_stale_limit_row_raises(monkeypatch):
+    """A curated limit row whose determinant root is not the live one (here: moved by
+    1e-6), or a missing limit, is a LookupError naming the regeneration."""
+    ds = P._limits_data()
+    moved = ds.copy(deep=True)
+    moved["lam_det"].values[:] += 1e-6
+    monkeypatch.setattr(P, "_limits_data", lambda: moved)
+    with pytest.raises(LookupError, match="regenerate"):
+        P.curated_limit("euler")
+    monkeypatch.setattr(P, "_limits_data", lambda: ds.isel(limit=[0]))
+    with pytest.raises(LookupError, match="regenerate"):
+        P.curated_limit("euler")
+
+
 @pytest.mark.slow
 def test_strip_fe_thick_limit_is_biot():
     """kH -> inf (kH = 20, xi = Dhat = 0): lam_cr -> 0.66614, Biot's surface instability
@@ -119,6 +142,8 @@ def test_strip_fe_thick_limit_is_biot():
     the coarse FE by ~1e-4 (measured). Slow (~20-40 s): the default run's kH = 10 case of
     Fig. 4.5 checks the same boundary-layer regime."""
     assert P.biot_root() == pytest.approx(P.BIOT, abs=TOL_COARSE[10.0])
+    curated = P.curated_limit("biot")
+    assert abs(curated.lam_fe - P.biot_root()) <= P.ACCURACY.tolerance(curated.lam_fe)
 
 
 def _slope(errors, kH):

@@ -112,7 +112,10 @@ def test_bad_input_raises():
 
 
 def test_voltage_methods_agree_on_every_root():
-    """Voltage control: both methods, every root on the window, theta = 0 ... 90 deg."""
+    """Voltage control: both methods, every root on the window, theta = 0 ... 90 deg
+    (the FE solved now, and the producer's curated FE roots)."""
+    err, same, rows = prod.voltage_agreement("live")
+    assert same and len(rows) >= len(prod.THETAS) and err <= prod.TOL_AGREE, rows
     r = evaluate(by_id()["ch4.beyond.inplane.voltage_methods_agree"])
     assert r.status == "reproduced", r.details
     assert r.details["max_abs_diff"] <= prod.TOL_AGREE
@@ -130,8 +133,36 @@ def test_voltage_root_lies_on_the_charge_curve_of_its_own_field():
 
 
 def test_tension_wrinkling_with_field():
+    """Tension with a field: the claim holds with the FE solved now and with the
+    producer's curated FE roots."""
+    ok, rows, none_without_field = prod.tension_check("live")
+    assert ok and none_without_field, rows
     r = evaluate(by_id()["ch4.beyond.inplane.tension_wrinkling"])
     assert r.status == "reproduced", r.details
+
+
+def test_curated_fe_roots_are_the_live_ones():
+    """Every FE root the producers read from ch4_inplane_roots.nc is the FE root solved now
+    for the same window, within the accuracy of an FE root (ACCURACY: round-off of the
+    eigen-solver on another BLAS), and the counts agree."""
+    for case in prod.producer_cases():
+        live, curated = prod.fe_roots(case), prod.curated_fe_roots(case)
+        assert len(live) == len(curated), case
+        for a, b in zip(live, curated, strict=True):
+            assert abs(a - b) <= prod.ACCURACY.tolerance(a), (case, a, b)
+
+
+def test_a_case_missing_from_the_curated_roots_raises(monkeypatch):
+    """A window the curated dataset lacks (here: the dataset without its first case) is a
+    LookupError naming the regeneration, never a silent pass."""
+    ds = prod._roots_data()
+    monkeypatch.setattr(prod, "_roots_data", lambda: ds.isel(case=slice(1, None)))
+    with pytest.raises(LookupError, match="regenerate"):
+        prod.curated_fe_roots(prod.producer_cases()[0])
+    assert prod.curated_fe_roots(prod.producer_cases()[1]) == prod.curated_fe_roots(
+        prod.producer_cases()[1])
+    with pytest.raises(ValueError, match="fe_source"):
+        prod.max_disagreement(fe_source="cache")
 
 
 def test_tension_membrane_limit():

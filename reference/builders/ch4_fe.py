@@ -6,7 +6,10 @@ Datasets (in ``out_dir``):
   representative Fig. 4.2/4.5 cases (all cases with ``full``) beside the strip-FE root of
   the same parity, charge and voltage control, with the mesh level and DOFs;
 * ``ch4_fe_convergence.nc`` - root error against the determinant on four meshes
-  (sqrt 2 refinement) for one thin and one thick case, with the fitted order.
+  (sqrt 2 refinement) for one thin and one thick case, with the fitted order;
+* ``ch4_fe_limits.nc`` - the flexural FE root at the thick (Biot, kH = 20) and thin
+  (Euler, kH = 0.05) limits, xi = Dhat = 0, beside the determinant root, on the coarse
+  mesh the producers state their values for (the same with ``full``).
 """
 
 from __future__ import annotations
@@ -73,6 +76,32 @@ def convergence_dataset() -> tuple[xr.Dataset, dict]:
     return ds, orders
 
 
+def limits_dataset() -> xr.Dataset:
+    """The Biot and Euler limit roots (:func:`debench.reference.producers.ch4_fe.
+    limit_comparison`) on the producers' mesh level."""
+    rows = [prod.limit_comparison(name) for name in prod.LIMITS]
+    acc = prod.ACCURACY
+
+    def col(k):
+        return np.array([getattr(c, k) for c in rows])
+
+    tol = {"accuracy_rtol": acc.rtol, "accuracy_atol": acc.atol,
+           "accuracy_reason": acc.reason}
+    return xr.Dataset(
+        {"lam_det": ("limit", col("lam_det"), _attrs(
+            "critical stretch, exponential-ansatz determinant (method 1, derived), "
+            "flexural mode")),
+         "lam_fe": ("limit", col("lam_fe"), _attrs(
+             "critical stretch, plane-strain strip FE (method 3), flexural mode", **tol)),
+         "kH": ("limit", col("kH"), _attrs("wavenumber times thickness")),
+         "ndof": ("limit", col("ndof"), _attrs("free degrees of freedom")),
+         "level": ("limit", col("level"), _attrs("mesh level (sqrt 2 refinement)"))},
+        coords={"limit": ("limit", np.array(prod.LIMITS),
+                          {"long_name": "biot: thick plate kH -> inf (lit.plate."
+                                        "biot_thick_limit); euler: thin plate kH -> 0 "
+                                        "(lit.plate.euler_thin_limit)"})})
+
+
 def build(out_dir: Path, *, full: bool = False, progress: bool = True) -> list[Path]:
     out_dir = Path(out_dir)
     paths = [write_dataset(
@@ -90,4 +119,12 @@ def build(out_dir: Path, *, full: bool = False, progress: bool = True) -> list[P
         summary="Root error against the determinant on four meshes refined by sqrt 2; "
                 f"fitted orders {orders}.",
         parameters={**COMMON, "fitted_orders": orders}))
+    paths.append(write_dataset(
+        limits_dataset(), "ch4_fe_limits", out_dir=out_dir, overwrite=True,
+        title="Plate strip FE: the thick (Biot) and thin (Euler) limits",
+        summary="Flexural critical stretch of the plane-strain strip FE at kH = "
+                f"{prod.KH_BIOT:g} (Biot's surface instability 0.66614 as kH -> inf) and "
+                f"kH = {prod.KH_EULER:g} ((1 - lam_cr)/kH^2 -> 1/18, Euler buckling of a "
+                "plate) beside the determinant root, xi = Dhat = 0, coarse mesh.",
+        parameters={**COMMON, "xi": 0.0, "Dhat": 0.0, "level": prod.LIMITS_LEVEL}))
     return paths

@@ -15,9 +15,18 @@ Datasets (in ``out_dir``), all by the models of :mod:`debench.models.plate.inpla
 * ``ch4_inplane_voltage.nc`` - voltage control (Dhat = Vhat lam^2/beta along the
   path), window [max(lam_E (1 + ip.LAM_E_MARGIN), LAM_LO), V_HI] across lam = 1, both
   methods;
+* ``ch4_inplane_roots.nc`` - every root (both methods) of the windows the catalogue
+  producers compare (:func:`debench.reference.producers.ch4_inplane.producer_cases`:
+  compression, voltage control, tension); the producers read its FE roots (the same with
+  ``full``);
 
 and the figure ``figures/ch4_beyond_inplane.png`` (lam_cr against kH, theta, xi; tension
 and voltage control). ``full=True``: theta every 10 degrees, more kH, xi, Dhat and Vhat.
+
+Every window is solved through the producers' memo (:class:`Case`,
+:func:`~debench.reference.producers.ch4_inplane.det_roots`,
+:func:`~debench.reference.producers.ch4_inplane.fe_roots`), so a window shared by a
+dataset and the producers (the tension cases) is solved once per process.
 """
 
 from __future__ import annotations
@@ -29,6 +38,8 @@ import xarray as xr
 from debench.models.plate import PlateParams
 from debench.models.plate import inplane as ip
 from debench.reference.datasets import write_dataset
+from debench.reference.producers import ch4_inplane as prod
+from debench.reference.producers.ch4_inplane import Case
 
 THETA_FAST = (0.0, 30.0, 45.0, 60.0, 90.0)
 THETA_FULL = tuple(float(t) for t in range(0, 91, 10)) + (45.0,)
@@ -57,8 +68,9 @@ V_FULL = (0.1, 0.25, 0.5)
 V_HI = 1.5
 #: lower end of the scanned window, above the slender-plate Euler roots of interest
 LAM_LO = 0.6
-#: grid points of the scan (each method)
-N_SCAN = 40
+#: grid points of the scan (each method): the producers' grid, whose memo solves each
+#: window (:class:`Case`)
+N_SCAN = prod.N_SCAN
 COMMON = {"alpha": 0.0, "beta": 0.5, "mu": 1.0, "eps": 1.0,
           "fibre": "A = (cos theta, 0, sin theta), in the plane of the plate",
           "units": "mu = eps = 1, Dhat = D2/sqrt(mu eps), Vhat = V sqrt(eps/mu)/H",
@@ -98,10 +110,9 @@ def lam_cr_dataset(full: bool) -> xr.Dataset:
             for c, th in enumerate(thetas):
                 lam_e[a, b, c], lo = _lo(th, p)
                 for d, kh in enumerate(khs):
-                    det[a, b, c, d] = _largest(ip.critical_stretches_det(
-                        kh, th, p, window=(lo, 0.999), n_scan=N_SCAN))
-                    fe[a, b, c, d] = _largest(ip.critical_stretches_fe(
-                        kh, th, p, window=(lo, 0.999), n_scan=N_SCAN))
+                    case = Case("charge", th, xi, D, 0.0, kh, lo, 0.999)
+                    det[a, b, c, d] = _largest(prod.det_roots(case))
+                    fe[a, b, c, d] = _largest(prod.fe_roots(case))
     dims = ("xi", "Dhat", "theta", "kH")
     return xr.Dataset(
         {"lam_cr_det": (dims, det, _attrs(
@@ -126,8 +137,8 @@ def curves_dataset(full: bool) -> xr.Dataset:
         for c, th in enumerate(thetas):
             _, lo = _lo(th, p)
             for d, kh in enumerate(khs):
-                lam[a, c, d] = _largest(ip.critical_stretches_det(
-                    kh, th, p, window=(lo, 0.999), n_scan=N_SCAN))
+                lam[a, c, d] = _largest(prod.det_roots(
+                    Case("charge", th, xi, 0.0, 0.0, kh, lo, 0.999)))
     return xr.Dataset(
         {"lam_cr_det": (("xi", "theta", "kH"), lam, _attrs(
             "critical stretch (largest root above the ellipticity limit), determinant"))},
@@ -150,10 +161,9 @@ def tension_dataset(full: bool) -> xr.Dataset:
             m = ip.membrane_limit(th, p, window=(1.0, 8.0))
             memb[b, c] = np.nan if m is None else m
             for d, kh in enumerate(khs):
-                det[b, c, d] = _largest(ip.critical_stretches_det(
-                    kh, th, p, window=TENSION_WINDOW, n_scan=N_SCAN))
-                fe[b, c, d] = _largest(ip.critical_stretches_fe(
-                    kh, th, p, window=TENSION_WINDOW, n_scan=N_SCAN))
+                case = Case("charge", th, xi, D, 0.0, kh, *TENSION_WINDOW)
+                det[b, c, d] = _largest(prod.det_roots(case))
+                fe[b, c, d] = _largest(prod.fe_roots(case))
     dims = ("Dhat", "theta", "kH")
     return xr.Dataset(
         {"lam_cr_det": (dims, det, _attrs(
@@ -180,10 +190,9 @@ def voltage_dataset(full: bool) -> xr.Dataset:
         for c, th in enumerate(thetas):
             _, lo = _lo(th, p, Vhat=V)
             for d, kh in enumerate(khs):
-                det[b, c, d] = _largest(ip.critical_stretches_det(
-                    kh, th, p, window=(lo, V_HI), n_scan=N_SCAN, Vhat=V))
-                fe[b, c, d] = _largest(ip.critical_stretches_fe(
-                    kh, th, p, window=(lo, V_HI), n_scan=N_SCAN, Vhat=V))
+                case = Case("voltage", th, xi, 0.0, V, kh, lo, V_HI)
+                det[b, c, d] = _largest(prod.det_roots(case))
+                fe[b, c, d] = _largest(prod.fe_roots(case))
     dims = ("Vhat", "theta", "kH")
     return xr.Dataset(
         {"lam_cr_det": (dims, det, _attrs(
@@ -194,6 +203,53 @@ def voltage_dataset(full: bool) -> xr.Dataset:
                 "theta": _coord("theta", thetas, "fibre angle to the wave vector", "degree"),
                 "kH": _coord("kH", khs, "wavenumber times reference thickness")},
         attrs={"xi": xi})
+
+
+def roots_dataset() -> xr.Dataset:
+    """Every root, both methods, of the producers' windows (NaN-padded along ``root``),
+    with the accuracy of the FE roots and the agreement tolerance as attributes."""
+    cases = prod.producer_cases()
+    det = [prod.det_roots(c) for c in cases]
+    fe = [prod.fe_roots(c) for c in cases]
+    width = max([1, *(len(r) for r in det + fe)])
+
+    def padded(rows):
+        out = np.full((len(rows), width), np.nan)
+        for i, r in enumerate(rows):
+            out[i, :len(r)] = r
+        return out
+
+    def col(name):
+        return np.array([getattr(c, name) for c in cases], dtype=float)
+
+    acc = prod.ACCURACY
+    tol = {"accuracy_rtol": acc.rtol, "accuracy_atol": acc.atol,
+           "accuracy_reason": acc.reason, "fe_root_roundoff": ip.FE_ROOT_ROUNDOFF,
+           "agreement_tolerance": prod.TOL_AGREE}
+    return xr.Dataset(
+        {"lam_det": (("case", "root"), padded(det), _attrs(
+            "critical stretches in the window, exponential-ansatz determinant (method 1), "
+            "ascending; NaN-padded")),
+         "lam_fe": (("case", "root"), padded(fe), {**_attrs(
+             "critical stretches in the window, through-thickness FE (method 2), "
+             "ascending; NaN-padded"), **tol}),
+         "n_det": ("case", np.array([len(r) for r in det]), _attrs(
+             "number of determinant roots in the window")),
+         "n_fe": ("case", np.array([len(r) for r in fe]), _attrs(
+             "number of FE roots in the window")),
+         "control": ("case", np.array([c.control for c in cases]),
+                     {"long_name": "charge or voltage control"}),
+         "theta": ("case", col("theta"), _attrs("fibre angle to the wave vector", "degree")),
+         "xi": ("case", col("xi"), _attrs("anisotropy parameter")),
+         "Dhat": ("case", col("Dhat"), _attrs("Eulerian D2/sqrt(mu eps) (charge control)")),
+         "Vhat": ("case", col("Vhat"), _attrs(
+             "dimensionless voltage V sqrt(eps/mu)/H (voltage control; 0 under charge "
+             "control)")),
+         "kH": ("case", col("kH"), _attrs("wavenumber times reference thickness")),
+         "lam_lo": ("case", col("lo"), _attrs("lower end of the scanned window")),
+         "lam_hi": ("case", col("hi"), _attrs("upper end of the scanned window"))},
+        coords={"case": ("case", np.arange(len(cases)), _attrs("case index")),
+                "root": ("root", np.arange(width), _attrs("root index"))})
 
 
 def _save(fig, stem: Path) -> list[Path]:
@@ -327,5 +383,14 @@ def build(out_dir: Path, *, full: bool = False, progress: bool = True) -> list[P
                     + note,
             parameters={**common, "control": "voltage", "xi": vo.attrs["xi"],
                         "window_hi": V_HI}),
+        write_dataset(
+            roots_dataset(), "ch4_inplane_roots", out_dir=out_dir, overwrite=True,
+            title="In-plane fibre: every root of the windows the catalogue compares "
+                  "(beyond the thesis)",
+            summary="Every bifurcation stretch, by the exponential-ansatz determinant and by "
+                    "through-thickness finite elements, in the windows of the "
+                    "ch4.beyond.inplane.* entries: compression (charge control), voltage "
+                    "control and tension with a field, xi = 5. " + note,
+            parameters={**COMMON, "n_scan": N_SCAN, "lam_e_margin": ip.LAM_E_MARGIN}),
     ]
     return paths + figure(out_dir, lc, cu, te, vo)

@@ -9,11 +9,13 @@ here are called by the producers (on the coarse mesh, level 0) and by the eviden
 Every FE root is searched in a narrow bracket around the determinant root of the same
 parity; its value is fixed by the FE eigenvalue alone.
 
-The agreement producers read the FE roots from the curated dataset
-``ch4_fe_agreement.nc`` (the finite-element producers read curated data) and put each
-beside the determinant root recomputed live (:func:`curated_comparisons`); ``debench
-verify`` regenerates that dataset with the FE model and compares it with the curated one,
-and the evidence tests recompute the FE roots.
+The producers read the FE roots from curated datasets (the finite-element producers read
+curated data): the agreement producers from ``ch4_fe_agreement.nc``, each FE root beside
+the determinant root recomputed live (:func:`curated_comparisons`); the Biot and Euler
+producers from ``ch4_fe_limits.nc`` (:func:`curated_limit`), whose determinant root is
+recomputed live too and must be the one the FE root was searched next to. ``debench
+verify`` regenerates both datasets with the FE model and compares them with the curated
+ones, and the evidence tests recompute the FE roots.
 """
 
 from __future__ import annotations
@@ -177,27 +179,93 @@ def curated_comparisons(cases, control: str = "charge") -> list[Comparison]:
     return out
 
 
+def _biot_det_root() -> float:
+    """The flexural determinant root at kH = KH_BIOT, xi = Dhat = 0 (the FE root of
+    :func:`biot_root` is searched around the determinant roots of both parities, which
+    coincide to ~exp(-kH))."""
+    r = critical_stretches(KH_BIOT, PlateParams(xi=0.0, Dhat=0.0, variant="derived"))
+    return float(next(x for x, p in zip(r.lam, r.parity, strict=True) if p == "E"))
+
+
 @lru_cache(maxsize=8)
-def biot_root(level: int = 0) -> float:
+def biot_comparison(level: int = 0) -> Comparison:
     """FE critical stretch at kH = KH_BIOT, xi = Dhat = 0 (flexural mode; the extensional
-    one coincides to ~exp(-kH))."""
+    one coincides to ~exp(-kH)) beside the flexural determinant root."""
     from debench.models.plate import strip_fe
 
     lam = critical_stretches(KH_BIOT, PlateParams(xi=0.0, Dhat=0.0, variant="derived")).lam
     br = (min(lam) * (1 - BRACKET), max(lam) * (1 + BRACKET))
-    return strip_fe.critical_stretch(KH_BIOT, br, "E", strip_fe.material_for(0.0), Dhat=0.0,
-                                     mesh=strip_fe.default_mesh(KH_BIOT, level=level)).lam
+    fe = strip_fe.critical_stretch(KH_BIOT, br, "E", strip_fe.material_for(0.0), Dhat=0.0,
+                                   mesh=strip_fe.default_mesh(KH_BIOT, level=level))
+    return Comparison(0.0, 0.0, KH_BIOT, "E", "charge", _biot_det_root(), fe.lam, fe.ndof,
+                      level)
 
 
-@lru_cache(maxsize=8)
+def biot_root(level: int = 0) -> float:
+    """FE critical stretch at kH = KH_BIOT, xi = Dhat = 0 (flexural mode)."""
+    return biot_comparison(level).lam_fe
+
+
+def euler_comparison(level: int = 0) -> Comparison:
+    """The flexural FE root at kH = KH_EULER, xi = Dhat = 0 beside the determinant root."""
+    return next(c for c in compare(0.0, 0.0, KH_EULER, level=level) if c.parity == "E")
+
+
 def euler_slope(level: int = 0) -> tuple[float, float]:
     """(1 - lam_cr)/kH^2 at kH = KH_EULER, xi = Dhat = 0: FE and determinant.
 
     Plate theory (Euler buckling at vanishing membrane stress, literature entry
     lit.plate.euler_thin_limit) gives 1/18 as kH -> 0.
     """
-    c = next(c for c in compare(0.0, 0.0, KH_EULER, level=level) if c.parity == "E")
+    c = euler_comparison(level)
     return (1 - c.lam_fe) / KH_EULER**2, (1 - c.lam_det) / KH_EULER**2
+
+
+#: the limits the producers read from ``ch4_fe_limits.nc`` (:func:`curated_limit`), on the
+#: mesh level the producers' values are stated for (coarse, as the evidence tests)
+LIMITS = ("biot", "euler")
+LIMITS_LEVEL = 0
+
+
+def limit_comparison(name: str, level: int = LIMITS_LEVEL) -> Comparison:
+    """The FE root of limit ``name`` (one of :data:`LIMITS`) computed now."""
+    if name not in LIMITS:
+        raise ValueError(f"limit must be one of {LIMITS}, got {name!r}")
+    return biot_comparison(level) if name == "biot" else euler_comparison(level)
+
+
+@lru_cache(maxsize=4)
+def _limits_data():
+    return read_dataset("ch4_fe_limits")
+
+
+def curated_limit(name: str) -> Comparison:
+    """The FE root of limit ``name`` from the curated ``ch4_fe_limits.nc`` beside the
+    flexural determinant root recomputed now.
+
+    Raises ``LookupError`` when the dataset lacks the limit or its determinant root is not
+    the live one within :data:`SAME_DET_ROOT` (the determinant moved or the dataset is
+    stale).
+    """
+    ds = _limits_data()
+    names = [str(x) for x in ds["limit"].values]
+    if name not in names:
+        raise LookupError(f"ch4_fe_limits.nc lacks the {name} limit; regenerate it "
+                          "(debench reproduce ch4_fe --write-data)")
+    row = ds.isel(limit=names.index(name))
+    kH = KH_BIOT if name == "biot" else KH_EULER
+    lam = (_biot_det_root() if name == "biot" else
+           next(x for x, p in zip(*_determinant_roots(0.0, 0.0, kH, "charge"), strict=True)
+                if p == "E"))
+    if (float(row["kH"]) != kH or int(row["level"]) != LIMITS_LEVEL
+            or not abs(float(row["lam_det"]) - lam) <= SAME_DET_ROOT):
+        raise LookupError(
+            f"ch4_fe_limits.nc: the {name} row (kH = {float(row['kH'])}, level "
+            f"{int(row['level'])}, lam_det = {float(row['lam_det']):.12g}) is not beside the "
+            f"live determinant root {lam:.12g} at kH = {kH}, level {LIMITS_LEVEL}; regenerate "
+            "it (debench reproduce ch4_fe --write-data)")
+    return Comparison(0.0, 0.0, kH, "E", "charge", float(lam), float(row["lam_fe"]),
+                      int(row["ndof"]), int(row["level"]))
 
 
 # ------------------------------------------------------------------ producers
@@ -227,14 +295,17 @@ def agreement_voltage(entry: Entry) -> Outcome:
 
 
 def biot_limit(entry: Entry) -> Outcome:
-    """Thick-plate limit: FE lam_cr at kH = KH_BIOT against Biot's 0.66614."""
-    v = biot_root()
+    """Thick-plate limit: FE lam_cr at kH = KH_BIOT (curated ``ch4_fe_limits.nc``) against
+    Biot's 0.66614."""
+    v = curated_limit("biot").lam_fe
     return Outcome(v, evidence=f"{EV}::test_strip_fe_thick_limit_is_biot",
                    details={"kH": KH_BIOT, "biot": BIOT})
 
 
 def euler_limit(entry: Entry) -> Outcome:
-    """Thin-plate limit: FE (1 - lam_cr)/kH^2 at kH = KH_EULER against plate theory 1/18."""
-    fe, det = euler_slope()
+    """Thin-plate limit: FE (1 - lam_cr)/kH^2 at kH = KH_EULER (FE root of the curated
+    ``ch4_fe_limits.nc``, determinant live) against plate theory 1/18."""
+    c = curated_limit("euler")
+    fe, det = (1 - c.lam_fe) / KH_EULER**2, (1 - c.lam_det) / KH_EULER**2
     return Outcome(fe, evidence=f"{EV}::test_strip_fe_thin_limit_is_euler",
                    details={"kH": KH_EULER, "determinant": det, "plate_theory": 1 / 18})
