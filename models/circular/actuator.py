@@ -459,7 +459,7 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
         v.integer_at_least("steps", steps, 4)
     if isinstance(jobs, str | bytes) or not hasattr(jobs, "__iter__"):
         raise TypeError(f"jobs must be a list of (branch, cs, eps_r), got {jobs!r}")
-    checked = []
+    checked, actuators = [], []
     for job in jobs:
         if not (isinstance(job, tuple | list) and len(job) == 3):
             raise TypeError(f"each job must be a tuple (branch, cs, eps_r), got {job!r:.80}")
@@ -471,8 +471,9 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
         cs_ = np.atleast_1d(v.finite("cs", cs)) if cs else []
         eps_r_ = EPS_R_ASSUMED if eps_r is None else eps_r
         eps_rs = np.broadcast_to(v.positive("eps_r", eps_r_), (len(cs_),))
-        for c, e in zip(cs_, eps_rs, strict=True):
-            CircularActuator(br.annulus, c=float(c), eps_r=float(e), mu=mu)
+        # validated once here; the curves below carry these actuators
+        actuators.append([CircularActuator(br.annulus, c=float(c), eps_r=float(e), mu=mu)
+                          for c, e in zip(cs_, eps_rs, strict=True)])
         checked.append((br, cs, eps_r))
     jobs = checked
     results = [None] * len(jobs)
@@ -570,10 +571,10 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
             p2 = circle_a._p2(lam_, T1_, row[5], jobs[row[0]][0].annulus.kappa)
             ev = Event(ev.kind, ev.lam, float(np.sqrt(max(p2, 0.0))), ev.q)
         located[(row[0], row[1], row[2])] = ev
-    for jb, (br, cs, eps_rs, data) in enumerate(prepared):
+    for jb, (br, cs, _eps_rs, data) in enumerate(prepared):
         out = []
         for i, c in enumerate(cs):
-            act = CircularActuator(br.annulus, c=c, eps_r=eps_rs[i], mu=mu)
+            act = actuators[jb][i]
             phibar, pb = data[i]
             events = {k: located.get((jb, i, k)) for k in EVENT_KINDS}
             cands = [e for k, e in events.items() if k in FAILURE_KINDS and e is not None]

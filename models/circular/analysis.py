@@ -17,6 +17,7 @@ import math
 import numpy as np
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError
+from scipy.interpolate import PchipInterpolator
 from scipy.optimize import brentq
 
 from . import circle_a
@@ -70,17 +71,36 @@ def state_at_voltage(br: Branch, c: float, phibar: float) -> dict:
 
 
 def _states_at_voltage(br: Branch, cs, phibar: float) -> list[dict]:
-    """:func:`state_at_voltage` for several c on one branch, in one vectorised iteration.
+    """:func:`state_at_voltage` for several c on one branch, in one vectorised iteration
+    (see :func:`_states_at_voltage_many`)."""
+    cs = list(cs)
+    return _states_at_voltage_many([br] * len(cs), cs, [phibar] * len(cs))
 
-    Every c follows exactly the iteration of :func:`state_at_voltage` (same bracket, same
-    safeguarded Newton steps, same stopping rule); the shooting integrations of all c are
-    done together. No argument checks (callers validate); ValueError if Phibar is not
-    reached for some c, ConvergenceError if an iteration does not converge.
+
+def _states_at_voltage_many(brs, cs, phibars) -> list[dict]:
+    """:func:`state_at_voltage` for the triples ``(brs[k], cs[k], phibars[k])``, in one
+    vectorised iteration.
+
+    The branches may differ in the pre-stretch and the equilibrium variant (same R_B/R_A,
+    Jm and RK4 steps): their shooting integrations are done together, with per-trajectory
+    pre-stretch and balance. Every triple follows exactly the iteration of
+    :func:`state_at_voltage` (same bracket, same safeguarded Newton steps, same stopping
+    rule). No argument checks (callers validate); ValueError if a Phibar is not reached,
+    ConvergenceError if an iteration does not converge.
     """
-    kappa = br.annulus.kappa
+    if not brs:
+        return []
+    an0, steps = brs[0].annulus, brs[0].steps
+    if any((b.annulus.radius_ratio, b.annulus.Jm, b.steps) != (an0.radius_ratio, an0.Jm, steps)
+           for b in brs):
+        raise ValueError("branches must differ only in lamP and equilibrium")
+    kappa = an0.kappa
     cs = np.asarray(cs, float)
+    phibars = np.asarray(phibars, float)
+    lamP = np.array([b.annulus.lamP for b in brs], float)
+    mem = np.array([b.annulus.equilibrium == "membrane" for b in brs])
     a, b, fa, fb = (np.empty(cs.size) for _ in range(4))
-    for k, c in enumerate(cs):
+    for k, (br, c, phibar) in enumerate(zip(brs, cs, phibars, strict=True)):
         with np.errstate(divide="ignore", invalid="ignore"):  # K <= 0: NaN, no crossing
             p2 = np.where(circle_a._K(br.lam, c) > 0, circle_a._p2(br.lam, br.T1, c, kappa),
                           np.nan)
@@ -97,9 +117,9 @@ def _states_at_voltage(br: Branch, cs, phibar: float) -> list[dict]:
         act = np.nonzero(~done)[0]
         if not act.size:
             break
-        st = _interface_state(br.annulus, q[act], steps=br.steps)
+        st = _interface_state(an0, q[act], steps=steps, lamP=lamP[act], membrane=mem[act])
         p2c = circle_a._p2(st.lam_c, st.T1_c, cs[act], kappa)
-        r, dr = p2c.real - phibar**2, p2c.imag / 1e-30
+        r, dr = p2c.real - phibars[act]**2, p2c.imag / 1e-30
         zero = r == 0
         done[act[zero]] = True
         act, r, dr = act[~zero], r[~zero], dr[~zero]
@@ -115,8 +135,9 @@ def _states_at_voltage(br: Branch, cs, phibar: float) -> list[dict]:
         q[act] = qn
     else:
         if not done.all():
-            raise ConvergenceError(f"state_at_voltage: no convergence for Phibar = {phibar}")
-    st = _interface_state(br.annulus, q, steps=br.steps)
+            raise ConvergenceError(f"state_at_voltage: no convergence for Phibar = "
+                                   f"{phibars[~done]}")
+    st = _interface_state(an0, q, steps=steps, lamP=lamP, membrane=mem)
     return [{"lam": float(lam), "lam1B": float(lam1), "lam3A": float(lam) ** -2,
              "lam3B": 1 / (float(lam1) * float(lam)), "q": float(qq)}
             for lam, lam1, qq in zip(st.lam, st.lam1, q, strict=True)]
@@ -168,20 +189,92 @@ def pullin_c_threshold(annulus: Annulus, *, definition: str = "before_loss_of_te
     return _c_threshold_on(branch(annulus, n=n), definition, c_range)
 
 
-def _c_threshold_on(br: Branch, definition: str, c_range=(-0.2, 0.0)) -> float:
+def _c_threshold_on(br: Branch, definition: str, c_range=(-0.2, 0.0),
+                    lam_lot: float | None = None, br_lot: Branch | None = None) -> float:
     """:func:`pullin_c_threshold` on the default-grid branch ``br`` (its ``n`` points),
     without the argument checks (a caller that holds the branch shares it between the
-    definitions)."""
-    annulus = br.annulus
-    lam_lot = None
+    definitions). For ``"before_loss_of_tension"`` only: ``lam_lot``, the loss-of-tension
+    stretch of this annulus when the caller has it located already (else located on
+    ``br``), and ``br_lot``, the branch at ``n`` stretches uniform on [lamP, lam_lot]
+    when the caller has traced it already (see :func:`_lot_grids`)."""
     if definition == "before_loss_of_tension":
-        lam_lot = loss_of_tension_stretch(br)
-        br = branch(annulus, lam=np.linspace(annulus.lamP, lam_lot, br.lam.size))
+        if lam_lot is None:
+            lam_lot = loss_of_tension_stretch(br)
+        br = br_lot if br_lot is not None else _lot_grids([br], [lam_lot])[0]
+    else:
+        lam_lot = None
+    annulus = br.annulus
     f = lambda c: _min_slope(br, c, definition, lam_lot)  # noqa: E731
     lo, hi = c_range
     if not (f(lo) > 0 > f(hi)):
         raise ConvergenceError(f"pull-in c threshold not bracketed in {c_range} for {annulus}")
     return _brentq(f, lo, hi, OUTER_XTOL, "pull-in c threshold")
+
+
+def _lot_grids(brs, lam_lots) -> list[Branch]:
+    """The branches of the "before_loss_of_tension" c threshold: ``brs[k].lam.size``
+    stretches uniform on [lamP, lam_lots[k]], all in one batched Newton iteration
+    (:func:`_branches_at`)."""
+    return _branches_at(brs, [np.linspace(br.annulus.lamP, lot, br.lam.size)
+                              for br, lot in zip(brs, lam_lots, strict=True)])
+
+
+#: relative Newton tolerance on the shooting parameter of :func:`_branches_at` (that of
+#: :func:`~debench.models.circular.shooting.q_for_stretch`, which it batches)
+NEWTON_RTOL = 1e-13
+
+
+def _branches_at(brs, lams, maxiter: int = 30) -> list[Branch]:
+    """``branch(br.annulus, lam=lams[k])`` for every ``brs[k]``: the branches at given
+    stretches, all annuli in one batched Newton iteration on q (per-trajectory pre-stretch
+    and equilibrium; same R_B/R_A, Jm and RK4 steps).
+
+    The Newton start is the shooting parameter interpolated (PCHIP) on ``brs[k]`` itself,
+    so no scan is needed; the iteration stops, as in ``q_for_stretch``, when every step
+    satisfies ``|dq| <= NEWTON_RTOL |q|``, so the points agree with those of
+    :func:`~debench.models.circular.actuator.branch` to that tolerance. Stretches must
+    lie in ``[lamP, br.lam_end]`` (ValueError); ConvergenceError otherwise.
+    """
+    an0, steps = brs[0].annulus, brs[0].steps
+    if any((b.annulus.radius_ratio, b.annulus.Jm, b.steps) != (an0.radius_ratio, an0.Jm, steps)
+           for b in brs):
+        raise ValueError("branches must differ only in lamP and equilibrium")
+    lams = [np.asarray(x, float) for x in lams]
+    for br, lam in zip(brs, lams, strict=True):
+        if lam.ndim != 1 or np.any(lam < br.annulus.lamP) or np.any(lam > br.lam_end):
+            raise ValueError(f"stretches must lie in [lamP, {br.lam_end:.6g}] (the traced "
+                             f"branch of {br.annulus})")
+    sizes = [x.size for x in lams]
+    lam = np.concatenate(lams)
+    q = np.concatenate([PchipInterpolator(br.lam, br.q)(x) for br, x in
+                        zip(brs, lams, strict=True)])
+    lamP = np.repeat([b.annulus.lamP for b in brs], sizes)
+    mem = np.repeat([b.annulus.equilibrium == "membrane" for b in brs], sizes)
+    for _ in range(maxiter):
+        st = _interface_state(an0, q, steps=steps, lamP=lamP, membrane=mem)
+        r = st.lam - lam
+        if np.any(~np.isfinite(r)):
+            raise ConvergenceError(f"shooting: trajectory left the admissible set near "
+                                   f"lam = {lam[~np.isfinite(r)][:3]}")
+        dq = r / st.dlam
+        q = q - dq
+        if np.all(np.abs(dq) <= NEWTON_RTOL * np.abs(q)):
+            break
+    else:
+        raise ConvergenceError(f"shooting Newton: max |dq| = {np.max(np.abs(dq)):.3g} "
+                               f"after {maxiter} iterations")
+    st = _interface_state(an0, q, steps=steps, lamP=lamP, membrane=mem)
+    out, k = [], 0
+    for br, n in zip(brs, sizes, strict=True):
+        sl = slice(k, k + n)
+        k += n
+        if not np.all(np.isfinite(st.lam[sl])) or np.any(np.diff(st.lam[sl]) <= 0):
+            raise ConvergenceError(f"annulus branch of {br.annulus}: non-monotone or "
+                                   "inadmissible points")
+        out.append(Branch(annulus=br.annulus, lam=st.lam[sl], q=q[sl], lam1=st.lam1[sl],
+                          T1=st.T1[sl], dlam=st.dlam[sl], dT1=st.dT1[sl],
+                          lam_end=br.lam_end, steps=steps))
+    return out
 
 
 def _brentq(f, lo, hi, xtol, what):

@@ -18,7 +18,7 @@ from functools import lru_cache
 
 import numpy as np
 from debench.models.circular import analysis, circle_a, params
-from debench.models.circular.actuator import branch, branches, curves_many
+from debench.models.circular.actuator import branches, curves_many
 from debench.models.circular.params import Annulus
 from debench.reference.catalogue import Accuracy, Entry, Outcome
 
@@ -61,12 +61,24 @@ PLAN_SWEEP_LAMP = (1.25, 2.0, 3.0)
 
 def _branch(lamP: float, equilibrium: str = "printed", radius_ratio: float = 15.0,
             n: int = BRANCH_POINTS):
-    """The annulus branch (cached, keyed on the arguments and :func:`_model_key`)."""
+    """The annulus branch (cached, keyed on the arguments and :func:`_model_key`).
+
+    A miss traces its siblings with it in one batched pass (:func:`branches`): both
+    variants at this pre-stretch, and every :data:`PLAN_LAMP` when ``n`` is
+    :data:`BRANCH_POINTS` and the geometry the plan's."""
     mk = _model_key()
     key = (float(lamP), equilibrium, float(radius_ratio), int(n), mk)
     if key not in _BRANCHES:
-        _BRANCHES[key] = branch(Annulus(float(lamP), float(radius_ratio), mk[0], equilibrium),
-                                n=int(n))
+        lamPs = {float(lamP)}
+        if int(n) == BRANCH_POINTS and float(radius_ratio) == 15.0:
+            lamPs |= set(PLAN_LAMP)
+        need = [(lp, eq) for lp in sorted(lamPs) for eq in dict.fromkeys((equilibrium,
+                                                                          *VARIANTS))
+                if (lp, eq, float(radius_ratio), int(n), mk) not in _BRANCHES]
+        brs = branches([Annulus(lp, float(radius_ratio), mk[0], eq) for lp, eq in need],
+                       n=int(n))
+        for (lp, eq), br in zip(need, brs, strict=True):
+            _BRANCHES[(lp, eq, float(radius_ratio), int(n), mk)] = br
     return _BRANCHES[key]
 
 
@@ -100,12 +112,6 @@ def _compute_curves(keys, mk) -> None:
     keys = [k for k in dict.fromkeys(keys) if (*k, mk) not in _CURVES]
     if not keys:
         return
-    need = sorted({(k[3], k[0]) for k in keys
-                   if (k[0], k[3], 15.0, BRANCH_POINTS, mk) not in _BRANCHES})
-    if need:   # the branches of both variants in one batched trace
-        brs = branches([Annulus(lp, 15.0, mk[0], eq) for eq, lp in need], n=BRANCH_POINTS)
-        for (eq, lp), br in zip(need, brs, strict=True):
-            _BRANCHES[(lp, eq, 15.0, BRANCH_POINTS, mk)] = br
     groups: dict = {}
     for k in keys:
         groups.setdefault((k[0], k[3]), []).append(k)
@@ -162,17 +168,47 @@ _STATES: dict = {}
 
 
 def _state_cached(lamP, equilibrium, c, phibar, model_key):
-    """On a miss, the state for c = 0 (the reference of every comparison) is computed in
-    the same vectorised iteration."""
+    """On a miss, the states for c = 0 (the reference of every comparison) and for both
+    equilibrium variants are computed in the same vectorised iteration."""
     key = (lamP, equilibrium, c, phibar, model_key)
     if key not in _STATES:
-        cs = tuple(dict.fromkeys((0.0, c)))
-        br = _branch(lamP, equilibrium)
-        for ci in cs:   # the public function's argument checks
+        todo = [(eq, ci) for eq in dict.fromkeys((equilibrium, *VARIANTS))
+                for ci in dict.fromkeys((0.0, c))
+                if (lamP, eq, ci, phibar, model_key) not in _STATES]
+        brs = [_branch(lamP, eq) for eq, _ in todo]
+        for br, (_, ci) in zip(brs, todo, strict=True):   # the public function's checks
             params.CircularActuator(br.annulus, c=ci)
-        for ci, st in zip(cs, analysis._states_at_voltage(br, cs, phibar), strict=True):
-            _STATES[(lamP, equilibrium, ci, phibar, model_key)] = st
+        sts = analysis._states_at_voltage_many(brs, [ci for _, ci in todo],
+                                               [phibar] * len(todo))
+        for (eq, ci), st in zip(todo, sts, strict=True):
+            _STATES[(lamP, eq, ci, phibar, model_key)] = st
     return _STATES[key]
+
+
+_PROFILES: dict = {}
+
+
+def _profiles(lamP, c, phibar, equilibrium) -> tuple:
+    """Stretch profiles (lambda_1, lambda_2 from R_A outwards) of the states at Phibar for
+    c = 0 and ``c``: both equilibrium variants in one integration (cached, keyed on the
+    arguments and :func:`_model_key`)."""
+    from debench.models.circular.shooting import _integrate_inward
+
+    mk = _model_key()
+    key = (float(lamP), float(c), float(phibar), mk)
+    if key not in _PROFILES:
+        rows = [(eq, ci) for eq in VARIANTS for ci in (0.0, float(c))]
+        q = np.array([_state(lamP, eq, ci, phibar)["q"] for eq, ci in rows])
+        an = _branch(lamP, VARIANTS[0]).annulus
+        _, _, _, P1, P2 = _integrate_inward(
+            an, q, profile=True, lamP=np.full(q.size, an.lamP),
+            membrane=np.array([eq == "membrane" for eq, _ in rows]))
+        if not (np.all(np.isfinite(P1)) and np.all(np.isfinite(P2))):
+            raise ValueError(f"inadmissible annulus profile at lamP = {lamP}, "
+                             f"Phibar = {phibar}")
+        _PROFILES[key] = {row: (P1[::-1, k], P2[::-1, k]) for k, row in enumerate(rows)}
+    prof = _PROFILES[key]
+    return prof[(equilibrium, 0.0)], prof[(equilibrium, float(c))]
 
 
 def annulus_interface_change(entry: Entry) -> Outcome:
@@ -214,8 +250,16 @@ def c_threshold(entry: Entry) -> Outcome:
     """:func:`debench.models.circular.analysis.pullin_c_threshold` on the cached branch
     (one per variant, shared by both definitions)."""
     d = _p(entry, "definition", "monotonic")
-    vals = {v: analysis._c_threshold_on(_branch(_p(entry, "lamP"), v, n=C_THRESHOLD_POINTS), d)
-            for v in VARIANTS}
+    lamP = _p(entry, "lamP")
+    brs = [_branch(lamP, v, n=C_THRESHOLD_POINTS) for v in VARIANTS]
+    lots, br_lots = [None] * len(VARIANTS), [None] * len(VARIANTS)
+    if d == "before_loss_of_tension":
+        # the loss-of-tension stretches from the shared curves, the branches up to them
+        # of both variants in one batched Newton iteration
+        lots = [_lot(lamP, v) for v in VARIANTS]
+        br_lots = analysis._lot_grids(brs, lots)
+    vals = {v: analysis._c_threshold_on(br, d, lam_lot=lot, br_lot=bl)
+            for v, br, lot, bl in zip(VARIANTS, brs, lots, br_lots, strict=True)}
     diag = entry.diagnosis
     return Outcome(value=vals["printed"], details={"membrane": vals["membrane"]},
                    diagnosis=diag, evidence=f"{EV}::test_c_threshold_between_grid_values")
@@ -375,14 +419,11 @@ def _check_failure_modes(entry, eps_r, eq):
 
 
 def _check_annulus_profile(entry, eps_r, eq):
-    from debench.models.circular.shooting import integrate_inward
     br = _branch(_p(entry, "lamP"), eq)
     ok = True
     msgs = []
-    for c in (0.0, _p(entry, "c")):
-        s = _state(_p(entry, "lamP"), eq, c, _p(entry, "phibar"))
-        l1, l2, t, P1, P2 = integrate_inward(br.annulus, np.array([s["q"]]), profile=True)
-        p1, p2 = P1[::-1, 0], P2[::-1, 0]  # from R_A outwards
+    profs = _profiles(_p(entry, "lamP"), _p(entry, "c"), _p(entry, "phibar"), eq)
+    for c, (p1, p2) in zip((0.0, _p(entry, "c")), profs, strict=True):
         mono = bool(np.all(np.diff(p1) > 0) and np.all(np.diff(p2) < 0))
         near = abs(p1[-1] - br.annulus.lamP) / br.annulus.lamP
         ok &= mono and near < _p(entry, "rel_gap_at_RB")
@@ -391,13 +432,7 @@ def _check_annulus_profile(entry, eps_r, eq):
 
 
 def _check_difference_decays(entry, eps_r, eq):
-    from debench.models.circular.shooting import integrate_inward
-    br = _branch(_p(entry, "lamP"), eq)
-    prof = []
-    for c in (0.0, _p(entry, "c")):
-        s = _state(_p(entry, "lamP"), eq, c, _p(entry, "phibar"))
-        _, _, t, P1, P2 = integrate_inward(br.annulus, np.array([s["q"]]), profile=True)
-        prof.append((P1[::-1, 0], P2[::-1, 0]))
+    prof = _profiles(_p(entry, "lamP"), _p(entry, "c"), _p(entry, "phibar"), eq)
     d1 = np.abs(prof[1][0] - prof[0][0])
     d3 = np.abs(1 / (prof[1][0] * prof[1][1]) - 1 / (prof[0][0] * prof[0][1]))
     ok = bool(np.all(np.diff(d1) < 0) and d1[-1] < 0.05 * d1[0] and d3[-1] < 0.05 * d3[0])
