@@ -10,8 +10,8 @@ equilibrium variants).
 * ``ch3_fe_profiles``: lambda1, lambda2, lambda3 in annulus B at lamP = 3, lam = 4 by FE and
   both variants (Figs 3.2-3.3).
 * ``ch3_fe_thickness``: the thin solid (models/circular/fe_solid.py) on film sequences
-  H -> 0: Phibar at a fixed centre stretch (lamP = 3, c = 0 and -0.053), Phibar at pull-in
-  (lamP = 1.25), the loss-of-tension stretch (lamP = 3), each beside the membrane FE and
+  H -> 0: Phibar at a fixed centre stretch (lamP = 3, c = 0 and -0.053; lamP = 2, 4 at centre
+  stretch lamP + 1), Phibar at pull-in (lamP = 1.25), the loss-of-tension stretch (lamP = 3), each beside the membrane FE and
   both variants, with the limit H -> 0 (the ``ch3.fe.thickness_*`` entries read it).
 """
 
@@ -179,7 +179,7 @@ def thickness(full: bool) -> xr.Dataset:
 #: the thin-solid thickness dataset first: the costliest, and the others do not need it
 DATASETS = {
     "ch3_fe_thickness": (thickness, "Chapter 3 film thickness: the thin axisymmetric solid on film sequences H -> 0",
-                         "Film sequences of the thin solid FE (Phibar at a fixed centre stretch for lamP = 3 and c = 0, -0.053; Phibar at pull-in for lamP = 1.25; the loss-of-tension centre stretch for lamP = 3) per film thickness H, the extrapolation to H -> 0, the membrane FE with the in-plane mesh error and both analytic variants."),
+                         "Film sequences of the thin solid FE (Phibar at a fixed centre stretch for lamP = 3 and c = 0, -0.053, and for lamP = 2, 4 at centre stretch lamP + 1; Phibar at pull-in for lamP = 1.25; the loss-of-tension centre stretch for lamP = 3) per film thickness H, the extrapolation to H -> 0, the membrane FE with the in-plane mesh error and both analytic variants."),
     "ch3_fe_voltage_stretch": (voltage_stretch, "Chapter 3 voltage-stretch curves: finite elements vs both equilibrium variants",
                                "Phibar(lam) of the circular actuator by the axisymmetric membrane FE and by the analytic model with the printed (3.33) and the thin-membrane equilibrium."),
     "ch3_fe_convergence": (convergence, "Chapter 3 finite-element convergence study",

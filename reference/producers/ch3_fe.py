@@ -489,6 +489,9 @@ THICKNESS_SEQUENCES = (
     FilmSequence("pullin_phibar", 1.25, 0.0, THICKNESS_H),
     FilmSequence("loss_of_tension", SOLID_LAMP, 0.0, LOT_FILMS),
     FilmSequence("phibar", SOLID_LAMP, -0.053, THICKNESS_H, SOLID_LAM_CENTRE),
+    # the other pre-stretches of Figs 3.4, 3.5, 3.8 at centre stretch lamP + 1
+    FilmSequence("phibar", 2.0, 0.0, THICKNESS_H, 3.0),
+    FilmSequence("phibar", 4.0, 0.0, THICKNESS_H, 5.0),
 )
 #: the converged build (``--full``) replaces the first and adds films and edge-layer
 #: resolutions: four films to H = 0.025 (nz = 1) and nz = 2, at centre stretches 4, 4.5
