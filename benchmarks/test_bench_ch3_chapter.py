@@ -9,8 +9,9 @@ from cold caches. The previous version is read from git history
 (:data:`PREVIOUS_COMMIT`, by :mod:`benchmarks.baseline`; skipped without a git checkout);
 its values are asserted equal to the current ones within the producers' stored
 tolerance. CPU seconds (``time.process_time``), one thread (conftest), best of
-:data:`ROUNDS`. Run: ``python -m pytest benchmarks/test_bench_ch3_chapter.py
---benchmark-only -s`` (about 30 s of CPU).
+:data:`ROUNDS` alternating rounds (the pytest-benchmark time is that of all rounds, old
+and new). Run: ``python -m pytest benchmarks/test_bench_ch3_chapter.py --benchmark-only
+-s`` (about 35 s of CPU).
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ from debench.reference.builders import ch3 as builder
 from debench.reference.producers import ch3 as producers
 
 #: the Chapter 3 analytic code before the shared producer branches, batched states and
-#: profiles (models/circular, the ch3 builder and producers)
+#: profiles and the stacked RK4 (models/circular, the ch3 builder and producers)
 PREVIOUS_COMMIT = "272a5de"
 PREVIOUS_FILES = {
     "actuator": "models/circular/actuator.py",
@@ -33,7 +34,7 @@ PREVIOUS_FILES = {
     "ch3_builder": "reference/builders/ch3.py",
     "ch3_producers": "reference/producers/ch3.py",
 }
-ROUNDS = 2
+ROUNDS = 3
 
 
 def _entries():
@@ -59,9 +60,16 @@ def _chapter(build, prod, entries):
     return t1 - t0, time.process_time() - t1, out
 
 
-def _best(build, prod, entries):
-    runs = [_chapter(build, prod, entries) for _ in range(ROUNDS)]
-    return min(r[0] for r in runs), min(r[1] for r in runs), runs[-1][2]
+def _alternating(old, new, entries):
+    """Best of :data:`ROUNDS` rounds for each of ``old`` and ``new`` (builder, producers
+    modules), the rounds alternating so that a change of the machine's load between
+    them biases neither: ((builder s, producers s, outcomes) of old, of new)."""
+    runs = {0: [], 1: []}
+    for _ in range(ROUNDS):
+        for k, (build, prod) in enumerate((old, new)):
+            runs[k].append(_chapter(build, prod, entries))
+    return tuple((min(r[0] for r in runs[k]), min(r[1] for r in runs[k]), runs[k][-1][2])
+                 for k in (0, 1))
 
 
 def _same(a, b):
@@ -83,9 +91,9 @@ def test_bench_whole_chapter_cpu_previous_vs_current(benchmark):
     entries = _entries()
     # import costs (catalogue, builder modules) paid before timing
     _chapter(builder, producers, entries[:1])
-    ob, op, o_out = _best(old["ch3_builder"], old["ch3_producers"], entries)
-    nb, np_, n_out = benchmark.pedantic(_best, args=(builder, producers, entries), rounds=1,
-                                        iterations=1)
+    (ob, op, o_out), (nb, np_, n_out) = benchmark.pedantic(
+        _alternating, args=((old["ch3_builder"], old["ch3_producers"]),
+                            (builder, producers), entries), rounds=1, iterations=1)
     bad = [e.id for e, a, b in zip(entries, o_out, n_out, strict=True)
            if not _same(a.value, b.value)]
     assert not bad, bad
