@@ -127,6 +127,19 @@ def test_thin_solid_film_sequence_meets_the_membrane_balance(entry_id):
     _status_follows_the_limit(entry, P.fe_thickness(entry))
 
 
+def test_stored_analytic_variants_are_the_analytic_model():
+    """The printed (3.33) and membrane values stored beside each film sequence (which the
+    producer reads) are what the analytic model gives now (RK4, ANALYTIC_STEPS)."""
+    ds = P._thickness_data()
+    for k in range(ds.sizes["sequence"]):
+        q, lamP, c, lc = (str(ds.quantity.values[k]), float(ds.lamP.values[k]),
+                          float(ds.c.values[k]), float(ds.lam_centre.values[k]))
+        for v in P.VARIANTS:
+            stored = float(ds[f"value_{v}"].values[k])
+            got = P._analytic_value(q, lamP, c, lc, v, P.ANALYTIC_STEPS)
+            assert _close(got, stored), (str(ds.sequence.values[k]), v, got, stored)
+
+
 @pytest.mark.parametrize("entry_id", _FAST)
 def test_thin_solid_thickest_film_recomputes(entry_id):
     """The thickest film of the stored sequence recomputed by the thin solid (the cheap

@@ -404,17 +404,19 @@ THICKNESS_QUANTITIES = ("phibar", "pullin_phibar", "loss_of_tension")
 
 def thickness_limit(quantity: str, lamP: float, c: float, lam_centre: float, Hs, f,
                     membrane_fe: float, mesh_error: float,
-                    steps: int = ANALYTIC_STEPS) -> dict:
+                    steps: int = ANALYTIC_STEPS, variants: dict | None = None) -> dict:
     """:func:`h_limit` of the solid values ``f`` on the films ``Hs`` beside both analytic
     variants, with the difference of each film from the membrane FE ``membrane_fe`` and
     the orders of that difference. The FE values are inputs (recomputed by
-    :func:`thickness_study`, or read from the ``ch3_fe_thickness`` dataset); only the
-    analytic model (cheap) is evaluated here."""
+    :func:`thickness_study`, or read from the ``ch3_fe_thickness`` dataset); so are the
+    analytic ``variants`` {name: value} when given, else they are computed here."""
     if quantity not in THICKNESS_QUANTITIES:
         raise ValueError(f"quantity must be one of {THICKNESS_QUANTITIES}, got {quantity!r}")
     f = np.asarray(f, dtype=float)
-    out = h_limit(Hs, f, {v: _analytic_value(quantity, lamP, c, lam_centre, v, steps)
-                          for v in VARIANTS}, mesh_error=mesh_error)
+    if variants is None:
+        variants = {v: _analytic_value(quantity, lamP, c, lam_centre, v, steps)
+                    for v in VARIANTS}
+    out = h_limit(Hs, f, variants, mesh_error=mesh_error)
     diffs = f - membrane_fe
     r = float(Hs[0]) / float(Hs[1])
     out.update(quantity=quantity, lamP=float(lamP), c=float(c),
@@ -516,9 +518,9 @@ def _thickness_data():
 
 def stored_sequence(ds, quantity: str, lamP: float, c: float,
                     lam_centre: float = math.nan, nz: int = 1) -> dict:
-    """The films, solid values, membrane FE and in-plane mesh error of one sequence of
-    the ``ch3_fe_thickness`` dataset ``ds`` (matched on quantity, lamP, c, lam_centre,
-    nz); LookupError when the dataset holds no such sequence."""
+    """The films, solid values, membrane FE, in-plane mesh error and analytic variants of
+    one sequence of the ``ch3_fe_thickness`` dataset ``ds`` (matched on quantity, lamP,
+    c, lam_centre, nz); LookupError when the dataset holds no such sequence."""
     lc = ds.lam_centre.values
     hit = ((ds.quantity.values == quantity) & np.isclose(ds.lamP.values, lamP, rtol=0, atol=1e-12)
            & np.isclose(ds.c.values, c, rtol=0, atol=1e-12) & (ds.nz.values == nz)
@@ -534,7 +536,8 @@ def stored_sequence(ds, quantity: str, lamP: float, c: float,
     return {"sequence": str(ds.sequence.values[k]), "H": H[ok].tolist(),
             "values": ds.value_solid.values[k][ok].tolist(),
             "membrane_fe": float(ds.membrane_fe.values[k]),
-            "mesh_error": float(ds.mesh_error.values[k])}
+            "mesh_error": float(ds.mesh_error.values[k]),
+            "variants": {v: float(ds[f"value_{v}"].values[k]) for v in VARIANTS}}
 
 
 def fe_thickness(entry: Entry) -> Outcome:
@@ -542,13 +545,15 @@ def fe_thickness(entry: Entry) -> Outcome:
     film sequence stored in the ``ch3_fe_thickness`` dataset (SOLID_MESH_COARSE, nz = 1,
     at ``parameters.c``), extrapolated to H -> 0, meets exactly the variant named in
     ``parameters.variant`` and the sequence converges in H (observed order >=
-    THICKNESS_ORDER_MIN). No FE runs here: the evidence tests recompute the films."""
+    THICKNESS_ORDER_MIN). Nothing is solved here: the films, the membrane FE and both
+    analytic variants are the stored ones; the evidence tests recompute the films and the
+    analytic values."""
     p = entry.parameters
     q, lamP, c = p["quantity"], float(p["lamP"]), float(p["c"])
     lc = float(p.get("lam_centre", math.nan))
     s = stored_sequence(_thickness_data(), q, lamP, c, lc)
     d = thickness_limit(q, lamP, c, lc, s["H"], s["values"], s["membrane_fe"],
-                        s["mesh_error"])
+                        s["mesh_error"], variants=s["variants"])
     details = {k: d[k] for k in ("extrapolated", "extrapolation_error", "mesh_error",
                                  "order", "membrane_fe", "printed", "membrane",
                                  "diff_printed", "diff_membrane")}
