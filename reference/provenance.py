@@ -77,6 +77,8 @@ def package_versions_json() -> str:
 def command_line() -> str:
     """The command that is running, as a user would type it."""
     argv = list(sys.argv)
-    if argv and argv[0].endswith(("debench", "cli.py")):
+    # the console script, the CLI module and `python -m debench` are one entry point
+    if argv and (argv[0].endswith(("debench", "cli.py"))
+                 or Path(argv[0]).parts[-2:] == ("debench", "__main__.py")):
         argv[0] = "debench"
     return " ".join(argv) if argv else "python"

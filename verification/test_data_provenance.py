@@ -52,3 +52,18 @@ def test_every_stored_voltage_stretch_curve_has_values_or_a_computed_cause():
         lamP, c = float(ds.lamP[i]), float(ds.c[j])
         assert int(fp.failure_mode.sel(lamP=lamP, c=c)) == code, (lamP, c)
         assert float(electrostriction_factor(lamP, c)) <= 0, (lamP, c)
+
+
+@pytest.mark.parametrize("argv0", ["/usr/bin/debench", "/x/reference/cli.py",
+                                   "/x/venv/src/debench/__main__.py"])
+def test_every_entry_point_is_recorded_as_debench(argv0, monkeypatch):
+    """The console script, the CLI module and `python -m debench` record the same command,
+    so that a dataset written by any of them passes the provenance check."""
+    import sys
+
+    from debench.reference.provenance import command_line
+    monkeypatch.setattr(sys, "argv", [argv0, "reproduce", "ch3", "--write-data"])
+    assert command_line() == "debench reproduce ch3 --write-data"
+    assert not provenance_problems({"git_commit": "abc", "command": command_line()})
+    monkeypatch.setattr(sys, "argv", ["/x/other/__main__.py", "reproduce"])
+    assert command_line().startswith("/x/other/__main__.py")
