@@ -463,15 +463,29 @@ def wrinkling_search(ds) -> dict:
     finest level's onset voltage, deflection / t0 and wavenumber (NaN: none) and the second
     finest level's deflection / t0 (``w_over_t0_second``); per level the
     deflection / t0 where the lowest non-axisymmetric eigenvalue is smallest before pull-in
-    (``w_min_lambda_over_t0``), that eigenvalue and its largest value on the same path."""
+    (``w_min_lambda_over_t0``), that eigenvalue and its largest value on the same path, and
+    where a non-axisymmetric eigenvalue first reaches zero anywhere on the recorded path
+    (before or after pull-in; NaN: nowhere): its deflection / t0 (``w_zero_over_t0``), its
+    voltage over the largest voltage of the path (``v_zero_over_v_max``) and its wavenumber
+    (``n_zero``)."""
     from debench.reference.builders.ch5 import lowest_nonaxisymmetric
+    from debench.reference.builders.ch5_wrinkling import AXISYM_MAX
     v_w = ds.v_wrinkling.values            # onsets before pull-in only (NaN: none)
     first = [bool(np.isfinite(a)) for a in v_w]
     w_min, lam_max = [], []                # where the lowest non-axisymmetric eigenvalue dips,
     #                                        and its largest value along the path
+    zero = {"w_zero_over_t0": [], "v_zero_over_v_max": [], "n_zero": []}
     for lev in ds.level.values:
         r = ds.sel(level=lev)
-        lam = lowest_nonaxisymmetric(r.eig_lam.values, r.eig_axisym.values)
+        lam = lowest_nonaxisymmetric(r.eig_lam.values, r.eig_axisym.values, AXISYM_MAX)
+        crossed = np.flatnonzero(lam <= 0.0)      # inf padding never counts
+        i0 = int(crossed[0]) if crossed.size else None
+        zero["w_zero_over_t0"].append(math.nan if i0 is None else float(r.eig_w.values[i0]))
+        zero["v_zero_over_v_max"].append(
+            math.nan if i0 is None else float(r.eig_v.values[i0] / np.nanmax(r.v.values)))
+        zero["n_zero"].append(math.nan if i0 is None else float(r.eig_wavenumber.values[i0][
+            int(np.argmin(np.where(r.eig_axisym.values[i0] < AXISYM_MAX, r.eig_lam.values[i0],
+                                   np.inf)))]))
         upto = r.eig_w.values <= (float(r.w_pullin) if np.isfinite(float(r.w_pullin))
                                   else np.inf)
         lam = np.where(upto & np.isfinite(lam), lam, np.inf)
@@ -486,7 +500,14 @@ def wrinkling_search(ds) -> dict:
             "path_end": [str(x) for x in ds.path_end.values],
             "min_nonaxisymmetric_lambda": [float(x) for x in
                                            ds.min_nonaxisymmetric_lambda.values],
-            "h_rel": [float(x) for x in ds.h_rel.values]}
+            "h_rel": [float(x) for x in ds.h_rel.values]} | zero
+
+
+V_ZERO_AT_MAX = 1e-3
+"""A non-axisymmetric eigenvalue reaches zero *at* the voltage maximum of a path when its
+voltage is within this fraction of the maximum: near the maximum the R/t0 = 20 paths rise
+by ~4e-3 of it over their last path point (0.06 t0 of deflection at h = 2 t0), so a zero one
+path point before the maximum is outside it."""
 
 
 def hypothesis_wrinkling(entry: Entry) -> Outcome:
@@ -515,7 +536,16 @@ def hypothesis_wrinkling(entry: Entry) -> Outcome:
     r10 = _ramps().sel(case="ogden_t0p5")     # the same film at the stated R/t0 = 10
     lam10 = lowest_nonaxisymmetric(r10.eig_lambda.values, r10.eig_axisymmetry.values)
     lam10 = lam10[np.isfinite(lam10) & (r10.eig_w.values <= float(r10.w_pullin))]
+    last = ds.isel(level=-1)                  # the finest path's last eigen-record
+    k = int(np.flatnonzero(np.isfinite(last.eig_w.values))[-1])
     return Outcome(value, status=status, details=found | {
+        "finest_last_n": [float(x) for x in last.eig_wavenumber.values[k]],
+        "w_mm_zero_finest": found["w_zero_over_t0"][-1] * t0_mm,
+        "w_zero_finest_over_printed": found["w_zero_over_t0"][-1] * t0_mm / t - 1.0,
+        "levels_zero_at_v_max": int(np.sum(np.asarray(found["v_zero_over_v_max"])
+                                           >= 1.0 - V_ZERO_AT_MAX)),
+        "finest_last_lambda_ratio": [float(x) / found["max_nonaxisymmetric_lambda"][-1]
+                                     for x in last.eig_lam.values[k]],
         "thickness_mm": t0_mm, "w_mm_finest": found["w_over_t0"] * t0_mm,
         "w_mm_mesh_error": mesh_err, "thesis_interval": [t - dt, t + dt],
         "w_mm_dip_finest": found["w_min_lambda_over_t0"][-1] * t0_mm,
