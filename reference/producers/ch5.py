@@ -506,9 +506,9 @@ def wrinkling_search(ds) -> dict:
 V_ZERO_AT_MAX = 1e-3
 """A non-axisymmetric eigenvalue reaches zero *at* the voltage maximum of a path when its
 voltage is within this fraction of the maximum. What sets it: on the two finest R/t0 = 20
-paths the voltage approaches its maximum linearly, at 0.04-0.06 of it per t0 of deflection,
-so the fraction corresponds to 0.02-0.03 t0 of deflection, well below the 0.08 t0 between
-the two finest meshes' zeros."""
+paths the voltage still rises at 0.03-0.08 of its maximum per t0 of deflection within the
+last 0.1 t0 before the maximum, so the fraction corresponds to 0.01-0.03 t0 of deflection,
+well below the 0.08 t0 between the two finest meshes' zeros."""
 
 
 def hypothesis_wrinkling(entry: Entry) -> Outcome:
