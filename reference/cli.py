@@ -229,9 +229,10 @@ def regenerate_and_compare(chapters, *, quiet: bool = False) -> list:
     import tempfile
 
     from debench.reference.datasets import DataProblem, data_dir
+    from debench.reference.figures import not_written
 
     problems = []
-    with tempfile.TemporaryDirectory(prefix="debench-verify-") as tmp:
+    with tempfile.TemporaryDirectory(prefix="debench-verify-") as tmp, not_written():
         for chapter in chapters:
             mod = _builder(chapter)
             if mod is None:

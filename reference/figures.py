@@ -9,8 +9,12 @@ titles or legends).
 
 from __future__ import annotations
 
+import contextlib
+from contextvars import ContextVar
 from pathlib import Path
 from typing import Any
+
+_WRITE = ContextVar("debench_write_figures", default=True)
 
 #: Resolution of the PNG: at 100 % zoom a 6.4 in wide figure is ~770 px, labels ~13 px.
 DPI = 120
@@ -60,14 +64,29 @@ def pyplot():
     return plt
 
 
+@contextlib.contextmanager
+def not_written():
+    """Inside this block :func:`save` closes figures without rendering or writing them (for
+    commands that rebuild datasets only to compare them, e.g. ``debench verify``)."""
+    token = _WRITE.set(False)
+    try:
+        yield
+    finally:
+        _WRITE.reset(token)
+
+
 def save(fig, path: Path | str) -> list[Path]:
     """Write ``fig`` as ``<path>.png`` and ``<path>.svg`` (tight box), close it.
 
     ``path`` is given without suffix (a ``.png``/``.svg`` suffix is replaced). Returns the
-    two paths, PNG first.
+    two paths, PNG first; inside :func:`not_written` nothing is written and the list is
+    empty.
     """
     import matplotlib.pyplot as plt
 
+    if not _WRITE.get():
+        plt.close(fig)
+        return []
     path = Path(path)
     if path.suffix in (".png", ".svg"):
         path = path.with_suffix("")

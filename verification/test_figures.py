@@ -162,3 +162,19 @@ def test_rendered_svgs_show_every_printed_value(chapter, tmp_path):
     drawn = {p.stem: F.drawn_entries(p.read_text()) for p in paths if p.suffix == ".svg"}
     assert all(p.with_suffix(".png").exists() for p in paths if p.suffix == ".svg")
     assert marker_problems(drawn, chapter) == []
+
+
+def test_figures_are_not_written_inside_not_written(tmp_path):
+    """`debench verify` rebuilds datasets only to compare them: inside
+    ``figures.not_written()`` a builder's figure is closed without being rendered or
+    written; outside it, both files are written."""
+    from debench.reference.figures import not_written, pyplot, save
+
+    plt = pyplot()
+    with not_written():
+        fig, _ = plt.subplots()
+        assert save(fig, tmp_path / "a") == []
+        assert not plt.fignum_exists(fig.number)
+    assert not list(tmp_path.iterdir())
+    fig, _ = plt.subplots()
+    assert [p.name for p in save(fig, tmp_path / "a")] == ["a.png", "a.svg"]
