@@ -35,7 +35,8 @@ STORE_NAME = "our_values"
 
 #: Guarded values that are not catalogue entries: ``"module:function"`` returning a list
 #: of :class:`Guarded`. Each recomputes a model on its cheapest real setting.
-EXTRA_GUARDS: tuple[str, ...] = ("debench.reference.producers.ch5:coarse_guards",)
+EXTRA_GUARDS: tuple[str, ...] = ("debench.reference.producers.ch5:coarse_guards",
+                                  "debench.reference.producers.ch3_fe:thickness_guards")
 
 
 @dataclass(frozen=True)

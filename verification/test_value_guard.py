@@ -169,3 +169,22 @@ def test_ch5_model_guard_sees_a_1_percent_change_of_an_ogden_modulus():
     moved = {d.key for d in values.check(coarse_guards(perturbed, cases=["ogden_t1"]),
                                          stored, complete=False)}
     assert "ch5.guard.ogden_t1.v_cr_coarse" in moved
+
+
+def test_thin_solid_guard_sees_a_1_percent_change_of_the_gent_locking_parameter(monkeypatch):
+    """Chapter 3 thin solid: verify does not rebuild ``ch3_fe_thickness`` (minutes of CPU),
+    so its model guard recomputes the thickest stored film. With the Gent Jm changed by
+    1 % the guard leaves the stored values; unchanged, it stays inside."""
+    import functools
+
+    from debench.models.circular import fe_solid
+    from debench.reference.producers.ch3_fe import thickness_guards
+
+    stored = values.read_store()
+    assert values.check(thickness_guards(), stored, complete=False) == []
+    jm = fe_solid.JM_VHB
+    monkeypatch.setattr(fe_solid, "CircularSolidFE", functools.partial(
+        fe_solid.CircularSolidFE, Jm=1.01 * jm))
+    moved = {d.key for d in values.check(thickness_guards(), stored, complete=False)}
+    assert moved == {"ch3.guard.thickness.thickest",
+                     "ch3.guard.thickness.thickest_minus_curated"}, moved

@@ -9,16 +9,12 @@ equilibrium variants).
   analytic values of both variants (the convergence study behind the tolerances).
 * ``ch3_fe_profiles``: lambda1, lambda2, lambda3 in annulus B at lamP = 3, lam = 4 by FE and
   both variants (Figs 3.2-3.3).
-* ``ch3_fe_thickness``: the thin solid (models/circular/fe_solid.py) on film sequences
-  H -> 0: Phibar at a fixed centre stretch (lamP = 3, c = 0 and -0.053; lamP = 2, 4 at centre
-  stretch lamP + 1), Phibar at pull-in (lamP = 1.25), the loss-of-tension stretch (lamP = 3), each beside the membrane FE and
-  both variants, with the limit H -> 0 (the ``ch3.fe.thickness_*`` entries read it).
+
+The thin-solid thickness study has its own builder (:mod:`.ch3_fe_thickness`).
 """
 
 from __future__ import annotations
 
-import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -121,65 +117,7 @@ def profiles(full: bool) -> xr.Dataset:
     return ds
 
 
-def thickness(full: bool) -> xr.Dataset:
-    """Every film sequence of the thin solid the ``ch3.fe.thickness_*`` entries read
-    (:data:`~debench.reference.producers.ch3_fe.THICKNESS_SEQUENCES`; ``full`` adds films
-    and the edge layer resolved twice as finely): per film H the solid value, with the
-    membrane FE (reference mesh), the in-plane mesh error of the limit, both analytic
-    variants and the H -> 0 extrapolation with its uncertainty and observed order."""
-    seqs = P.thickness_sequences(full)
-    nf = max(len(s.films) for s in seqs)
-    shape = (len(seqs), nf)
-    H, val, diff = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
-    per = {k: np.empty(len(seqs)) for k in ("membrane_fe", "mesh_error", "printed", "membrane",
-                                            "extrapolated", "extrapolated_observed_order",
-                                            "extrapolation_error", "order")}
-    for i, s in enumerate(seqs):
-        cpu = time.process_time()
-        d = P.thickness_study(s.quantity, s.lamP, s.films, dict(P.SOLID_MESH_COARSE, nz=s.nz),
-                              s.lam_centre, c=s.c, stalled_as_nan=True)
-        n = len(s.films)
-        H[i, :n], val[i, :n], diff[i, :n] = s.films, d["values"], d["diff_membrane_fe"]
-        for k in per:
-            per[k][i] = d[k]
-        print(f"  ch3_fe_thickness: {s.name} in {time.process_time() - cpu:.1f} s CPU",
-              file=sys.stderr, flush=True)
-    a = lambda what: {"long_name": what, "units": "1"}  # noqa: E731
-    seq = ("sequence",)
-    what = ("the quantity of the sequence: phibar (Phibar at centre stretch lam_centre), "
-            "pullin_phibar (Phibar at pull-in), loss_of_tension (centre stretch where the "
-            "thickness-averaged radial stress at the centre vanishes)")
-    vars_ = {
-        "quantity": (seq, np.array([s.quantity for s in seqs]), {"long_name": what}),
-        "lamP": (seq, np.array([s.lamP for s in seqs]), a("equibiaxial pre-stretch")),
-        "c": (seq, np.array([s.c for s in seqs]), a("Zhao-Suo electrostrictive factor (3.27)")),
-        "lam_centre": (seq, np.array([s.lam_centre for s in seqs]), a("centre stretch of circle A at which Phibar is compared (NaN: an event)")),
-        "nz": (seq, np.array([s.nz for s in seqs]), a("element rows through the half thickness (edge elements H/(2 nz) square)")),
-        "H": (("sequence", "film"), H, a("undeformed film thickness H/R_A (NaN: no such film)")),
-        "value_solid": (("sequence", "film"), val, a("the quantity by the thin axisymmetric solid FE (NaN at a film H: the continuation stalled)")),
-        "diff_membrane_fe": (("sequence", "film"), diff, a("solid minus membrane FE (reference mesh)")),
-        "membrane_fe": (seq, per["membrane_fe"], a("the quantity by the membrane FE on the reference mesh")),
-        "mesh_error": (seq, per["mesh_error"], a("membrane FE on the solid's in-plane mesh minus the reference: the error the H -> 0 limit inherits")),
-        "value_printed": (seq, per["printed"], a("the quantity by the analytic model, Eq. (3.33) as printed")),
-        "value_membrane": (seq, per["membrane"], a("the quantity by the analytic model, thin-membrane balance")),
-        "extrapolated": (seq, per["extrapolated"], a("solid extrapolated to H -> 0 (Richardson, order 1, two thinnest films)")),
-        "extrapolated_observed_order": (seq, per["extrapolated_observed_order"], a("solid extrapolated to H -> 0 at the observed order")),
-        "extrapolation_error": (seq, per["extrapolation_error"], a("uncertainty of the extrapolation: |order-1 minus observed-order extrapolation| (at least 1e-6) + |mesh_error|")),
-        "order_observed": (seq, per["order"], a("observed order in H of the solid values (three thinnest films)")),
-    }
-    ds = xr.Dataset(vars_, coords={
-        "sequence": ("sequence", np.array([s.name for s in seqs]), {"long_name": "film sequence: quantity, pre-stretch, c, centre stretch, nz"}),
-        "film": ("film", np.arange(nf), a("index of the film in its sequence (thickest first)"))})
-    ds.attrs = {"model": "thin axisymmetric solid FE (models/circular/fe_solid.py) beside the membrane FE (models/circular/fe.py)",
-                "solid_n_a": P.SOLID_MESH_COARSE["n_a"], "solid_n_b": P.SOLID_MESH_COARSE["n_b"],
-                "membrane_n_b": P.MEMBRANE_REFERENCE_MESH["n_b"], "rk4_steps": P.ANALYTIC_STEPS}
-    return ds
-
-
-#: the thin-solid thickness dataset first: the costliest, and the others do not need it
 DATASETS = {
-    "ch3_fe_thickness": (thickness, "Chapter 3 film thickness: the thin axisymmetric solid on film sequences H -> 0",
-                         "Film sequences of the thin solid FE (Phibar at a fixed centre stretch for lamP = 3 and c = 0, -0.053, and for lamP = 2, 4 at centre stretch lamP + 1; Phibar at pull-in for lamP = 1.25; the loss-of-tension centre stretch for lamP = 3) per film thickness H, the extrapolation to H -> 0, the membrane FE with the in-plane mesh error and both analytic variants."),
     "ch3_fe_voltage_stretch": (voltage_stretch, "Chapter 3 voltage-stretch curves: finite elements vs both equilibrium variants",
                                "Phibar(lam) of the circular actuator by the axisymmetric membrane FE and by the analytic model with the printed (3.33) and the thin-membrane equilibrium."),
     "ch3_fe_convergence": (convergence, "Chapter 3 finite-element convergence study",

@@ -540,6 +540,29 @@ def stored_sequence(ds, quantity: str, lamP: float, c: float,
             "variants": {v: float(ds[f"value_{v}"].values[k]) for v in VARIANTS}}
 
 
+#: the sequence whose thickest film :func:`thickness_guards` recomputes (quantity, lamP, c,
+#: centre stretch): a Phibar sequence, the cheapest kind (~2 s CPU for the thickest film)
+GUARD_SEQUENCE = ("phibar", 3.0, 0.0, 4.0)
+
+
+def thickness_guards() -> list:
+    """The thin-solid model guard of ``debench verify`` (the ``ch3_fe_thickness`` dataset is
+    not rebuilt by it: minutes of CPU): the thickest film of :data:`GUARD_SEQUENCE`
+    recomputed on SOLID_MESH_COARSE, guarded as ``ch3.guard.thickness.thickest`` and as its
+    difference from the stored film (``..._minus_curated``, stored ~0), so that a change of
+    the solid model (material, electrode, penalty, solver) fails verify although the
+    producers only read stored films."""
+    from debench.reference.values import Guarded
+
+    q, lamP, c, lc = GUARD_SEQUENCE
+    s = stored_sequence(_thickness_data(), q, lamP, c, lc)
+    got = solid_value(q, lamP, c, s["H"][0], lc, SOLID_MESH_COARSE)
+    tol = ACCURACY.tolerance(got)
+    return [Guarded("ch3.guard.thickness.thickest", float(got), tol, ACCURACY.reason),
+            Guarded("ch3.guard.thickness.thickest_minus_curated", float(got) - s["values"][0],
+                    tol, ACCURACY.reason)]
+
+
 def fe_thickness(entry: Entry) -> Outcome:
     """``ch3.fe.thickness_*``: true when the thin solid's ``parameters.quantity`` on the
     film sequence stored in the ``ch3_fe_thickness`` dataset (SOLID_MESH_COARSE, nz = 1,
@@ -564,7 +587,7 @@ def fe_thickness(entry: Entry) -> Outcome:
                    details=details, evidence=entry.evidence)
 
 
-__all__ = ["ACCURACY", "FilmSequence", "analytic_events", "analytic_phibar",
+__all__ = ["ACCURACY", "GUARD_SEQUENCE", "FilmSequence", "analytic_events", "analytic_phibar",
            "erratum_eq_3_32", "event_support", "fe_event", "fe_suppression_prestretch",
            "fe_thickness", "h_limit", "interface_balance", "penalty_spread", "solid_phibar",
            "solid_value", "stored_sequence", "thickness_limit", "thickness_sequences",
