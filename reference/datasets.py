@@ -565,12 +565,22 @@ def _read_verified(path: Path) -> tuple[xr.Dataset, bool]:
     return ds, actual != accepted[0] or path.name not in files
 
 
-def _tidy(directory: Path) -> None:
-    """Recover under the lock when the directory allows it; never fails a read."""
+@contextlib.contextmanager
+def _recovered(directory: Path) -> Iterator[None]:
+    """Hold the directory lock (when the directory allows it: else go on unlocked), finish
+    any interrupted write, and keep the lock for the body: no writer replaces a file
+    while the body reads it. Never fails a read."""
     with _reader_lock(directory) as locked:
         if locked:
             with contextlib.suppress(OSError, DatasetError):  # lockable, not writable
                 _recover_locked(directory)
+        yield
+
+
+def _tidy(directory: Path) -> None:
+    """Recover under the lock when the directory allows it; never fails a read."""
+    with _recovered(directory):
+        pass
 
 
 def read_dataset(name: str | Path, *, data_dir: Path | None = None,
@@ -580,7 +590,7 @@ def read_dataset(name: str | Path, *, data_dir: Path | None = None,
     ``name`` is a stem (``"ch3_voltage_stretch"``) looked up in ``data_dir`` or a path.
     Raises :class:`DatasetError` if the file is not in the manifest, its checksum differs
     (tampered or half-written), or a required attribute is missing. When the first look
-    fails, the read is repeated once after taking the directory lock and finishing any
+    fails, the read is repeated once holding the directory lock, after finishing any
     interrupted write (when the directory is writable): a write that completed between
     reading the manifest and reading the file is not an error. A file accepted through
     the checksum of an interrupted write gets its manifest entry completed the same way.
@@ -599,8 +609,8 @@ def read_dataset(name: str | Path, *, data_dir: Path | None = None,
     try:
         ds, pending = _read_verified(path)
     except DatasetError:
-        _tidy(path.parent)
-        ds, pending = _read_verified(path)
+        with _recovered(path.parent):       # the second look: no writer can interleave
+            ds, pending = _read_verified(path)
     if pending:  # a write was interrupted between installing and listing: list it
         _tidy(path.parent)
     return ds
