@@ -179,11 +179,15 @@ def curated_comparisons(cases, control: str = "charge") -> list[Comparison]:
     return out
 
 
-def _biot_det_root() -> float:
-    """The flexural determinant root at kH = KH_BIOT, xi = Dhat = 0 (the FE root of
-    :func:`biot_root` is searched around the determinant roots of both parities, which
-    coincide to ~exp(-kH))."""
-    r = critical_stretches(KH_BIOT, PlateParams(xi=0.0, Dhat=0.0, variant="derived"))
+def _biot_det_roots():
+    """The determinant roots at kH = KH_BIOT, xi = Dhat = 0 (both parities: they coincide
+    to ~exp(-kH), and the FE root of :func:`biot_root` is searched around both)."""
+    return critical_stretches(KH_BIOT, PlateParams(xi=0.0, Dhat=0.0, variant="derived"))
+
+
+def _biot_det_root(roots=None) -> float:
+    """The flexural determinant root at kH = KH_BIOT, xi = Dhat = 0."""
+    r = _biot_det_roots() if roots is None else roots
     return float(next(x for x, p in zip(r.lam, r.parity, strict=True) if p == "E"))
 
 
@@ -193,12 +197,12 @@ def biot_comparison(level: int = 0) -> Comparison:
     one coincides to ~exp(-kH)) beside the flexural determinant root."""
     from debench.models.plate import strip_fe
 
-    lam = critical_stretches(KH_BIOT, PlateParams(xi=0.0, Dhat=0.0, variant="derived")).lam
-    br = (min(lam) * (1 - BRACKET), max(lam) * (1 + BRACKET))
+    roots = _biot_det_roots()
+    br = (min(roots.lam) * (1 - BRACKET), max(roots.lam) * (1 + BRACKET))
     fe = strip_fe.critical_stretch(KH_BIOT, br, "E", strip_fe.material_for(0.0), Dhat=0.0,
                                    mesh=strip_fe.default_mesh(KH_BIOT, level=level))
-    return Comparison(0.0, 0.0, KH_BIOT, "E", "charge", _biot_det_root(), fe.lam, fe.ndof,
-                      level)
+    return Comparison(0.0, 0.0, KH_BIOT, "E", "charge", _biot_det_root(roots), fe.lam,
+                      fe.ndof, level)
 
 
 def biot_root(level: int = 0) -> float:
@@ -217,7 +221,11 @@ def euler_slope(level: int = 0) -> tuple[float, float]:
     Plate theory (Euler buckling at vanishing membrane stress, literature entry
     lit.plate.euler_thin_limit) gives 1/18 as kH -> 0.
     """
-    c = euler_comparison(level)
+    return _euler_slopes(euler_comparison(level))
+
+
+def _euler_slopes(c: Comparison) -> tuple[float, float]:
+    """(1 - lam_cr)/kH^2 of a comparison at kH = KH_EULER: FE and determinant."""
     return (1 - c.lam_fe) / KH_EULER**2, (1 - c.lam_det) / KH_EULER**2
 
 
@@ -305,7 +313,6 @@ def biot_limit(entry: Entry) -> Outcome:
 def euler_limit(entry: Entry) -> Outcome:
     """Thin-plate limit: FE (1 - lam_cr)/kH^2 at kH = KH_EULER (FE root of the curated
     ``ch4_fe_limits.nc``, determinant live) against plate theory 1/18."""
-    c = curated_limit("euler")
-    fe, det = (1 - c.lam_fe) / KH_EULER**2, (1 - c.lam_det) / KH_EULER**2
+    fe, det = _euler_slopes(curated_limit("euler"))
     return Outcome(fe, evidence=f"{EV}::test_strip_fe_thin_limit_is_euler",
                    details={"kH": KH_EULER, "determinant": det, "plate_theory": 1 / 18})
