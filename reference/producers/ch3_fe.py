@@ -540,9 +540,9 @@ def stored_sequence(ds, quantity: str, lamP: float, c: float,
             "variants": {v: float(ds[f"value_{v}"].values[k]) for v in VARIANTS}}
 
 
-#: the sequence whose thickest film :func:`thickness_guards` recomputes (quantity, lamP, c,
-#: centre stretch): a Phibar sequence, the cheapest kind (~2 s CPU for the thickest film)
-GUARD_SEQUENCE = ("phibar", 3.0, 0.0, 4.0)
+#: the sequence whose thickest film :func:`thickness_guards` recomputes: the lamP = 3,
+#: c = 0 Phibar sequence, the cheapest kind (~2 s CPU for the thickest film)
+GUARD_SEQUENCE = THICKNESS_SEQUENCES[0]
 
 
 def thickness_guards() -> list:
@@ -554,9 +554,10 @@ def thickness_guards() -> list:
     producers only read stored films."""
     from debench.reference.values import Guarded
 
-    q, lamP, c, lc = GUARD_SEQUENCE
-    s = stored_sequence(_thickness_data(), q, lamP, c, lc)
-    got = solid_value(q, lamP, c, s["H"][0], lc, SOLID_MESH_COARSE)
+    g = GUARD_SEQUENCE
+    s = stored_sequence(_thickness_data(), g.quantity, g.lamP, g.c, g.lam_centre, g.nz)
+    got = solid_value(g.quantity, g.lamP, g.c, s["H"][0], g.lam_centre,
+                      dict(SOLID_MESH_COARSE, nz=g.nz))
     tol = ACCURACY.tolerance(got)
     return [Guarded("ch3.guard.thickness.thickest", float(got), tol, ACCURACY.reason),
             Guarded("ch3.guard.thickness.thickest_minus_curated", float(got) - s["values"][0],
