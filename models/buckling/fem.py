@@ -24,7 +24,8 @@ Formulation (re-derived; the thesis uses Abaqus UEL with D_L-based energy (5.1)-
   (the thesis: 8-node bricks, 5 layers).  Edge (lateral face) clamped: u = 0.
   Electrodes: p = 0 on the bottom face, p = v t0 on the top face.  Imperfection:
   the reference geometry is lifted by ``w0(r) = imperfection t0 (1 - r^2/a^2)^2``
-  (the clamped-plate polynomial close to the first buckling mode).
+  (the clamped-plate polynomial close to the first buckling mode), optionally plus a
+  non-axisymmetric term of wavenumber n (:class:`~debench.models.buckling.parameters.Plate`).
 
 Linear algebra (chosen by measurement, ``benchmarks/test_bench_ch5.py``):
 
@@ -117,7 +118,8 @@ def disk_prism_mesh(plate: Plate, disc: Discretisation, *, with_imperfection: bo
     """Extruded prism mesh of the disk of radius ``plate.radius`` and thickness t0.
 
     Boundaries: ``bottom`` (z = 0), ``top`` (z = t0), ``edge`` (r = a).  The
-    imperfection ``w0(r)`` lifts every node vertically (same for all layers).
+    imperfection ``w0(x, y)`` (:meth:`Plate.imperfection_lift`) lifts every node vertically
+    (same for all layers).
     """
     a, t0 = plate.radius, plate.thickness
     geo = SplineGeometry()
@@ -127,9 +129,8 @@ def disk_prism_mesh(plate: Plate, disc: Discretisation, *, with_imperfection: bo
     tris = np.array([[v.nr - 1 for v in el.vertices] for el in m2.Elements2D()])
     segs = np.array([[v.nr - 1 for v in el.vertices] for el in m2.Elements1D()])
     npt = len(pts2)
-    amp = plate.imperfection * t0 if with_imperfection else 0.0
-    r2 = np.sum(pts2**2, axis=1) / a**2
-    w0 = amp * np.clip(1.0 - r2, 0.0, None) ** 2
+    w0 = (plate.imperfection_lift(pts2[:, 0], pts2[:, 1]) if with_imperfection
+          else np.zeros(npt))
 
     ngm = NGMesh(dim=3)
     ids = []
@@ -523,7 +524,7 @@ class MembraneModel:
         """The mesh point at (x, y, z); a point on a face that the faceted mesh misses is
         moved towards the mid-plane by up to 1e-2 t0 (:data:`_FACE_OFFSETS`)."""
         t0 = self.plate.thickness
-        towards_mid = 1.0 if z < self._lift() + 0.5 * t0 else -1.0
+        towards_mid = 1.0 if z < self.lift(x, y) + 0.5 * t0 else -1.0
         for off in self._FACE_OFFSETS:
             mp = self.mesh(x, y, z + towards_mid * off * t0)
             if mp.nr >= 0:
@@ -533,26 +534,28 @@ class MembraneModel:
             f"imperfection {self.plate.imperfection} t0 is too curved for h_rel = "
             f"{self.disc.h_rel}")
 
-    def _lift(self) -> float:
-        return self.plate.imperfection * self.plate.thickness if self.with_imperfection else 0.0
+    def lift(self, x: float = 0.0, y: float = 0.0) -> float:
+        """Vertical lift of the reference geometry at (x, y) (m): the imperfection, or 0
+        for the perfect plate."""
+        return float(self.plate.imperfection_lift(x, y)) if self.with_imperfection else 0.0
 
     def centre_deflection(self) -> float:
         """Vertical displacement of the centre point of the top surface / t0."""
         t0 = self.plate.thickness
-        z = t0 + self._lift()
+        z = t0 + self.lift()
         return float(self.gf.components[0](self._point(0.0, 0.0, z - 1e-12 * t0))[2]) / t0
 
     def centre_midplane_deflection(self) -> float:
         """Mean vertical displacement of the top and bottom centre points / t0 (free of the
         symmetric thinning of the flat film)."""
-        t0, w = self.plate.thickness, self._lift()
+        t0, w = self.plate.thickness, self.lift()
         ut = self.gf.components[0](self._point(0.0, 0.0, t0 + w - 1e-12 * t0))[2]
         ub = self.gf.components[0](self._point(0.0, 0.0, w + 1e-12 * t0))[2]
         return 0.5 * (ut + ub) / t0
 
     def centre_thickness(self) -> float:
         """Current thickness at the centre / t0 (top minus bottom vertical position)."""
-        t0, w = self.plate.thickness, self._lift()
+        t0, w = self.plate.thickness, self.lift()
         ut = self.gf.components[0](self._point(0.0, 0.0, t0 + w - 1e-12 * t0))[2]
         ub = self.gf.components[0](self._point(0.0, 0.0, w + 1e-12 * t0))[2]
         return (t0 + ut - ub) / t0
@@ -563,7 +566,7 @@ class MembraneModel:
         from debench.models.materials import cauchy_stress
         u, p = self.gf.components
         F = ngs.Id(3) + ngs.Grad(u)
-        mip = self._point(0.0, 0.0, 0.5 * self.plate.thickness + self._lift())
+        mip = self._point(0.0, 0.0, 0.5 * self.plate.thickness + self.lift())
         Fn = np.array(F(mip)).reshape(3, 3)
         EL_hat = -np.array(ngs.Grad(p)(mip))          # scaled referential field
         eps = self.material.eps
@@ -579,8 +582,7 @@ class MembraneModel:
         a, t0 = self.plate.radius, self.plate.thickness
         best = 0.0
         for r in np.linspace(0, 0.95 * a, npts):
-            w = self._lift() * (1 - (r / a) ** 2) ** 2
-            best = max(best, float(E(self._point(r, 0.0, 0.5 * t0 + w))))
+            best = max(best, float(E(self._point(r, 0.0, 0.5 * t0 + self.lift(r, 0.0)))))
         return best
 
     # ----------------------------------------------------------------- stability
@@ -793,37 +795,70 @@ def _unit_mesh():
     return ngs.Mesh(ngm)
 
 
-def mode_harmonics(model: MembraneModel, mode: np.ndarray, n_theta: int = 24) -> np.ndarray:
-    """Fractions of a mode's displacement in the angular harmonics n = 0 .. n_theta/2.
-
-    The mode's cylindrical components (u_r, u_theta, u_z) are sampled at ``n_theta``
-    equally spaced points of the mid-plane circle r = a/2 and Fourier-analysed (discrete
-    Parseval): entry n is sum_c (|c_n|^2 + |c_-n|^2) / mean_theta sum_c |u_c|^2, so the
-    entries sum to 1; entry 0 is 1 for an axisymmetric mode, a wrinkling mode of angular
-    wavenumber n has its weight at n (resolved for n < n_theta/2).
-    """
+def ring_displacement(model: MembraneModel, vec: np.ndarray | None = None,
+                      n_theta: int = 24) -> np.ndarray:
+    """Cylindrical displacement components (u_r, u_theta, u_z), shape (n_theta, 3), at
+    ``n_theta`` equally spaced points of the mid-plane circle r = a/2 of the reference
+    geometry: of the vector ``vec`` of the compound space (a mode), or of the current state
+    (``vec=None``)."""
     n_theta = val.integer_at_least("n_theta", n_theta, 4)
-    gf = ngs.GridFunction(model.X)
-    gf.vec.FV().NumPy()[:] = mode
-    gu = gf.components[0]
-    a, t0 = model.plate.radius, model.plate.thickness
-    r = 0.5 * a
-    w = (model.plate.imperfection * t0 if model.with_imperfection else 0.0) * (1 - 0.25) ** 2
+    if vec is None:
+        gu = model.gf.components[0]
+    else:
+        gf = ngs.GridFunction(model.X)
+        gf.vec.FV().NumPy()[:] = vec
+        gu = gf.components[0]
+    r, t0 = 0.5 * model.plate.radius, model.plate.thickness
     comps = []
     for th in np.linspace(0, 2 * np.pi, n_theta, endpoint=False):
-        ux, uy, uz = gu(model.mesh(r * np.cos(th), r * np.sin(th), 0.5 * t0 + w))
+        x, y = r * np.cos(th), r * np.sin(th)
+        ux, uy, uz = gu(model._point(x, y, 0.5 * t0 + model.lift(x, y)))
         comps.append((ux * np.cos(th) + uy * np.sin(th), -ux * np.sin(th) + uy * np.cos(th), uz))
-    c = np.fft.fft(np.array(comps), axis=0) / n_theta          # (harmonic, component)
+    return np.array(comps)
+
+
+def _harmonic_power(samples: np.ndarray) -> np.ndarray:
+    """Power of the angular harmonics n = 0 .. n_theta/2 of ring samples (n_theta, k)
+    (discrete Parseval, the +n and -n terms added), summed over the k components."""
+    n_theta = samples.shape[0]
+    c = np.fft.fft(samples, axis=0) / n_theta                 # (harmonic, component)
     power = np.sum(np.abs(c) ** 2, axis=1)
-    total = float(np.sum(power))
-    if total == 0:
-        raise ValueError("mode is zero on the sampling circle")
     half = n_theta // 2
     out = np.zeros(half + 1)
     out[0] = power[0]
     for n in range(1, half + 1):
         out[n] = power[n] + (power[n_theta - n] if n_theta - n != n else 0.0)
-    return out / total
+    return out
+
+
+def mode_harmonics(model: MembraneModel, mode: np.ndarray, n_theta: int = 24) -> np.ndarray:
+    """Fractions of a mode's displacement in the angular harmonics n = 0 .. n_theta/2.
+
+    The mode's cylindrical components (u_r, u_theta, u_z) are sampled at ``n_theta``
+    equally spaced points of the mid-plane circle r = a/2 (:func:`ring_displacement`) and
+    Fourier-analysed (discrete Parseval): entry n is sum_c (|c_n|^2 + |c_-n|^2) /
+    mean_theta sum_c |u_c|^2, so the entries sum to 1; entry 0 is 1 for an axisymmetric
+    mode, a wrinkling mode of angular wavenumber n has its weight at n (resolved for
+    n < n_theta/2).
+    """
+    power = _harmonic_power(ring_displacement(model, mode, n_theta))
+    total = float(np.sum(power))
+    if total == 0:
+        raise ValueError("mode is zero on the sampling circle")
+    return power / total
+
+
+def deflection_asymmetry(model: MembraneModel, n_theta: int = 24) -> tuple[float, int]:
+    """Non-axisymmetric part of the current deflection: the amplitude / t0 of the largest
+    angular harmonic n >= 1 of u_z on the mid-plane circle r = a/2 (the peak of its
+    cos(n theta - phase) term, 2 |c_n|; resolved for n < n_theta/2) and that n. Zero on an
+    axisymmetric state; it grows from the seed of a non-axisymmetric imperfection as the
+    film follows a wrinkling mode."""
+    uz = ring_displacement(model, None, n_theta)[:, 2:]
+    amp = np.sqrt(_harmonic_power(uz))                       # |c_n|, +n and -n together
+    amp[1:] *= np.sqrt(2.0)                                  # peak of a real cos(n theta)
+    n = 1 + int(np.argmax(amp[1:n_theta // 2]))
+    return float(amp[n]) / model.plate.thickness, n
 
 
 def mode_axisymmetry(model: MembraneModel, mode: np.ndarray, n_theta: int = 24) -> float:
@@ -835,7 +870,7 @@ def mode_axisymmetry(model: MembraneModel, mode: np.ndarray, n_theta: int = 24) 
 def _control_dofs(model: MembraneModel) -> tuple[int, int]:
     """z-displacement dofs of the top and bottom vertices nearest to the centre axis."""
     t0 = model.plate.thickness
-    w0 = model.plate.imperfection * t0 if model.with_imperfection else 0.0
+    w0 = model.lift(0.0, 0.0)
     best = {}
     for v in model.mesh.vertices:
         x, y, z = v.point

@@ -12,8 +12,10 @@ names; their defaults are Table 5.1 (:mod:`debench.models.materials.constants`):
   Kirchhoff stress (5.27)); initial shear modulus ``shear_modulus = sum(mu_p)`` = 69580 Pa;
   bulk modulus of the neo-Hookean row (assumption ``ch5.assumption.ogden_bulk_modulus``).
 * ``Plate``: radius/thickness = 10, t0 = 1 mm or 0.5 mm, imperfection amplitude
-  1e-3 t0 (§5.2.3), relative permittivity 4.7 (assumption: not stated in Ch. 5; it only
-  converts normalised voltages to volts, the finite-element problem does not depend on it).
+  1e-3 t0 (§5.2.3; axisymmetric), an optional non-axisymmetric imperfection of angular
+  wavenumber n (not in the thesis: zero by default), relative permittivity 4.7
+  (assumption: not stated in Ch. 5; it only converts normalised voltages to volts, the
+  finite-element problem does not depend on it).
 * ``Discretisation``: mesh size, layers, polynomial order and the numerical parameter of
   the Ogden spectral evaluation (``ogden_delta``, see
   :mod:`debench.models.materials.ngsolve_forms`).
@@ -27,6 +29,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
 from debench.models import validation as val
 from debench.models.materials.constants import (
     EPS_R_ASSUMED,
@@ -51,6 +54,9 @@ __all__ = ["COARSE", "Discretisation", "K_TABLE", "MU_REF", "NeoHookean", "Ogden
 # without inverted elements for amplitudes well below the thickness; 0.1 t0 is 100x the
 # thesis value 1e-3 t0 and still leaves the centre points locatable on coarse meshes.
 MAX_IMPERFECTION = 0.1
+# The non-axisymmetric imperfection cos(n theta) needs about four elements per wavelength
+# around the rim to be represented at all; 32 is beyond every mesh the studies use.
+MAX_WAVENUMBER = 32
 # Discretisation: h_rel = 0.25 t0 with one layer of quadratic prisms is ~300k DOFs (the
 # largest problem a sparse direct solve handles in minutes on one core); below that the
 # mesher and the factorisation run for hours.
@@ -61,12 +67,26 @@ MAX_ORDER = 4
 
 @dataclass(frozen=True)
 class Plate:
-    """Clamped circular membrane, §5.2.3: radius = aspect * thickness."""
+    """Clamped circular membrane, §5.2.3: radius = aspect * thickness.
+
+    The reference geometry is lifted by the imperfection (:func:`imperfection_lift`)
+
+        w0(r, theta) = imperfection t0 (1 - s^2)^2
+                       + wrinkle_imperfection t0 s^n (1 - s^2)^2 cos(n theta) / c_n,
+
+    s = r / radius, n = ``wrinkle_wavenumber``, c_n = max_s s^n (1 - s^2)^2 (so that
+    ``wrinkle_imperfection`` t0 is the peak of the second term). The first term is the
+    thesis' (§5.2.3, the clamped-plate polynomial close to the first buckling mode); the
+    second seeds a non-axisymmetric mode of wavenumber n (not in the thesis; zero by default)
+    for imperfection-sensitivity studies of a wrinkling bifurcation.
+    """
 
     thickness: float = 1e-3
     aspect: float = 10.0
     imperfection: float = 1e-3
     eps_r: float = EPS_R_ASSUMED
+    wrinkle_imperfection: float = 0.0
+    wrinkle_wavenumber: int = 1
 
     def __post_init__(self):
         val.positive("thickness", self.thickness)
@@ -75,6 +95,28 @@ class Plate:
                      bound=f"above {MAX_IMPERFECTION} t0: the lifted prism mesh no longer "
                            "represents the plate (fraction of t0)")
         val.in_range("eps_r", self.eps_r, 1.0, 1e4)
+        val.in_range("wrinkle_imperfection", self.wrinkle_imperfection, 0.0,
+                     MAX_IMPERFECTION - self.imperfection,
+                     bound=f"the two imperfections together above {MAX_IMPERFECTION} t0: "
+                           "the lifted prism mesh no longer represents the plate")
+        val.integer_at_least("wrinkle_wavenumber", self.wrinkle_wavenumber, 1)
+        if self.wrinkle_wavenumber > MAX_WAVENUMBER:
+            raise ValueError(f"wrinkle_wavenumber = {self.wrinkle_wavenumber} must be <= "
+                             f"{MAX_WAVENUMBER}")
+
+    def imperfection_lift(self, x, y):
+        """Vertical lift w0(x, y) of the reference geometry (m; class docstring), for
+        points of the disk (arrays broadcast)."""
+        x, y = np.asarray(x, float), np.asarray(y, float)
+        a, t0, n = self.radius, self.thickness, self.wrinkle_wavenumber
+        s2 = (x * x + y * y) / a**2
+        bubble = np.clip(1.0 - s2, 0.0, None) ** 2
+        out = self.imperfection * t0 * bubble
+        if self.wrinkle_imperfection:
+            c_n = (n / (n + 4.0)) ** (n / 2) * (4.0 / (n + 4.0)) ** 2
+            ring = ((x + 1j * y) / a) ** n           # s^n exp(i n theta)
+            out = out + self.wrinkle_imperfection * t0 * bubble * ring.real / c_n
+        return out
 
     @property
     def radius(self) -> float:

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from debench.models import validation as val
 from debench.models.buckling.analytic import critical_voltage_plate
-from debench.models.buckling.fem import MembraneModel, mode_harmonics
+from debench.models.buckling.fem import MembraneModel, deflection_asymmetry, mode_harmonics
 from debench.models.buckling.parameters import Discretisation, NeoHookean, Ogden, Plate
 from debench.models.errors import ConvergenceError, require
 
@@ -140,7 +140,10 @@ class RampResult:
 
     Arrays along the converged path: ``v`` normalised voltage, ``w`` centre deflection of
     the top surface / t0, ``thickness`` centre thickness / t0, ``e_centre`` normalised
-    true field at the centre, ``e_max`` largest sampled true field.  The path continues a
+    true field at the centre, ``e_max`` largest sampled true field, ``w_asym`` and
+    ``n_asym`` the amplitude / t0 and wavenumber of the largest non-axisymmetric harmonic of
+    the deflection on the mid-plane circle r = R/2
+    (:func:`~debench.models.buckling.fem.deflection_asymmetry`).  The path continues a
     little past the voltage maximum (deflection control).  ``v_pullin``, ``w_pullin``: the
     limit point (vertex of the parabola v(w) through the three points around the maximum;
     None if not reached); ``pullin_bracket`` = (largest computed v, v_pullin).
@@ -175,6 +178,8 @@ class RampResult:
     eig_wavenumber: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), np.int64))
     newton_residual: np.ndarray = field(default_factory=lambda: np.zeros(0))
     eig_residual: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    w_asym: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    n_asym: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     h_rel: float = float("nan")
     layers: int = 0
     order: int = 0
@@ -254,7 +259,8 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
     from debench.models.buckling.fem import control_deflection, newton_deflection
     model = MembraneModel(plate, mat, disc, with_imperfection=True, inverse=inverse,
                           reuse=reuse, eigensolver=eigensolver, chord=chord)
-    rec = {k: [] for k in ("v", "w", "w_mid", "thickness", "e_centre", "e_max", "its", "res")}
+    rec = {k: [] for k in ("v", "w", "w_mid", "thickness", "e_centre", "e_max", "its", "res",
+                           "w_asym", "n_asym")}
     eig = {"v": [], "w": [], "lam": [], "ax": [], "n": [], "res": []}
     last_modes = [None]
     if v_switch is None:
@@ -268,6 +274,9 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
         rec["thickness"].append(model.centre_thickness())
         rec["e_centre"].append(model.v / rec["thickness"][-1])
         rec["e_max"].append(model.max_true_field())
+        amp, n = deflection_asymmetry(model)
+        rec["w_asym"].append(amp)
+        rec["n_asym"].append(n)
         rec["its"].append(its)
         rec["res"].append(model.last_newton["residual"] if its else 0.0)
         if eig_every and len(rec["v"]) % eig_every == 0:
@@ -387,6 +396,7 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
                       eig_axisym=np.array(eig["ax"]).reshape(-1, 3),
                       eig_wavenumber=np.array(eig["n"], dtype=np.int64).reshape(-1, 3),
                       newton_residual=arr["res"], eig_residual=np.array(eig["res"]),
+                      w_asym=arr["w_asym"], n_asym=arr["n_asym"].astype(np.int64),
                       h_rel=disc.h_rel, layers=disc.layers, order=disc.order, end=end)
 
 
