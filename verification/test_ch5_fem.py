@@ -243,6 +243,48 @@ def test_mode_axisymmetry_detects_the_axisymmetric_buckling_mode():
     assert harm[0][0] == pytest.approx(ax[0], abs=1e-12)
 
 
+@pytest.mark.parametrize("n", [1, 3])
+def test_wrinkle_imperfection_peaks_at_its_amplitude_with_wavenumber_n(n):
+    """Plate.imperfection_lift: the seed s^n (1 - s^2)^2 cos(n theta) / c_n has its peak,
+    amplitude x t0, at s^2 = n / (n + 4) on theta = 0 and vanishes at the centre and the
+    rim; the axisymmetric term is unchanged (the thesis' imperfection)."""
+    t0, amp = 1e-3, 0.02
+    seeded = Plate(thickness=t0, wrinkle_imperfection=amp, wrinkle_wavenumber=n)
+    plain = Plate(thickness=t0)
+    a = seeded.radius
+    s = np.linspace(0.0, 1.0, 20001)
+    seed = seeded.imperfection_lift(s * a, 0 * s) - plain.imperfection_lift(s * a, 0 * s)
+    # grid spacing 5e-5 in s: the peak value is found to (5e-5)^2 relative
+    assert np.max(seed) == pytest.approx(amp * t0, rel=1e-8)
+    assert s[np.argmax(seed)] == pytest.approx(np.sqrt(n / (n + 4)), abs=1e-4)
+    assert seed[0] == 0.0 and abs(seed[-1]) < 1e-20
+    th = np.linspace(0, 2 * np.pi, 13)
+    x, y = 0.5 * a * np.cos(th), 0.5 * a * np.sin(th)
+    ring = seeded.imperfection_lift(x, y) - plain.imperfection_lift(x, y)
+    # exact trigonometry up to round-off of the complex power (~1e-16 of the amplitude)
+    assert ring == pytest.approx(ring[0] * np.cos(n * th), abs=1e-12 * amp * t0)
+    assert plain.imperfection_lift(0.0, 0.0) == pytest.approx(plain.imperfection * t0)
+
+
+def test_deflection_asymmetry_measures_a_prescribed_wavenumber_n_deflection():
+    """fem.deflection_asymmetry: a displacement u_z = A t0 (r/a) cos(theta) set on the mesh
+    reads as amplitude A / 2 at r = a/2 with n = 1; an axisymmetric u_z reads as zero
+    (quadratic elements interpolate the linear-in-x field exactly)."""
+    import ngsolve as ngs
+
+    from debench.models.buckling.fem import deflection_asymmetry
+    m = MembraneModel(Plate(), NeoHookean(), COARSE, with_imperfection=True)
+    a, t0, amp = m.plate.radius, m.plate.thickness, 0.3
+    m.gf.components[0].Set(ngs.CF((0, 0, amp * t0 * ngs.x / a)))
+    got, n = deflection_asymmetry(m)
+    assert n == 1
+    # interpolation of x is exact on quadratic elements; 1e-9 is far above round-off
+    assert got == pytest.approx(amp / 2, rel=1e-9)
+    m.gf.components[0].Set(ngs.CF((0, 0, amp * t0 * (ngs.x**2 + ngs.y**2) / a**2)))
+    # r^2 is interpolated exactly too: the non-axisymmetric part is round-off of the lookup
+    assert deflection_asymmetry(m)[0] < 1e-9 * amp
+
+
 def test_critical_voltage_sensitivity_to_bulk_modulus_is_small():
     """Assumption ch5.assumption.compressibility ('J = 1' in §5.3 vs k of Table 5.1).
     Plate theory + flat film: k -> 100 k changes v_cr by < 0.1 %.  FE: the change for
@@ -380,7 +422,12 @@ def test_chapter5_parameters_raise_naming_the_argument_and_bound():
              (lambda: Discretisation(h_rel=1e-3), "h_rel"),
              (lambda: Plate(imperfection=0.4), "imperfection"),
              (lambda: Discretisation(layers=0), "layers"),
-             (lambda: Discretisation(ogden_delta=0.5), "ogden_delta")]
+             (lambda: Discretisation(ogden_delta=0.5), "ogden_delta"),
+             (lambda: Plate(wrinkle_imperfection=0.1), "wrinkle_imperfection"),
+             (lambda: Plate(wrinkle_imperfection=-1e-3), "wrinkle_imperfection"),
+             (lambda: Plate(wrinkle_wavenumber=0), "wrinkle_wavenumber"),
+             (lambda: Plate(wrinkle_wavenumber=1.5), "wrinkle_wavenumber"),
+             (lambda: Plate(wrinkle_wavenumber=40), "wrinkle_wavenumber")]
     for make, name in cases:
         with pytest.raises(ValueError, match=name):
             make()
