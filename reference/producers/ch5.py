@@ -456,71 +456,108 @@ def _wrinkling():
     return read_dataset("ch5_wrinkling")
 
 
+def first_instability(eig_w, eig_v, eig_lam, eig_axisym, eig_n,
+                      axisym_max: float = 0.5) -> dict:
+    """The first instability recorded along a path: the first eigen-record where an
+    eigenvalue of the condensed tangent at fixed voltage is <= 0, classified by the mode
+    that is lowest there: ``axisymmetric`` (n = 0 fraction >= ``axisym_max``) is the
+    pull-in limit point of the axisymmetric film, ``non-axisymmetric`` a wrinkling
+    bifurcation. Its deflection / t0 (``w``) and voltage (``v``) are interpolated linearly
+    to the zero of the lowest eigenvalue of that kind between the previous record and this
+    one; ``n`` is the mode's dominant wavenumber; ``lam_ratio`` the three recorded
+    eigenvalues there over the largest lowest eigenvalue of the path (how far the next
+    modes are from zero); ``axisym`` their n = 0 fractions. Kind ``"none"`` (NaN values)
+    when nothing became unstable. The voltage maximum of the deflection-controlled path is
+    not used: where the path turns at a bifurcation, its maximum is the bifurcation, not
+    the axisymmetric limit point."""
+    lam, ax = np.asarray(eig_lam, float), np.asarray(eig_axisym, float)
+    w, v = np.asarray(eig_w, float), np.asarray(eig_v, float)
+    ok = np.isfinite(w)
+    lam, ax, w, v, n = lam[ok], ax[ok], w[ok], v[ok], np.asarray(eig_n)[ok]
+    out = {"kind": "none", "w": math.nan, "v": math.nan, "n": math.nan,
+           "lam_ratio": [math.nan] * 3, "axisym": [math.nan] * 3}
+    bad = np.flatnonzero(np.min(lam, axis=1) <= 0.0)
+    if not bad.size:
+        return out
+    i = int(bad[0])
+    j = int(np.argmin(lam[i]))
+    axisym = ax[i, j] >= axisym_max
+    same = (ax >= axisym_max) if axisym else (ax < axisym_max)
+    lowest = np.min(np.where(same, lam, np.inf), axis=1)
+    wi, vi = w[i], v[i]
+    if i > 0 and np.isfinite(lowest[i - 1]) and lowest[i - 1] > 0:
+        f = lowest[i - 1] / (lowest[i - 1] - lowest[i])
+        wi, vi = w[i - 1] + f * (w[i] - w[i - 1]), v[i - 1] + f * (v[i] - v[i - 1])
+    scale = float(np.max(np.min(lam, axis=1)))
+    out.update(kind="axisymmetric" if axisym else "non-axisymmetric", w=float(wi),
+               v=float(vi), n=float(n[i, j]), lam_ratio=[float(x) / scale for x in lam[i]],
+               axisym=[float(x) for x in ax[i]])
+    return out
+
+
 def wrinkling_search(ds) -> dict:
-    """What the radius/thickness 20 ramps (``ch5_wrinkling.nc``) found, per mesh level:
-    ``first`` -- a non-axisymmetric mode became unstable before pull-in (or before the path
-    stalled); ``consistent`` -- the same outcome on every circumferential resolution; the
-    finest level's onset voltage, deflection / t0 and wavenumber (NaN: none) and the second
-    finest level's deflection / t0 (``w_over_t0_second``); per level the
-    deflection / t0 where the lowest non-axisymmetric eigenvalue is smallest before pull-in
-    (``w_min_lambda_over_t0``), that eigenvalue and its largest value on the same path, and
-    where a non-axisymmetric eigenvalue first reaches zero anywhere on the recorded path
-    (before or after pull-in; NaN: nowhere): its deflection / t0 (``w_zero_over_t0``), its
-    voltage over the largest voltage of the path (``v_zero_over_v_max``) and its wavenumber
-    (``n_zero``)."""
+    """What the radius/thickness 20 ramps (``ch5_wrinkling.nc``) found, per mesh level
+    (lists, coarse to fine): the first instability along the path
+    (:func:`first_instability`: ``first_kind``, its deflection / t0 ``w_first_over_t0``,
+    its voltage over the largest voltage of the path ``v_first_over_v_max``, wavenumber
+    ``n_first``, the recorded eigenvalues there ``lam_ratio_first`` and their n = 0
+    fractions ``axisym_first``); ``first`` -- it is a non-axisymmetric mode (wrinkling
+    before pull-in); ``consistent`` -- the same kind on every resolution; the two finest
+    levels' wrinkling deflections / t0 (``w_over_t0``, ``w_over_t0_second``; NaN where the
+    first instability is not wrinkling); per level the deflection / t0 where the lowest
+    non-axisymmetric eigenvalue is smallest before the first instability
+    (``w_min_lambda_over_t0``), that eigenvalue and its largest value on the path
+    (``min_nonaxisymmetric_lambda``, ``max_nonaxisymmetric_lambda``); the path's voltage
+    maximum (``w_pullin_over_t0``: the dataset's ``w_pullin``) and why it ended."""
     from debench.reference.builders.ch5 import lowest_nonaxisymmetric
     from debench.reference.builders.ch5_wrinkling import AXISYM_MAX
-    v_w = ds.v_wrinkling.values            # onsets before pull-in only (NaN: none)
-    first = [bool(np.isfinite(a)) for a in v_w]
-    w_min, lam_max = [], []                # where the lowest non-axisymmetric eigenvalue dips,
-    #                                        and its largest value along the path
-    zero = {"w_zero_over_t0": [], "v_zero_over_v_max": [], "n_zero": []}
+    firsts, w_min, lam_min, lam_max = [], [], [], []
     for lev in ds.level.values:
         r = ds.sel(level=lev)
+        f = first_instability(r.eig_w.values, r.eig_v.values, r.eig_lam.values,
+                              r.eig_axisym.values, r.eig_wavenumber.values, AXISYM_MAX)
+        f["v_over_v_max"] = f["v"] / float(np.nanmax(r.v.values))
+        firsts.append(f)
         lam = lowest_nonaxisymmetric(r.eig_lam.values, r.eig_axisym.values, AXISYM_MAX)
-        crossed = np.flatnonzero(lam <= 0.0)      # inf padding never counts
-        i0 = int(crossed[0]) if crossed.size else None
-        zero["w_zero_over_t0"].append(math.nan if i0 is None else float(r.eig_w.values[i0]))
-        zero["v_zero_over_v_max"].append(
-            math.nan if i0 is None else float(r.eig_v.values[i0] / np.nanmax(r.v.values)))
-        zero["n_zero"].append(math.nan if i0 is None else float(r.eig_wavenumber.values[i0][
-            int(np.argmin(np.where(r.eig_axisym.values[i0] < AXISYM_MAX, r.eig_lam.values[i0],
-                                   np.inf)))]))
-        upto = r.eig_w.values <= (float(r.w_pullin) if np.isfinite(float(r.w_pullin))
-                                  else np.inf)
+        upto = r.eig_w.values <= (f["w"] if np.isfinite(f["w"]) else np.inf)
         lam = np.where(upto & np.isfinite(lam), lam, np.inf)
-        w_min.append(float(r.eig_w.values[int(np.argmin(lam))]))
+        k = int(np.argmin(lam))
+        w_min.append(float(r.eig_w.values[k]))
+        lam_min.append(float(lam[k]))
         lam_max.append(float(np.max(np.where(np.isfinite(lam), lam, -np.inf))))
-    return {"first": first, "consistent": all(first) or not any(first),
-            "w_min_lambda_over_t0": w_min, "max_nonaxisymmetric_lambda": lam_max,
-            "v": float(v_w[-1]), "w_over_t0": float(ds.w_wrinkling.values[-1]),
-            "n": float(ds.n_wrinkling.values[-1]),
-            "w_over_t0_second": float(ds.w_wrinkling.values[-2]),
+    first = [f["kind"] == "non-axisymmetric" for f in firsts]
+    kinds = [f["kind"] for f in firsts]
+
+    def wrinkle(f, key):
+        return f[key] if f["kind"] == "non-axisymmetric" else math.nan
+
+    return {"first": first, "consistent": len(set(kinds)) == 1, "first_kind": kinds,
+            "w_first_over_t0": [f["w"] for f in firsts],
+            "v_first_over_v_max": [f["v_over_v_max"] for f in firsts],
+            "n_first": [f["n"] for f in firsts],
+            "lam_ratio_first": [f["lam_ratio"] for f in firsts],
+            "axisym_first": [f["axisym"] for f in firsts],
+            "w_over_t0": wrinkle(firsts[-1], "w"),
+            "w_over_t0_second": wrinkle(firsts[-2], "w"),
+            "v": wrinkle(firsts[-1], "v"), "n": wrinkle(firsts[-1], "n"),
+            "w_min_lambda_over_t0": w_min, "min_nonaxisymmetric_lambda": lam_min,
+            "max_nonaxisymmetric_lambda": lam_max,
             "w_pullin_over_t0": [float(x) for x in ds.w_pullin.values],
             "path_end": [str(x) for x in ds.path_end.values],
-            "min_nonaxisymmetric_lambda": [float(x) for x in
-                                           ds.min_nonaxisymmetric_lambda.values],
-            "h_rel": [float(x) for x in ds.h_rel.values]} | zero
-
-
-V_ZERO_AT_MAX = 1e-3
-"""A non-axisymmetric eigenvalue reaches zero *at* the voltage maximum of a path when its
-voltage is within this fraction of the maximum. What sets it: on the two finest R/t0 = 20
-paths the voltage still rises at 0.03-0.08 of its maximum per t0 of deflection within the
-last 0.1 t0 before the maximum, so the fraction corresponds to 0.01-0.03 t0 of deflection,
-well below the 0.08 t0 between the two finest meshes' zeros."""
+            "h_rel": [float(x) for x in ds.h_rel.values]}
 
 
 def hypothesis_wrinkling(entry: Entry) -> Outcome:
     """§5.3.1: the 0.5 mm film wrinkles before pull-in, at a centre deflection of 3.64 mm.
     Under the hypothesis that its model kept R = 10 mm (R/t0 = 20), judged on the two finest
     circumferential resolutions of ``ch5_wrinkling.nc`` (coarser ones cannot represent the
-    higher wavenumbers): ``explained`` when both find a non-axisymmetric instability before
-    pull-in and the finest one's centre deflection (the value, mm) meets the printed
-    interval of the target within the difference between the two meshes (their
-    discretisation error estimate); ``unexplained`` when they find none, disagree, or put
-    the onset elsewhere."""
+    higher wavenumbers): ``explained`` when on both the first instability along the path is
+    non-axisymmetric (:func:`wrinkling_search`) and the finest one's centre deflection
+    there (the value, mm) meets the printed interval of the target within the difference
+    between the two meshes (their discretisation error estimate); ``unexplained`` when
+    either finds pull-in first or nothing, or the deflection lies elsewhere."""
     from debench.reference import catalogue
+    from debench.reference.builders.ch5 import lowest_nonaxisymmetric
 
     ds = _wrinkling()
     found = wrinkling_search(ds)
@@ -533,23 +570,15 @@ def hypothesis_wrinkling(entry: Entry) -> Outcome:
         value = found["w_over_t0"] * t0_mm
         mesh_err = abs(found["w_over_t0"] - found["w_over_t0_second"]) * t0_mm
     status = "explained" if both and abs(value - t) <= mesh_err + dt else "unexplained"
-    from debench.reference.builders.ch5 import lowest_nonaxisymmetric
     r10 = _ramps().sel(case="ogden_t0p5")     # the same film at the stated R/t0 = 10
     lam10 = lowest_nonaxisymmetric(r10.eig_lambda.values, r10.eig_axisymmetry.values)
     lam10 = lam10[np.isfinite(lam10) & (r10.eig_w.values <= float(r10.w_pullin))]
-    last = ds.isel(level=-1)                  # the finest path's last eigen-record
-    k = int(np.flatnonzero(np.isfinite(last.eig_w.values))[-1])
+    w_mm = [w * t0_mm for w in found["w_first_over_t0"]]
     return Outcome(value, status=status, details=found | {
-        "finest_last_n": [float(x) for x in last.eig_wavenumber.values[k]],
-        "w_mm_zero_finest": found["w_zero_over_t0"][-1] * t0_mm,
-        "w_zero_finest_over_printed": found["w_zero_over_t0"][-1] * t0_mm / t - 1.0,
-        "levels_zero_at_v_max": int(np.sum(np.asarray(found["v_zero_over_v_max"])
-                                           >= 1.0 - V_ZERO_AT_MAX)),
-        "finest_last_lambda_ratio": [float(x) / found["max_nonaxisymmetric_lambda"][-1]
-                                     for x in last.eig_lam.values[k]],
-        "thickness_mm": t0_mm, "w_mm_finest": found["w_over_t0"] * t0_mm,
-        "w_mm_mesh_error": mesh_err, "thesis_interval": [t - dt, t + dt],
-        "w_mm_dip_finest": found["w_min_lambda_over_t0"][-1] * t0_mm,
+        "levels_wrinkling_first": int(sum(found["first"])), "levels": len(found["first"]),
+        "thickness_mm": t0_mm, "w_mm_first": w_mm, "w_mm_mesh_error": mesh_err,
+        "w_finest_over_printed": (value / t - 1.0) if value is not None else math.nan,
+        "thesis_interval": [t - dt, t + dt],
         "dip_ratio": [a / b for a, b in zip(found["min_nonaxisymmetric_lambda"],
                                             found["max_nonaxisymmetric_lambda"], strict=True)],
         "dip_ratio_r10": float(np.min(lam10) / np.max(lam10))},
