@@ -51,6 +51,8 @@ W_SPLIT = 9.0
 """Centre deflection / t0 that separates failure at the wrinkling bifurcation (its zero
 lies at 7.6-7.95 t0 on the meshes h <= 3 t0) from failure at a later limit point (the
 axisymmetric limit points of the meshes that pass the bifurcation lie at 10.2-11.7 t0)."""
+W_ZOOM = 0.6
+"""The voltage panel of the figure starts at W_ZOOM x W_SPLIT: the paths agree before."""
 
 
 def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dataset:
@@ -129,14 +131,17 @@ def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dat
         "mode": ("mode", np.arange(3), a("mode index (ascending eigenvalue)"))})
 
 
-def koiter_exponent(amplitudes, v_max, v_bif: float) -> float:
-    """Least-squares slope of log(v_bif - v_max) against log(amplitude): 2/3 for the
-    voltage drop of a symmetric unstable bifurcation, 1/2 for an asymmetric one; NaN when a
-    maximum lies at or above ``v_bif`` or is missing."""
-    amp, drop = np.asarray(amplitudes, float), v_bif - np.asarray(v_max, float)
-    if not (np.all(np.isfinite(drop)) and np.all(drop > 0)) or amp.size < 2:
+def drop_exponent(v_max) -> float:
+    """Exponent p of the voltage drop v_c - v_max ~ C amplitude^p from three maxima at
+    amplitudes in the constant ratio q of :data:`AMPLITUDES`: successive drops grow by
+    q^p, so p = log(d2 / d1) / log q whatever v_c (2/3 for a symmetric unstable
+    bifurcation, 1/2 for an asymmetric one); NaN unless both drops are positive."""
+    v = np.asarray(v_max, float)
+    q = AMPLITUDES[1] / AMPLITUDES[0]
+    d1, d2 = v[0] - v[1], v[1] - v[2]
+    if not (np.isfinite(d1) and np.isfinite(d2) and d1 > 0 and d2 > 0):
         return math.nan
-    return float(np.polyfit(np.log(amp), np.log(drop), 1)[0])
+    return float(np.log(d2 / d1) / np.log(q))
 
 
 def wrinkling_governs(ds: xr.Dataset) -> str:
@@ -165,8 +170,9 @@ def figure(ds: xr.Dataset, fig_dir: Path, perfect: xr.Dataset | None = None) -> 
     colours = ("C0", "C1", "C2", "C3")
     for lev, ls in zip(ds.level.values, ("--", "-"), strict=False):
         h = float(ds.h_rel[lev])
-        if perfect is not None and h in perfect.h_rel.values:
-            p = perfect.where(perfect.h_rel == h, drop=True).isel(level=0)
+        same = [] if perfect is None else np.flatnonzero(perfect.h_rel.values == h)
+        if len(same):
+            p = perfect.isel(level=int(same[0]))
             ax1.plot(p.w, p.v, ls, color="k", lw=1, label=f"no seed, h = {h:g} t0")
         for j, amp in enumerate(ds.amplitude.values):
             r = ds.isel(level=lev, amplitude=j)
@@ -177,11 +183,20 @@ def figure(ds: xr.Dataset, fig_dir: Path, perfect: xr.Dataset | None = None) -> 
                 ax1.plot(float(r.w_at_v_max), float(r.v_max), "o", color=colours[j], ms=4)
     for ax in (ax1, ax2):
         ax.axvline(W_SPLIT, color="0.6", lw=0.8, ls=":")
-        ax.set_xlabel(r"centre deflection $w/t_0$")
+        ax.set_xlabel(rf"centre deflection $w/t_0$ (dotted: {W_SPLIT:g}, the split of the reading)")
+    w_lo = W_ZOOM * W_SPLIT
+    near = np.concatenate([ds.v.values[ds.w.values >= w_lo].ravel(),
+                           ds.v_max.values.ravel()])
+    near = near[np.isfinite(near)]
+    ax1.set_xlim(w_lo, tasks.C_MAX)
+    if near.size:
+        pad = 0.1 * (near.max() - near.min()) + 1e-4
+        ax1.set_ylim(near.min() - pad, near.max() + pad)
     ax1.set_ylabel(r"normalised voltage $v$ (dots: voltage maxima)")
-    ax2.set_ylabel(r"wavenumber-1 deflection amplitude on $r = R/2$, $/t_0$")
+    ax2.set_ylabel(r"non-axisymmetric deflection on $r = R/2$ / $t_0$")
     ax2.set_yscale("log")
-    ax1.set_title("Ogden, radius/thickness 20, seeded wavenumber-1 imperfection")
+    fig.suptitle("Ogden, radius/thickness 20: films with a wavenumber-1 seed "
+                 "(dashed h = 2.5 t0, solid h = 2 t0)")
     ax1.legend(fontsize=7)
     return save(fig, fig_dir / "fig5_4_imperfection_sensitivity_r20")
 
