@@ -1,0 +1,73 @@
+"""The regeneration check of ``debench verify`` judges each variable by its own accuracy.
+
+:func:`debench.reference.cli.compare_with_curated` compares a rebuilt dataset with the
+curated one; a variable that states its accuracy (``accuracy_rtol``/``accuracy_atol``, as
+the in-plane and strip FE roots do) is judged by it, any other numeric variable by the
+default (``REGEN_RTOL``, ``REGEN_ATOL``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+from debench.reference.cli import (
+    REGEN_ATOL,
+    REGEN_RTOL,
+    compare_with_curated,
+    regeneration_tolerance,
+)
+from debench.reference.datasets import write_dataset
+
+#: the stated accuracy of the test variable: looser in atol than the default, tighter in
+#: rtol (values O(1)), as the FE roots of the in-plane and strip datasets
+RTOL, ATOL = 1e-9, 2e-6
+BASE = np.array([0.6661, 1.25, 3.5])
+
+
+def _write(directory, lam_own, lam_default):
+    ds = xr.Dataset(
+        {"lam_own": ("i", lam_own, {"long_name": "root with a stated accuracy", "units": "1",
+                                    "accuracy_rtol": RTOL, "accuracy_atol": ATOL,
+                                    "accuracy_reason": "test"}),
+         "lam_default": ("i", lam_default, {"long_name": "root without one", "units": "1"})},
+        coords={"i": ("i", np.arange(BASE.size), {"long_name": "index", "units": "1"})})
+    return write_dataset(ds, "ch4_regen_test", title="t", summary="s", parameters={"a": 1},
+                         out_dir=directory, overwrite=True)
+
+
+@pytest.fixture
+def curated(tmp_path):
+    _write(tmp_path / "curated", BASE, BASE)
+    return tmp_path / "curated"
+
+
+def _compare(tmp_path, curated, own_shift, default_shift):
+    path = _write(tmp_path / "new", BASE + own_shift, BASE + default_shift)
+    return compare_with_curated(path, curated)
+
+
+def test_variable_within_its_own_accuracy_matches(tmp_path, curated):
+    """A shift inside the stated atol (beyond the default rtol) passes."""
+    assert "matches curated" in _compare(tmp_path, curated, 0.5 * ATOL, 0.0)
+
+
+def test_variable_beyond_its_own_accuracy_differs(tmp_path, curated):
+    """A shift beyond the stated accuracy fails and names only that variable."""
+    line = _compare(tmp_path, curated, 2 * (ATOL + RTOL * BASE.max()), 0.0)
+    assert "DIFFERS in lam_own" in line and "lam_default" not in line
+
+
+def test_variable_without_accuracy_uses_the_default(tmp_path, curated):
+    """Without accuracy attributes, the default rtol decides: inside passes, beyond fails."""
+    inside = 0.5 * REGEN_RTOL * BASE.min()
+    assert "matches curated" in _compare(tmp_path, curated, 0.0, inside)
+    line = _compare(tmp_path, curated, 0.0, 2 * (REGEN_ATOL + REGEN_RTOL * BASE.max()))
+    assert "DIFFERS in lam_default" in line and "lam_own" not in line
+
+
+def test_regeneration_tolerance_rejects_a_void_accuracy():
+    with pytest.raises(ValueError, match="accuracy_rtol"):
+        regeneration_tolerance({"accuracy_rtol": 0.0, "accuracy_atol": 0.0})
+    assert regeneration_tolerance({"accuracy_atol": ATOL}) == (0.0, ATOL)
+    assert regeneration_tolerance({}) == (REGEN_RTOL, REGEN_ATOL)
