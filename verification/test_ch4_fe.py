@@ -203,3 +203,29 @@ def test_bad_inputs_raise_naming_the_argument():
     for call, name in cases:
         with pytest.raises(ValueError, match=name):
             call()
+
+
+def test_secant_certifies_a_zero_within_xtol():
+    """The secant search from a root estimate returns an interval narrower than XTOL on
+    which the function changes sign, and gives up (None) where it cannot certify one: a
+    zero outside the bracket, a flat function."""
+    root = 0.7310585786300049
+    a, b = sfe._secant_from_guess(lambda x: np.tanh(3 * (x - root)), 0.73, 0.7, 0.8)
+    assert 0 < b - a < sfe.XTOL and a <= root <= b
+    assert sfe._secant_from_guess(lambda x: x - 0.95, 0.75, 0.7, 0.8) is None
+    assert sfe._secant_from_guess(lambda x: 1.0, 0.75, 0.7, 0.8) is None
+
+
+def test_strip_root_from_the_determinant_root_is_the_bracketed_one():
+    """Secant steps started at the determinant root (the producers' search) find the
+    zero a search of the whole bracket finds, to the root tolerance, in fewer eigen-solves
+    (thin isotropic case of Fig. 4.2(c), coarse mesh)."""
+    xi, D, kH = 0.0, 2.0, 0.3
+    lam, par = next(zip(*P._determinant_roots(xi, D, kH, "charge"), strict=True))
+    br = (lam * (1 - P.BRACKET), lam * (1 + P.BRACKET))
+    kw = dict(Dhat=D, mesh=sfe.default_mesh(kH))
+    mat = sfe.material_for(xi)
+    plain = sfe.critical_stretch(kH, br, par, mat, **kw)
+    fast = sfe.critical_stretch(kH, br, par, mat, guess=float(lam), **kw)
+    assert abs(fast.lam - plain.lam) <= 2 * sfe.XTOL
+    assert fast.evaluations < plain.evaluations

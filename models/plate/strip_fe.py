@@ -89,6 +89,12 @@ EIG_TOL = 1e-13
 PURITY = 0.9
 #: brentq tolerance in lam (well below the coarse-mesh error ~1e-5, above round-off)
 XTOL = 1e-11
+#: first secant step from a root estimate (relative): the FE and determinant roots differ
+#: by <= ~1e-4 relative on the coarse meshes (measured), so the first secant step lands
+#: within ~1e-8 of the zero
+SECANT_STEP = 1e-4
+#: secant steps before a search of the whole bracket takes over (superlinear: ~4 suffice)
+SECANT_MAXITER = 8
 
 
 @dataclass(frozen=True)
@@ -368,13 +374,51 @@ class StripRoot:
     mesh: StripMesh
 
 
+def _secant_from_guess(f, guess: float, lo: float, hi: float) -> tuple[float, float] | None:
+    """A bracket of width < XTOL around a zero of ``f`` in (lo, hi), from secant steps
+    started at ``guess``; ``None`` when the steps leave (lo, hi), stall or do not settle
+    within SECANT_MAXITER (the caller then searches the whole bracket).
+
+    The estimate is certified, not trusted: the last iterate and a point 0.9 XTOL beyond
+    the predicted zero must carry opposite signs of ``f``.
+    """
+    x0 = guess
+    x1 = guess * (1 + SECANT_STEP)
+    if not (lo < x0 < hi and lo < x1 < hi):
+        return None
+    f0, f1 = f(x0), f(x1)
+    for _ in range(SECANT_MAXITER):
+        if f1 == 0.0:
+            return x1, x1
+        if f1 == f0:
+            return None
+        step = -f1 * (x1 - x0) / (f1 - f0)
+        if abs(step) < 0.9 * XTOL:
+            x2 = x1 + math.copysign(0.9 * XTOL, step)
+            if lo < x2 < hi and f1 * f(x2) < 0:
+                return (x1, x2) if x1 < x2 else (x2, x1)
+            return None
+        x2 = x1 + step
+        if not lo < x2 < hi:
+            return None
+        x0, f0, x1, f1 = x1, f1, x2, f(x2)
+    return None
+
+
 def critical_stretch(kH: float, bracket: tuple[float, float], parity: str, material, *,
                      Dhat: float | None = None, Vhat: float | None = None,
-                     mesh: StripMesh | None = None) -> StripRoot:
-    """lam_cr in ``bracket``: zero of the lowest (n = 1, ``parity``) eigenvalue.
+                     mesh: StripMesh | None = None, guess: float | None = None,
+                     _strip: _Strip | None = None) -> StripRoot:
+    """lam_cr in ``bracket``: zero of the lowest (n = 1, ``parity``) eigenvalue, located
+    to XTOL.
 
-    The eigenvalue must change sign across ``bracket`` (else :class:`ConvergenceError`).
-    Give exactly one of ``Dhat`` (charge control) or ``Vhat`` (voltage control).
+    With ``guess`` (an estimate inside ``bracket``, e.g. the determinant root), secant
+    steps start there and the zero is certified by a sign change across an interval
+    narrower than XTOL (:func:`_secant_from_guess`: 4-6 eigen-solves where a bracketed
+    search needs ~9); otherwise, or when that fails, the eigenvalue must change sign
+    across ``bracket`` (else :class:`ConvergenceError`) and brentq locates the zero.
+    Give exactly one of ``Dhat`` (charge control) or ``Vhat`` (voltage control);
+    ``_strip`` (the assembled ``mesh``) may be shared by the roots of one mesh.
     """
     from scipy.optimize import brentq
 
@@ -382,38 +426,53 @@ def critical_stretch(kH: float, bracket: tuple[float, float], parity: str, mater
     lo, hi = (float(b) for b in bracket)
     require(np.isfinite(lo) and np.isfinite(hi) and 0 < lo < hi,
             f"bracket must satisfy 0 < lo < hi, got {bracket}")
+    require(guess is None or (np.isfinite(guess) and lo < guess < hi),
+            f"guess must lie inside the bracket ({lo}, {hi}), got {guess}")
     require((Dhat is None) != (Vhat is None), "give exactly one of Dhat and Vhat")
     mesh = mesh or default_mesh(kH)
-    strip = _Strip(mesh)
-    calls = [0]
+    strip = _strip if _strip is not None else _Strip(mesh)
+    # the pair count that reached the n = 1 class (kept for the next evaluations of this
+    # root) and the modes and branch eigenvalue of every evaluated stretch
+    count = [N_EIG]
+    seen: dict[float, tuple[Modes, float]] = {}
 
     def f(x):
-        calls[0] += 1
-        count = N_EIG
+        x = float(x)
+        if x in seen:
+            return seen[x][1]
         while True:
-            m = modes(x, kH, material, Dhat=Dhat, Vhat=Vhat, _strip=strip, count=count)
+            m = modes(x, kH, material, Dhat=Dhat, Vhat=Vhat, _strip=strip, count=count[0])
             try:
-                return branch_eigenvalue(m, parity)
+                value = branch_eigenvalue(m, parity)
             except ConvergenceError:
                 # thick plates: the harmonics n k share the half-space limit and crowd
                 # zero, so more pairs are needed to reach the n = 1 class
-                if count >= N_EIG_MAX:
+                if count[0] >= N_EIG_MAX:
                     raise
-                count *= 2
+                count[0] *= 2
+                continue
+            seen[x] = (m, value)
+            return value
 
-    flo, fhi = f(lo), f(hi)
-    if not flo * fhi < 0:
-        raise ConvergenceError(f"the ({parity}, n=1) eigenvalue does not change sign on "
-                               f"[{lo}, {hi}] at kH={kH}: {flo:.3e}, {fhi:.3e}")
-    try:
-        r, info = brentq(f, lo, hi, xtol=XTOL, full_output=True)
-    except (ValueError, RuntimeError) as exc:
-        raise ConvergenceError(f"brentq failed on [{lo}, {hi}] at kH={kH}: {exc}") from exc
-    if not info.converged:
-        raise ConvergenceError(f"brentq did not converge on [{lo}, {hi}] at kH={kH}")
-    m = modes(r, kH, material, Dhat=Dhat, Vhat=Vhat, _strip=strip)
+    near = None if guess is None else _secant_from_guess(f, float(guess), lo, hi)
+    a, b = near if near is not None else (lo, hi)
+    if a == b:  # an exact zero
+        r = a
+    else:
+        fa, fb = f(a), f(b)
+        if not fa * fb < 0:
+            raise ConvergenceError(f"the ({parity}, n=1) eigenvalue does not change sign on "
+                                   f"[{a}, {b}] at kH={kH}: {fa:.3e}, {fb:.3e}")
+        try:
+            r, info = brentq(f, a, b, xtol=XTOL, full_output=True)
+        except (ValueError, RuntimeError) as exc:
+            raise ConvergenceError(f"brentq failed on [{a}, {b}] at kH={kH}: {exc}") from exc
+        if not info.converged:
+            raise ConvergenceError(f"brentq did not converge on [{a}, {b}] at kH={kH}")
+    f(r)  # brentq returns an evaluated stretch (no new solve)
+    m = seen[float(r)][0]
     j = int(np.argmin(np.abs(m.omega)))
     control = "charge" if Dhat is not None else "voltage"
     return StripRoot(float(r), float(kH), parity, control,
-                     float(Dhat if Dhat is not None else Vhat), m.Dhat, calls[0] + 1,
+                     float(Dhat if Dhat is not None else Vhat), m.Dhat, len(seen),
                      float(np.max(m.residual)), float(m.purity[j]), m.ndof, mesh)

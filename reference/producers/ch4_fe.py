@@ -7,7 +7,9 @@ the determinant of the energy-consistent ``"derived"`` coefficients. The check f
 here are called by the producers (on the coarse mesh, level 0) and by the evidence tests
 ``verification/test_ch4_fe.py`` (coarse in the default run, finer behind ``--full``).
 Every FE root is searched in a narrow bracket around the determinant root of the same
-parity; its value is fixed by the FE eigenvalue alone.
+parity, by secant steps started at that root (certified by a sign change across less than
+the root tolerance; the whole bracket is searched when they fail); its value is fixed by
+the FE eigenvalue alone.
 
 The producers read the FE roots from curated datasets (the finite-element producers read
 curated data): the agreement producers from ``ch4_fe_agreement.nc``, each FE root beside
@@ -107,17 +109,25 @@ def _brackets(lams, parities):
 
 @lru_cache(maxsize=256)
 def compare(xi: float, load: float, kH: float, *, level: int = 0,
-            control: str = "charge") -> tuple[Comparison, ...]:
-    """Every determinant root at (xi, load, kH) beside its strip-FE root on mesh ``level``."""
+            control: str = "charge", parity: str | None = None) -> tuple[Comparison, ...]:
+    """Every determinant root at (xi, load, kH) beside its strip-FE root on mesh ``level``
+    (only the roots of ``parity``, ``"E"`` or ``"O"``, when it is given; the brackets are
+    those of the full set)."""
     from debench.models.plate import strip_fe
 
+    if parity is not None and parity not in strip_fe.PARITIES:
+        raise ValueError(f"parity must be one of {strip_fe.PARITIES} or None, got {parity!r}")
     lams, pars = _determinant_roots(xi, load, kH, control)
     mat = strip_fe.material_for(xi)
     mesh = strip_fe.default_mesh(kH, level=level)
+    strip = strip_fe._Strip(mesh)  # assembled once for the roots of this case
     out = []
     for lam, par, br in zip(lams, pars, _brackets(lams, pars), strict=True):
+        if parity is not None and par != parity:
+            continue
         kw = {"Dhat": load} if control == "charge" else {"Vhat": load}
-        fe = strip_fe.critical_stretch(kH, br, par, mat, mesh=mesh, **kw)
+        fe = strip_fe.critical_stretch(kH, br, par, mat, mesh=mesh, guess=float(lam),
+                                       _strip=strip, **kw)
         out.append(Comparison(xi, load, kH, par, control, float(lam), fe.lam, fe.ndof, level))
     return tuple(out)
 
@@ -199,10 +209,10 @@ def biot_comparison(level: int = 0) -> Comparison:
 
     roots = _biot_det_roots()
     br = (min(roots.lam) * (1 - BRACKET), max(roots.lam) * (1 + BRACKET))
+    det = _biot_det_root(roots)
     fe = strip_fe.critical_stretch(KH_BIOT, br, "E", strip_fe.material_for(0.0), Dhat=0.0,
-                                   mesh=strip_fe.default_mesh(KH_BIOT, level=level))
-    return Comparison(0.0, 0.0, KH_BIOT, "E", "charge", _biot_det_root(roots), fe.lam,
-                      fe.ndof, level)
+                                   mesh=strip_fe.default_mesh(KH_BIOT, level=level), guess=det)
+    return Comparison(0.0, 0.0, KH_BIOT, "E", "charge", det, fe.lam, fe.ndof, level)
 
 
 def biot_root(level: int = 0) -> float:
