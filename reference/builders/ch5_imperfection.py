@@ -105,6 +105,8 @@ def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dat
             "three algebraically smallest eigenvalues of the condensed tangent (L2 mass)")),
         "eig_axisym": (dimse + ("mode",), grid([r.eig_axisym for r in ramps], neig), a(
             "fraction of the mode in the angular harmonic n = 0")),
+        "eig_wavenumber": (dimse + ("mode",), grid([r.eig_wavenumber for r in ramps], neig),
+                           a("dominant angular wavenumber n of the mode on r = R/2")),
         "v_max": (("level", "amplitude"), scalar([r.v_pullin for r in ramps]), a(
             "voltage maximum of the path (the film snaps there under voltage control)",
             accuracy=acc)),

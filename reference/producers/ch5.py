@@ -608,6 +608,17 @@ def hypothesis_wrinkling_failure(entry: Entry) -> Outcome:
     verdict = wrinkling_governs(ds)
     w = ds.w_at_v_max.values
     value = float(w[-1, 0]) * t0_mm if np.isfinite(w[-1, 0]) else None
+    first, ends = [], []        # per path: first instability at fixed voltage; last point
+    for lev in range(ds.sizes["level"]):
+        first.append([])
+        ends.append([])
+        for j in range(ds.sizes["amplitude"]):
+            r = ds.isel(level=lev, amplitude=j)
+            first[-1].append(first_instability(
+                r.eig_w.values, r.eig_v.values, r.eig_lam.values, r.eig_axisym.values,
+                r.eig_wavenumber.values))
+            k = int(np.flatnonzero(np.isfinite(r.w.values))[-1])
+            ends[-1].append([float(r.w.values[k]), float(r.v.values[k])])
     return Outcome(value, status="explained" if verdict == "governs" else "unexplained",
                    details={
                        "reading": verdict, "h_rel": [float(x) for x in ds.h_rel.values],
@@ -618,5 +629,9 @@ def hypothesis_wrinkling_failure(entry: Entry) -> Outcome:
                        "w_asym_at_v_max": ds.w_asym_at_v_max.values.tolist(),
                        "path_end": ds.path_end.values.tolist(),
                        "drop_exponent": [drop_exponent(v) for v in ds.v_max.values],
-                       "thickness_mm": t0_mm},
+                       "first_kind": [[f["kind"] for f in row] for row in first],
+                       "first_w_over_t0": [[f["w"] for f in row] for row in first],
+                       "first_v": [[f["v"] for f in row] for row in first],
+                       "first_n": [[f["n"] for f in row] for row in first],
+                       "end_w_over_t0_v": ends, "thickness_mm": t0_mm},
                    evidence=f"{EV_DATA}::test_curated_r20_imperfection_sensitivity")
