@@ -68,6 +68,7 @@ from debench.models.materials import (
     pressure_from_traction_free_face,
     push_forward,
 )
+from debench.models.plate._roots import zero_near
 from scipy.sparse.linalg import norm as spnorm
 
 PARITIES = ("E", "O")
@@ -89,12 +90,6 @@ EIG_TOL = 1e-13
 PURITY = 0.9
 #: brentq tolerance in lam (well below the coarse-mesh error ~1e-5, above round-off)
 XTOL = 1e-11
-#: first secant step from a root estimate (relative): the FE and determinant roots differ
-#: by <= ~1e-4 relative on the coarse meshes (measured), so the first secant step lands
-#: within ~1e-8 of the zero
-SECANT_STEP = 1e-4
-#: secant steps before a search of the whole bracket takes over (superlinear: ~4 suffice)
-SECANT_MAXITER = 8
 
 
 @dataclass(frozen=True)
@@ -374,37 +369,6 @@ class StripRoot:
     mesh: StripMesh
 
 
-def _secant_from_guess(f, guess: float, lo: float, hi: float) -> tuple[float, float] | None:
-    """A bracket of width < XTOL around a zero of ``f`` in (lo, hi), from secant steps
-    started at ``guess``; ``None`` when the steps leave (lo, hi), stall or do not settle
-    within SECANT_MAXITER (the caller then searches the whole bracket).
-
-    The estimate is certified, not trusted: the last iterate and a point 0.9 XTOL beyond
-    the predicted zero must carry opposite signs of ``f``.
-    """
-    x0 = guess
-    x1 = guess * (1 + SECANT_STEP)
-    if not (lo < x0 < hi and lo < x1 < hi):
-        return None
-    f0, f1 = f(x0), f(x1)
-    for _ in range(SECANT_MAXITER):
-        if f1 == 0.0:
-            return x1, x1
-        if f1 == f0:
-            return None
-        step = -f1 * (x1 - x0) / (f1 - f0)
-        if abs(step) < 0.9 * XTOL:
-            x2 = x1 + math.copysign(0.9 * XTOL, step)
-            if lo < x2 < hi and f1 * f(x2) < 0:
-                return (x1, x2) if x1 < x2 else (x2, x1)
-            return None
-        x2 = x1 + step
-        if not lo < x2 < hi:
-            return None
-        x0, f0, x1, f1 = x1, f1, x2, f(x2)
-    return None
-
-
 def critical_stretch(kH: float, bracket: tuple[float, float], parity: str, material, *,
                      Dhat: float | None = None, Vhat: float | None = None,
                      mesh: StripMesh | None = None, guess: float | None = None,
@@ -413,15 +377,13 @@ def critical_stretch(kH: float, bracket: tuple[float, float], parity: str, mater
     to XTOL.
 
     With ``guess`` (an estimate inside ``bracket``, e.g. the determinant root), secant
-    steps start there and the zero is certified by a sign change across an interval
-    narrower than XTOL (:func:`_secant_from_guess`: 4-6 eigen-solves where a bracketed
-    search needs ~9); otherwise, or when that fails, the eigenvalue must change sign
-    across ``bracket`` (else :class:`ConvergenceError`) and brentq locates the zero.
+    steps start there and brentq finishes on the narrowest interval where the eigenvalue
+    changed sign (:func:`debench.models.plate._roots.zero_near`: 4-6 eigen-solves where a
+    search of the whole bracket needs ~9); without it, or when they find no sign change,
+    the eigenvalue must change sign across ``bracket`` (else :class:`ConvergenceError`).
     Give exactly one of ``Dhat`` (charge control) or ``Vhat`` (voltage control);
     ``_strip`` (the assembled ``mesh``) may be shared by the roots of one mesh.
     """
-    from scipy.optimize import brentq
-
     require(parity in PARITIES, f"parity must be one of {PARITIES}, got {parity!r}")
     lo, hi = (float(b) for b in bracket)
     require(np.isfinite(lo) and np.isfinite(hi) and 0 < lo < hi,
@@ -432,14 +394,11 @@ def critical_stretch(kH: float, bracket: tuple[float, float], parity: str, mater
     mesh = mesh or default_mesh(kH)
     strip = _strip if _strip is not None else _Strip(mesh)
     # the pair count that reached the n = 1 class (kept for the next evaluations of this
-    # root) and the modes and branch eigenvalue of every evaluated stretch
+    # root) and the modes of every evaluated stretch
     count = [N_EIG]
-    seen: dict[float, tuple[Modes, float]] = {}
+    seen: dict[float, Modes] = {}
 
     def f(x):
-        x = float(x)
-        if x in seen:
-            return seen[x][1]
         while True:
             m = modes(x, kH, material, Dhat=Dhat, Vhat=Vhat, _strip=strip, count=count[0])
             try:
@@ -451,26 +410,12 @@ def critical_stretch(kH: float, bracket: tuple[float, float], parity: str, mater
                     raise
                 count[0] *= 2
                 continue
-            seen[x] = (m, value)
+            seen[float(x)] = m
             return value
 
-    near = None if guess is None else _secant_from_guess(f, float(guess), lo, hi)
-    a, b = near if near is not None else (lo, hi)
-    if a == b:  # an exact zero
-        r = a
-    else:
-        fa, fb = f(a), f(b)
-        if not fa * fb < 0:
-            raise ConvergenceError(f"the ({parity}, n=1) eigenvalue does not change sign on "
-                                   f"[{a}, {b}] at kH={kH}: {fa:.3e}, {fb:.3e}")
-        try:
-            r, info = brentq(f, a, b, xtol=XTOL, full_output=True)
-        except (ValueError, RuntimeError) as exc:
-            raise ConvergenceError(f"brentq failed on [{a}, {b}] at kH={kH}: {exc}") from exc
-        if not info.converged:
-            raise ConvergenceError(f"brentq did not converge on [{a}, {b}] at kH={kH}")
-    f(r)  # brentq returns an evaluated stretch (no new solve)
-    m = seen[float(r)][0]
+    r, _ = zero_near(f, guess, lo, hi, XTOL,
+                     what=f"the ({parity}, n=1) eigenvalue at kH={kH}")
+    m = seen[r]
     j = int(np.argmin(np.abs(m.omega)))
     control = "charge" if Dhat is not None else "voltage"
     return StripRoot(float(r), float(kH), parity, control,

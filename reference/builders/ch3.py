@@ -35,6 +35,7 @@ from debench.models.circular.circle_a import electrostriction_factor
 from debench.models.circular.params import Annulus
 from debench.models.circular.shooting import DEFAULT_STEPS, integrate_inward
 from debench.reference.datasets import write_dataset
+from debench.reference.figures import written
 from tqdm import tqdm
 
 LAMP_CURVES = (1.1, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0)
@@ -555,5 +556,6 @@ def build(out_dir: Path, *, full: bool = False) -> list[Path]:
         d.attrs = {}
         paths.append(write_dataset(d, name, title=title, summary=summary, parameters=prm,
                                    out_dir=out_dir, overwrite=True))
-    paths += figures(ds, out_dir / "figures")
+    if written():
+        paths += figures(ds, out_dir / "figures")
     return paths

@@ -26,6 +26,7 @@ from debench.models.plate.analysis import biot_equibiaxial_closed_form, half_spa
 from debench.models.plate.ansatz import LAM_WINDOW, critical_stretches, curves_vectorised
 from debench.models.plate.fem import eigenvalues, elements_for, refine_root
 from debench.reference.datasets import write_dataset
+from debench.reference.figures import written
 from debench.reference.producers import ch4 as prod
 from tqdm import tqdm
 
@@ -394,8 +395,9 @@ def build(out_dir: Path, *, full: bool = False, progress: bool = True) -> list[P
         summary="Critical stretch vs kH at fixed voltage for the electroded plate; the "
         "incremental problem equals the charge-controlled one with Dhat = Vhat lam^2/beta.",
         parameters=COMMON, out_dir=out_dir, overwrite=True))
-    paths += figures(out_dir / "figures", c42, c45, lim, ar, crit)
-    paths += _voltage_figure(out_dir / "figures", vc)
+    if written():
+        paths += figures(out_dir / "figures", c42, c45, lim, ar, crit)
+        paths += _voltage_figure(out_dir / "figures", vc)
     return paths
 
 

@@ -38,6 +38,7 @@ import xarray as xr
 from debench.models.plate import PlateParams
 from debench.models.plate import inplane as ip
 from debench.reference.datasets import write_dataset
+from debench.reference.figures import written
 from debench.reference.producers import ch4_inplane as prod
 from debench.reference.producers.ch4_inplane import Case
 
@@ -393,4 +394,4 @@ def build(out_dir: Path, *, full: bool = False, progress: bool = True) -> list[P
                     "control and tension with a field, xi = 5. " + note,
             parameters={**COMMON, "n_scan": N_SCAN, "lam_e_margin": ip.LAM_E_MARGIN}),
     ]
-    return paths + figure(out_dir, lc, cu, te, vo)
+    return paths + (figure(out_dir, lc, cu, te, vo) if written() else [])
