@@ -75,6 +75,12 @@ def not_written():
         _WRITE.reset(token)
 
 
+def written() -> bool:
+    """Whether :func:`save` writes figures here (false inside :func:`not_written`): builders
+    skip drawing figures nobody will see."""
+    return _WRITE.get()
+
+
 def save(fig, path: Path | str) -> list[Path]:
     """Write ``fig`` as ``<path>.png`` and ``<path>.svg`` (tight box), close it.
 
