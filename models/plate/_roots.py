@@ -49,8 +49,9 @@ class Memo:
 def secant_steps(f: Memo, guess: float, lo: float, hi: float, xtol: float) -> None:
     """Secant steps from ``guess`` inside (lo, hi) until a step is below ``xtol``, then one
     evaluation 0.9 xtol beyond the predicted zero (so that a sign change brackets it in an
-    interval narrower than ``xtol``). Stops early when a step leaves (lo, hi) or stalls;
-    the evaluations are kept in ``f``."""
+    interval narrower than ``xtol``). Stops early when two iterates straddle the zero
+    closer than ``xtol``, or when a step leaves (lo, hi) or stalls; the evaluations are
+    kept in ``f``."""
     x0, x1 = guess, guess * (1 + SECANT_STEP)
     if not (lo < x0 < hi and lo < x1 < hi):
         return
@@ -68,6 +69,9 @@ def secant_steps(f: Memo, guess: float, lo: float, hi: float, xtol: float) -> No
         if not lo < x2 < hi:
             return
         x0, f0, x1, f1 = x1, f1, x2, f(x2)
+        near = f.narrowest_sign_change()
+        if near is not None and near[1] - near[0] < xtol:
+            return  # two iterates already straddle the zero closer than xtol
 
 
 def zero_near(f: Callable[[float], float], guess: float | None, lo: float, hi: float,
