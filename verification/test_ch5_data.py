@@ -268,6 +268,42 @@ def test_curated_r20_wrinkling_search():
     assert outcome.details["dip_ratio_r10"] > DIP_RATIO_R10, outcome.details
 
 
+@pytest.mark.skipif(not _has_dataset("ch5_imperfection"),
+                    reason="ch5_imperfection.nc is converged-only and not curated yet "
+                           "(`debench reproduce ch5_imperfection --full --write-data`)")
+def test_curated_r20_imperfection_sensitivity():
+    """§5.3.1 ("fails at a lower achievable deformation") at radius/thickness 20, films with
+    a wavenumber-1 seed (``ch5_imperfection.nc``). The finding
+    (``ch5.hypothesis.radius_kept.wrinkling_failure_t0p5``, unexplained): the reading fixed
+    before the data is "undecided"; with the two smaller seeds the first instability at
+    fixed voltage is an n = 1 mode before W_SPLIT on both meshes, but on h = 2 t0 the path
+    turns there while on h = 2.5 t0 the voltage still rises; the largest seed passes on
+    both meshes; the maxima on h = 2 t0 rise with the seed (no imperfection sensitivity of
+    the seeded mode)."""
+    from debench.reference.builders.ch5_imperfection import W_SPLIT, wrinkling_governs
+    from debench.reference.producers.ch5 import hypothesis_wrinkling_failure
+
+    ds = read_dataset("ch5_imperfection")
+    assert list(ds.h_rel.values) == [2.5, 2.0] and ds.sizes["amplitude"] == 3
+    assert wrinkling_governs(ds) == "undecided"
+    entry = next(e for e in CH5 if e.id == "ch5.hypothesis.radius_kept.wrinkling_failure_t0p5")
+    out = hypothesis_wrinkling_failure(entry)
+    d = out.details
+    assert out.status == "unexplained" and d["reading"] == "undecided"
+    for lev in (0, 1):
+        for j in (0, 1):
+            assert d["first_kind"][lev][j] == "non-axisymmetric" and d["first_n"][lev][j] == 1
+            # on the wrinkling side of the reading's split (fixed before the data)
+            assert MM_WINDOW[0] / 0.5 <= d["first_w_over_t0"][lev][j] < W_SPLIT, d
+    # h = 2 t0: the smaller seeds' paths turn at their first instability, to within the
+    # deflection step there (~0.01 t0); h = 2.5 t0: they stall with the voltage rising
+    for j in (0, 1):
+        assert abs(d["w_at_v_max_over_t0"][1][j] - d["first_w_over_t0"][1][j]) < 0.02, d
+        assert d["path_end"][0][j] == "stalled before the limit point", d
+    assert np.all(np.diff(ds.v_max.values[1]) > 0), d["v_max"]
+    assert ds.w_at_v_max.values[0, 2] > W_SPLIT > ds.w_at_v_max.values[1, 2], d
+
+
 CH5 = [e for e in catalogue.load() if e.file == "ch5.toml"]
 
 
