@@ -185,7 +185,7 @@ def figure(ds: xr.Dataset, fig_dir: Path, perfect: xr.Dataset | None = None) -> 
                 ax1.plot(float(r.w_at_v_max), float(r.v_max), "o", color=colours[j], ms=4)
     for ax in (ax1, ax2):
         ax.axvline(W_SPLIT, color="0.6", lw=0.8, ls=":")
-        ax.set_xlabel(rf"centre deflection $w/t_0$ (dotted: {W_SPLIT:g}, the split of the reading)")
+        ax.set_xlabel(rf"centre deflection $w/t_0$ (dotted: {W_SPLIT:g})")
     w_lo = W_ZOOM * W_SPLIT
     near = np.concatenate([ds.v.values[ds.w.values >= w_lo].ravel(),
                            ds.v_max.values.ravel()])
