@@ -904,6 +904,15 @@ def figures(crit, ramps, fig_dir: Path) -> list[Path]:
     return out
 
 
+def converged_only(name: str, levels) -> bool:
+    """Whether the build of a converged-only chapter has nothing to compute (no mesh
+    ``levels`` in this mode, the default build): then it says so on stderr."""
+    if len(levels):
+        return False
+    print(f"{name}: converged-only (run with --full); nothing written", file=sys.stderr)
+    return True
+
+
 def resolve_scheduler(scheduler: str | None):
     """The ``scheduler`` of :func:`run_tasks` for a builder's ``scheduler`` option: None
     means ``"local"`` on a machine with more than one core, else serial; ``"serial"``

@@ -206,14 +206,11 @@ def figure(ds: xr.Dataset, fig_dir: Path, perfect: xr.Dataset | None = None) -> 
 def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) -> list[Path]:
     """Compute and write ``ch5_imperfection.nc`` and its figure into ``out_dir``
     (``scheduler``: as :func:`debench.reference.builders.ch5.build`)."""
-    import sys
-
     from debench.models.buckling.parameters import Plate
-    from debench.reference.builders.ch5 import CASES, resolve_scheduler
+    from debench.reference.builders.ch5 import CASES, converged_only, resolve_scheduler
     from debench.reference.datasets import DatasetError, read_dataset
     out_dir = Path(out_dir)
-    if not LEVELS[full]:
-        print(f"{NAME}: converged-only (run with --full); nothing written", file=sys.stderr)
+    if converged_only(NAME, LEVELS[full]):
         return []
     ds = compute(full, scheduler=resolve_scheduler(scheduler))
     try:

@@ -196,12 +196,9 @@ def figure(ds: xr.Dataset, fig_dir: Path) -> list[Path]:
 def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) -> list[Path]:
     """Compute and write ``ch5_wrinkling.nc`` and its figure into ``out_dir``
     (``scheduler``: as :func:`debench.reference.builders.ch5.build`)."""
-    import sys
-
-    from debench.reference.builders.ch5 import CASES, resolve_scheduler
+    from debench.reference.builders.ch5 import CASES, converged_only, resolve_scheduler
     out_dir = Path(out_dir)
-    if not LEVELS[full]:
-        print(f"{NAME}: converged-only (run with --full); nothing written", file=sys.stderr)
+    if converged_only(NAME, LEVELS[full]):
         return []
     ds = compute(full, scheduler=resolve_scheduler(scheduler))
     return [write_dataset(
