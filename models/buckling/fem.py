@@ -601,7 +601,12 @@ class MembraneModel:
         an unstable direction at fixed voltage.  LOBPCG finds the smallest eigenvalues
         whatever their sign (no shift to guess), preconditioned by the factorised
         saddle-point tangent (a solve with right-hand side ``(r, 0)`` applies ``S^-1 r``).
-        ``x0``: optional starting modes (full-length vectors, as returned).
+        ``x0``: optional starting modes (full-length vectors, as returned). A warm start is
+        for speed only where the wanted modes are known to be in it: LOBPCG stops when the
+        lowest Ritz pairs of its block have converged, and starting modes that miss an
+        eigenvector (a mode that became unstable since they were computed) converge at
+        once, hiding it (measured: a negative eigenvalue missed past a voltage maximum).
+        Stability records start from the random block.
         Returns (eigenvalues ascending, modes as full-length columns); the largest
         eigen-residual (backward error, see :func:`_lobpcg`) is in ``last_eig``.  Raises
         ConvergenceError if the residuals do not reach ``rtol`` in ``iters`` iterations.

@@ -262,7 +262,6 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
     rec = {k: [] for k in ("v", "w", "w_mid", "thickness", "e_centre", "e_max", "its", "res",
                            "w_asym", "n_asym")}
     eig = {"v": [], "w": [], "lam": [], "ax": [], "n": [], "res": []}
-    last_modes = [None]
     if v_switch is None:
         v_switch = 1.3 * critical_voltage_plate(mat, plate.aspect)
     v_switch = min(v_switch, v_max)
@@ -285,8 +284,9 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
             progress(model.v, rec["w"][-1])
 
     def eig_record():
-        lam, modes = model.lowest_eigenvalues(nev=3, x0=last_modes[0])
-        last_modes[0] = modes
+        # a random start every time: starting modes from the previous record can hide a
+        # mode that became unstable since (MembraneModel.lowest_eigenvalues)
+        lam, modes = model.lowest_eigenvalues(nev=3)
         eig["res"].append(model.last_eig["residual"])
         eig["v"].append(model.v)
         eig["w"].append(rec["w"][-1])
