@@ -739,6 +739,8 @@ def _error_cases():
              lambda message: errors.ConvergenceError(message), {"message": "m"}, {}),
         Case("debench.models.errors.require", errors.require,
              {"condition": True, "message": "m"}, {}),
+        Case("debench.models.errors.checked_brentq", errors.checked_brentq,
+             {"f": lambda x: x - 0.25, "lo": 0.0, "hi": 1.0, "xtol": 1e-12, "what": "w"}, {}),
     ]
 
 

@@ -271,7 +271,6 @@ def test_deflection_asymmetry_measures_a_prescribed_wavenumber_n_deflection():
     reads as amplitude A / 2 at r = a/2 with n = 1; an axisymmetric u_z reads as zero
     (quadratic elements interpolate the linear-in-x field exactly)."""
     import ngsolve as ngs
-
     from debench.models.buckling.fem import deflection_asymmetry
     m = MembraneModel(Plate(), NeoHookean(), COARSE, with_imperfection=True)
     a, t0, amp = m.plate.radius, m.plate.thickness, 0.3

@@ -16,9 +16,8 @@ import math
 
 import numpy as np
 from debench.models import validation as v
-from debench.models.errors import ConvergenceError
+from debench.models.errors import ConvergenceError, checked_brentq
 from scipy.interpolate import PchipInterpolator
-from scipy.optimize import brentq
 
 from . import circle_a
 from .actuator import Branch, branch, branches, curves
@@ -208,7 +207,7 @@ def _c_threshold_on(br: Branch, definition: str, c_range=(-0.2, 0.0),
     lo, hi = c_range
     if not (f(lo) > 0 > f(hi)):
         raise ConvergenceError(f"pull-in c threshold not bracketed in {c_range} for {annulus}")
-    return _brentq(f, lo, hi, OUTER_XTOL, "pull-in c threshold")
+    return checked_brentq(f, lo, hi, OUTER_XTOL, "pull-in c threshold")
 
 
 def _lot_grids(brs, lam_lots) -> list[Branch]:
@@ -277,18 +276,6 @@ def _branches_at(brs, lams, maxiter: int = 30) -> list[Branch]:
     return out
 
 
-def _brentq(f, lo, hi, xtol, what):
-    """brentq on a checked bracket; its failures become ConvergenceError."""
-    try:
-        root, info = brentq(f, lo, hi, xtol=xtol, full_output=True)
-    except (ValueError, RuntimeError) as exc:
-        raise ConvergenceError(f"{what}: brentq failed on [{lo}, {hi}]: {exc}") from exc
-    if not info.converged:
-        raise ConvergenceError(f"{what}: brentq did not converge on [{lo}, {hi}] "
-                               f"({info.iterations} iterations, {info.flag})")
-    return root
-
-
 def pullin_c_threshold_closed_form(annulus: Annulus) -> float:
     """c at which d(Phibar^2)/d lambda = 0 exactly at loss of tension (T1 = 0).
 
@@ -340,7 +327,7 @@ def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
 
     if not (f(lo) < 0 < f(hi)):
         raise ConvergenceError(f"suppression pre-stretch not bracketed in {bracket}")
-    return _brentq(f, lo, hi, xtol, "suppression pre-stretch")
+    return checked_brentq(f, lo, hi, xtol, "suppression pre-stretch")
 
 
 def _suppression_prestretches(c: float, equilibria, *, radius_ratio: float = 15.0,

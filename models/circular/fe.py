@@ -56,7 +56,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from debench.models import validation as v
-from debench.models.errors import ConvergenceError
+from debench.models.errors import ConvergenceError, checked_brentq
 from debench.models.materials.membrane import GentMembrane, ZhaoSuoPermittivity
 from netgen.meshing import Element0D, Element1D, MeshPoint, Pnt
 from netgen.meshing import Mesh as NetgenMesh
@@ -485,13 +485,7 @@ def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
     if not (glo < 0 < ghi):
         raise ConvergenceError(f"FE suppression pre-stretch not bracketed in {bracket}: "
                                f"min slopes {glo:.3g}, {ghi:.3g}")
-    try:
-        root, info = brentq(g, lo, hi, xtol=xtol, full_output=True)
-    except (ValueError, RuntimeError) as exc:
-        raise ConvergenceError(f"FE suppression pre-stretch: brentq failed: {exc}") from exc
-    if not info.converged:
-        raise ConvergenceError(f"FE suppression pre-stretch: brentq did not converge "
-                               f"({info.flag})")
+    root = checked_brentq(g, lo, hi, xtol, "FE suppression pre-stretch")
     neg = [x for x in seen if seen[x][0] < 0]
     pos = [x for x in seen if seen[x][0] >= 0]
     if root not in seen:

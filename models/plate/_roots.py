@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-from debench.models.errors import ConvergenceError
+from debench.models.errors import ConvergenceError, checked_brentq
 
 #: first secant step from the estimate, relative: of the order of the distance between the
 #: determinant and FE roots (<= ~1e-4 relative on the coarse meshes, measured), so that
@@ -80,8 +80,6 @@ def zero_near(f: Callable[[float], float], guess: float | None, lo: float, hi: f
     steps from it first supply a narrow bracket. Returns the zero (an evaluated point) and
     the memoised ``f`` (its evaluations). ConvergenceError when ``f`` does not change sign
     on the bracket brentq is given or brentq fails."""
-    from scipy.optimize import brentq
-
     fm = Memo(f)
     if guess is not None:
         secant_steps(fm, float(guess), lo, hi, xtol)
@@ -95,10 +93,4 @@ def zero_near(f: Callable[[float], float], guess: float | None, lo: float, hi: f
     if not fa * fb < 0:
         raise ConvergenceError(f"{what} does not change sign on [{a}, {b}]: {fa:.3e}, "
                                f"{fb:.3e}")
-    try:
-        r, info = brentq(fm, a, b, xtol=xtol, full_output=True)
-    except (ValueError, RuntimeError) as exc:
-        raise ConvergenceError(f"brentq failed on [{a}, {b}]: {exc}") from exc
-    if not info.converged:
-        raise ConvergenceError(f"brentq did not converge on [{a}, {b}]")
-    return float(r), fm
+    return checked_brentq(fm, a, b, xtol, what), fm
