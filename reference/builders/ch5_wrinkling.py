@@ -69,9 +69,12 @@ def wrinkling_task(h_rel: float, eig_every: int) -> dict:
     return {f.name: getattr(r, f.name) for f in dataclasses.fields(r)}
 
 
-def first_instability(r) -> dict[str, float]:
-    """The first eigen-record before pull-in with a negative eigenvalue of a
-    non-axisymmetric mode (:func:`debench.reference.builders.ch5.onset_before_pullin`):
+def wrinkling_before_voltage_maximum(r) -> dict[str, float]:
+    """The first eigen-record before the path's voltage maximum ("pull-in" in the stored
+    variables) with a negative eigenvalue of a non-axisymmetric mode
+    (:func:`debench.reference.builders.ch5.onset_before_pullin`); where the path turns at a
+    bifurcation that maximum is the bifurcation itself, so the catalogue reads the records
+    by :func:`debench.reference.producers.ch5.first_instability` instead. Returns the
     voltage, deflection and the mode's dominant wavenumber; NaN if none.
     The smallest non-axisymmetric eigenvalue recorded up to pull-in (or the path's end)."""
     from debench.reference.builders.ch5 import onset_before_pullin
@@ -107,7 +110,7 @@ def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dat
     levels = LEVELS[full]
     tasks = [(wrinkling_task, h, EIG_EVERY) for h in levels]
     ramps = [RampResult(**d) for d in run_tasks(tasks, scheduler=scheduler, progress=progress)]
-    found = [first_instability(r) for r in ramps]
+    found = [wrinkling_before_voltage_maximum(r) for r in ramps]
     nstep = max(len(r.v) for r in ramps)
     neig = max(len(r.eig_v) for r in ramps)
 
