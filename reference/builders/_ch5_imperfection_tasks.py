@@ -35,7 +35,7 @@ def imperfect_path_task(h_rel: float, amplitude: float) -> dict:
 
     from debench.models.buckling.parameters import Discretisation, Plate
     from debench.models.buckling.solver import voltage_ramp
-    from debench.reference.builders.ch5 import CASES, _limit_threads, _material
+    from debench.reference.builders._ch5_tasks import CASES, _limit_threads, _material
     _limit_threads()
     mat_name, t0 = CASES[CASE]
     plate = Plate(thickness=t0, aspect=ASPECT, wrinkle_imperfection=amplitude,

@@ -26,21 +26,25 @@ import math
 import os
 import pickle
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 from debench.models.errors import ConvergenceError
 from debench.models.materials.constants import OGDEN_DELTA
+from debench.reference.builders._ch5_tasks import (  # noqa: F401 - re-exported
+    CASES,
+    EIG_EVERY,
+    ORDER,
+    RAMP_DV_MAX,
+    _limit_threads,
+    _material,
+    critical_task,
+    ramp_task,
+)
 from debench.reference.datasets import write_dataset
 from scipy.optimize import brentq
 
-CASES = {  # name: (material, thickness [m])
-    "nh_t1": ("nh", 1e-3),
-    "ogden_t1": ("ogden", 1e-3),
-    "ogden_t0p5": ("ogden", 0.5e-3),
-}
 SCALE_COPIES = {"ogden_t0p5": "ogden_t1"}
 """Cases identical in normalised variables by scale invariance (radius/thickness fixed: no
 intrinsic length; ``verification/test_ch5_fem.py::test_normalised_results_are_scale_invariant``
@@ -59,18 +63,9 @@ RAMP_LAYERS = 1
 tangent at v = 0.449, just below its pull-in (direct solve residual NaN in the
 eigen-analysis along the path), and the converged run stopped; the layer effect on the
 critical voltage is measured by the through-thickness study (``v_cr_layers``)."""
-ORDER = 2
-EIG_EVERY = 4
-RAMP_DV_MAX = 0.02  # largest voltage step of the ramps (normalised): >= 3 points in the
-                    # Southwell window 0.4-0.9 v_cr of the Ogden case (v_cr ~ 0.17)
 GUARD_DV_MAX = 0.04  # coarse_values(): only the pull-in is needed (step-independent to
                      # the parabola's accuracy)
 COARSE_H = 3.0      # the coarsest level: what coarse_values() and `debench verify` recompute
-
-
-def _material(name):
-    from debench.models.buckling.parameters import NeoHookean, Ogden
-    return NeoHookean() if name == "nh" else Ogden()
 
 
 def expected_order(case: str) -> float:
@@ -238,44 +233,6 @@ def reference_fit(h, v, order: float) -> dict[str, float]:
 
 
 # ------------------------------------------------------------------ tasks (plain data out)
-def _limit_threads():
-    """One thread for BLAS and NGSolve's TaskManager in this process (a Dask worker runs
-    one task per process; nothing oversubscribes): :func:`debench.threads.limit_threads`."""
-    import ngsolve  # noqa: F401 - loaded first so that its TaskManager is limited too
-
-    from debench.threads import limit_threads
-
-    limit_threads(1)
-
-
-def critical_task(case: str, h_rel: float, layers: int = 1, aspect: float = 10.0) -> dict:
-    """One critical-voltage computation as plain data (a Dask task)."""
-    from debench.models.buckling.parameters import Discretisation, Plate
-    from debench.models.buckling.solver import critical_voltage
-    _limit_threads()
-    mat_name, t0 = CASES[case]
-    start = time.perf_counter()
-    r = critical_voltage(Plate(thickness=t0, aspect=aspect), _material(mat_name),
-                         Discretisation(h_rel=h_rel, layers=layers, order=ORDER))
-    return {"v": r.v, "ndof": r.ndof, "nelements": r.nelements, "eig_residual": r.eig_residual,
-            "newton_residual": r.newton_residual, "seconds": time.perf_counter() - start}
-
-
-def ramp_task(case: str, h_rel: float, eig_every: int = EIG_EVERY,
-              dv_max: float = RAMP_DV_MAX, layers: int = 1, aspect: float = 10.0) -> dict:
-    """One voltage ramp as plain data (a Dask task): the RampResult fields."""
-    import dataclasses
-
-    from debench.models.buckling.parameters import Discretisation, Plate
-    from debench.models.buckling.solver import voltage_ramp
-    _limit_threads()
-    mat_name, t0 = CASES[case]
-    r = voltage_ramp(Plate(thickness=t0, aspect=aspect), _material(mat_name),
-                     Discretisation(h_rel=h_rel, layers=layers, order=ORDER),
-                     dv_max=dv_max, eig_every=eig_every)
-    return {f.name: getattr(r, f.name) for f in dataclasses.fields(r)}
-
-
 def _cost(task: tuple) -> float:
     """Rough relative cost of a task (DOFs ~ layers / h^2 x aspect^2; Ogden assembles ~3x
     slower; a ramp is ~8 critical voltages): the longest tasks are submitted first."""

@@ -30,43 +30,27 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from debench.reference.builders._ch5_tasks import (
+    ORDER,  # noqa: F401 - the setting of the paths
+    wrinkling_task,
+)
+from debench.reference.builders._ch5_tasks import WRINKLING_ASPECT as ASPECT
+from debench.reference.builders._ch5_tasks import WRINKLING_CASE as CASE
+from debench.reference.builders._ch5_tasks import WRINKLING_DV_MAX as DV_MAX  # noqa: F401
+from debench.reference.builders._ch5_tasks import WRINKLING_EIG_EVERY as EIG_EVERY
+from debench.reference.builders._ch5_tasks import WRINKLING_LAYERS as LAYERS
 from debench.reference.datasets import write_dataset
 
 NAME = "ch5_wrinkling"
-CASE = "ogden_t0p5"
-ASPECT = 20.0
 LEVELS = {False: (), True: (4.0, 3.0, 2.5, 2.0, 1.5)}
 """In-plane mesh sizes / t0: about 2 pi R/h = 31, 42, 50, 63 and 84 quadratic elements
 around the rim (angular wavenumbers up to n ~ 8, 10, 12, 15 and 21 resolved by at least two
 quadratic elements per half-wave). The search is converged-only: one R/t0 = 20 Ogden ramp
 with eigen-analyses costs ~10-25 CPU minutes, beyond the default reproduce's budget, so the
 default build writes nothing."""
-LAYERS = 1
-ORDER = 2
-EIG_EVERY = 1
-"""Eigen-analysis at every path point: the path steps 0.4 t0 in deflection at R/t0 = 20,
-and the lowest non-axisymmetric eigenvalue dips close to zero over ~1-2 t0, so sparser
-records could step over a short excursion below zero. An eigen-analysis costs ~1/10 of
-the Newton steps of one path point."""
-DV_MAX = 0.02
+
 #: a mode is non-axisymmetric when less than half of it is in the n = 0 harmonic
 AXISYM_MAX = 0.5
-
-
-def wrinkling_task(h_rel: float, eig_every: int) -> dict:
-    """One radius/thickness 20 ramp as plain data (a Dask task): the RampResult fields,
-    with the eigen-analysis every ``eig_every`` path points."""
-    import dataclasses
-
-    from debench.models.buckling.parameters import Discretisation, Plate
-    from debench.models.buckling.solver import voltage_ramp
-    from debench.reference.builders.ch5 import CASES, _limit_threads, _material
-    _limit_threads()
-    mat_name, t0 = CASES[CASE]
-    r = voltage_ramp(Plate(thickness=t0, aspect=ASPECT), _material(mat_name),
-                     Discretisation(h_rel=h_rel, layers=LAYERS, order=ORDER),
-                     dv_max=DV_MAX, eig_every=eig_every, stop_on_stall=True)
-    return {f.name: getattr(r, f.name) for f in dataclasses.fields(r)}
 
 
 def wrinkling_before_voltage_maximum(r) -> dict[str, float]:
