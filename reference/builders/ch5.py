@@ -768,6 +768,45 @@ def lowest_nonaxisymmetric(eig_lam, eig_axisym, axisym_max: float = 0.5) -> np.n
     return np.nanmin(np.where(np.isfinite(lam), lam, np.inf), axis=1)
 
 
+def first_instability(eig_w, eig_v, eig_lam, eig_axisym, eig_n,
+                      axisym_max: float = 0.5) -> dict:
+    """The first instability recorded along a path: the first eigen-record where an
+    eigenvalue of the condensed tangent at fixed voltage is <= 0, classified by the mode
+    that is lowest there: ``axisymmetric`` (n = 0 fraction >= ``axisym_max``) is the
+    pull-in limit point of the axisymmetric film, ``non-axisymmetric`` a wrinkling
+    bifurcation. Its deflection / t0 (``w``) and voltage (``v``) are interpolated linearly
+    to the zero of the lowest eigenvalue of that kind between the previous record and this
+    one; ``n`` is the mode's dominant wavenumber; ``lam_ratio`` the three recorded
+    eigenvalues there over the largest lowest eigenvalue of the path (how far the next
+    modes are from zero); ``axisym`` their n = 0 fractions. Kind ``"none"`` (NaN values)
+    when nothing became unstable. The voltage maximum of the deflection-controlled path is
+    not used: where the path turns at a bifurcation, its maximum is the bifurcation, not
+    the axisymmetric limit point."""
+    lam, ax = np.asarray(eig_lam, float), np.asarray(eig_axisym, float)
+    w, v = np.asarray(eig_w, float), np.asarray(eig_v, float)
+    ok = np.isfinite(w)
+    lam, ax, w, v, n = lam[ok], ax[ok], w[ok], v[ok], np.asarray(eig_n)[ok]
+    out = {"kind": "none", "w": math.nan, "v": math.nan, "n": math.nan,
+           "lam_ratio": [math.nan] * 3, "axisym": [math.nan] * 3}
+    bad = np.flatnonzero(np.min(lam, axis=1) <= 0.0)
+    if not bad.size:
+        return out
+    i = int(bad[0])
+    j = int(np.argmin(lam[i]))
+    axisym = ax[i, j] >= axisym_max
+    same = (ax >= axisym_max) if axisym else (ax < axisym_max)
+    lowest = np.min(np.where(same, lam, np.inf), axis=1)
+    wi, vi = w[i], v[i]
+    if i > 0 and np.isfinite(lowest[i - 1]) and lowest[i - 1] > 0:
+        f = lowest[i - 1] / (lowest[i - 1] - lowest[i])
+        wi, vi = w[i - 1] + f * (w[i] - w[i - 1]), v[i - 1] + f * (v[i] - v[i - 1])
+    scale = float(np.max(np.min(lam, axis=1)))
+    out.update(kind="axisymmetric" if axisym else "non-axisymmetric", w=float(wi),
+               v=float(vi), n=float(n[i, j]), lam_ratio=[float(x) / scale for x in lam[i]],
+               axisym=[float(x) for x in ax[i]])
+    return out
+
+
 def _min_nonaxisym(r, axisym_max: float = 0.5) -> float:
     """Smallest eigenvalue of a non-axisymmetric mode (n = 0 fraction below
     ``axisym_max``) among the records up to the pull-in deflection (NaN: none recorded)."""

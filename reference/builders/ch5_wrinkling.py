@@ -13,13 +13,17 @@ R/t0 = 20 to and past pull-in (:func:`debench.models.buckling.solver.voltage_ram
 layer of quadratic prisms as the radius/thickness 10 ramps) with the eigen-analysis of the
 condensed tangent every :data:`EIG_EVERY` steps (the three algebraically smallest
 eigenvalues, their axisymmetric fraction and dominant angular wavenumber on the mid-plane
-circle r = R/2, :func:`debench.models.buckling.fem.mode_harmonics`), on three
+circle r = R/2, :func:`debench.models.buckling.fem.mode_harmonics`), on five
 circumferential resolutions (the default build writes nothing: :data:`LEVELS`). It
-writes ``ch5_wrinkling.nc``: the path, the eigen-records, the pull-in, the first
-non-axisymmetric instability (its voltage, deflection and wavenumber, NaN when there is
-none before pull-in) and the smallest non-axisymmetric eigenvalue before pull-in, per
-mesh. A path whose deflection-controlled
-phase cannot continue before a voltage maximum is kept (``stop_on_stall``) and says so
+writes ``ch5_wrinkling.nc``: the path, the eigen-records (each from a random start block:
+a warm start can hide a newly unstable mode), the path's voltage maximum, the first
+instability along the path (:func:`path_instability`: the kind of the mode that becomes
+unstable first, axisymmetric = pull-in or non-axisymmetric = wrinkling, its voltage,
+deflection and wavenumber) and the smallest non-axisymmetric eigenvalue before it, per
+mesh. Where the path turns at a wrinkling bifurcation, its voltage maximum is that
+bifurcation, not the axisymmetric limit point: the first instability is read from the
+eigen-records, never from the maximum. A path whose deflection-controlled phase cannot
+continue before a voltage maximum is kept (``stop_on_stall``) and says so
 (``path_end``), with the eigen-analysis of its last state.
 """
 
@@ -53,30 +57,21 @@ default build writes nothing."""
 AXISYM_MAX = 0.5
 
 
-def wrinkling_before_voltage_maximum(r) -> dict[str, float]:
-    """The first eigen-record before the path's voltage maximum ("pull-in" in the stored
-    variables) with a negative eigenvalue of a non-axisymmetric mode
-    (:func:`debench.reference.builders.ch5.onset_before_pullin`); where the path turns at a
-    bifurcation that maximum is the bifurcation itself, so the catalogue reads the records
-    by :func:`debench.reference.producers.ch5.first_instability` instead. Returns the
-    voltage, deflection and the mode's dominant wavenumber; NaN if none.
-    The smallest non-axisymmetric eigenvalue recorded up to pull-in (or the path's end)."""
-    from debench.reference.builders.ch5 import onset_before_pullin
-    lam, ax = np.asarray(r.eig_lam), np.asarray(r.eig_axisym)
-    n = np.asarray(r.eig_wavenumber)
-    onset = onset_before_pullin(r.eig_v, r.eig_w, lam, ax, r.w_pullin, AXISYM_MAX)
-    out = {"v": math.nan, "w": math.nan, "n": math.nan}
-    if onset is not None:
-        v, w, i, j = onset
-        out = {"v": v, "w": w, "n": float(n[i, j])}
-    upto = np.asarray(r.eig_w) <= (r.w_pullin if r.w_pullin is not None else np.inf)
+def path_instability(r) -> dict:
+    """The first instability recorded along one path
+    (:func:`debench.reference.builders.ch5.first_instability`: its kind, voltage,
+    deflection / t0 and wavenumber) and the smallest eigenvalue of a non-axisymmetric mode
+    recorded up to it (the whole path when nothing became unstable) with its wavenumber."""
+    from debench.reference.builders.ch5 import first_instability
+    lam, ax = np.asarray(r.eig_lam, float), np.asarray(r.eig_axisym, float)
+    w, n = np.asarray(r.eig_w, float), np.asarray(r.eig_wavenumber, float)
+    out = first_instability(w, r.eig_v, lam, ax, n, AXISYM_MAX)
+    upto = w <= (out["w"] if np.isfinite(out["w"]) else np.inf)
     non = np.where(ax < AXISYM_MAX, lam, np.nan)[upto]
-    out["min_lambda"] = float(np.nanmin(non)) if np.any(np.isfinite(non)) else math.nan
+    out["min_lambda"] = out["min_lambda_n"] = math.nan
     if np.any(np.isfinite(non)):
         i, j = np.unravel_index(np.nanargmin(non), non.shape)
-        out["min_lambda_n"] = float(n[upto][i, j])
-    else:
-        out["min_lambda_n"] = math.nan
+        out["min_lambda"], out["min_lambda_n"] = float(non[i, j]), float(n[upto][i, j])
     return out
 
 
@@ -94,7 +89,7 @@ def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dat
     levels = LEVELS[full]
     tasks = [(wrinkling_task, h, EIG_EVERY) for h in levels]
     ramps = [RampResult(**d) for d in run_tasks(tasks, scheduler=scheduler, progress=progress)]
-    found = [wrinkling_before_voltage_maximum(r) for r in ramps]
+    found = [path_instability(r) for r in ramps]
     nstep = max(len(r.v) for r in ramps)
     neig = max(len(r.eig_v) for r in ramps)
 
@@ -124,21 +119,27 @@ def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dat
                            _pad([r.eig_wavenumber for r in ramps], neig), a(
                                "dominant angular wavenumber n of the mode on r = R/2")),
         "v_pullin": (("level",), per_level([r.v_pullin for r in ramps]), a(
-            "pull-in voltage (voltage maximum of the path)", accuracy=pullin_acc)),
+            "voltage maximum of the path (pull-in at the axisymmetric limit point; where the "
+            "path turns at a bifurcation, the bifurcation)", accuracy=pullin_acc)),
         "w_pullin": (("level",), per_level([r.w_pullin for r in ramps]), a(
-            "centre deflection / t0 at pull-in", accuracy=pullin_acc)),
+            "centre deflection / t0 at the voltage maximum", accuracy=pullin_acc)),
         "path_end": (("level",), np.array([r.end for r in ramps], dtype=str), a(
             "why the path stopped (RampResult.end)")),
-        "v_wrinkling": (("level",), per_level([f["v"] for f in found]), a(
-            "normalised voltage at the first negative eigenvalue of a non-axisymmetric mode "
-            "(NaN: none recorded)", accuracy=f"eigen-records every {EIG_EVERY} path points")),
-        "w_wrinkling": (("level",), per_level([f["w"] for f in found]), a(
-            "centre deflection / t0 at the first non-axisymmetric instability (NaN: none)")),
-        "n_wrinkling": (("level",), per_level([f["n"] for f in found]), a(
-            "angular wavenumber of the first unstable non-axisymmetric mode (NaN: none)")),
+        "first_kind": (("level",), np.array([f["kind"] for f in found], dtype=str), a(
+            "the first instability along the path: the kind of the mode whose eigenvalue at "
+            "fixed voltage reaches zero first (axisymmetric: pull-in; non-axisymmetric: "
+            "wrinkling; none)")),
+        "v_first": (("level",), per_level([f["v"] for f in found]), a(
+            "normalised voltage at the first instability (NaN: none recorded)",
+            accuracy=("linear interpolation to the zero of the lowest eigenvalue of that kind "
+                      f"between eigen-records (every {EIG_EVERY} path points)"))),
+        "w_first": (("level",), per_level([f["w"] for f in found]), a(
+            "centre deflection / t0 at the first instability (NaN: none recorded)")),
+        "n_first": (("level",), per_level([f["n"] for f in found]), a(
+            "dominant angular wavenumber of the mode that becomes unstable first")),
         "min_nonaxisymmetric_lambda": (("level",), per_level([f["min_lambda"] for f in found]),
                                        a("smallest eigenvalue of a non-axisymmetric mode "
-                                         "recorded up to pull-in")),
+                                         "recorded up to the first instability")),
         "min_nonaxisymmetric_n": (("level",), per_level([f["min_lambda_n"] for f in found]), a(
             "wavenumber of that mode")),
         "ndof": (("level",), np.array([r.ndof for r in ramps], np.int64), a(
@@ -159,7 +160,8 @@ def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dat
 
 def figure(ds: xr.Dataset, fig_dir: Path) -> list[Path]:
     """Fig. 5.5 counterpart at radius/thickness 20: the lowest non-axisymmetric eigenvalue
-    along the path per mesh (wrinkling where it crosses zero before pull-in)."""
+    along the path per mesh (wrinkling where it crosses zero first; dotted: the first
+    instability of each mesh)."""
     from debench.reference.builders.ch5 import lowest_nonaxisymmetric
     from debench.reference.figures import pyplot, save
     plt = pyplot()
@@ -170,10 +172,10 @@ def figure(ds: xr.Dataset, fig_dir: Path) -> list[Path]:
         ok = np.isfinite(r.eig_w.values) & np.isfinite(lam_min)
         ax.plot(r.eig_w.values[ok], lam_min[ok], style, ms=3,
                 label=f"h = {float(r.h_rel):g} t0 ({float(r.rim_elements):.0f} rim elements)")
-        if np.isfinite(float(r.w_pullin)):
-            ax.axvline(float(r.w_pullin), color="0.5", lw=0.8, ls=":")
+        if np.isfinite(float(r.w_first)):
+            ax.axvline(float(r.w_first), color="0.5", lw=0.8, ls=":")
     ax.axhline(0.0, color="k", lw=0.8)
-    ax.set_xlabel(r"centre deflection $w/t_0$ (dotted: pull-in)")
+    ax.set_xlabel(r"centre deflection $w/t_0$ (dotted: first instability)")
     ax.set_ylabel(r"lowest non-axisymmetric eigenvalue $\lambda$")
     ax.set_title("Fig 5.5 counterpart, Ogden, radius/thickness 20")
     ax.legend()
@@ -193,8 +195,8 @@ def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) ->
         title="Chapter 5 wrinkling search: the Ogden film at radius/thickness 20",
         summary=("Voltage ramp of the imperfect clamped Ogden film (Table 5.1, t0 = 0.5 mm) "
                  "at radius/thickness 20 to and past pull-in with the eigen-analysis along "
-                 "the path: the first non-axisymmetric instability (voltage, deflection, "
-                 "wavenumber) or its absence before pull-in, on several circumferential "
+                 "the path: the first instability along it (pull-in or wrinkling; voltage, "
+                 "deflection, wavenumber), on several circumferential "
                  "resolutions: the data behind the hypothesis that the thesis' 0.5 mm model "
                  "kept R = 10 mm (§5.3.1, Fig. 5.5)."),
         parameters={"full": full, "levels_h_rel": list(LEVELS[full]), "layers": LAYERS,

@@ -456,52 +456,13 @@ def _wrinkling():
     return read_dataset("ch5_wrinkling")
 
 
-def first_instability(eig_w, eig_v, eig_lam, eig_axisym, eig_n,
-                      axisym_max: float = 0.5) -> dict:
-    """The first instability recorded along a path: the first eigen-record where an
-    eigenvalue of the condensed tangent at fixed voltage is <= 0, classified by the mode
-    that is lowest there: ``axisymmetric`` (n = 0 fraction >= ``axisym_max``) is the
-    pull-in limit point of the axisymmetric film, ``non-axisymmetric`` a wrinkling
-    bifurcation. Its deflection / t0 (``w``) and voltage (``v``) are interpolated linearly
-    to the zero of the lowest eigenvalue of that kind between the previous record and this
-    one; ``n`` is the mode's dominant wavenumber; ``lam_ratio`` the three recorded
-    eigenvalues there over the largest lowest eigenvalue of the path (how far the next
-    modes are from zero); ``axisym`` their n = 0 fractions. Kind ``"none"`` (NaN values)
-    when nothing became unstable. The voltage maximum of the deflection-controlled path is
-    not used: where the path turns at a bifurcation, its maximum is the bifurcation, not
-    the axisymmetric limit point."""
-    lam, ax = np.asarray(eig_lam, float), np.asarray(eig_axisym, float)
-    w, v = np.asarray(eig_w, float), np.asarray(eig_v, float)
-    ok = np.isfinite(w)
-    lam, ax, w, v, n = lam[ok], ax[ok], w[ok], v[ok], np.asarray(eig_n)[ok]
-    out = {"kind": "none", "w": math.nan, "v": math.nan, "n": math.nan,
-           "lam_ratio": [math.nan] * 3, "axisym": [math.nan] * 3}
-    bad = np.flatnonzero(np.min(lam, axis=1) <= 0.0)
-    if not bad.size:
-        return out
-    i = int(bad[0])
-    j = int(np.argmin(lam[i]))
-    axisym = ax[i, j] >= axisym_max
-    same = (ax >= axisym_max) if axisym else (ax < axisym_max)
-    lowest = np.min(np.where(same, lam, np.inf), axis=1)
-    wi, vi = w[i], v[i]
-    if i > 0 and np.isfinite(lowest[i - 1]) and lowest[i - 1] > 0:
-        f = lowest[i - 1] / (lowest[i - 1] - lowest[i])
-        wi, vi = w[i - 1] + f * (w[i] - w[i - 1]), v[i - 1] + f * (v[i] - v[i - 1])
-    scale = float(np.max(np.min(lam, axis=1)))
-    out.update(kind="axisymmetric" if axisym else "non-axisymmetric", w=float(wi),
-               v=float(vi), n=float(n[i, j]), lam_ratio=[float(x) / scale for x in lam[i]],
-               axisym=[float(x) for x in ax[i]])
-    return out
-
-
 def wrinkling_search(ds) -> dict:
     """What the radius/thickness 20 ramps (``ch5_wrinkling.nc``) found, per mesh level
     (lists, coarse to fine): the first instability along the path
-    (:func:`first_instability`: ``first_kind``, its deflection / t0 ``w_first_over_t0``,
-    its voltage over the largest voltage of the path ``v_first_over_v_max``, wavenumber
-    ``n_first``, the recorded eigenvalues there ``lam_ratio_first`` and their n = 0
-    fractions ``axisym_first``); ``first`` -- it is a non-axisymmetric mode (wrinkling
+    (:func:`debench.reference.builders.ch5.first_instability`: ``first_kind``, its
+    deflection / t0 ``w_first_over_t0``, its voltage over the largest voltage of the path
+    ``v_first_over_v_max``, wavenumber ``n_first``, the recorded eigenvalues there
+    ``lam_ratio_first`` and their n = 0 fractions ``axisym_first``); ``first`` -- it is a non-axisymmetric mode (wrinkling
     before pull-in); ``consistent`` -- the same kind on every resolution; the two finest
     levels' wrinkling deflections / t0 (``w_over_t0``, ``w_over_t0_second``; NaN where the
     first instability is not wrinkling); per level the deflection / t0 where the lowest
@@ -509,7 +470,7 @@ def wrinkling_search(ds) -> dict:
     (``w_min_lambda_over_t0``), that eigenvalue and its largest value on the path
     (``min_nonaxisymmetric_lambda``, ``max_nonaxisymmetric_lambda``); the path's voltage
     maximum (``w_pullin_over_t0``: the dataset's ``w_pullin``) and why it ended."""
-    from debench.reference.builders.ch5 import lowest_nonaxisymmetric
+    from debench.reference.builders.ch5 import first_instability, lowest_nonaxisymmetric
     from debench.reference.builders.ch5_wrinkling import AXISYM_MAX
     firsts, w_min, lam_min, lam_max = [], [], [], []
     for lev in ds.level.values:
@@ -601,6 +562,7 @@ def hypothesis_wrinkling_failure(entry: Entry) -> Outcome:
     near the bifurcation, falling as the seed grows); ``unexplained`` when the films pass
     the bifurcation or the meshes disagree. The value: the centre deflection (mm) at the
     voltage maximum of the smallest seed on the finest mesh."""
+    from debench.reference.builders.ch5 import first_instability
     from debench.reference.builders.ch5_imperfection import drop_exponent, wrinkling_governs
 
     ds = _imperfection()
