@@ -457,19 +457,19 @@ def _wrinkling():
 
 
 def wrinkling_search(ds) -> dict:
-    """What the radius/thickness 20 ramps (``ch5_wrinkling.nc``) found, per mesh level (lists, coarse
-    to fine): the first instability along the path
-    (:func:`debench.reference.builders.ch5.first_instability`: ``first_kind``, its deflection /
-    t0 ``w_first_over_t0``, its voltage over the largest voltage of the path
+    """What the radius/thickness 20 ramps (``ch5_wrinkling.nc``) found, per mesh level (lists,
+    coarse to fine): the first instability along the path
+    (:func:`debench.reference.builders.ch5.first_instability`: ``first_kind``, its
+    deflection / t0 ``w_first_over_t0``, its voltage over the largest voltage of the path
     ``v_first_over_v_max``, wavenumber ``n_first``, the recorded eigenvalues there
     ``lam_ratio_first`` and their n = 0 fractions ``axisym_first``); ``first`` -- it is a
-    non-axisymmetric mode (wrinkling before pull-in); ``consistent`` -- the same kind on every
-    resolution; the two finest levels' wrinkling deflections / t0 (``w_over_t0``,
+    non-axisymmetric mode (wrinkling before pull-in); ``consistent`` -- the same kind on
+    every resolution; the two finest levels' wrinkling deflections / t0 (``w_over_t0``,
     ``w_over_t0_second``; NaN where the first instability is not wrinkling); per level the
-    deflection / t0 where the lowest non-axisymmetric eigenvalue is smallest before the first
-    instability (``w_min_lambda_over_t0``), that eigenvalue and its largest value on the path
-    (``min_nonaxisymmetric_lambda``, ``max_nonaxisymmetric_lambda``); the path's voltage maximum
-    (``w_pullin_over_t0``: the dataset's ``w_pullin``) and why it ended."""
+    deflection / t0 where the lowest non-axisymmetric eigenvalue is smallest before the
+    first instability (``w_min_lambda_over_t0``), that eigenvalue and its largest value on
+    the path (``min_nonaxisymmetric_lambda``, ``max_nonaxisymmetric_lambda``); the path's
+    voltage maximum (``w_pullin_over_t0``: the dataset's ``w_pullin``) and why it ended."""
     from debench.reference.builders.ch5 import first_instability, lowest_nonaxisymmetric
     from debench.reference.builders.ch5_wrinkling import AXISYM_MAX
     firsts, w_min, lam_min, lam_max = [], [], [], []
