@@ -157,3 +157,20 @@ def test_task_cache_key_follows_the_task_module_settings(tmp_path, monkeypatch):
     probe = importlib.reload(probe)
     assert "SETTING = 3" in inspect.getsource(probe)
     assert cache.get((probe.task, 2)) is None
+
+
+def test_longest_tasks_rank_first():
+    """The submission order puts the largest meshes first, so that the last task to start is
+    a short one: finer critical-voltage meshes and Ogden cases before coarser and
+    neo-Hookean ones, ramps before critical voltages on the same mesh, and the radius /
+    thickness 20 paths (first argument the mesh size) finest first."""
+    from debench.reference.builders import _ch5_imperfection_tasks as imperfect
+    from debench.reference.builders import ch5_wrinkling
+
+    assert ch5._cost((ch5.critical_task, "ogden_t1", 2.0)) > ch5._cost(
+        (ch5.critical_task, "ogden_t1", 3.0)) > ch5._cost((ch5.critical_task, "nh_t1", 3.0))
+    assert ch5._cost((ch5.ramp_task, "nh_t1", 3.0)) > ch5._cost((ch5.critical_task, "nh_t1", 3.0))
+    paths = [(ch5_wrinkling.wrinkling_task, h, 1) for h in ch5_wrinkling.LEVELS[True]]
+    assert max(paths, key=ch5._cost)[1] == min(ch5_wrinkling.LEVELS[True])
+    assert ch5._cost((imperfect.imperfect_path_task, 2.0, 0.002)) > ch5._cost(
+        (imperfect.imperfect_path_task, 2.5, 0.032))

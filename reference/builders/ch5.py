@@ -235,9 +235,12 @@ def reference_fit(h, v, order: float) -> dict[str, float]:
 # ------------------------------------------------------------------ tasks (plain data out)
 def _cost(task: tuple) -> float:
     """Rough relative cost of a task (DOFs ~ layers / h^2 x aspect^2; Ogden assembles ~3x
-    slower; a ramp is ~8 critical voltages): the longest tasks are submitted first."""
+    slower; a ramp is ~8 critical voltages): the longest tasks are submitted first.  Tasks
+    whose first argument is the in-plane mesh size (the radius/thickness 20 paths, all of
+    one kind within a build) cost ~ 1 / h^2."""
     if task[0] not in (critical_task, ramp_task):
-        return 1.0
+        h = task[1] if len(task) > 1 else None
+        return 1.0 / h**2 if isinstance(h, float) and h > 0 else 1.0
     fn, case, h, *rest = task
     layers = rest[2] if fn is ramp_task and len(rest) > 2 else (rest[0] if rest else 1)
     aspect = (rest[3] if fn is ramp_task and len(rest) > 3
