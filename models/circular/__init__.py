@@ -8,7 +8,9 @@ Eqs. 3.33-3.38) of a Gent membrane with Zhao-Suo permittivity (3.27).
 * :mod:`.shooting` -- annulus by vectorised RK4 shooting with complex-step sensitivities;
 * :mod:`.collocation` -- annulus by ``solve_bvp`` (independent cross-check);
 * :mod:`.actuator` -- branches, voltage-stretch curves, failure events;
-* :mod:`.analysis` -- states at a voltage, pull-in thresholds.
+* :mod:`.analysis` -- states at a voltage, pull-in thresholds;
+* :mod:`.chapter` -- the whole chapter's results in one batched pass, memoised on its
+  parameters (shared by the dataset builder and the catalogue producers).
 """
 
 from .actuator import Branch, Curve, Event, branch, branches, curve, curves, curves_many

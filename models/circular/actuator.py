@@ -31,6 +31,7 @@ the failure point (Fig. 3.9).
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -162,30 +163,39 @@ def branch(annulus: Annulus, lam=None, *, n: int = 300, lam_end: float | None = 
                   dT1=st.dT1, lam_end=float(min(lam_end, top)), steps=steps)
 
 
-def branches(annuli, *, n: int = 300, steps: int = DEFAULT_STEPS) -> list[Branch]:
+def branches(annuli, *, n=300, steps: int = DEFAULT_STEPS) -> list[Branch]:
     """Batched :func:`branch` (default grids) for annuli differing only in lamP and the
-    equilibrium variant: one scan and one grid integration for all of them."""
+    equilibrium variant: one scan and one grid integration for all of them.
+
+    ``n`` is the number of grid points (>= 4) of every branch, or one such number per
+    annulus; an annulus listed several times (with different ``n``) is scanned once.
+    """
     if isinstance(annuli, str | bytes) or not hasattr(annuli, "__iter__"):
         raise TypeError(f"annuli must be an iterable of Annulus, got {annuli!r}")
     annuli = list(annuli)
     for a in annuli:
         v.instance("annuli[i]", a, Annulus)
-    v.integer_at_least("n", n, 4)
+    ns = [n] * len(annuli) if isinstance(n, numbers.Integral) else list(n)
+    if len(ns) != len(annuli):
+        raise ValueError(f"n must be an integer or one per annulus ({len(annuli)}), "
+                         f"got {len(ns)} values")
+    for k in ns:
+        v.integer_at_least("n", k, 4)
     v.integer_at_least("steps", steps, 4)
     if not annuli:
         return []
     a0 = annuli[0]
     if any((a.radius_ratio, a.Jm) != (a0.radius_ratio, a0.Jm) for a in annuli):
         raise ValueError("branches(): annuli must differ only in lamP and equilibrium")
-    mem = np.array([a.equilibrium == "membrane" for a in annuli])
+    scanned = list(dict.fromkeys(annuli))          # each distinct annulus scanned once
+    mem = np.array([a.equilibrium == "membrane" for a in scanned])
     m = 160
     delta = np.concatenate([[0.0], np.geomspace(1e-8, 0.95, m - 1)])
-    lamP = np.repeat([a.lamP for a in annuli], m)
-    q_scan = lamP - np.tile(delta, len(annuli)) * lamP
+    lamP = np.repeat([a.lamP for a in scanned], m)
+    q_scan = lamP - np.tile(delta, len(scanned)) * lamP
     lam_scan, T1_scan = _scan_state(a0, q_scan, steps, lamP, np.repeat(mem, m))
-    qs, lps = [], []
-    tops = []
-    for k, a in enumerate(annuli):
+    interp = {}
+    for k, a in enumerate(scanned):
         sl = slice(k * m, (k + 1) * m)
         lam_k, q_k = lam_scan[sl], q_scan[sl]
         ok = np.isfinite(lam_k) & np.isfinite(T1_scan[sl])
@@ -195,18 +205,23 @@ def branches(annuli, *, n: int = 300, steps: int = DEFAULT_STEPS) -> list[Branch
             raise ConvergenceError(f"annulus branch for {a} is not monotone in the shooting "
                                    "parameter (or too short)")
         top = min(lam_k[-1], 0.999 * locking_stretch_equibiaxial(a.Jm))
-        target = np.linspace(a.lamP, top, n)
-        q = PchipInterpolator(lam_k, q_k)(target)
+        interp[a] = (PchipInterpolator(lam_k, q_k), top)
+    qs, lps, tops = [], [], []
+    for a, nk in zip(annuli, ns, strict=True):
+        pchip, top = interp[a]
+        q = pchip(np.linspace(a.lamP, top, nk))
         q[0] = a.lamP
         qs.append(q)
-        lps.append(np.full(n, a.lamP))
+        lps.append(np.full(nk, a.lamP))
         tops.append(top)
     q = np.concatenate(qs)
     st = _interface_state(a0, q, steps=steps, lamP=np.concatenate(lps),
-                          membrane=np.repeat(mem, n))
+                          membrane=np.repeat([a.equilibrium == "membrane" for a in annuli],
+                                             ns))
     out = []
+    ends = np.cumsum([0, *ns])
     for k, a in enumerate(annuli):
-        sl = slice(k * n, (k + 1) * n)
+        sl = slice(ends[k], ends[k + 1])
         if not np.all(np.isfinite(st.lam[sl])) or np.any(np.diff(st.lam[sl]) <= 0):
             raise ConvergenceError(f"annulus branch of {a}: non-monotone or inadmissible "
                                    "points on the interpolated grid")

@@ -22,21 +22,12 @@ from types import SimpleNamespace
 
 import numpy as np
 import xarray as xr
-from debench.models.circular import analysis, params
-from debench.models.circular.actuator import (
-    EVENT_KINDS,
-    Event,
-    branch,
-    branches,
-    curves,
-    curves_many,
-)
-from debench.models.circular.circle_a import electrostriction_factor
-from debench.models.circular.params import Annulus
-from debench.models.circular.shooting import DEFAULT_STEPS, integrate_inward
+from debench.models.circular import circle_a, params
+from debench.models.circular.actuator import EVENT_KINDS, Event
+from debench.models.circular.chapter import Chapter, ChapterSpec, chapter
+from debench.models.circular.shooting import DEFAULT_STEPS
 from debench.reference.datasets import write_dataset
 from debench.reference.figures import written
-from tqdm import tqdm
 
 LAMP_CURVES = (1.1, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0)
 C_CURVES = (0.0, -0.02, -0.04, -0.053, -0.06, -0.08, -0.1)
@@ -46,6 +37,21 @@ EPS_R = (3.5, 4.05, 4.2, 4.7, 5.5)
 #: (3.30) reaches 0 (at the pre-stretch itself: no admissible curve at all)
 MODES = ("pullin", "loss_of_tension", "breakdown", "locking", "end", "permittivity")
 RADIUS_RATIO = 15.0
+#: the state of Figs 3.2-3.3: (lamP, Phibar, c), profiles for c and c = 0
+PROFILE_STATE = (3.0, 0.2, params.C_WISSLER_MAZZA)
+#: what the Chapter 3 catalogue entries compute besides the datasets' curves
+#: (``reference/catalogue/ch3.toml``), in the same pass: the c values of Table 3.1's
+#: extremes (loss of tension independent of c), the stretches of the voltage-increase
+#: claims (lamP, stretch), the pre-stretches of the pull-in c thresholds and the c of the
+#: suppression pre-stretch, with the branch points and the bracket the entries use. An
+#: entry outside this plan is computed on demand by its producer.
+CATALOGUE_C = (-0.0073, -0.0892)
+CATALOGUE_STRETCHES = ((3.0, 4.5), (4.0, 5.0))
+CATALOGUE_C_THRESHOLD_LAMP = (1.25,)
+C_THRESHOLD_POINTS = 800
+CATALOGUE_SUPPRESSION_C = (0.0,)
+SUPPRESSION_POINTS = 200
+SUPPRESSION_XTOL = 1e-6
 
 
 def _settings(full: bool) -> dict:
@@ -65,6 +71,40 @@ def _mode_attrs() -> dict:
                               "nonpositive_permittivity_factor")}
 
 
+def chapter_spec(full: bool = False) -> ChapterSpec:
+    """The Chapter 3 computation of a command: every curve of the datasets and, at the
+    default resolution, every value of the catalogue (:data:`CATALOGUE_C` ...), so that
+    the builder and the producers share one memoised :func:`chapter` pass."""
+    s = _settings(full)
+    extra = not full
+    return ChapterSpec(
+        lamPs=LAMP_CURVES,
+        cs=tuple(sorted(set(C_CURVES) | (set(CATALOGUE_C) if extra else set()), reverse=True)),
+        sweep_lamPs=LAMP_SWEEP, sweep_cs=tuple(float(c) for c in _c_grid(full)),
+        eps_rs=EPS_R, eps_cs=(0.0, params.C_WISSLER_MAZZA), states=(PROFILE_STATE,),
+        stretches=CATALOGUE_STRETCHES if extra else (),
+        c_threshold_lamPs=CATALOGUE_C_THRESHOLD_LAMP if extra else (),
+        c_threshold_n=C_THRESHOLD_POINTS,
+        suppression_cs=CATALOGUE_SUPPRESSION_C if extra else (),
+        suppression_n=SUPPRESSION_POINTS, suppression_xtol=SUPPRESSION_XTOL,
+        n=s["n"], steps=s["steps"], radius_ratio=RADIUS_RATIO)
+
+
+def _chapter(full: bool) -> Chapter:
+    return chapter(chapter_spec(full))
+
+
+def _curve(ch: Chapter, lamP: float, c: float, eps_r=None, equilibrium="printed"):
+    """The chapter's curve, or the :func:`_inadmissible_curve` record where the
+    permittivity factor K of (3.30) is non-positive at the pre-stretch."""
+    e = float(ch.spec.eps_r if eps_r is None else eps_r)
+    key = (float(lamP), float(c), e, equilibrium)
+    if key in ch.curves:
+        return ch.curves[key]
+    br = ch.branches[(float(lamP), equilibrium)]
+    return _inadmissible_curve(br, float(c), circle_a._breakdown(br.lam, e, ch.spec.mu))
+
+
 def _inadmissible_curve(br, c: float, phibar_breakdown: np.ndarray) -> SimpleNamespace:
     """The record of a (lamP, c) whose permittivity factor K = 1 + c(5 lam/2 - 2) of (3.30)
     is non-positive already at the pre-stretch: no voltage-stretch curve exists; the
@@ -78,30 +118,6 @@ def _inadmissible_curve(br, c: float, phibar_breakdown: np.ndarray) -> SimpleNam
                            lam_max=lamP, phibar_max=0.0, c=c)
 
 
-def _curves_many_admissible(jobs):
-    """:func:`curves_many` over ``jobs`` [(branch, cs, eps_r or None)], with the c values
-    whose K(lamP) <= 0 replaced by :func:`_inadmissible_curve` records (same order)."""
-    kept, slots = [], []
-    for br, cs, er in jobs:
-        ok = [i for i, c in enumerate(cs)
-              if float(electrostriction_factor(br.annulus.lamP, c)) > 0]
-        slots.append(ok)
-        if ok:
-            kept.append((br, [cs[i] for i in ok],
-                         None if er is None else [er[i] for i in ok]))
-    res = iter(curves_many(kept)) if kept else iter(())
-    out = []
-    for (br, cs, _), ok in zip(jobs, slots, strict=True):
-        got = next(res) if ok else []
-        row: list = [None] * len(cs)
-        for k, i in enumerate(ok):
-            row[i] = got[k]
-        pb = got[0].phibar_breakdown if ok else np.full(br.lam.size, np.nan)
-        out.append([r if r is not None else _inadmissible_curve(br, cs[i], pb)
-                    for i, r in enumerate(row)])
-    return out
-
-
 def _common_params(full: bool) -> dict:
     s = _settings(full)
     return {"mu": params.MU_VHB, "Jm": params.JM_VHB, "radius_ratio": RADIUS_RATIO,
@@ -111,35 +127,31 @@ def _common_params(full: bool) -> dict:
 
 
 # ------------------------------------------------------------------ datasets
-def annulus_profiles(full: bool = False, br=None) -> xr.Dataset:
-    s = _settings(full)
-    an = Annulus(3.0, RADIUS_RATIO)
-    br = br if br is not None else branch(an, n=s["n"], steps=s["steps"])
-    cs = (0.0, params.C_WISSLER_MAZZA)
-    rows = []
-    # both c in one vectorised iteration (the iteration of analysis.state_at_voltage)
-    sts = analysis._states_at_voltage(br, cs, 0.2)
-    _, _, t, P1, P2 = integrate_inward(an, np.array([st["q"] for st in sts]),
-                                       steps=s["steps"], profile=True)
-    for k, st in enumerate(sts):
-        rows.append((st, P1[::-1, k], P2[::-1, k], t[::-1]))
-    rho = np.exp(rows[0][3])
-    l1 = np.array([r[1] for r in rows])
-    l2 = np.array([r[2] for r in rows])
+def annulus_profiles(full: bool = False, ch: Chapter | None = None) -> xr.Dataset:
+    """Figs 3.2-3.3: the states at :data:`PROFILE_STATE` for c = 0 and c (equilibrium as
+    printed) and their annulus profiles, from the chapter pass."""
+    ch = ch if ch is not None else _chapter(full)
+    lamP, phibar, c1 = PROFILE_STATE
+    cs = (0.0, c1)
+    rows = [(float(lamP), float(phibar), float(c), "printed") for c in cs]
+    sts = [ch.states[r] for r in rows]
+    l1 = np.array([ch.profiles[r][0] for r in rows])
+    l2 = np.array([ch.profiles[r][1] for r in rows])
+    rho = ch.profiles[rows[0]][2]
     one = {"units": "1"}
     return xr.Dataset(
         {
             "lambda1": (("c", "r_over_ra"), l1, {**one, "long_name": "radial stretch lambda_1 in annulus B"}),
             "lambda2": (("c", "r_over_ra"), l2, {**one, "long_name": "hoop stretch lambda_2 in annulus B"}),
             "lambda3": (("c", "r_over_ra"), 1 / (l1 * l2), {**one, "long_name": "thickness stretch lambda_3 in annulus B"}),
-            "lambda_a": ("c", [r[0]["lam"] for r in rows], {**one, "long_name": "equibiaxial stretch of circle A"}),
-            "lambda3_a": ("c", [r[0]["lam3A"] for r in rows], {**one, "long_name": "thickness stretch of circle A"}),
+            "lambda_a": ("c", [st["lam"] for st in sts], {**one, "long_name": "equibiaxial stretch of circle A"}),
+            "lambda3_a": ("c", [st["lam3A"] for st in sts], {**one, "long_name": "thickness stretch of circle A"}),
         },
         coords={
             "c": ("c", np.array(cs), {**one, "long_name": "Zhao-Suo electrostrictive factor c (Eq. 3.27)"}),
             "r_over_ra": ("r_over_ra", rho, {**one, "long_name": "normalised reference radius R/R_A"}),
         },
-        attrs={"lamP": 3.0, "phibar": 0.2})
+        attrs={"lamP": lamP, "phibar": phibar})
 
 
 def voltage_stretch(family) -> xr.Dataset:
@@ -166,24 +178,24 @@ def voltage_stretch(family) -> xr.Dataset:
         })
 
 
-def failure_points(full: bool = False, family=None, membrane=None) -> xr.Dataset:
-    """``family``/``membrane``: {lamP: (branch, curves over C_CURVES)} per variant."""
-    s = _settings(full)
+def _family(ch: Chapter, equilibrium: str = "printed") -> dict:
+    """{lamP: (branch, curves over C_CURVES)} of one variant, from the chapter pass."""
+    return {p: (ch.branches[(float(p), equilibrium)],
+                [_curve(ch, p, c, equilibrium=equilibrium) for c in C_CURVES])
+            for p in LAMP_CURVES}
+
+
+def failure_points(full: bool = False, ch: Chapter | None = None) -> xr.Dataset:
+    """Events and failure modes of the C_CURVES curves, both equilibrium variants."""
+    ch = ch if ch is not None else _chapter(full)
     variants = ("printed", "membrane")
     data = {k: np.full((2, len(LAMP_CURVES), len(C_CURVES)), np.nan) for k in
             [f"{e}_{q}" for e in EVENT_KINDS for q in ("lambda", "phibar")]}
     mode = np.zeros((2, len(LAMP_CURVES), len(C_CURVES)), np.int8)
     for v, eq in enumerate(variants):
-        for i, lamP in enumerate(tqdm(LAMP_CURVES, desc=f"ch3 failures ({eq})", leave=False)):
-            if eq == "printed" and family is not None:
-                cvs = family[lamP][1]
-            elif eq == "membrane" and membrane is not None:
-                cvs = membrane[lamP][1]
-            else:
-                br = branch(Annulus(lamP, RADIUS_RATIO, equilibrium=eq), n=s["n"],
-                            steps=s["steps"])
-                cvs = curves(br, C_CURVES)
-            for j, cv in enumerate(cvs):
+        fam = _family(ch, eq)
+        for i, lamP in enumerate(LAMP_CURVES):
+            for j, cv in enumerate(fam[lamP][1]):
                 for k, ev in cv.events.items():
                     if ev is not None:
                         data[f"{k}_lambda"][v, i, j] = ev.lam
@@ -207,20 +219,16 @@ def failure_points(full: bool = False, family=None, membrane=None) -> xr.Dataset
     })
 
 
-def c_sweep(full: bool = False, lamPs=LAMP_SWEEP, precomputed=None) -> xr.Dataset:
-    """``precomputed``: {lamP: curves over the c grid} (from :func:`compute`)."""
-    s = _settings(full)
+def c_sweep(full: bool = False, lamPs=LAMP_SWEEP, ch: Chapter | None = None) -> xr.Dataset:
+    """Fig. 3.9: the first failure over the c grid at ``lamPs`` (among LAMP_SWEEP)."""
+    ch = ch if ch is not None else _chapter(full)
     cs = _c_grid(full)
     lam = np.full((len(lamPs), cs.size), np.nan)
     phi = np.full_like(lam, np.nan)
     mode = np.zeros(lam.shape, np.int8)
-    for i, lamP in enumerate(tqdm(lamPs, desc="ch3 c sweep", leave=False)):
-        if precomputed is not None:
-            cvs = precomputed[lamP]
-        else:
-            br = branch(Annulus(lamP, RADIUS_RATIO), n=s["n"], steps=s["steps"])
-            cvs = curves(br, cs)
-        for j, cv in enumerate(cvs):
+    for i, lamP in enumerate(lamPs):
+        for j, c in enumerate(cs):
+            cv = _curve(ch, lamP, c)
             lam[i, j], phi[i, j] = cv.lam_max, cv.phibar_max
             mode[i, j] = _mode_code(cv.failure)
     one = {"units": "1"}
@@ -236,20 +244,16 @@ def _c_grid(full: bool) -> np.ndarray:
     return np.linspace(0.0, -0.1, _settings(full)["n_c"])
 
 
-def eps_r_sensitivity(full: bool = False, family=None, precomputed=None) -> xr.Dataset:
-    s = _settings(full)
+def eps_r_sensitivity(full: bool = False, ch: Chapter | None = None) -> xr.Dataset:
+    """lam_max and the failure mode per eps_r (assumption), c = 0 and -0.053."""
+    ch = ch if ch is not None else _chapter(full)
     cs2 = (0.0, params.C_WISSLER_MAZZA)
     lam = np.full((len(EPS_R), len(LAMP_CURVES), 2), np.nan)
     mode = np.zeros(lam.shape, np.int8)
-    for i, lamP in enumerate(tqdm(LAMP_CURVES, desc="ch3 eps_r sensitivity", leave=False)):
-        br = family[lamP][0] if family is not None else branch(
-            Annulus(lamP, RADIUS_RATIO), n=s["n"], steps=s["steps"])
-        allc = [c for _ in EPS_R for c in cs2]
-        alle = [e for e in EPS_R for _ in cs2]
-        res = precomputed[lamP] if precomputed is not None else curves(br, allc, eps_r=alle)
-        for k in range(len(EPS_R)):
-            for j in range(2):
-                cv = res[2 * k + j]
+    for i, lamP in enumerate(LAMP_CURVES):
+        for k, e in enumerate(EPS_R):
+            for j, c in enumerate(cs2):
+                cv = _curve(ch, lamP, c, e)
                 lam[k, i, j] = cv.lam_max
                 mode[k, i, j] = _mode_code(cv.failure)
     one = {"units": "1"}
@@ -262,45 +266,17 @@ def eps_r_sensitivity(full: bool = False, family=None, precomputed=None) -> xr.D
 
 
 def compute(full: bool = False) -> dict[str, xr.Dataset]:
-    """All Chapter 3 datasets (no I/O).
-
-    One batched pass: the branches of both equilibrium variants (printed and membrane,
-    all pre-stretches) in one scan and one grid integration, then every event of every
-    curve of the chapter (both variants, the c sweep, the eps_r study) located together.
-    """
-    s = _settings(full)
-    bar = tqdm(total=3, desc="ch3", leave=False)
-    nL = len(LAMP_CURVES)
-    both = branches([Annulus(p, RADIUS_RATIO, equilibrium=eq) for eq in ("printed", "membrane")
-                     for p in LAMP_CURVES], n=s["n"], steps=s["steps"])
-    pr = dict(zip(LAMP_CURVES, both[:nL], strict=True))
-    mb = dict(zip(LAMP_CURVES, both[nL:], strict=True))
-    bar.update()
-    cs2 = (0.0, params.C_WISSLER_MAZZA)
-    allc = [c for _ in EPS_R for c in cs2]
-    alle = [e for e in EPS_R for _ in cs2]
-    cgrid = _c_grid(full)
-    jobs = ([(pr[p], C_CURVES, None) for p in LAMP_CURVES]
-            + [(pr[p], cgrid, None) for p in LAMP_SWEEP]
-            + [(pr[p], allc, alle) for p in LAMP_CURVES]
-            + [(mb[p], C_CURVES, None) for p in LAMP_CURVES])
-    res = _curves_many_admissible(jobs)
-    bar.update()
-    nS = len(LAMP_SWEEP)
-    family = {p: (pr[p], res[k]) for k, p in enumerate(LAMP_CURVES)}
-    sweep = {p: res[nL + k] for k, p in enumerate(LAMP_SWEEP)}
-    sens = {p: res[nL + nS + k] for k, p in enumerate(LAMP_CURVES)}
-    membrane = {p: (mb[p], res[2 * nL + nS + k]) for k, p in enumerate(LAMP_CURVES)}
-    out = {
-        "ch3_annulus_profiles": annulus_profiles(full, pr[3.0]),
-        "ch3_voltage_stretch": voltage_stretch(family),
-        "ch3_failure_points": failure_points(full, family, membrane),
-        "ch3_c_sweep": c_sweep(full, precomputed=sweep),
-        "ch3_eps_r_sensitivity": eps_r_sensitivity(full, family, precomputed=sens),
+    """All Chapter 3 datasets (no I/O), from the one memoised chapter pass
+    (:func:`chapter_spec`: the branches of both equilibrium variants in one scan and one
+    grid integration, every event of every curve located together)."""
+    ch = _chapter(full)
+    return {
+        "ch3_annulus_profiles": annulus_profiles(full, ch),
+        "ch3_voltage_stretch": voltage_stretch(_family(ch)),
+        "ch3_failure_points": failure_points(full, ch),
+        "ch3_c_sweep": c_sweep(full, ch=ch),
+        "ch3_eps_r_sensitivity": eps_r_sensitivity(full, ch),
     }
-    bar.update()
-    bar.close()
-    return out
 
 
 _TEXT = {

@@ -4,11 +4,13 @@ Each producer reads the entry's ``parameters`` (lamP, c, phibar, ...) and comput
 value with :mod:`debench.models.circular`, using the equilibrium variant the thesis solves
 (``"printed"``, Eq. 3.33) and reporting in ``details`` the value under the consistent
 thin-membrane balance (``"membrane"``) and, where the relative permittivity enters
-(breakdown), the value for each eps_r of :data:`EPS_R_SENSITIVITY`. The producers share
-one memoised computation keyed on the parameters and the model constants
-(:func:`_model_key`): the first curve requested computes every curve of :func:`_plan` in
-one batched pass (both variants, all events located together), so that each branch and
-curve is computed once per command.
+(breakdown), the value for each eps_r of :data:`EPS_R_SENSITIVITY`. The producers read
+the one memoised chapter pass the dataset builder reads too
+(:func:`debench.models.circular.chapter.chapter` for
+:func:`debench.reference.builders.ch3.chapter_spec`, keyed on its parameters and the model
+constants): every branch, curve, state and root of the catalogue's plan computed once per
+command. Entries outside the plan are computed on demand (cached, keyed on the
+parameters and :func:`_model_key`).
 """
 
 from __future__ import annotations
@@ -19,7 +21,9 @@ from functools import lru_cache
 import numpy as np
 from debench.models.circular import analysis, circle_a, params
 from debench.models.circular.actuator import branches, curves_many
+from debench.models.circular.chapter import chapter
 from debench.models.circular.params import Annulus
+from debench.reference.builders import ch3 as builder
 from debench.reference.catalogue import Accuracy, Entry, Outcome
 
 #: relative permittivities for the sensitivity study (ch3.assumption.eps_r): VHB 4910
@@ -27,8 +31,8 @@ from debench.reference.catalogue import Accuracy, Entry, Outcome
 #: Wissler & Mazza ~4.7); 3.5 and 5.5 bracket them
 EPS_R_SENSITIVITY = (3.5, 4.05, 4.2, 4.7, 5.5)
 VARIANTS = ("printed", "membrane")
-#: c grid for the Fig. 3.9 sweeps (the thesis' Table 3.1 range 0 .. -0.1)
-C_SWEEP = tuple(np.round(np.linspace(0.0, -0.1, 41), 6))
+#: c grid for the Fig. 3.9 sweeps (the thesis' Table 3.1 range 0 .. -0.1): the builder's
+C_SWEEP = tuple(float(c) for c in builder._c_grid(False))
 EV = "verification/test_ch3_claims.py"
 #: Accuracy of every Chapter 3 value (overridden where an outer solver is coarser): the
 #: shooting method integrates on a fixed RK4 grid and locates events and roots to 1e-14
@@ -38,8 +42,12 @@ EV = "verification/test_ch3_claims.py"
 #: change of a model constant.
 ACCURACY = Accuracy(rtol=1e-7, atol=1e-10, reason="ch3 shooting: events to 1e-14, fixed "
                     "RK4 grid; cross-CPU spread < 1e-10 relative, 1000x margin")
-#: the suppression pre-stretch is bracketed by brentq to SUPPRESSION_XTOL
-SUPPRESSION_XTOL = 1e-6
+#: the suppression pre-stretch is bracketed to SUPPRESSION_XTOL on branches of
+#: SUPPRESSION_POINTS points (the chapter pass's)
+SUPPRESSION_XTOL = builder.SUPPRESSION_XTOL
+SUPPRESSION_POINTS = builder.SUPPRESSION_POINTS
+#: branch points of the c-threshold search (as the evidence test)
+C_THRESHOLD_POINTS = builder.C_THRESHOLD_POINTS
 
 
 def _model_key() -> tuple:
@@ -48,93 +56,50 @@ def _model_key() -> tuple:
     return (params.JM_VHB, params.MU_VHB, params.EPS0, params.EB_COEFF, params.EB_EXPONENT)
 
 
-#: grid points of the cached branches
-BRANCH_POINTS = 400
-#: the pre-stretches and c values whose curves (both variants, the assumed eps_r; the
-#: eps_r study for c = 0 and the Wissler-Mazza c) are computed in one batched pass when
-#: the first curve is needed; the Fig. 3.9 pre-stretches also get the whole C_SWEEP grid
-#: (with the eps_r study, equilibrium as printed). Curves outside this set are computed
-#: on demand.
-PLAN_LAMP = (1.1, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0)
-PLAN_C = (0.0, -0.0073, -0.02, -0.04, -0.053, -0.06, -0.08, -0.0892)
-PLAN_SWEEP_LAMP = (1.25, 2.0, 3.0)
+def _chapter():
+    """The chapter pass the builder uses too (:func:`builders.ch3.chapter_spec`, memoised
+    on its parameters and the model constants): every value of the catalogue's plan."""
+    return chapter(builder.chapter_spec())
 
-def _branch(lamP: float, equilibrium: str = "printed", radius_ratio: float = 15.0,
-            n: int = BRANCH_POINTS):
-    """The annulus branch (cached, keyed on the arguments and :func:`_model_key`).
 
-    A miss traces its siblings with it in one batched pass (:func:`branches`): both
-    variants at this pre-stretch, and every :data:`PLAN_LAMP` when ``n`` is
-    :data:`BRANCH_POINTS` and the geometry the plan's."""
+def _branch(lamP: float, equilibrium: str = "printed", radius_ratio: float = 15.0):
+    """The annulus branch of the chapter pass, or (outside its plan) traced on demand with
+    the same grid for both variants (cached, keyed on the arguments and
+    :func:`_model_key`)."""
+    ch = _chapter()
+    key = (float(lamP), equilibrium)
+    if float(radius_ratio) == ch.spec.radius_ratio and key in ch.branches:
+        return ch.branches[key]
     mk = _model_key()
-    key = (float(lamP), equilibrium, float(radius_ratio), int(n), mk)
-    if key not in _BRANCHES:
-        lamPs = {float(lamP)}
-        if int(n) == BRANCH_POINTS and float(radius_ratio) == 15.0:
-            lamPs |= set(PLAN_LAMP)
-        need = [(lp, eq) for lp in sorted(lamPs) for eq in dict.fromkeys((equilibrium,
-                                                                          *VARIANTS))
-                if (lp, eq, float(radius_ratio), int(n), mk) not in _BRANCHES]
-        brs = branches([Annulus(lp, float(radius_ratio), mk[0], eq) for lp, eq in need],
-                       n=int(n))
-        for (lp, eq), br in zip(need, brs, strict=True):
-            _BRANCHES[(lp, eq, float(radius_ratio), int(n), mk)] = br
-    return _BRANCHES[key]
+    ckey = (float(lamP), equilibrium, float(radius_ratio), mk)
+    if ckey not in _BRANCHES:
+        eqs = list(dict.fromkeys((equilibrium, *VARIANTS)))
+        brs = branches([Annulus(float(lamP), float(radius_ratio), mk[0], eq) for eq in eqs],
+                       n=ch.spec.n, steps=ch.spec.steps)
+        for eq, br in zip(eqs, brs, strict=True):
+            _BRANCHES[(float(lamP), eq, float(radius_ratio), mk)] = br
+    return _BRANCHES[ckey]
 
 
 _BRANCHES: dict = {}
 _CURVES: dict = {}
-_PLANNED: set = set()
-
-
-def _plan() -> list[tuple]:
-    """(lamP, c, eps_r, equilibrium) of every curve in the batched pass."""
-    eps_all = sorted(set(EPS_R_SENSITIVITY) | {float(params.EPS_R_ASSUMED)})
-    want = []
-    for eq in VARIANTS:
-        for lp in PLAN_LAMP:
-            want += [(lp, c, float(params.EPS_R_ASSUMED), eq) for c in PLAN_C]
-        for lp in PLAN_SWEEP_LAMP:
-            want += [(lp, float(c), float(params.EPS_R_ASSUMED), eq) for c in C_SWEEP]
-    for lp in PLAN_LAMP:
-        want += [(lp, c, e, "printed") for c in (0.0, float(params.C_WISSLER_MAZZA))
-                 for e in eps_all]
-    for lp in PLAN_SWEEP_LAMP:
-        want += [(lp, float(c), e, "printed") for c in C_SWEEP for e in eps_all]
-    # only admissible curves: the factor K of (3.30) positive at the pre-stretch
-    return [k for k in dict.fromkeys(want)
-            if float(circle_a.electrostriction_factor(k[0], k[1])) > 0]
-
-
-def _compute_curves(keys, mk) -> None:
-    """Curves for ``keys`` [(lamP, c, eps_r, equilibrium)] in one batched pass: the
-    branches of both variants in one trace, every event of every curve in one location."""
-    keys = [k for k in dict.fromkeys(keys) if (*k, mk) not in _CURVES]
-    if not keys:
-        return
-    groups: dict = {}
-    for k in keys:
-        groups.setdefault((k[0], k[3]), []).append(k)
-    jobs = [(_branch(lp, eq), [k[1] for k in ks], [k[2] for k in ks])
-            for (lp, eq), ks in groups.items()]
-    res = curves_many(jobs)
-    for ks, cvs in zip(groups.values(), res, strict=True):
-        for k, cv in zip(ks, cvs, strict=True):
-            _CURVES[(*k, mk)] = cv
 
 
 def _curves(lamP: float, cs: tuple, eps_r: float = params.EPS_R_ASSUMED,
             equilibrium: str = "printed"):
-    """Curves for the c values ``cs`` (cached per curve, keyed on the parameters and
-    :func:`_model_key`). The first request computes the whole :func:`_plan` with it."""
+    """Curves for the c values ``cs``: those of the chapter pass, the others computed on
+    demand in one batched location (cached per curve, keyed on the parameters and
+    :func:`_model_key`)."""
+    ch = _chapter()
     mk = _model_key()
     keys = [(float(lamP), float(c), float(eps_r), equilibrium) for c in cs]
-    if mk not in _PLANNED:
-        _PLANNED.add(mk)
-        _compute_curves(_plan() + keys, mk)
-    else:
-        _compute_curves(keys, mk)
-    return [_CURVES[(*k, mk)] for k in keys]
+    missing = [k for k in dict.fromkeys(keys) if k not in ch.curves and (*k, mk) not in _CURVES]
+    if missing:
+        cvs = curves_many([(_branch(lamP, equilibrium), [k[1] for k in missing],
+                            [k[2] for k in missing])])[0]
+        for k, cv in zip(missing, cvs, strict=True):
+            _CURVES[(*k, mk)] = cv
+    return [ch.curves[k] if k in ch.curves else _CURVES[(*k, mk)] for k in keys]
 
 
 def _p(entry: Entry, key: str, default=None):
@@ -159,8 +124,12 @@ def _interface_changes_cached(lamP, phibar, c, equilibrium, model_key):
 
 
 def _state(lamP, equilibrium, c, phibar) -> dict:
-    """:func:`debench.models.circular.analysis.state_at_voltage` on the cached branch
-    (cached, keyed on the arguments and :func:`_model_key`)."""
+    """:func:`debench.models.circular.analysis.state_at_voltage`: the chapter pass's, or
+    on its branch on demand (cached, keyed on the arguments and :func:`_model_key`)."""
+    key = (float(lamP), float(phibar), float(c), equilibrium)
+    ch = _chapter()
+    if key in ch.states:
+        return ch.states[key]
     return _state_cached(float(lamP), equilibrium, float(c), float(phibar), _model_key())
 
 
@@ -190,10 +159,14 @@ _PROFILES: dict = {}
 
 def _profiles(lamP, c, phibar, equilibrium) -> tuple:
     """Stretch profiles (lambda_1, lambda_2 from R_A outwards) of the states at Phibar for
-    c = 0 and ``c``: both equilibrium variants in one integration (cached, keyed on the
-    arguments and :func:`_model_key`)."""
+    c = 0 and ``c``: the chapter pass's, or both equilibrium variants in one integration
+    on demand (cached, keyed on the arguments and :func:`_model_key`)."""
     from debench.models.circular.shooting import _integrate_inward
 
+    ch = _chapter()
+    rows = [(float(lamP), float(phibar), ci, equilibrium) for ci in (0.0, float(c))]
+    if all(r in ch.profiles for r in rows):
+        return tuple(ch.profiles[r][:2] for r in rows)
     mk = _model_key()
     key = (float(lamP), float(c), float(phibar), mk)
     if key not in _PROFILES:
@@ -232,37 +205,43 @@ def pullin_voltage(entry: Entry) -> Outcome:
 
 def suppression_prestretch(entry: Entry) -> Outcome:
     d = _p(entry, "definition", "before_loss_of_tension")
-    # both variants in lockstep (one batched branch trace per iteration); the same
-    # function of lamP as analysis.pullin_suppression_prestretch, bracketed to the same xtol
-    vals = dict(zip(VARIANTS, analysis._suppression_prestretches(
-        _p(entry, "c"), VARIANTS, definition=d, n=200, xtol=SUPPRESSION_XTOL), strict=True))
+    c = float(_p(entry, "c"))
+    ch = _chapter()
+    if d == "before_loss_of_tension" and all((c, v) in ch.suppression for v in VARIANTS):
+        vals = {v: ch.suppression[(c, v)] for v in VARIANTS}
+    else:
+        # both variants in lockstep (one batched branch trace per iteration); the same
+        # function of lamP as analysis.pullin_suppression_prestretch, bracketed to the
+        # same xtol
+        vals = dict(zip(VARIANTS, analysis._suppression_prestretches(
+            c, VARIANTS, definition=d, n=SUPPRESSION_POINTS, xtol=SUPPRESSION_XTOL),
+            strict=True))
     acc = Accuracy(rtol=0.0, atol=10 * SUPPRESSION_XTOL,
                    reason=f"brentq bracket xtol {SUPPRESSION_XTOL:g} on lamP, 10x margin")
     return Outcome(value=vals["printed"], details={"membrane": vals["membrane"]}, accuracy=acc,
                    evidence=f"{EV}::test_suppression_prestretch_both_definitions_agree")
 
 
-#: branch points of the c-threshold search (as the evidence test)
-C_THRESHOLD_POINTS = 800
-
-
 def c_threshold(entry: Entry) -> Outcome:
-    """:func:`debench.models.circular.analysis.pullin_c_threshold` on the cached branch
-    (one per variant, shared by both definitions)."""
+    """:func:`debench.models.circular.analysis.pullin_c_threshold`: the chapter pass's (both
+    definitions on one branch per variant), or on demand."""
     d = _p(entry, "definition", "monotonic")
-    lamP = _p(entry, "lamP")
-    brs = [_branch(lamP, v, n=C_THRESHOLD_POINTS) for v in VARIANTS]
-    lots, br_lots = [None] * len(VARIANTS), [None] * len(VARIANTS)
-    if d == "before_loss_of_tension":
-        # the loss-of-tension stretches from the shared curves, the branches up to them
-        # of both variants in one batched Newton iteration
-        lots = [_lot(lamP, v) for v in VARIANTS]
-        br_lots = analysis._lot_grids(brs, lots)
-    vals = {v: analysis._c_threshold_on(br, d, lam_lot=lot, br_lot=bl)
-            for v, br, lot, bl in zip(VARIANTS, brs, lots, br_lots, strict=True)}
-    diag = entry.diagnosis
+    lamP = float(_p(entry, "lamP"))
+    ch = _chapter()
+    if all((lamP, d, v) in ch.c_thresholds for v in VARIANTS):
+        vals = {v: ch.c_thresholds[(lamP, d, v)] for v in VARIANTS}
+    else:
+        brs = branches([Annulus(lamP, 15.0, params.JM_VHB, v) for v in VARIANTS],
+                       n=C_THRESHOLD_POINTS)
+        lots, br_lots = [None] * len(VARIANTS), [None] * len(VARIANTS)
+        if d == "before_loss_of_tension":
+            lots = [_lot(lamP, v) for v in VARIANTS]
+            br_lots = analysis._lot_grids(brs, lots)
+        vals = {v: analysis._c_threshold_on(br, d, lam_lot=lot, br_lot=bl)
+                for v, br, lot, bl in zip(VARIANTS, brs, lots, br_lots, strict=True)}
     return Outcome(value=vals["printed"], details={"membrane": vals["membrane"]},
-                   diagnosis=diag, evidence=f"{EV}::test_c_threshold_between_grid_values")
+                   diagnosis=entry.diagnosis,
+                   evidence=f"{EV}::test_c_threshold_between_grid_values")
 
 
 # ------------------------------------------------------------------ Sec. 3.5.3 (Fig. 3.6)
@@ -286,15 +265,21 @@ def loss_of_tension_stretch(entry: Entry) -> Outcome:
 def voltage_increase(entry: Entry) -> Outcome:
     """% higher Phibar for c than for c = 0 at the same total stretch (annulus-free)."""
     lam, c, lamP = _p(entry, "stretch"), _p(entry, "c"), _p(entry, "lamP")
+    ch = _chapter()
     vals = {}
     for v in VARIANTS:
-        br = _branch(lamP, v)
-        from debench.models.circular.shooting import interface_state, q_for_stretch
-        q = q_for_stretch(br.annulus, np.array([lam]), np.interp(lam, br.lam, br.q))
-        st = interface_state(br.annulus, q)
-        kap = br.annulus.kappa
-        p0 = circle_a.phibar_squared(st.lam[0], st.T1[0], 0.0, kap)
-        p1 = circle_a.phibar_squared(st.lam[0], st.T1[0], c, kap)
+        key = (float(lamP), float(lam), v)
+        if key in ch.stretch_states:
+            lam_a, T1 = ch.stretch_states[key]
+        else:
+            from debench.models.circular.shooting import interface_state, q_for_stretch
+            br = _branch(lamP, v)
+            q = q_for_stretch(br.annulus, np.array([lam]), np.interp(lam, br.lam, br.q))
+            st = interface_state(br.annulus, q)
+            lam_a, T1 = st.lam[0], st.T1[0]
+        kap = _branch(lamP, v).annulus.kappa
+        p0 = circle_a.phibar_squared(lam_a, T1, 0.0, kap)
+        p1 = circle_a.phibar_squared(lam_a, T1, c, kap)
         vals[v] = 100 * (math.sqrt(p1 / p0) - 1)
     closed = 100 * (1 / math.sqrt(float(circle_a.electrostriction_factor(lam, c))) - 1)
     return Outcome(value=vals["printed"],
