@@ -502,34 +502,40 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
         cs = [float(c) for c in cs]
         eps_rs = [float(e) for e in np.broadcast_to(np.asarray(eps_r, float), (len(cs),))]
         lam = br.lam
+        # every curve of this branch at once: rows are the c (and eps_r) values
+        cc = np.array(cs, float)[:, None]
+        PB = circle_a._breakdown(lam, np.array(eps_rs, float)[:, None], mu)
+        K = circle_a._K(lam, cc)
+        valid = K > 0
+        Ks = np.where(valid, K, 1.0)  # Phibar is undefined where K <= 0 (masked below)
+        P2 = np.where(valid, circle_a._p2(lam, br.T1, cc, kappa) * K / Ks, np.nan)
+        h = 1e-30
+        with np.errstate(divide="ignore", invalid="ignore"):
+            p2c = circle_a._p2(lam + 1j * h * br.dlam, br.T1 + 1j * h * br.dT1, cc, kappa)
+        DP2 = np.where(valid, (p2c.imag / h) / br.dlam, np.nan)
+        fun = {"pullin": DP2, "minimum": DP2, "loss_of_tension": br.T1[None, :],
+               "breakdown": P2 - PB**2}
+        first = {}
+        for kind in EVENT_KINDS:
+            f = fun[kind]
+            if kind in ("minimum", "breakdown"):   # crossing from below
+                cross = (f[:, :-1] < 0) & (f[:, 1:] >= 0)
+            else:                                   # crossing from above
+                cross = (f[:, :-1] > 0) & (f[:, 1:] <= 0)
+            first[kind] = np.where(cross.any(axis=1), cross.argmax(axis=1), -1)
+        PHI = np.sqrt(np.maximum(P2, 0.0))
+        SIG = circle_a._s(lam, kappa) - PHI**2 * lam**4 * K
         data = []
         for i, c in enumerate(cs):
-            pb = circle_a._breakdown(lam, eps_rs[i], mu)
-            K = circle_a._K(lam, c)
-            valid = K > 0
-            Ks = np.where(valid, K, 1.0)  # Phibar is undefined where K <= 0 (masked below)
-            p2 = np.where(valid, circle_a._p2(lam, br.T1, c, kappa) * K / Ks,
-                          np.nan)
-            h = 1e-30
-            with np.errstate(divide="ignore", invalid="ignore"):
-                p2c = circle_a._p2(lam + 1j * h * br.dlam,
-                                              br.T1 + 1j * h * br.dT1, c, kappa)
-            dp2 = np.where(valid, (p2c.imag / h) / br.dlam, np.nan)
-            fun = {"pullin": dp2, "minimum": dp2, "loss_of_tension": br.T1,
-                   "breakdown": p2 - pb**2}
             for kind in EVENT_KINDS:
                 if kind == "loss_of_tension" and an.lamP == 1.0:
                     # unstretched membrane: T1 = 0 at lamP exactly (rounding leaves
                     # ~1e-56, which no bracketing can resolve), compressive beyond it
                     located[(jb, i, kind)] = Event(kind, 1.0, 0.0, 1.0)
                     continue
-                f = fun[kind]
-                if kind in ("minimum", "breakdown"):   # crossing from below
-                    idx = np.nonzero((f[:-1] < 0) & (f[1:] >= 0))[0]
-                else:                                   # crossing from above
-                    idx = np.nonzero((f[:-1] > 0) & (f[1:] <= 0))[0]
-                if idx.size:
-                    j = idx[0]
+                j = int(first[kind][i if first[kind].size > 1 else 0])
+                if j >= 0:
+                    f = fun[kind][i if fun[kind].shape[0] > 1 else 0]
                     # root estimate: the secant in the cell, refined below on the cubic
                     # through the 4 grid values around the crossing
                     x0 = br.q[j] - f[j] * (br.q[j + 1] - br.q[j]) / (f[j + 1] - f[j])
@@ -538,7 +544,7 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
                                     an.lamP, f[j], f[j + 1], x0, (br.lam[j], br.T1[j]),
                                     (br.lam[j + 1], br.T1[j + 1]),
                                     (br.q[lo_:lo_ + 4], f[lo_:lo_ + 4])))
-            data.append((np.sqrt(np.maximum(p2, 0.0)), pb))
+            data.append((PHI[i], PB[i], SIG[i]))
         prepared.append((br, cs, eps_rs, data))
     # an event that does not depend on eps_r (all but breakdown) is located once per
     # (branch, c) and shared by the curves of every eps_r; loss of tension (T1 = 0) does
@@ -590,7 +596,7 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
         out = []
         for i, c in enumerate(cs):
             act = actuators[jb][i]
-            phibar, pb = data[i]
+            phibar, pb, sigma1A = data[i]
             events = {k: located.get((jb, i, k)) for k in EVENT_KINDS}
             cands = [e for k, e in events.items() if k in FAILURE_KINDS and e is not None]
             failure = min(cands, key=lambda e: e.lam) if cands else None
@@ -607,8 +613,6 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
                 kind = "locking" if br.lam_end >= 0.999 * lock * (1 - 1e-12) else "end"
                 failure = Event(kind, float(lock if kind == "locking" else br.lam_end),
                                 float("nan"), float("nan"))
-            sigma1A = (circle_a._s(br.lam, br.annulus.kappa)
-                       - phibar**2 * br.lam**4 * circle_a._K(br.lam, c))
             out.append(Curve(actuator=act, lam=br.lam, phibar=phibar, sigma1A=sigma1A,
                              phibar_breakdown=pb, events=events, failure=failure))
         results[jb] = out

@@ -27,6 +27,9 @@ from .actuator import Branch, Curve, branches, curves_many
 from .params import Annulus
 
 VARIANTS = params.EQUILIBRIUM_VARIANTS
+#: the pre-stretches that bracket the suppression pre-stretch (those of
+#: :func:`~debench.models.circular.analysis.pullin_suppression_prestretch`)
+SUPPRESSION_BRACKET = (2.0, 3.2)
 
 
 def current_constants() -> tuple:
@@ -152,10 +155,15 @@ def _compute(spec: ChapterSpec) -> Chapter:
     # variant, and the c-threshold grids (same scans)
     fam = [(float(lp), eq) for eq in VARIANTS for lp in lamPs]
     ct = [(float(lp), eq) for eq in VARIANTS for lp in spec.c_threshold_lamPs]
-    brs = branches([_annulus(spec, lp, eq) for lp, eq in fam + ct],
-                   n=[spec.n] * len(fam) + [spec.c_threshold_n] * len(ct), steps=spec.steps)
+    # the suppression search's bracket ends (its branches do not depend on c)
+    sp = [(float(x), eq) for x in SUPPRESSION_BRACKET for eq in VARIANTS] \
+        if spec.suppression_cs else []
+    brs = branches([_annulus(spec, lp, eq) for lp, eq in fam + ct + sp],
+                   n=([spec.n] * len(fam) + [spec.c_threshold_n] * len(ct)
+                      + [spec.suppression_n] * len(sp)), steps=spec.steps)
     family = dict(zip(fam, brs[:len(fam)], strict=True))
-    ct_branches = dict(zip(ct, brs[len(fam):], strict=True))
+    ct_branches = dict(zip(ct, brs[len(fam):len(fam) + len(ct)], strict=True))
+    sp_branches = brs[len(fam) + len(ct):]
     # every event of every curve, located together
     groups: dict = {}
     for k in keys:
@@ -170,7 +178,9 @@ def _compute(spec: ChapterSpec) -> Chapter:
     suppression = {(float(c), eq): x for c in spec.suppression_cs
                    for eq, x in zip(VARIANTS, analysis._suppression_prestretches(
                        float(c), VARIANTS, radius_ratio=spec.radius_ratio, Jm=spec.Jm,
-                       n=spec.suppression_n, xtol=spec.suppression_xtol), strict=True)}
+                       bracket=SUPPRESSION_BRACKET, n=spec.suppression_n,
+                       xtol=spec.suppression_xtol, bracket_branches=sp_branches),
+                       strict=True)}
     return Chapter(spec=spec, branches=family, curves=curves, states=states,
                    profiles=profiles, stretch_states=stretch_states,
                    c_thresholds=c_thresholds, suppression=suppression)
