@@ -233,10 +233,11 @@ def _branches_at(brs, lams, maxiter: int = 30) -> list[Branch]:
     the branch (measured: within 4e-14 relative of the solution on the 800-point
     c-threshold branches, where PCHIP is within 4e-11), so no scan is needed and one
     integration usually suffices. The iteration stops, as in ``q_for_stretch``, when
-    every step satisfies ``|dq| <= NEWTON_RTOL |q|``; the points returned are those of
-    that last integration (their q within NEWTON_RTOL of the Newton solution, their
-    stretches within NEWTON_RTOL |q dlam| of ``lams``), so they agree with those of
-    :func:`~debench.models.circular.actuator.branch` to that tolerance. Stretches must lie
+    every step satisfies ``|dq| <= NEWTON_RTOL |q|``; that last step is applied to the
+    outputs of the last integration with their exact q-derivatives (lam - dlam dq, ...:
+    the neglected terms are O(dq^2), below rounding) instead of integrating again, so the
+    points agree with those of :func:`~debench.models.circular.actuator.branch` to that
+    tolerance. Stretches must lie
     in ``[lamP, br.lam_end]`` (ValueError); ConvergenceError otherwise.
     """
     an0, steps = brs[0].annulus, brs[0].steps
@@ -261,21 +262,23 @@ def _branches_at(brs, lams, maxiter: int = 30) -> list[Branch]:
             raise ConvergenceError(f"shooting: trajectory left the admissible set near "
                                    f"lam = {lam[~np.isfinite(r)][:3]}")
         dq = r / st.dlam
-        if np.all(np.abs(dq) <= NEWTON_RTOL * np.abs(q - dq)):
-            break
         q = q - dq
+        if np.all(np.abs(dq) <= NEWTON_RTOL * np.abs(q)):
+            break
     else:
         raise ConvergenceError(f"shooting Newton: max |dq| = {np.max(np.abs(dq)):.3g} "
                                f"after {maxiter} iterations")
+    # the last Newton step applied to the outputs (first order, exact derivatives)
+    lam_, lam1_, T1_ = st.lam - st.dlam * dq, st.lam1 - st.dlam1 * dq, st.T1 - st.dT1 * dq
     out, k = [], 0
     for br, n in zip(brs, sizes, strict=True):
         sl = slice(k, k + n)
         k += n
-        if not np.all(np.isfinite(st.lam[sl])) or np.any(np.diff(st.lam[sl]) <= 0):
+        if not np.all(np.isfinite(lam_[sl])) or np.any(np.diff(lam_[sl]) <= 0):
             raise ConvergenceError(f"annulus branch of {br.annulus}: non-monotone or "
                                    "inadmissible points")
-        out.append(Branch(annulus=br.annulus, lam=st.lam[sl], q=q[sl], lam1=st.lam1[sl],
-                          T1=st.T1[sl], dlam=st.dlam[sl], dT1=st.dT1[sl],
+        out.append(Branch(annulus=br.annulus, lam=lam_[sl], q=q[sl], lam1=lam1_[sl],
+                          T1=T1_[sl], dlam=st.dlam[sl], dT1=st.dT1[sl],
                           lam_end=br.lam_end, steps=steps))
     return out
 

@@ -327,12 +327,14 @@ CHUNK_BYTES = 128_000
 
 
 def _integrate_chunks(annulus, q, steps, lamP, membrane, limit):
-    """:func:`_integrate_inward` of a 1-D batch in consecutive pieces of at most ``limit``
-    trajectories (``membrane``: a bool or a :class:`_Split` of the whole batch)."""
+    """:func:`_integrate_inward` of a 1-D batch in consecutive pieces of equal size, at most
+    ``limit`` trajectories (``membrane``: a bool or a :class:`_Split` of the whole batch).
+    Equal pieces of a batch above ``limit`` hold at least ``limit / 2`` trajectories, so
+    that none falls to the scalar path (whose rounding differs in the last bit)."""
     lp = None if lamP is None else np.broadcast_to(np.asarray(lamP, float), q.shape)
     l1, l2 = [], []
-    for s in range(0, q.size, limit):
-        e = min(s + limit, q.size)
+    cuts = np.linspace(0, q.size, -(-q.size // limit) + 1).round().astype(int)
+    for s, e in zip(cuts[:-1], cuts[1:], strict=True):
         mem = (np.arange(s, e) >= membrane.k) if isinstance(membrane, _Split) else membrane
         a, b = _integrate_inward(annulus, q[s:e], steps=steps,
                                  lamP=None if lp is None else lp[s:e], membrane=mem)
