@@ -87,18 +87,23 @@ def _column(s, t, parity, kind, rc, kappa):
 def _column_parts(s, t, kind, rc, kappa):
     """(r1, r2, r3, th) of :func:`_column`, before the parity combination: r1..r3 have
     the shape of ``s`` (they do not depend on t), th = tanh(s t / 2) the broadcast shape."""
-    c, b2, d, e, f = rc
     th = np.tanh(s * t / 2)
+    r1, r2, r3 = _column_rows(s, kind, rc, kappa)
+    return tuple(r * np.ones_like(th) for r in (r1, r2, r3)) + (th,)
+
+
+def _column_rows(s, kind, rc, kappa):
+    """(r1, r2, r3) of :func:`_column_parts`: the rows of root ``s``, independent of t."""
+    c, b2, d, e, f = rc
     if kind == "electric":  # s = 1
-        r1, r2, r3 = d * np.ones_like(th), -(e - d) * np.ones_like(th), f * np.ones_like(th)
-    else:
-        k = kappa if kind == "quartic" else 0.0
-        s2 = s * s
-        r1 = c * (1 + s2) - d * k * s2
-        r2 = s * (b2 + c - c * s2 - e * k + d * k * s2)
-        r3 = d * (1 + s2) - f * k * s2
-        r2 = -r2
-    return r1, r2, r3, th
+        one = np.ones_like(s)
+        return d * one, -(e - d) * one, f * one
+    k = kappa if kind == "quartic" else 0.0
+    s2 = s * s
+    r1 = c * (1 + s2) - d * k * s2
+    r2 = s * (b2 + c - c * s2 - e * k + d * k * s2)
+    r3 = d * (1 + s2) - f * k * s2
+    return r1, -r2, r3
 
 
 def _stack(parts, parity):
@@ -108,11 +113,24 @@ def _stack(parts, parity):
     return np.stack(np.broadcast_arrays(r1 * th, r2, r3 * th), axis=-1)
 
 
-def _det3(u, v, w):
-    """det[u v w] for stacks of 3-vectors (columns), explicit triple product."""
-    return (u[..., 0] * (v[..., 1] * w[..., 2] - v[..., 2] * w[..., 1])
-            - v[..., 0] * (u[..., 1] * w[..., 2] - u[..., 2] * w[..., 1])
-            + w[..., 0] * (u[..., 1] * v[..., 2] - u[..., 2] * v[..., 1]))
+def _pair_det(ra, rb, r1, tha, thb, th1, parity):
+    """det [c_a c_b c_1] of three parity columns (:func:`_column`) from their rows
+    (:func:`_column_rows`) and th = tanh(s t / 2), expanded along the middle row.
+
+    A column is (r1, r2 th, r3) for psi even ("E") and (r1 th, r2, r3 th) for psi odd
+    ("O"), so the determinant is sum_j th_j W_j ("E") or sum_j W_j prod_{k != j} th_k
+    ("O") with the same minors W_j = (-1)^(1+j) r2_j (r1 x r3 of the other two columns):
+    the W_j depend on lam only and the t-dependence is in the th alone.
+    """
+    xa, ya, za = ra
+    xb, yb, zb = rb
+    x1, y1, z1 = r1
+    wa = -ya * (xb * z1 - x1 * zb)
+    wb = yb * (xa * z1 - x1 * za)
+    w1 = -y1 * (xa * zb - xb * za)
+    if parity == "E":
+        return tha * wa + thb * wb + th1 * w1
+    return thb * th1 * wa + tha * th1 * wb + tha * thb * w1
 
 
 def _quartic_roots(lam, p):
@@ -179,32 +197,31 @@ def _determinants(lam, kH, params, parities=PARITIES):
         kind1 = "electric"
     s2, s3 = _quartic_roots(lam, p)
     rcx = tuple(np.asarray(r) for r in rc)
-    kap = kappa
-
-    def parts(s):
-        return _column_parts(s, t, "quartic", rcx, kap)
-
-    p2, p3 = parts(s2), parts(s3)
+    # det [avg, dd, c1] with avg = (c2 + c3)/2, dd = (c2 - c3)/(s2 - s3) (module
+    # docstring) is -det [c2, c3, c1]/(s2 - s3) by multilinearity; near a repeated root
+    # dd is the central difference (c(m + _DS) - c(m - _DS))/(2 _DS) of the columns
+    r2, r3 = _column_rows(s2, "quartic", rcx, kappa), _column_rows(s3, "quartic", rcx, kappa)
+    r1 = _column_rows(np.ones_like(s2), kind1, rcx, kappa)
+    th2, th3, th1 = np.tanh(s2 * (t / 2)), np.tanh(s3 * (t / 2)), np.tanh(t / 2)
     diff = s2 - s3
     close = np.abs(diff) < _CLOSE
     safe = np.where(close, 1.0, diff)
-    pc = None
     if np.any(close):
         m = 0.5 * (s2 + s3)
-        pc = (parts(m + _DS), parts(m - _DS))
-    one = np.ones_like(lam, dtype=complex)
-    p1 = _column_parts(one, t, kind1, rcx, kap)
+        rp, rm = (_column_rows(m + _DS, "quartic", rcx, kappa),
+                  _column_rows(m - _DS, "quartic", rcx, kappa))
+        thp, thm = np.tanh((m + _DS) * (t / 2)), np.tanh((m - _DS) * (t / 2))
     ell = _strongly_elliptic(lam, p) if p.variant != "literal" else np.ones_like(lam, bool)
     out = []
     for parity in parities:
-        c2, c3 = _stack(p2, parity), _stack(p3, parity)
-        avg = 0.5 * (c2 + c3)
-        dd = (c2 - c3) / safe[..., None]
-        if pc is not None:
-            dd_c = (_stack(pc[0], parity) - _stack(pc[1], parity)) / (2 * _DS)
-            dd = np.where(close[..., None], dd_c, dd)
-        det = np.real(_det3(avg, dd, _stack(p1, parity)))
-        out.append(np.where(ell, det, np.nan))
+        det = -_pair_det(r2, r3, r1, th2, th3, th1, parity) / safe
+        if np.any(close):
+            dc = (_pair_det(r2, rp, r1, th2, thp, th1, parity)
+                  - _pair_det(r2, rm, r1, th2, thm, th1, parity)
+                  + _pair_det(r3, rp, r1, th3, thp, th1, parity)
+                  - _pair_det(r3, rm, r1, th3, thm, th1, parity)) / (4 * _DS)
+            det = np.where(close, dc, det)
+        out.append(np.where(ell, np.real(det), np.nan))
     return out
 
 

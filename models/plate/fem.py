@@ -35,7 +35,7 @@ import numpy as np
 import scipy.linalg as sla
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError
-from debench.models.plate._roots import zero_near
+from debench.models.plate._roots import SECANT_STEP, Memo, zero_near
 from debench.models.plate.coefficients import PlateParams, _strongly_elliptic, energy_matrix
 from scipy.optimize import brentq
 
@@ -186,14 +186,20 @@ def eigenvalues(lam: float, kH: float, params: PlateParams, n: int = N_ELEMENTS,
 
     ``count`` None or an integer in [1, number of dofs = 4 n + 3].
     """
+    return _eigenvalues(lam, kH, params, n, count)[0]
+
+
+def _eigenvalues(lam, kH, params, n, count):
+    """(:func:`eigenvalues`, their round-off eps ||K||_1)."""
     K, _ = stiffness(lam, kH, params, n)
+    roundoff = np.finfo(float).eps * np.linalg.norm(K, 1)
     if count is not None:
         v.integer_at_least("count", count, 1)
         if count > K.shape[0]:
             raise ValueError(f"count must be <= the number of dofs {K.shape[0]} "
                              f"(4 n + 3, n = {n}), got {count}")
     if count is None:
-        return sla.eigh(K, eigvals_only=True)
+        return sla.eigh(K, eigvals_only=True), roundoff
     # K is banded once its dofs are ordered along the thickness (node: Psi, Psi', Phi;
     # then the Phi mid-point dof): the selected eigenvalues of the band (LAPACK hbevx)
     # cost O(N b^2) instead of O(N^3)
@@ -204,7 +210,7 @@ def eigenvalues(lam: float, kH: float, params: PlateParams, n: int = N_ELEMENTS,
     for d in range(bw + 1):
         band[d, :N - d] = np.diagonal(Kp, -d)
     return sla.eig_banded(band, lower=True, eigvals_only=True, select="i",
-                          select_range=(0, count - 1))
+                          select_range=(0, count - 1)), roundoff
 
 
 def _band_order(n: int):
@@ -296,17 +302,25 @@ def critical_stretches(kH: float, params: PlateParams, *, window=(0.4, 8.0),
     return FemRoots(kH, np.asarray(lams), tuple(idx))
 
 
+#: root tolerance of :func:`refine_root` where the eigenvalue is resolved
+XTOL_ROOT = 1e-14
+
+
 @v.finite_result
 def refine_root(lam0: float, kH: float, params: PlateParams, n: int, *, index: int,
                 rel: float = 0.02) -> float:
-    """The zero of eigenvalue ``index`` near ``lam0`` (bracket lam0 (1 +- rel)), to 1e-14.
+    """The zero of eigenvalue ``index`` near ``lam0`` (bracket lam0 (1 +- rel)), located to
+    ``XTOL_ROOT`` or to the root's round-off, whichever is larger.
 
     Secant steps start at ``lam0`` (an estimate, e.g. the determinant root) and brentq
     finishes on the narrowest interval where the eigenvalue changed sign
-    (:func:`debench.models.plate._roots.zero_near`; 5-7 eigen-solves where a search of the
-    whole bracket needs ~16). ``lam0 > 0``, ``index >= 0``, ``rel`` in (0, 1);
-    ConvergenceError when the eigenvalue does not change sign on the bracket or brentq
-    fails.
+    (:func:`debench.models.plate._roots.zero_near`). The root's round-off is the
+    eigenvalue's, eps ||K||_1, over its slope (the first secant: lam0 and
+    lam0 (1 + SECANT_STEP)): within it the computed eigenvalue's sign is round-off (thin
+    plates: K ~ t^-3, measured +-2e-11 at k h = 0.14), so a narrower bracket would only
+    pick one of its random sign changes. ``lam0 > 0``, ``index >= 0``, ``rel`` in
+    (0, 1); ConvergenceError when the eigenvalue does not change sign on the bracket or
+    brentq fails.
     """
     v.positive("lam0", lam0)
     v.integer_at_least("index", index, 0)
@@ -314,9 +328,18 @@ def refine_root(lam0: float, kH: float, params: PlateParams, n: int, *, index: i
     v.integer_at_least("n", n, 2)
     if index >= 4 * n + 3:
         raise ValueError(f"index must be < the number of dofs {4 * n + 3}, got {index}")
+    roundoff = {}
 
     def fj(x):
-        return eigenvalues(x, kH, params, n, index + 1)[index]
+        e, roundoff[x] = _eigenvalues(x, kH, params, n, index + 1)
+        return e[index]
 
     lo, hi = lam0 * (1 - rel), lam0 * (1 + rel)
-    return zero_near(fj, lam0, lo, hi, 1e-14, what=f"eigenvalue {index}")[0]
+    fm = Memo(fj)
+    x0, x1 = float(lam0), float(lam0 * (1 + SECANT_STEP))
+    xtol = XTOL_ROOT
+    if lo < x0 < hi and lo < x1 < hi:
+        slope = abs(fm(x1) - fm(x0)) / (x1 - x0)
+        if slope > 0:
+            xtol = max(XTOL_ROOT, max(roundoff.values()) / slope)
+    return zero_near(fm, lam0, lo, hi, xtol, what=f"eigenvalue {index}")[0]

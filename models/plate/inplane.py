@@ -48,7 +48,7 @@ import scipy.linalg as sla
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError
 from debench.models.plate import _generated_inplane as gen
-from debench.models.plate.ansatz import critical_stretches
+from debench.models.plate.ansatz import _refine, critical_stretches
 from debench.models.plate.coefficients import PlateParams
 from debench.models.plate.fem import _gram, grading
 from debench.models.plate.voltage import critical_stretches_at_voltage, dhat_at_voltage
@@ -218,15 +218,16 @@ def _elliptic_grid(g, theta, path) -> np.ndarray:
 
 
 def _boundary_rows(S, s, w=_W, adj=None):
-    """Rows (T21, T22, T23, E1) per unit amplitude of each root, shape (4, len(s));
-    ``adj``: the adjugate of the symbol at the roots when already known."""
+    """Rows (T21, T22, T23, E1) per unit amplitude of each root, shape (..., 4, len(s));
+    ``S`` (..., 8, 8) and ``s`` (..., 8) may carry a leading stack axis; ``adj``: the
+    adjugate of the symbol at the roots when already known."""
     if adj is None:
         adj = _adjugate(_symbol(S, s))
-    amp = adj @ w                                           # (n, 3)
-    z = np.einsum("nai,ni->na", _B(1.0, 1j * s), amp)      # (n, 8)
-    Sz = z @ S.T
-    pdot = Sz[:, 0] + 1j * s * Sz[:, 1]                     # from x1-equilibrium
-    return np.array([Sz[:, 1], Sz[:, 3] - pdot, Sz[:, 5], Sz[:, 6]])
+    amp = adj @ w                                           # (..., n, 3)
+    z = np.einsum("...nai,...ni->...na", _B(1.0, 1j * s), amp)   # (..., n, 8)
+    Sz = z @ np.swapaxes(S, -1, -2)
+    pdot = Sz[..., 0] + 1j * s * Sz[..., 1]                 # from x1-equilibrium
+    return np.stack([Sz[..., 1], Sz[..., 3] - pdot, Sz[..., 5], Sz[..., 6]], axis=-2)
 
 
 def _adjugate(M):
@@ -254,7 +255,7 @@ def det_function(lam: float, kH: float, theta: float, params: PlateParams) -> co
 
 
 def _det(lam, kH, theta, p, w=_W):
-    return _det_weighted(_det_parts(lam, kH, theta, p), w)
+    return complex(_det_weighted(_det_parts(lam, kH, theta, p), w))
 
 
 def _det_parts(lam, kH, theta, p):
@@ -265,27 +266,29 @@ def _det_parts(lam, kH, theta, p):
     return S, s, _adjugate(_symbol(S, s)), kH * lam**-2
 
 
-def _det_parts_grid(g, kH, theta, path) -> list:
-    """:func:`_det_parts` at every stretch of ``g`` (parameters ``path(lam)``), the
-    roots and adjugates of all points in stacked calls."""
-    if len(g) == 0:
-        return []
+def _det_parts_grid(g, kH, theta, path):
+    """:func:`_det_parts` at every stretch of ``g`` (parameters ``path(lam)``), stacked
+    along a leading axis: the roots and adjugates of all points in stacked calls."""
+    g = np.asarray(g, float)
     S = np.stack([_S(x, theta, path(x)) for x in g])
     s = _roots_many(S)
     adj = _adjugate(_symbol(S[:, None], s))
-    return [(S[i], s[i], adj[i], kH * x**-2) for i, x in enumerate(g)]
+    return S, s, adj, kH * g**-2
 
 
 def _det_weighted(parts, w):
-    """:func:`det_function` from :func:`_det_parts` and the weight vector ``w``."""
+    """:func:`det_function` from :func:`_det_parts` (one stretch, or stacked along a
+    leading axis by :func:`_det_parts_grid`) and the weight vector ``w``."""
     S, s, adj, t = parts
-    rows = _boundary_rows(S, s, w, adj)
+    rows = _boundary_rows(S, s, w, adj)                     # (..., 4, 8)
+    t = np.asarray(t, float)[..., None]
     scale = np.exp(-np.abs(s.real) * t / 2)
-    top = rows * (np.exp(-s * t / 2) * scale)
-    bot = rows * (np.exp(s * t / 2) * scale)
-    M = np.vstack([top, bot])
-    vd = np.prod([s[j] - s[i] for i in range(8) for j in range(i + 1, 8)])
-    return complex(np.linalg.det(M) / vd)
+    top = rows * (np.exp(-s * t / 2) * scale)[..., None, :]
+    bot = rows * (np.exp(s * t / 2) * scale)[..., None, :]
+    M = np.concatenate([top, bot], axis=-2)
+    i, j = np.triu_indices(8, 1)
+    vd = np.prod(s[..., j] - s[..., i], axis=-1)
+    return np.linalg.det(M) / vd
 
 
 def _path(params: PlateParams, Vhat):
@@ -302,8 +305,9 @@ def _path(params: PlateParams, Vhat):
     return lambda lam: replace(params, Dhat=float(dhat_at_voltage(lam, Vhat, params)))
 
 
-def _real_det(lam, kH, theta, path, phase, w):
-    return float((_det(lam, kH, theta, path(lam), w) * np.conj(phase)).real)
+def _real_dets(lam, kH, theta, path, phase, w):
+    """Re(det conj(phase)) at the stretches ``lam`` (1-D), stacked."""
+    return (_det_weighted(_det_parts_grid(lam, kH, theta, path), w) * np.conj(phase)).real
 
 
 def critical_stretches_det(kH: float, theta: float, params: PlateParams, *,
@@ -311,7 +315,8 @@ def critical_stretches_det(kH: float, theta: float, params: PlateParams, *,
                            Vhat: float | None = None) -> np.ndarray:
     """Method 1: every lam in ``window`` where the determinant changes sign.
 
-    Scanned on a geometric grid (strongly elliptic points only), refined with brentq.
+    Scanned on a geometric grid (strongly elliptic points only); every sign change
+    is refined at once (vectorised Illinois iteration to :data:`XTOL_ROOT`).
     The phase of :func:`det_function` is taken from the largest value on the grid and
     checked constant (ConvergenceError otherwise). ``window`` may lie below 1
     (equibiaxial compression) or above 1 (tension). ``Vhat`` (>= 0): voltage control,
@@ -339,10 +344,10 @@ def critical_stretches_det(kH: float, theta: float, params: PlateParams, *,
         return np.zeros(0)
     out = []
     # the roots and adjugates of a grid point serve both weight vectors
-    found = iter(_det_parts_grid(g[ell], kH, theta, path))
-    parts = [next(found) if e else None for e in ell]
+    parts = _det_parts_grid(g[ell], kH, theta, path)
     for w in _WS:
-        vals = np.array([_det_weighted(q, w) if q is not None else np.nan for q in parts])
+        vals = np.full(g.size, np.nan, complex)
+        vals[ell] = _det_weighted(parts, w)
         vals = np.where(ell, vals, vals[ell][0])
         phase = vals[np.argmax(np.abs(vals))]
         phase /= abs(phase)
@@ -352,16 +357,31 @@ def critical_stretches_det(kH: float, theta: float, params: PlateParams, *,
                                    f"(max |Im|/max|det| = "
                                    f"{np.max(np.abs(rot.imag)) / np.max(np.abs(rot)):.2e})")
         f = rot.real
-        for i in range(len(g) - 1):
-            if not (ell[i] and ell[i + 1]):
-                continue
-            if f[i] == 0.0 or np.sign(f[i]) != np.sign(f[i + 1]):
-                r = brentq(_real_det, g[i], g[i + 1], args=(kH, theta, path, phase, w),
-                           xtol=1e-14, rtol=1e-15)
-                if (boundary_singularity(r, kH, theta, path(r)) < SINGULAR_TOL
-                        and not any(abs(r - q) <= SAME_ROOT for q in out)):
-                    out.append(r)
+        idx = np.nonzero(ell[:-1] & ell[1:]
+                         & ((f[:-1] == 0.0) | (np.sign(f[:-1]) != np.sign(f[1:]))))[0]
+        # a bracket holding a root the first weight vector already gave is that root's
+        # sign change (one root per scan interval, as everywhere in the scan): its
+        # refinement would land within SAME_ROOT of it and be dropped, so it is skipped
+        idx = np.array([i for i in idx if not any(g[i] <= q <= g[i + 1] for q in out)],
+                       int)
+        if not idx.size:
+            continue
+        # every bracket refined at once (vectorised Illinois iteration, the stopping rule
+        # of brentq with xtol = XTOL_ROOT)
+        roots = _refine(lambda x, _, w=w, phase=phase: _real_dets(x, kH, theta, path, phase,
+                                                                 w),
+                        g[idx], g[idx + 1], f[idx], f[idx + 1], xtol=XTOL_ROOT)
+        for r in roots:
+            r = float(r)
+            if (boundary_singularity(r, kH, theta, path(r)) < SINGULAR_TOL
+                    and not any(abs(r - q) <= SAME_ROOT for q in out)):
+                out.append(r)
     return np.sort(np.asarray(out))
+
+
+#: root tolerance of the determinant roots (|b - a| <= XTOL_ROOT + 4 eps |b| at
+#: convergence); a determinant root's round-off is ~1e-12 (SAME_ROOT below)
+XTOL_ROOT = 1e-14
 
 
 #: two scans (weight vectors) find the same root to within their brentq tolerances
@@ -464,7 +484,9 @@ def critical_stretches_fe(kH: float, theta: float, params: PlateParams, *,
 
     ``window`` and ``Vhat`` as in :func:`critical_stretches_det`. The inertia of K is
     counted on the grid; a crossing is refined by brentq on the eigenvalue that changes
-    sign. ConvergenceError where that eigenvalue is within :data:`ROUNDOFF_FACTOR` x the
+    sign, to its round-off (eigenvalue round-off eps ||K||_1 over its secant slope on the
+    bracket) or :data:`XTOL_ROOT`, whichever is larger. ConvergenceError where that
+    eigenvalue is within :data:`ROUNDOFF_FACTOR` x the
     round-off of K at a bracket end and the root's round-off (eigenvalue round-off over
     its slope) exceeds :data:`FE_ROOT_ROUNDOFF`: thin plates in tension (t = kH lam^-2 small) make K
     so ill-conditioned (||K|| ~ n^3 t^-3) that the membrane eigenvalue drowns in
@@ -523,7 +545,9 @@ def critical_stretches_fe(kH: float, theta: float, params: PlateParams, *,
                         f"theta={theta} is within round-off of K (|e| = {abs(e[0][j]):.2e}, "
                         f"eps ||K|| = {e[1]:.2e}, root round-off {spread:.1e}): the FE "
                         "cannot resolve this thin plate")
-            out.append(brentq(ev, a, b, args=(j,), xtol=1e-14, rtol=1e-15))
+            # located to the root's round-off (a narrower bracket only picks one of the
+            # random sign changes inside it), or to XTOL_ROOT where that is smaller
+            out.append(brentq(ev, a, b, args=(j,), xtol=max(XTOL_ROOT, spread), rtol=1e-15))
     return np.asarray(out)
 
 
