@@ -7,12 +7,13 @@ equilibrium variants, the eps_r study) and every Chapter 3 catalogue producer (t
 producers of ``reference/catalogue/ch3.toml`` and the Chapter 3 literature entries), each
 from cold caches. The current code computes both in one memoised pass
 (:func:`debench.models.circular.chapter.chapter`), so its builder time holds the
-catalogue's plan too and its producers mostly read; the sum is what compares. The previous version is read from git history
-(:data:`PREVIOUS_COMMIT`, by :mod:`benchmarks.baseline`; skipped without a git checkout);
-its values are asserted equal to the current ones within the producers' stored
-tolerance. CPU seconds (``time.process_time``), one thread (conftest), best of
-:data:`ROUNDS` alternating rounds (the pytest-benchmark time is that of all rounds, old
-and new). Run: ``python -m pytest benchmarks/test_bench_ch3_chapter.py --benchmark-only
+catalogue's plan too and its producers mostly read; the sum is what compares. The
+previous version is read from git history (:data:`PREVIOUS_COMMIT`, by
+:mod:`benchmarks.baseline`; skipped without a git checkout); its values are asserted equal
+to the current ones within the producers' stored tolerance. CPU seconds
+(``time.process_time``), one thread (conftest), best of :data:`ROUNDS` alternating rounds
+(the pytest-benchmark time is that of all rounds, old and new).
+Run: ``python -m pytest benchmarks/test_bench_ch3_chapter.py --benchmark-only
 -s`` (about 25 s of CPU).
 """
 
