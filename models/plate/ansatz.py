@@ -49,15 +49,16 @@ _CLOSE = 1e-3
 _DS = 1e-4
 
 
-def _row_coefficients(lam, p: PlateParams):
-    """Coefficients (c, 2b, d, e, f) entering the boundary rows (4.69)-(4.71)."""
+def _row_coefficients(lam, p: PlateParams, coef=None):
+    """Coefficients (c, 2b, d, e, f) entering the boundary rows (4.69)-(4.71); ``coef``:
+    :func:`_coefficients` of ``(lam, p)`` when the caller holds them."""
     if p.variant == "literal":
         # (4.75)-(4.77) literally: beta absent, 6 xi lam^-8 in (4.76).
         C1 = lam**-4 + p.Dhat**2 + 2 * p.xi * lam**-8
         K2 = lam**2 + 2 * lam**-4 + 2 * p.Dhat**2 + 6 * p.xi * lam**-8
         one = np.ones_like(lam)
         return C1, K2 - C1, p.Dhat * one, 2 * p.Dhat * one, one
-    a, b2, c, d, e, f, g = _coefficients(lam, p)
+    a, b2, c, d, e, f, g = _coefficients(lam, p) if coef is None else coef
     return c, b2, d, e, f
 
 
@@ -133,8 +134,10 @@ def _pair_det(ra, rb, r1, tha, thb, th1, parity):
     return thb * th1 * wa + tha * th1 * wb + tha * thb * w1
 
 
-def _quartic_roots(lam, p):
-    qa, qb, qc = _reduced_quartic(lam, p)
+def _quartic_roots(lam, p, quartic=None):
+    """The two quartic roots (s2, s3) with Re >= 0; ``quartic``: :func:`_reduced_quartic`
+    of ``(lam, p)`` when the caller holds it."""
+    qa, qb, qc = _reduced_quartic(lam, p) if quartic is None else quartic
     disc = np.asarray(qb**2 - 4 * qa * qc, dtype=complex)
     sq = np.sqrt(disc)
     # numerically stable pair: sigma+ sigma- = qa/qc
@@ -184,7 +187,10 @@ def _determinants(lam, kH, params, parities=PARITIES):
     kH = np.asarray(kH, float)
     require(bool(np.all(kH > 0)), "kH must be > 0")
     t = kH * lam**-2
-    rc = _row_coefficients(lam, p)
+    # the coefficients once: boundary rows, quartic roots and ellipticity share them
+    coef = None if p.variant == "literal" else _coefficients(lam, p)
+    rc = _row_coefficients(lam, p, coef)
+    quartic = _reduced_quartic(lam, p, coef)
     if p.variant == "literal":
         kappa = p.Dhat * np.ones_like(lam)
         # (4.81): the s = +-1 mode is (A, B) = (1, 0). Taken literally the 6x6 system is
@@ -195,7 +201,7 @@ def _determinants(lam, kH, params, parities=PARITIES):
     else:
         kappa = rc[2] / rc[4]
         kind1 = "electric"
-    s2, s3 = _quartic_roots(lam, p)
+    s2, s3 = _quartic_roots(lam, p, quartic)
     rcx = tuple(np.asarray(r) for r in rc)
     # det [avg, dd, c1] with avg = (c2 + c3)/2, dd = (c2 - c3)/(s2 - s3) (module
     # docstring) is -det [c2, c3, c1]/(s2 - s3) by multilinearity; near a repeated root
@@ -211,7 +217,8 @@ def _determinants(lam, kH, params, parities=PARITIES):
         rp, rm = (_column_rows(m + _DS, "quartic", rcx, kappa),
                   _column_rows(m - _DS, "quartic", rcx, kappa))
         thp, thm = np.tanh((m + _DS) * (t / 2)), np.tanh((m - _DS) * (t / 2))
-    ell = _strongly_elliptic(lam, p) if p.variant != "literal" else np.ones_like(lam, bool)
+    ell = (_strongly_elliptic(lam, p, quartic) if p.variant != "literal"
+           else np.ones_like(lam, bool))
     out = []
     for parity in parities:
         det = -_pair_det(r2, r3, r1, th2, th3, th1, parity) / safe

@@ -173,11 +173,13 @@ def reduced_quartic(lam, params: PlateParams):
     return _reduced_quartic(_check_lam(lam), _check_params(params))
 
 
-def _reduced_quartic(lam, p):
+def _reduced_quartic(lam, p, coef=None):
+    """:func:`reduced_quartic` without checks; ``coef``: :func:`_coefficients` of
+    ``(lam, p)`` when the caller holds them."""
     lam = np.asarray(lam, dtype=float)
     if p.variant == "literal":
         return lam**2, lam**2 + lam**-4 + 6 * p.xi * lam**-8, lam**-4 + 2 * p.xi * lam**-8
-    a, b2, c, d, e, f, g = _coefficients(lam, p)
+    a, b2, c, d, e, f, g = _coefficients(lam, p) if coef is None else coef
     return a, b2 - d**2 / f, c - d**2 / f
 
 
@@ -191,8 +193,10 @@ def strongly_elliptic(lam, params: PlateParams):
     return _strongly_elliptic(_check_lam(lam), _check_params(params))
 
 
-def _strongly_elliptic(lam, params):
-    qa, qb, qc = _reduced_quartic(lam, params)
+def _strongly_elliptic(lam, params, quartic=None):
+    """:func:`strongly_elliptic` without checks; ``quartic``: :func:`_reduced_quartic` of
+    ``(lam, params)`` when the caller holds it."""
+    qa, qb, qc = _reduced_quartic(lam, params) if quartic is None else quartic
     with np.errstate(invalid="ignore"):
         return (qa > 0) & (qc > 0) & (qb > -2 * np.sqrt(np.abs(qa * qc)))
 

@@ -105,15 +105,18 @@ def lam_cr_dataset(full: bool) -> xr.Dataset:
     shape = (len(xis), len(ds_), len(thetas), len(khs))
     det, fe = np.full(shape, np.nan), np.full(shape, np.nan)
     lam_e = np.full(shape[:3], np.nan)
+    cases = {}
     for a, xi in enumerate(xis):
         for b, D in enumerate(ds_):
             p = PlateParams(xi=xi, Dhat=D)
             for c, th in enumerate(thetas):
                 lam_e[a, b, c], lo = _lo(th, p)
                 for d, kh in enumerate(khs):
-                    case = Case("charge", th, xi, D, 0.0, kh, lo, 0.999)
-                    det[a, b, c, d] = _largest(prod.det_roots(case))
-                    fe[a, b, c, d] = _largest(prod.fe_roots(case))
+                    cases[a, b, c, d] = Case("charge", th, xi, D, 0.0, kh, lo, 0.999)
+    prod.det_roots_many(list(cases.values()))   # every window's determinant roots at once
+    for idx, case in cases.items():
+        det[idx] = _largest(prod.det_roots(case))
+        fe[idx] = _largest(prod.fe_roots(case))
     dims = ("xi", "Dhat", "theta", "kH")
     return xr.Dataset(
         {"lam_cr_det": (dims, det, _attrs(
@@ -133,13 +136,15 @@ def curves_dataset(full: bool) -> xr.Dataset:
     khs = KH_CURVE_FULL if full else KH_CURVE_FAST
     xis = XI_FULL if full else XI_FAST
     lam = np.full((len(xis), len(thetas), len(khs)), np.nan)
+    cases = {}
     for a, xi in enumerate(xis):
         p = PlateParams(xi=xi)
         for c, th in enumerate(thetas):
             _, lo = _lo(th, p)
             for d, kh in enumerate(khs):
-                lam[a, c, d] = _largest(prod.det_roots(
-                    Case("charge", th, xi, 0.0, 0.0, kh, lo, 0.999)))
+                cases[a, c, d] = Case("charge", th, xi, 0.0, 0.0, kh, lo, 0.999)
+    for idx, r in zip(cases, prod.det_roots_many(list(cases.values())), strict=True):
+        lam[idx] = _largest(r)
     return xr.Dataset(
         {"lam_cr_det": (("xi", "theta", "kH"), lam, _attrs(
             "critical stretch (largest root above the ellipticity limit), determinant"))},
@@ -156,15 +161,18 @@ def tension_dataset(full: bool) -> xr.Dataset:
     shape = (len(ds_), len(thetas), len(khs))
     det, fe = np.full(shape, np.nan), np.full(shape, np.nan)
     memb = np.full(shape[:2], np.nan)
+    cases = {}
     for b, D in enumerate(ds_):
         p = PlateParams(xi=xi, Dhat=D)
         for c, th in enumerate(thetas):
             m = ip.membrane_limit(th, p, window=(1.0, 8.0))
             memb[b, c] = np.nan if m is None else m
             for d, kh in enumerate(khs):
-                case = Case("charge", th, xi, D, 0.0, kh, *TENSION_WINDOW)
-                det[b, c, d] = _largest(prod.det_roots(case))
-                fe[b, c, d] = _largest(prod.fe_roots(case))
+                cases[b, c, d] = Case("charge", th, xi, D, 0.0, kh, *TENSION_WINDOW)
+    prod.det_roots_many(list(cases.values()))   # every window's determinant roots at once
+    for idx, case in cases.items():
+        det[idx] = _largest(prod.det_roots(case))
+        fe[idx] = _largest(prod.fe_roots(case))
     dims = ("Dhat", "theta", "kH")
     return xr.Dataset(
         {"lam_cr_det": (dims, det, _attrs(
@@ -187,13 +195,16 @@ def voltage_dataset(full: bool) -> xr.Dataset:
     p = PlateParams(xi=xi)
     shape = (len(vs), len(thetas), len(khs))
     det, fe = np.full(shape, np.nan), np.full(shape, np.nan)
+    cases = {}
     for b, V in enumerate(vs):
         for c, th in enumerate(thetas):
             _, lo = _lo(th, p, Vhat=V)
             for d, kh in enumerate(khs):
-                case = Case("voltage", th, xi, 0.0, V, kh, lo, V_HI)
-                det[b, c, d] = _largest(prod.det_roots(case))
-                fe[b, c, d] = _largest(prod.fe_roots(case))
+                cases[b, c, d] = Case("voltage", th, xi, 0.0, V, kh, lo, V_HI)
+    prod.det_roots_many(list(cases.values()))   # every window's determinant roots at once
+    for idx, case in cases.items():
+        det[idx] = _largest(prod.det_roots(case))
+        fe[idx] = _largest(prod.fe_roots(case))
     dims = ("Vhat", "theta", "kH")
     return xr.Dataset(
         {"lam_cr_det": (dims, det, _attrs(
@@ -210,7 +221,7 @@ def roots_dataset() -> xr.Dataset:
     """Every root, both methods, of the producers' windows (NaN-padded along ``root``),
     with the accuracy of the FE roots and the agreement tolerance as attributes."""
     cases = prod.producer_cases()
-    det = [prod.det_roots(c) for c in cases]
+    det = prod.det_roots_many(cases)
     fe = [prod.fe_roots(c) for c in cases]
     width = max([1, *(len(r) for r in det + fe)])
 

@@ -117,11 +117,29 @@ def tension_case(theta: float, Dhat: float, kH: float, xi: float = XI) -> Case:
     return Case("charge", theta, xi, Dhat, 0.0, kH, *T_WINDOW)
 
 
-@lru_cache(maxsize=4096)
+#: determinant roots by case (method 1), filled by :func:`det_roots_many`
+_DET_ROOTS: dict[Case, tuple[float, ...]] = {}
+
+
 def det_roots(case: Case) -> tuple[float, ...]:
     """Every exponential-ansatz determinant root of ``case`` (method 1), memoised."""
-    args, kw = case._args()
-    return tuple(float(x) for x in ip.critical_stretches_det(*args, **kw))
+    return det_roots_many((case,))[0]
+
+
+def det_roots_many(cases) -> list[tuple[float, ...]]:
+    """:func:`det_roots` of several cases, those not yet memoised solved together
+    (:func:`~debench.models.plate.inplane.critical_stretches_det_many`); where the joint
+    solve fails, each case is solved alone so that the failing one raises for itself."""
+    todo = list(dict.fromkeys(c for c in cases if c not in _DET_ROOTS))
+    if todo:
+        scans = [(*args, kw) for args, kw in (c._args() for c in todo)]
+        try:
+            found = ip.critical_stretches_det_many(scans)
+        except Exception:  # noqa: BLE001 - retried one by one below, which raises
+            found = [ip.critical_stretches_det_many([sc])[0] for sc in scans]
+        for c, r in zip(todo, found, strict=True):
+            _DET_ROOTS[c] = tuple(float(x) for x in r)
+    return [_DET_ROOTS[c] for c in cases]
 
 
 @lru_cache(maxsize=4096)
@@ -199,6 +217,7 @@ def max_disagreement(thetas=THETAS, xi=XI, Dhat=0.0, kH=KH, *, fe_source: str = 
     ``fe_source`` (``"live"`` or ``"curated"``)."""
     fe_of = _fe(fe_source)
     err, same, rows = 0.0, True, []
+    det_roots_many([compression_case(th, xi, Dhat, kH) for th in thetas])
     for th in thetas:
         case = compression_case(th, xi, Dhat, kH)
         det, fe = det_roots(case), fe_of(case)
@@ -220,7 +239,7 @@ def methods_agree(entry: Entry) -> Outcome:
 
 def lam_cr_decreases_with_theta(entry: Entry) -> Outcome:
     """lam_cr (largest root in the window) decreases strictly from theta = 0 to 90."""
-    det = [det_roots(compression_case(th)) for th in THETAS]
+    det = det_roots_many([compression_case(th) for th in THETAS])
     lc = [max(r) if r else math.nan for r in det]
     ok = bool(np.all(np.isfinite(lc)) and np.all(np.diff(lc) < 0))
     return Outcome(ok, evidence=f"{EV}::test_lam_cr_decreases_with_theta",
@@ -244,6 +263,7 @@ def ellipticity_limit(entry: Entry) -> Outcome:
 
 def wrinkling_before_ellipticity_loss(entry: Entry) -> Outcome:
     """Dhat = 0: at every theta a root lies above lam_E (the plate wrinkles first)."""
+    det_roots_many([compression_case(th) for th in THETAS])
     rows = [(th, max(det_roots(compression_case(th)), default=math.nan),
              _lam_e(float(th), XI, 0.0)) for th in THETAS]
     ok = all(r > e for _, r, e in rows)
@@ -278,6 +298,7 @@ def voltage_agreement(fe_source: str = "live"):
     ``fe_source`` (``"live"`` or ``"curated"``)."""
     fe_of = _fe(fe_source)
     err, same, rows = 0.0, True, []
+    det_roots_many([voltage_case(th) for th in THETAS])
     for th in THETAS:
         case = voltage_case(th)
         det, fe = det_roots(case), fe_of(case)
@@ -310,6 +331,8 @@ def tension_check(fe_source: str = "live"):
     roots from ``fe_source``), lam_cr increasing with theta, none at Dhat = 0."""
     fe_of = _fe(fe_source)
     rows, ok = [], True
+    det_roots_many([tension_case(th, D, kh) for D in (D_TENSION, 0.0) for kh in KH_TENSION
+                    for th in THETAS])
     for kh in KH_TENSION:
         lc = []
         for th in THETAS:
