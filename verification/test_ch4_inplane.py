@@ -304,3 +304,40 @@ def test_builder_full_sweep(tmp_path):
     from debench.reference.builders import ch4_inplane as builder
 
     _check_builder(builder.build(tmp_path, full=True), full=True)
+
+
+#: the batched and the one-window scans stop their refinements on brackets of XTOL_ROOT;
+#: their roots agree to that and the round-off of a root (~1e-12)
+TOL_BATCH = 1e-11
+
+
+def test_windows_solved_together_have_the_roots_of_each_alone():
+    """critical_stretches_det_many: the same roots as one scan per window (charge and
+    voltage control, compression and tension, the isotropic shortcut included)."""
+    cases = [prod.compression_case(30.0), prod.compression_case(90.0),
+             prod.voltage_case(45.0), prod.tension_case(60.0, 2.0, 0.5)]
+    scans = [(*args, kw) for args, kw in (c._args() for c in cases)]
+    together = ip.critical_stretches_det_many(scans)
+    for (kH, th, p, kw), roots in zip(scans, together, strict=True):
+        alone = ip.critical_stretches_det(kH, th, p, **kw)
+        assert roots.size == alone.size >= 1
+        np.testing.assert_allclose(roots, alone, rtol=0, atol=TOL_BATCH)
+
+
+def test_collision_of_characteristic_roots_is_not_a_bifurcation():
+    """Voltage control, xi = 5, theta = 60, kH = 0.5 across lam = 1: two characteristic
+    roots collide at lam = 1, where the normalised determinant touches zero and the
+    singularity test sees two equal columns. No determinant root there; the FE (no
+    characteristic roots) has the same single root."""
+    p = PlateParams(xi=5.0)
+    s = ip.characteristic_roots(1.0, 60.0, PlateParams(xi=5.0, Dhat=float(
+        ip.dhat_at_voltage(1.0, 0.5, p))))
+    sep = np.min(np.abs(s[:, None] - s[None, :])[np.triu_indices(8, 1)]) / np.max(np.abs(s))
+    assert sep < ip.COLLISION_TOL
+    # the producers' window, whose scan brackets the touch point with a sign change
+    args, kw = prod.voltage_case(60.0, kH=0.5)._args()
+    det = ip.critical_stretches_det(*args, **kw)
+    fe = ip.critical_stretches_fe(*args, **kw)
+    assert np.all(np.abs(det - 1.0) > 1e-3)
+    assert det.size == fe.size
+    np.testing.assert_allclose(det, fe, rtol=0, atol=prod.TOL_AGREE)
