@@ -11,6 +11,8 @@ corrected form agrees, ``refuted`` otherwise.
 
 from __future__ import annotations
 
+from functools import cache
+
 import numpy as np
 from debench.models.invariants import _generated
 from debench.models.invariants import printed as pr
@@ -74,12 +76,20 @@ def _worst(pairs):
 
 
 # ------------------------------------------------------------- derivative formulas
+@cache
+def _exact_derivatives(numbering: str) -> tuple:
+    """(F, D, A, sympy derivatives) at every state of :func:`_states`, for the invariant
+    numbering ``numbering``: shared by the printed-formula producers (one evaluation of
+    the generated code per state and numbering instead of one per printed formula)."""
+    return tuple((F, D, A, getattr(_generated, numbering)(F, D, A)) for F, D, A in _states())
+
+
 def printed_derivative_agrees(entry: Entry) -> Outcome:
     """Printed component formula ``parameters.label`` vs the sympy derivative."""
     label = entry.parameters["label"]
     numbering, kind, n, func = pr.PRINTED_DERIVATIVES[label]
-    worst = _worst((func(F, D, A), getattr(_generated, numbering)(F, D, A)["d" + kind][n - 1])
-                   for F, D, A in _states())
+    worst = _worst((func(F, D, A), exact["d" + kind][n - 1])
+                   for F, D, A, exact in _exact_derivatives(numbering))
     return Outcome(value=worst <= EXACT_RTOL, details={"max_rel_diff": worst},
                    diagnosis=f"printed ({label}) differs from the derivative by {worst:.3g}",
                    evidence=f"{T_INV}::test_printed_derivative_formula_agrees")
@@ -90,8 +100,8 @@ def printed_dI4_dF_erratum(entry: Entry) -> Outcome:
     printed_norm, corrected_err = 0.0, 0.0
     for label in entry.parameters["labels"]:
         _, _, _, func = pr.PRINTED_DERIVATIVES[label]
-        for F, D, A in _states():
-            exact = _generated.ti(F, D, A)["dF"][3]
+        for F, D, A, derivatives in _exact_derivatives("ti"):
+            exact = derivatives["dF"][3]
             printed_norm = max(printed_norm, _rel(func(F, D, A), exact))
             corrected_err = max(corrected_err, _rel(2 * np.outer(F @ A, A), exact))
     differs, fixed = printed_norm > 1e-3, corrected_err <= EXACT_RTOL
