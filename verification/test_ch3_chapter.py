@@ -10,8 +10,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 from debench.models.circular import analysis, shooting
+from debench.models.circular._chapter_pass import ChapterSpec, chapter, current_constants
 from debench.models.circular.actuator import branch, branches, curves
-from debench.models.circular.chapter import ChapterSpec, chapter, current_constants
 from debench.models.circular.params import Annulus
 
 #: batched and one-by-one solves stop on the same relative criteria (events 1e-14 in q,
@@ -121,3 +121,43 @@ def test_integration_in_pieces_equals_one_piece(monkeypatch, cplx):
     pieces = shooting._integrate_inward(an, q, lamP=lamP, membrane=mem)
     for a, b in zip(one, pieces, strict=True):
         np.testing.assert_array_equal(a, b)
+
+
+def test_lockstep_solvers_equal_each_run_alone():
+    """Solvers run side by side (one integration per round for all, real before complex,
+    annuli of another R_B/R_A in their own integration) return what each returns alone,
+    bit for bit (batches above the scalar size either way)."""
+    q1 = np.linspace(3.0, 2.2, 30)
+    q2 = np.linspace(2.0, 1.6, 20)
+    printed, membrane = Annulus(3.0), Annulus(2.0, equilibrium="membrane")
+    wide = Annulus(3.0, radius_ratio=10.0)
+
+    def solvers():
+        return [shooting._interface_state_gen(printed, q1),
+                shooting._interface_state_gen(membrane, q2),
+                shooting._interface_state_gen(wide, q1),
+                branches_solver()]
+
+    def branches_solver():
+        from debench.models.circular.actuator import _branches_gen
+        return _branches_gen([printed, membrane], [40, 30], shooting.DEFAULT_STEPS)
+
+    together = shooting._lockstep(solvers())
+    alone = [shooting._run(s) for s in solvers()]
+    for a, b in zip(together[:3], alone[:3], strict=True):
+        for name in ("lam", "lam1", "T1", "dlam", "dT1"):
+            np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
+    for a, b in zip(together[3], alone[3], strict=True):
+        np.testing.assert_array_equal(a.lam, b.lam)
+        np.testing.assert_array_equal(a.T1, b.T1)
+    assert not np.allclose(together[0].T1, together[2].T1)   # R_B/R_A kept apart
+
+
+def test_lockstep_propagates_a_solver_error():
+    def failing():
+        yield shooting._Request.of(Annulus(3.0), np.linspace(3.0, 2.5, 20), 200)
+        raise ValueError("solver failed")
+
+    with pytest.raises(ValueError, match="solver failed"):
+        shooting._lockstep([shooting._interface_state_gen(Annulus(3.0), [3.0, 2.9]),
+                           failing()])

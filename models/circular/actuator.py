@@ -43,8 +43,10 @@ from . import circle_a
 from .params import Annulus, CircularActuator, locking_stretch_equibiaxial
 from .shooting import (
     DEFAULT_STEPS,
-    _integrate_inward,
     _interface_state,
+    _interface_state_gen,
+    _Request,
+    _run,
     _stresses,
     q_for_stretch,
 )
@@ -89,8 +91,15 @@ def _scan_state(annulus: Annulus, q, steps: int, lamP, membrane=None):
     """Interface stretch and T1 for shooting parameters q, without sensitivities (a real
     integration: the real parts of the complex-step one up to rounding, measured
     < 1e-13 relative; the scan only places the grid, whose points are exact solutions)."""
-    l1, l2 = _integrate_inward(annulus, np.asarray(q, float), steps=steps, lamP=lamP,
-                               membrane=membrane)
+    return _run(_scan_state_gen(annulus, q, steps, lamP, membrane))
+
+
+def _scan_state_gen(annulus: Annulus, q, steps: int, lamP, membrane=None):
+    """:func:`_scan_state` as a :func:`~debench.models.circular.shooting._lockstep`
+    solver."""
+    q = np.asarray(q, float)
+    l1, l2 = yield _Request.of(annulus, q, steps, lamP, membrane)
+    l1, l2 = l1.reshape(q.shape), l2.reshape(q.shape)
     with np.errstate(all="ignore"):  # NaN marks inadmissible trajectories, by design
         s1, *_ = _stresses(l1, l2, annulus.kappa)
         return l2, s1 / l1
@@ -187,13 +196,22 @@ def branches(annuli, *, n=300, steps: int = DEFAULT_STEPS) -> list[Branch]:
     a0 = annuli[0]
     if any((a.radius_ratio, a.Jm) != (a0.radius_ratio, a0.Jm) for a in annuli):
         raise ValueError("branches(): annuli must differ only in lamP and equilibrium")
+    return _run(_branches_gen(annuli, ns, steps))
+
+
+def _branches_gen(annuli, ns, steps):
+    """:func:`branches` (checked arguments, ``ns`` one grid size per annulus) as a
+    :func:`~debench.models.circular.shooting._lockstep` solver: a real scan, then the grid
+    integration."""
+    a0 = annuli[0]
     scanned = list(dict.fromkeys(annuli))          # each distinct annulus scanned once
     mem = np.array([a.equilibrium == "membrane" for a in scanned])
     m = 160
     delta = np.concatenate([[0.0], np.geomspace(1e-8, 0.95, m - 1)])
     lamP = np.repeat([a.lamP for a in scanned], m)
     q_scan = lamP - np.tile(delta, len(scanned)) * lamP
-    lam_scan, T1_scan = _scan_state(a0, q_scan, steps, lamP, np.repeat(mem, m))
+    lam_scan, T1_scan = yield from _scan_state_gen(a0, q_scan, steps, lamP,
+                                                   np.repeat(mem, m))
     interp = {}
     for k, a in enumerate(scanned):
         sl = slice(k * m, (k + 1) * m)
@@ -215,9 +233,9 @@ def branches(annuli, *, n=300, steps: int = DEFAULT_STEPS) -> list[Branch]:
         lps.append(np.full(nk, a.lamP))
         tops.append(top)
     q = np.concatenate(qs)
-    st = _interface_state(a0, q, steps=steps, lamP=np.concatenate(lps),
-                          membrane=np.repeat([a.equilibrium == "membrane" for a in annuli],
-                                             ns))
+    st = yield from _interface_state_gen(
+        a0, q, steps=steps, lamP=np.concatenate(lps),
+        membrane=np.repeat([a.equilibrium == "membrane" for a in annuli], ns))
     out = []
     ends = np.cumsum([0, *ns])
     for k, a in enumerate(annuli):
@@ -285,11 +303,18 @@ def _event_values(kinds, annulus, q, c, eps_r, mu, steps, lamP=None, membrane=No
     """:func:`_event_function` and the interface state (lam, T1) it was computed from
     (``lamP``, ``membrane``: per-event overrides of the annulus, see
     :func:`~debench.models.circular.shooting._integrate_inward`)."""
+    return _run(_event_values_gen(kinds, annulus, q, c, eps_r, mu, steps, lamP, membrane))
+
+
+def _event_values_gen(kinds, annulus, q, c, eps_r, mu, steps, lamP=None, membrane=None):
+    """:func:`_event_values` as a :func:`~debench.models.circular.shooting._lockstep`
+    solver."""
     kinds = np.asarray(kinds)
     bad = ~np.isin(kinds, EVENT_KINDS)
     if bad.any():
         raise ValueError(f"unknown event kind {kinds[bad][0]!r}; expected one of {EVENT_KINDS}")
-    st = _interface_state(annulus, q, steps=steps, lamP=lamP, membrane=membrane)
+    st = yield from _interface_state_gen(annulus, q, steps=steps, lamP=lamP,
+                                         membrane=membrane)
     p2c = circle_a._p2(st.lam_c, st.T1_c, c, annulus.kappa)
     deriv = (p2c.imag / 1e-30) / st.dlam
     brk = p2c.real - circle_a._breakdown(st.lam, eps_r, mu) ** 2
@@ -324,13 +349,18 @@ def locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
                    maxiter=maxiter, lamP=lamP, fa=fa, fb=fb, x0=x0)[0]
 
 
-def _locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
-            xtol=EVENT_XTOL, maxiter=100, lamP=None, fa=None, fb=None, x0=None,
-            sa=None, sb=None, membrane=None):
+def _locate(kinds, annulus, qa, qb, c, eps_r, mu, **kw):
     """:func:`locate` without argument checks, returning ``(q, lam, T1)`` at the roots:
     the interface state of the iterate returned, kept from the iteration (no extra
     integration). ``sa``/``sb``: the states (lam, T1) at the bracket ends, when known
     with ``fa``/``fb``; ``membrane``: per-event equilibrium (bool array), as ``lamP``."""
+    return _run(_locate_gen(kinds, annulus, qa, qb, c, eps_r, mu, **kw))
+
+
+def _locate_gen(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
+                xtol=EVENT_XTOL, maxiter=100, lamP=None, fa=None, fb=None, x0=None,
+                sa=None, sb=None, membrane=None):
+    """:func:`_locate` as a :func:`~debench.models.circular.shooting._lockstep` solver."""
     a = np.array(qa, float)
     b = np.array(qb, float)
     kinds = np.broadcast_to(np.asarray(kinds), a.shape)
@@ -342,15 +372,14 @@ def _locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
 
     def F2(x, y):
         """Event values and states at two points per event, in one integration."""
-        f, lam, T1 = _event_values(cat([kinds, kinds]), annulus, cat([x, y]), cat([c, c]),
-                                   cat([eps_r, eps_r]), mu, steps,
-                                   None if lp is None else cat([lp, lp]),
-                                   None if mb is None else cat([mb, mb]))
+        f, lam, T1 = yield from _event_values_gen(
+            cat([kinds, kinds]), annulus, cat([x, y]), cat([c, c]), cat([eps_r, eps_r]), mu,
+            steps, None if lp is None else cat([lp, lp]), None if mb is None else cat([mb, mb]))
         n = a.size
         return f[:n], f[n:], (lam[:n], T1[:n]), (lam[n:], T1[n:])
 
     if fa is None or fb is None:
-        fa, fb, sa, sb = F2(a, b)
+        fa, fb, sa, sb = yield from F2(a, b)
     nan = np.full(a.shape, np.nan)
     sa = (nan, nan) if sa is None else sa   # unknown states: computed at the end if needed
     sb = (nan, nan) if sb is None else sb
@@ -365,7 +394,7 @@ def _locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
         d = 1e-4 * np.abs(b - a)
         lo = np.clip(x0 - d, np.minimum(a, b), np.maximum(a, b))
         hi = np.clip(x0 + d, np.minimum(a, b), np.maximum(a, b))
-        flo, fhi, slo, shi = F2(lo, hi)
+        flo, fhi, slo, shi = yield from F2(lo, hi)
         ok = np.isfinite(flo) & np.isfinite(fhi) & (np.sign(flo) * np.sign(fhi) <= 0)
         # shrink to the tight bracket where it holds the root (keeps a as 'lo' side)
         a, fa = np.where(ok, lo, a), np.where(ok, flo, fa)
@@ -392,10 +421,10 @@ def _locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
         plain = m & ~cert
         ip, ic = np.nonzero(plain)[0], np.nonzero(cert)[0]
         idx = np.concatenate([ip, ic, ic])
-        f_, l_, T_ = _event_values(kinds[idx], annulus,
-                                   np.concatenate([x[ip], xm[ic], xp[ic]]), c[idx],
-                                   eps_r[idx], mu, steps, None if lp is None else lp[idx],
-                                   None if mb is None else mb[idx])
+        f_, l_, T_ = yield from _event_values_gen(
+            kinds[idx], annulus, np.concatenate([x[ip], xm[ic], xp[ic]]), c[idx],
+            eps_r[idx], mu, steps, None if lp is None else lp[idx],
+            None if mb is None else mb[idx])
         if not np.all(np.isfinite(f_)):
             raise ConvergenceError(f"events: non-finite residual during location for {annulus}")
         fx, lx, Tx = np.zeros_like(x), lb.copy(), Tb.copy()
@@ -439,9 +468,9 @@ def _locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
     q, lam, T1 = np.where(use_a, a, b), np.where(use_a, la, lb), np.where(use_a, Ta, Tb)
     miss = ~np.isfinite(lam)
     if miss.any():    # a root at a bracket end given without its state
-        st = _interface_state(annulus, q[miss], steps=steps,
-                              lamP=None if lp is None else lp[miss],
-                              membrane=None if mb is None else mb[miss])
+        st = yield from _interface_state_gen(annulus, q[miss], steps=steps,
+                                             lamP=None if lp is None else lp[miss],
+                                             membrane=None if mb is None else mb[miss])
         lam[miss], T1[miss] = st.lam, st.T1
     return q, lam, T1
 
@@ -468,6 +497,12 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
     beyond it (NaN in ``phibar``); if no other failure occurs first, the curve ends there
     with the failure kind ``"permittivity"``.
     """
+    return _run(_curves_many_solver(jobs, mu=mu, steps=steps))
+
+
+def _curves_many_solver(jobs, *, mu: float | None = None, steps: int | None = None):
+    """:func:`curves_many` as a :func:`~debench.models.circular.shooting._lockstep`
+    solver (arguments checked here, at the call)."""
     from .params import EPS_R_ASSUMED, MU_VHB
     mu = MU_VHB if mu is None else v.positive("mu", mu)
     if steps is not None:
@@ -490,7 +525,13 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
         actuators.append([CircularActuator(br.annulus, c=float(c), eps_r=float(e), mu=mu)
                           for c, e in zip(cs_, eps_rs, strict=True)])
         checked.append((br, cs, eps_r))
-    jobs = checked
+    return _curves_many_gen(checked, actuators, mu, steps)
+
+
+def _curves_many_gen(jobs, actuators, mu, steps):
+    """:func:`curves_many` after its checks (``actuators``: the validated actuator of
+    every curve) as a :func:`~debench.models.circular.shooting._lockstep` solver."""
+    from .params import EPS_R_ASSUMED
     results = [None] * len(jobs)
     pending = []  # (job index, curve index, kind, qa, qb, c, eps_r, lamP)
     located = {}
@@ -573,7 +614,7 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
         kinds = np.array([r[2] for r in rows])
         lamPs = np.array([r[7] for r in rows])
         mem = np.array([jobs[r[0]][0].annulus.equilibrium == "membrane" for r in rows])
-        qroot, lam_r, T1_r = _locate(
+        qroot, lam_r, T1_r = yield from _locate_gen(
             kinds, an0, [r[3] for r in rows], [r[4] for r in rows], [r[5] for r in rows],
             [r[6] for r in rows], mu, steps=st, lamP=lamPs, fa=[r[8] for r in rows],
             fb=[r[9] for r in rows], x0=[r[10] for r in rows],

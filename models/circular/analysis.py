@@ -20,9 +20,15 @@ from debench.models.errors import ConvergenceError, checked_brentq
 from scipy.interpolate import CubicHermiteSpline
 
 from . import circle_a
-from .actuator import Branch, branch, branches, curves
+from .actuator import Branch, _branches_gen, branch, curves
 from .params import Annulus, CircularActuator
-from .shooting import _interface_state, q_for_stretch
+from .shooting import (
+    DEFAULT_STEPS,
+    _interface_state,
+    _interface_state_gen,
+    _run,
+    q_for_stretch,
+)
 
 DEFINITIONS = ("before_loss_of_tension", "monotonic")
 #: absolute tolerance of the outer brentq searches over lamP or c (values printed to
@@ -89,6 +95,12 @@ def _states_at_voltage_many(brs, cs, phibars) -> list[dict]:
     """
     if not brs:
         return []
+    return _run(_states_at_voltage_gen(brs, cs, phibars))
+
+
+def _states_at_voltage_gen(brs, cs, phibars):
+    """:func:`_states_at_voltage_many` (non-empty ``brs``) as a
+    :func:`~debench.models.circular.shooting._lockstep` solver."""
     an0, steps = brs[0].annulus, brs[0].steps
     if any((b.annulus.radius_ratio, b.annulus.Jm, b.steps) != (an0.radius_ratio, an0.Jm, steps)
            for b in brs):
@@ -116,7 +128,8 @@ def _states_at_voltage_many(brs, cs, phibars) -> list[dict]:
         act = np.nonzero(~done)[0]
         if not act.size:
             break
-        st = _interface_state(an0, q[act], steps=steps, lamP=lamP[act], membrane=mem[act])
+        st = yield from _interface_state_gen(an0, q[act], steps=steps, lamP=lamP[act],
+                                             membrane=mem[act])
         p2c = circle_a._p2(st.lam_c, st.T1_c, cs[act], kappa)
         r, dr = p2c.real - phibars[act]**2, p2c.imag / 1e-30
         zero = r == 0
@@ -136,7 +149,7 @@ def _states_at_voltage_many(brs, cs, phibars) -> list[dict]:
         if not done.all():
             raise ConvergenceError(f"state_at_voltage: no convergence for Phibar = "
                                    f"{phibars[~done]}")
-    st = _interface_state(an0, q, steps=steps, lamP=lamP, membrane=mem)
+    st = yield from _interface_state_gen(an0, q, steps=steps, lamP=lamP, membrane=mem)
     return [{"lam": float(lam), "lam1B": float(lam1), "lam3A": float(lam) ** -2,
              "lam3B": 1 / (float(lam1) * float(lam)), "q": float(qq)}
             for lam, lam1, qq in zip(st.lam, st.lam1, q, strict=True)]
@@ -240,6 +253,12 @@ def _branches_at(brs, lams, maxiter: int = 30) -> list[Branch]:
     tolerance. Stretches must lie
     in ``[lamP, br.lam_end]`` (ValueError); ConvergenceError otherwise.
     """
+    return _run(_branches_at_gen(brs, lams, maxiter))
+
+
+def _branches_at_gen(brs, lams, maxiter: int = 30):
+    """:func:`_branches_at` as a :func:`~debench.models.circular.shooting._lockstep`
+    solver."""
     an0, steps = brs[0].annulus, brs[0].steps
     if any((b.annulus.radius_ratio, b.annulus.Jm, b.steps) != (an0.radius_ratio, an0.Jm, steps)
            for b in brs):
@@ -256,7 +275,7 @@ def _branches_at(brs, lams, maxiter: int = 30) -> list[Branch]:
     lamP = np.repeat([b.annulus.lamP for b in brs], sizes)
     mem = np.repeat([b.annulus.equilibrium == "membrane" for b in brs], sizes)
     for _ in range(maxiter):
-        st = _interface_state(an0, q, steps=steps, lamP=lamP, membrane=mem)
+        st = yield from _interface_state_gen(an0, q, steps=steps, lamP=lamP, membrane=mem)
         r = st.lam - lam
         if np.any(~np.isfinite(r)):
             raise ConvergenceError(f"shooting: trajectory left the admissible set near "
@@ -346,11 +365,18 @@ SUPPRESSION_CERTIFY_AFTER = 1000.0
 SUPPRESSION_CERTIFY = 0.45
 
 
-def _suppression_prestretches(c: float, equilibria, *, radius_ratio: float = 15.0,
-                              Jm: float = 120.0, definition: str = "before_loss_of_tension",
-                              bracket=(2.0, 3.2), n: int = 800,
-                              xtol: float = 1e-6, bracket_branches=None) -> list[float]:
-    """:func:`pullin_suppression_prestretch` for several equilibrium variants at once.
+def _suppression_prestretches(c: float, equilibria, **kw) -> list[float]:
+    """:func:`pullin_suppression_prestretch` for several equilibrium variants at once (see
+    :func:`_suppression_solver`)."""
+    return _run(_suppression_solver(c, equilibria, **kw))
+
+
+def _suppression_solver(c: float, equilibria, *, radius_ratio: float = 15.0,
+                        Jm: float = 120.0, definition: str = "before_loss_of_tension",
+                        bracket=(2.0, 3.2), n: int = 800,
+                        xtol: float = 1e-6, bracket_branches=None):
+    """:func:`pullin_suppression_prestretch` for several equilibrium variants at once, as a
+    :func:`~debench.models.circular.shooting._lockstep` solver (arguments checked here).
 
     The same function of lamP (minimum slope on the branch of ``n`` points) is solved for
     every variant in lockstep by a vectorised Anderson-Bjorck iteration (regula falsi
@@ -372,9 +398,19 @@ def _suppression_prestretches(c: float, equilibria, *, radius_ratio: float = 15.
         CircularActuator(Annulus(lo, radius_ratio, Jm, eq), c=c)
         CircularActuator(Annulus(hi, radius_ratio, Jm, eq), c=c)
 
+    return _suppression_gen(c, eqs, radius_ratio, Jm, definition, lo, hi, n, xtol, bracket,
+                            bracket_branches)
+
+
+def _suppression_gen(c, eqs, radius_ratio, Jm, definition, lo, hi, n, xtol, bracket,
+                     bracket_branches):
+    """:func:`_suppression_prestretches` after its checks, as a
+    :func:`~debench.models.circular.shooting._lockstep` solver."""
+
     def f(lamPs, which):
-        brs = branches([Annulus(float(x), radius_ratio, Jm, eqs[k])
-                        for x, k in zip(lamPs, which, strict=True)], n=n)
+        ans = [Annulus(float(x), radius_ratio, Jm, eqs[k])
+               for x, k in zip(lamPs, which, strict=True)]
+        brs = yield from _branches_gen(ans, [n] * len(ans), DEFAULT_STEPS)
         return slopes(brs)
 
     def slopes(brs):
@@ -389,7 +425,7 @@ def _suppression_prestretches(c: float, equilibria, *, radius_ratio: float = 15.
             raise ValueError(f"bracket_branches must be the {n}-point branches of {want}")
         vals = slopes(got)
     else:
-        vals = f(np.r_[np.full(m, lo), np.full(m, hi)], np.r_[idx, idx])
+        vals = yield from f(np.r_[np.full(m, lo), np.full(m, hi)], np.r_[idx, idx])
     a, b = np.full(m, float(lo)), np.full(m, float(hi))
     fa, fb = vals[:m], vals[m:]
     if not (np.all(fa < 0) and np.all(fb > 0)):
@@ -409,7 +445,7 @@ def _suppression_prestretches(c: float, equilibria, *, radius_ratio: float = 15.
         away = np.sign(x - b[act])
         away = np.where(away == 0, np.sign(a[act] - b[act]), away)
         xe = np.where(cert, np.clip(x + away * SUPPRESSION_CERTIFY * xtol, lo_, hi_), x)
-        fx = f(xe, act)
+        fx = yield from f(xe, act)
         ok = cert & (np.sign(fx) != np.sign(fb[act])) & (np.abs(xe - b[act]) <= xtol)
         root[act[ok]], done[act[ok]] = x[ok], True
         step[act] = np.abs(xe - b[act])

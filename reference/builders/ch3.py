@@ -23,8 +23,8 @@ from types import SimpleNamespace
 import numpy as np
 import xarray as xr
 from debench.models.circular import circle_a, params
+from debench.models.circular._chapter_pass import Chapter, ChapterSpec, chapter
 from debench.models.circular.actuator import EVENT_KINDS, Event
-from debench.models.circular.chapter import Chapter, ChapterSpec, chapter
 from debench.models.circular.shooting import DEFAULT_STEPS
 from debench.reference.datasets import write_dataset
 from debench.reference.figures import written

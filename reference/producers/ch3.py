@@ -6,7 +6,7 @@ value with :mod:`debench.models.circular`, using the equilibrium variant the the
 thin-membrane balance (``"membrane"``) and, where the relative permittivity enters
 (breakdown), the value for each eps_r of :data:`EPS_R_SENSITIVITY`. The producers read
 the one memoised chapter pass the dataset builder reads too
-(:func:`debench.models.circular.chapter.chapter` for
+(:func:`debench.models.circular._chapter_pass.chapter` for
 :func:`debench.reference.builders.ch3.chapter_spec`, keyed on its parameters and the model
 constants): every branch, curve, state and root of the catalogue's plan computed once per
 command. Entries outside the plan are computed on demand (cached, keyed on the
@@ -20,8 +20,8 @@ from functools import lru_cache
 
 import numpy as np
 from debench.models.circular import analysis, circle_a, params
+from debench.models.circular._chapter_pass import chapter
 from debench.models.circular.actuator import branches, curves_many
-from debench.models.circular.chapter import chapter
 from debench.models.circular.params import Annulus
 from debench.reference.builders import ch3 as builder
 from debench.reference.catalogue import Accuracy, Entry, Outcome

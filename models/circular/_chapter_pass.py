@@ -6,10 +6,15 @@ events (Secs 3.5.2-3.5.5, Figs 3.4-3.9), the states at a voltage with their annu
 profiles (Sec. 3.5.1, Figs 3.2-3.3), the interface states at given stretches (Sec. 3.5.4),
 the loss-of-tension stretches, the pull-in c thresholds (Fig. 3.5) and the suppression
 pre-stretches (Sec. 3.5.2) -- is computed by :func:`chapter` from a :class:`ChapterSpec`
-alone: one scan and one grid integration for every branch of every variant, every event of
-every curve located together, the states and the stretches in one Newton iteration. The
-dataset builder and the catalogue producers read the same :class:`Chapter`, so that a
-command computes each branch, curve and root once.
+alone: one scan and one grid integration for every branch of every variant (the grids of
+the c thresholds and the suppression search's bracket ends included), then the iterative
+solvers side by side (:func:`~debench.models.circular.shooting._lockstep`: the location of
+every event of every curve, the Newton iterations of the states and stretches and the
+suppression searches share one integration per round), then the profiles and the
+branches up to loss of tension of the c thresholds. The dataset builder and the catalogue
+producers read the same :class:`Chapter`, so that a command computes each branch, curve
+and root once. Every result is the one the one-annulus public functions give, to the
+tolerance of their iterations (``verification/test_ch3_chapter.py``).
 
 :func:`chapter` is pure: its result depends on the specification only (model constants
 included, :func:`current_constants`) and is memoised on it.
@@ -23,8 +28,9 @@ from functools import lru_cache
 import numpy as np
 
 from . import analysis, circle_a, params
-from .actuator import Branch, Curve, branches, curves_many
+from .actuator import Branch, Curve, _curves_many_solver, branches, curves_many
 from .params import Annulus
+from .shooting import _integrate_inward, _lockstep
 
 VARIANTS = params.EQUILIBRIUM_VARIANTS
 #: the pre-stretches that bracket the suppression pre-stretch (those of
@@ -164,44 +170,64 @@ def _compute(spec: ChapterSpec) -> Chapter:
     family = dict(zip(fam, brs[:len(fam)], strict=True))
     ct_branches = dict(zip(ct, brs[len(fam):len(fam) + len(ct)], strict=True))
     sp_branches = brs[len(fam) + len(ct):]
-    # every event of every curve, located together
+    # the iterative solvers side by side, one integration per round for all of them:
+    # every event of every curve, the states at a voltage, the interface states at given
+    # stretches and the suppression searches
     groups: dict = {}
     for k in keys:
         groups.setdefault((k[0], k[3]), []).append(k)
-    res = curves_many([(family[g], [k[1] for k in ks], [k[2] for k in ks])
-                       for g, ks in groups.items()], mu=spec.mu, steps=spec.steps)
-    curves = {k: cv for ks, cvs in zip(groups.values(), res, strict=True)
+    solvers = [_curves_many_solver([(family[g], [k[1] for k in ks], [k[2] for k in ks])
+                                    for g, ks in groups.items()],
+                                   mu=spec.mu, steps=spec.steps)]
+    rows = _state_rows(spec, family)
+    if rows:
+        solvers.append(analysis._states_at_voltage_gen(
+            [family[(r[0], r[3])] for r in rows], [r[2] for r in rows], [r[1] for r in rows]))
+    srows = [(float(lp), float(x), eq) for lp, x in spec.stretches for eq in VARIANTS]
+    if srows:
+        solvers.append(analysis._branches_at_gen([family[(r[0], r[2])] for r in srows],
+                                                 [np.array([r[1]]) for r in srows]))
+    solvers += [analysis._suppression_solver(
+        float(c), VARIANTS, radius_ratio=spec.radius_ratio, Jm=spec.Jm,
+        bracket=SUPPRESSION_BRACKET, n=spec.suppression_n, xtol=spec.suppression_xtol,
+        bracket_branches=sp_branches) for c in spec.suppression_cs]
+    res = _lockstep(solvers)
+    curves = {k: cv for ks, cvs in zip(groups.values(), res[0], strict=True)
               for k, cv in zip(ks, cvs, strict=True)}
-    states, profiles = _states(spec, family)
-    stretch_states = _stretch_states(spec, family)
+    k = 1
+    states, profiles = {}, {}
+    if rows:
+        states = dict(zip(rows, res[k], strict=True))
+        profiles = _profiles(spec, rows, res[k])
+        k += 1
+    stretch_states = {}
+    if srows:
+        stretch_states = {r: (float(b.lam[0]), float(b.T1[0]))
+                          for r, b in zip(srows, res[k], strict=True)}
+        k += 1
+    suppression = {(float(c), eq): x for c, xs in zip(spec.suppression_cs, res[k:],
+                                                      strict=True)
+                   for eq, x in zip(VARIANTS, xs, strict=True)}
     c_thresholds = _c_thresholds(spec, ct_branches, curves, family)
-    suppression = {(float(c), eq): x for c in spec.suppression_cs
-                   for eq, x in zip(VARIANTS, analysis._suppression_prestretches(
-                       float(c), VARIANTS, radius_ratio=spec.radius_ratio, Jm=spec.Jm,
-                       bracket=SUPPRESSION_BRACKET, n=spec.suppression_n,
-                       xtol=spec.suppression_xtol, bracket_branches=sp_branches),
-                       strict=True)}
     return Chapter(spec=spec, branches=family, curves=curves, states=states,
                    profiles=profiles, stretch_states=stretch_states,
                    c_thresholds=c_thresholds, suppression=suppression)
 
 
-def _states(spec: ChapterSpec, family: dict) -> tuple[dict, dict]:
-    """States at a voltage (c and c = 0, both variants) in one iteration, and their annulus
-    profiles in one integration."""
-    from .shooting import _integrate_inward
-
+def _state_rows(spec: ChapterSpec, family: dict) -> list[tuple]:
+    """(lamP, Phibar, c, variant) of the states at a voltage: c and c = 0, both variants
+    (the public function's check of c made here)."""
     rows = list(dict.fromkeys((float(lp), float(ph), float(ci), eq)
                               for lp, ph, c in spec.states for eq in VARIANTS
                               for ci in (0.0, c)))
-    if not rows:
-        return {}, {}
-    for lp, _, ci, eq in rows:           # the public function's check of c
+    for lp, _, ci, eq in rows:
         params.CircularActuator(family[(lp, eq)].annulus, c=ci)
-    sts = analysis._states_at_voltage_many([family[(r[0], r[3])] for r in rows],
-                                           [r[2] for r in rows], [r[1] for r in rows])
-    states = dict(zip(rows, sts, strict=True))
-    an0 = family[(rows[0][0], rows[0][3])].annulus
+    return rows
+
+
+def _profiles(spec: ChapterSpec, rows, sts) -> dict:
+    """The annulus profiles of the states at a voltage, in one integration."""
+    an0 = Annulus(rows[0][0], float(spec.radius_ratio), float(spec.Jm), rows[0][3])
     _, _, t, P1, P2 = _integrate_inward(
         an0, np.array([s["q"] for s in sts]), profile=True, steps=spec.steps,
         lamP=np.array([r[0] for r in rows]),
@@ -209,18 +235,7 @@ def _states(spec: ChapterSpec, family: dict) -> tuple[dict, dict]:
     if not (np.all(np.isfinite(P1)) and np.all(np.isfinite(P2))):
         raise ValueError(f"inadmissible annulus profile for the states {rows}")
     rho = np.exp(t[::-1])
-    profiles = {r: (P1[::-1, k], P2[::-1, k], rho) for k, r in enumerate(rows)}
-    return states, profiles
-
-
-def _stretch_states(spec: ChapterSpec, family: dict) -> dict:
-    """(lam, T1) at R_A for each (lamP, stretch, variant), one batched Newton iteration."""
-    rows = [(float(lp), float(x), eq) for lp, x in spec.stretches for eq in VARIANTS]
-    if not rows:
-        return {}
-    got = analysis._branches_at([family[(r[0], r[2])] for r in rows],
-                                [np.array([r[1]]) for r in rows])
-    return {r: (float(b.lam[0]), float(b.T1[0])) for r, b in zip(rows, got, strict=True)}
+    return {r: (P1[::-1, k], P2[::-1, k], rho) for k, r in enumerate(rows)}
 
 
 def _c_thresholds(spec, ct_branches, curves, family) -> dict:
