@@ -223,3 +223,29 @@ def test_voltage_control_roots_agree_between_methods(variant, xi, Vhat):
             l2 = fe_root_at_voltage(l1, kH, Vhat, p, elements_for(kH * l1**-2),
                                     rel=min(1e-3, 0.3 * gap / l1))
             assert l2 == pytest.approx(l1, abs=TOL_AGREE)
+
+
+#: the root of refine_root is an end of a sign change no wider than the root's round-off
+#: (eigenvalue round-off eps ||K||_1 over its slope), so |e| there is within a few
+#: round-offs of K; a root off by 1e-9 in lam would leave |e| ~ 1e2 round-offs at these
+#: thin cases (slope ~0.05-0.3, eps ||K||_1 ~ 1e-11-1e-8)
+ROUNDOFF_MULTIPLE = 4.0
+
+
+@pytest.mark.parametrize(("xi", "D", "kH"), [(0.0, 2.4, 0.3), (5.0, 1.0, 2.0), (0.0, 0.0, 2.0)])
+def test_fe_root_is_located_to_its_round_off(xi, D, kH):
+    """Method 2 (refine_root): the eigenvalue at the returned root is within a few times
+    its round-off eps ||K||_1, at thin plates where that round-off spans ~1e-7 in lam."""
+    from debench.models.plate import fem
+
+    p = PlateParams(xi, D, variant="derived")
+    r = critical_stretches(kH, p)
+    lam1 = float(max(r.lam))   # the upper curve (k h >= 0.1 at these cases)
+    n = elements_for(kH * lam1**-2)
+    n_lo, n_hi = (int(np.sum(eigenvalues(lam1 * (1 + s), kH, p, n, 8) < 0))
+                  for s in (-1e-3, 1e-3))
+    assert abs(n_lo - n_hi) == 1
+    j = min(n_lo, n_hi)
+    root = refine_root(lam1, kH, p, n, index=j, rel=1e-3)
+    e, roundoff = fem._eigenvalues(root, kH, p, n, j + 1)
+    assert abs(e[j]) <= ROUNDOFF_MULTIPLE * roundoff
