@@ -13,6 +13,9 @@ Named problems (one thread, CPU time: the machine is shared, so the timer is
   (compression, theta = 30 degrees, xi = 5, kH = 2): stacked evaluations, a bracket of the
   second weight vector that holds a root of the first not refined again, vs one scalar
   brentq per bracket.
+* "inplane_det_windows": the determinant roots of all 20 producer windows
+  (compression, voltage control, tension): solved together (one stacked evaluation per
+  refinement step for every bracket of every window) vs one window after another.
 * "fem_agreement_root": the through-thickness FE root of the agreement dataset's thin
   case (xi = 0, Dhat = 2.4, kH = 0.3, flexural) located to its round-off vs to 1e-14
   inside the round-off band.
@@ -99,6 +102,29 @@ def test_bench_inplane_det_roots_previous(benchmark):
 def test_bench_inplane_det_roots_stacked(benchmark):
     got = benchmark.pedantic(_inplane_det, args=(ip,), rounds=3, iterations=1)
     assert got.size >= 1
+
+
+def _windows():
+    return [(*args, kw) for args, kw in (c._args() for c in ipprod.producer_cases())]
+
+
+def _windows_one_by_one(module):
+    return [module.critical_stretches_det(kH, th, p, **kw) for kH, th, p, kw in _windows()]
+
+
+@pytest.mark.benchmark(group="ch4-inplane_det_windows-20-1thread", timer=time.process_time)
+def test_bench_inplane_det_windows_one_by_one_previous(benchmark):
+    old = _previous()["inplane"]
+    got = benchmark.pedantic(_windows_one_by_one, args=(old,), rounds=1, iterations=1)
+    for a, b in zip(got, ip.critical_stretches_det_many(_windows()), strict=True):
+        np.testing.assert_allclose(a, b, rtol=0, atol=DET_ROOT_ATOL)
+
+
+@pytest.mark.benchmark(group="ch4-inplane_det_windows-20-1thread", timer=time.process_time)
+def test_bench_inplane_det_windows_together(benchmark):
+    got = benchmark.pedantic(ip.critical_stretches_det_many, args=(_windows(),), rounds=1,
+                             iterations=1)
+    assert sum(r.size for r in got) >= len(got) // 2
 
 
 # ------------------------------------------------------------------ FE agreement root
