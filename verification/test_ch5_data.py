@@ -247,6 +247,10 @@ def test_curated_r20_wrinkling_search():
     ds = read_dataset("ch5_wrinkling")
     assert ds.sizes["level"] >= 5 and np.all(np.diff(ds.rim_elements.values) > 0)
     found = wrinkling_search(ds)
+    # the stored first instability is the catalogue's reading of the same records
+    assert [str(k) for k in ds.first_kind.values] == found["first_kind"]
+    np.testing.assert_array_equal(ds.w_first.values, found["w_first_over_t0"])
+    np.testing.assert_array_equal(ds.n_first.values, found["n_first"])
     assert found["first"][-2:] == [True, True], found
     for lev in (-2, -1):
         assert MM_WINDOW[0] <= found["w_first_over_t0"][lev] * 0.5 <= MM_WINDOW[1], found
