@@ -331,6 +331,11 @@ def critical_stretches_det_many(scans) -> list[np.ndarray]:
     ``scans``: a sequence of ``(kH, theta, params, kwargs)`` with the keyword arguments of
     :func:`critical_stretches_det`; returns the roots of each, in order.
     """
+    if isinstance(scans, (str, bytes)) or not isinstance(scans, (list, tuple)) or not all(
+            isinstance(s, (list, tuple)) and len(s) == 4 and isinstance(s[3], dict)
+            for s in scans):
+        raise ValueError("scans must be a sequence of (kH, theta, params, kwargs) with kwargs "
+                         f"a dict, got {scans!r}")
     jobs, out = [], []
     for kH, theta, params, kw in scans:
         kw = {"window": (0.45, 0.999), "n_scan": 120, "Vhat": None, **kw}
