@@ -73,13 +73,19 @@ def test_bench_strip_root_from_determinant_root(benchmark, case):
     assert abs(lam - case) < 1e-5  # the FE root beside the determinant root
 
 
+def fem_crossing_root(module, lam, kH, params, bracket):
+    """The through-thickness FE root beside ``lam`` by ``module.refine_root``, for the
+    eigenvalue that crosses zero there, as the agreement dataset picks it (inertia at both
+    ends of the bracket ``lam (1 -+ bracket)``)."""
+    n = module.elements_for(kH * lam**-2)
+    n_lo, n_hi = (int((module.eigenvalues(lam * (1 + s), kH, params, n, 8) < 0).sum())
+                  for s in (-bracket, bracket))
+    return module.refine_root(lam, kH, params, n, index=min(n_lo, n_hi), rel=bracket)
+
+
 def _fem(module, lam):
-    p = PlateParams(XI, DHAT, variant="derived")
-    n = module.elements_for(KH * lam**-2)
-    # the crossing eigenvalue, as the agreement dataset picks it (inertia at both ends)
-    n_lo, n_hi = (int((module.eigenvalues(lam * (1 + s), KH, p, n, 8) < 0).sum())
-                  for s in (-FEM_BRACKET, FEM_BRACKET))
-    return module.refine_root(lam, KH, p, n, index=min(n_lo, n_hi), rel=FEM_BRACKET)
+    return fem_crossing_root(module, lam, KH, PlateParams(XI, DHAT, variant="derived"),
+                             FEM_BRACKET)
 
 
 @pytest.mark.benchmark(group="ch4-fem_refine_root-kH0.3-1thread", timer=time.process_time)

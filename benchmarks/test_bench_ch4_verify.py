@@ -37,6 +37,7 @@ from debench.reference.producers import ch4 as prod
 from debench.reference.producers import ch4_inplane as ipprod
 
 from benchmarks import baseline
+from benchmarks.test_bench_ch4_roots import fem_crossing_root
 
 #: the code before these rewrites
 BEFORE = "bac179c"
@@ -138,10 +139,7 @@ def agreement_case():
 
 def _fem_root(module, case):
     p, lam = case
-    n = module.elements_for(0.3 * lam**-2)
-    n_lo, n_hi = (int((module.eigenvalues(lam * (1 + s), 0.3, p, n, 8) < 0).sum())
-                  for s in (-1e-3, 1e-3))
-    return module.refine_root(lam, 0.3, p, n, index=min(n_lo, n_hi), rel=1e-3)
+    return fem_crossing_root(module, lam, 0.3, p, 1e-3)
 
 
 @pytest.mark.benchmark(group="ch4-fem_agreement_root-kH0.3-1thread", timer=time.process_time)
