@@ -680,14 +680,21 @@ def compute(full: bool = False, progress: bool = True, scheduler=None):
     data["e_max_pullin"] = (("case",), np.array([_at_pullin(r, r.e_max) for r in rl]),
                             attrs1("largest sampled normalised true field at pull-in"))
 
-    def onset(r, k):
-        o = onset_before_pullin(r.eig_v, r.eig_w, r.eig_lam, r.eig_axisym, r.w_pullin)
-        return o[k] if o else np.nan
+    def wrinkling(r) -> dict:
+        f = first_instability(r.eig_w, r.eig_v, r.eig_lam, r.eig_axisym, r.eig_wavenumber)
+        return f if f["kind"] == "non-axisymmetric" else {**f, "v": np.nan, "w": np.nan}
 
-    data["v_wrinkling"] = (("case",), np.array([onset(r, 0) for r in rl]), attrs1(
-        "normalised voltage at the onset of a non-axisymmetric mode (NaN: none before pull-in)"))
-    data["w_wrinkling"] = (("case",), np.array([onset(r, 1) for r in rl]), attrs1(
-        "centre deflection / t0 at the onset of a non-axisymmetric mode (NaN: none)"))
+    first = [wrinkling(r) for r in rl]
+    data["first_kind"] = (("case",), np.array([f["kind"] for f in first], dtype=str), {
+        "long_name": "kind of the first instability along the finest ramp (first eigen-record "
+        "with an eigenvalue <= 0): axisymmetric (pull-in), non-axisymmetric (wrinkling) or "
+        "none"})
+    data["v_wrinkling"] = (("case",), np.array([f["v"] for f in first]), attrs1(
+        "normalised voltage at the onset of a non-axisymmetric mode when it is the first "
+        "instability (NaN: pull-in or nothing comes first)"))
+    data["w_wrinkling"] = (("case",), np.array([f["w"] for f in first]), attrs1(
+        "centre deflection / t0 at the onset of a non-axisymmetric mode when it is the first "
+        "instability (NaN: none)"))
     data["ndof"] = (("case",), np.array([r.ndof for r in rl]), attrs1("degrees of freedom"))
     # pull-in on every ramp level and its mesh limit
     by_level = {key: np.array([[getattr(ramps[(c, h)], key) for h in ramp_levels]
@@ -697,8 +704,9 @@ def compute(full: bool = False, progress: bool = True, scheduler=None):
     data["w_pullin_levels"] = (("case", "ramp_level"), by_level["w_pullin"], attrs1(
         "centre deflection / t0 at pull-in per ramp mesh", accuracy=pullin_acc))
     data["v_wrinkling_levels"] = (("case", "ramp_level"), np.array(
-        [[onset(ramps[(c, h)], 0) for h in ramp_levels] for c in names]), attrs1(
-        "onset voltage of a non-axisymmetric mode before pull-in per ramp mesh (NaN: none)"))
+        [[wrinkling(ramps[(c, h)])["v"] for h in ramp_levels] for c in names]), attrs1(
+        "onset voltage of a non-axisymmetric mode as the first instability per ramp mesh "
+        "(NaN: none)"))
     data["ndof_ramp_levels"] = (("case", "ramp_level"), np.array(
         [[ramps[(c, h)].ndof for h in ramp_levels] for c in names], dtype=np.int64),
         attrs1("degrees of freedom of the ramp meshes"))
@@ -736,31 +744,6 @@ def compute(full: bool = False, progress: bool = True, scheduler=None):
               "eig_every": EIG_EVERY, "fit_safety": FIT_SAFETY,
               "scale_copies": ", ".join(f"{a} = {b}" for a, b in SCALE_COPIES.items())}
     return crit, ramp_ds, params
-
-
-def onset_before_pullin(eig_v, eig_w, eig_lam, eig_axisym, w_pullin,
-                        axisym_max: float = 0.5) -> tuple[float, float, int, int] | None:
-    """Wrinkling as the first instability: the first eigen-record *up to the pull-in
-    deflection* ``w_pullin`` (all records when it is None or NaN) where a non-axisymmetric
-    mode (n = 0 fraction below ``axisym_max``) has a negative eigenvalue. Returns (v, w)
-    interpolated linearly to the zero of that eigenvalue between the previous record and
-    this one, and the record and mode indices; None when there is none. (Past pull-in the
-    path is unstable anyway; a non-axisymmetric mode that goes negative there is not
-    wrinkling first.)"""
-    eig_w = np.asarray(eig_w, float)
-    lam, ax = np.asarray(eig_lam, float), np.asarray(eig_axisym, float)
-    limit = np.inf if w_pullin is None or not np.isfinite(w_pullin) else w_pullin
-    non = np.where(ax < axisym_max, lam, np.inf)
-    for i in np.flatnonzero(np.isfinite(eig_w) & (eig_w <= limit)):
-        j = int(np.argmin(non[i]))
-        if non[i, j] < 0:
-            if i == 0 or not np.isfinite(np.min(non[i - 1])):
-                return float(eig_v[i]), float(eig_w[i]), int(i), j
-            lam0, lam1 = float(np.min(non[i - 1])), float(non[i, j])
-            f = lam0 / (lam0 - lam1)
-            return (float(eig_v[i - 1] + f * (eig_v[i] - eig_v[i - 1])),
-                    float(eig_w[i - 1] + f * (eig_w[i] - eig_w[i - 1])), int(i), j)
-    return None
 
 
 def lowest_nonaxisymmetric(eig_lam, eig_axisym, axisym_max: float = 0.5) -> np.ndarray:
