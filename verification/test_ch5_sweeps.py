@@ -124,6 +124,35 @@ def test_task_cache_key_follows_the_model_source(tmp_path, monkeypatch):
     assert cache.get((_square, 2)) == {"x2": 4}
 
 
+def test_task_cache_key_follows_the_settings_a_task_module_imports(tmp_path, monkeypatch):
+    """A task module that takes settings from a sibling module (as the imperfection task
+    takes the cases and materials from the main task module) is keyed on that module's
+    source too: editing the sibling misses, never a stale hit; a module without sibling
+    imports is keyed on its own source alone."""
+    import importlib
+    import sys
+    pkg = tmp_path / "cachekeypkg"
+    pkg.mkdir()
+    (pkg / "__init__.py").write_text("")
+    (pkg / "settings.py").write_text("SCALE = 2\n")
+    (pkg / "tasks.py").write_text(
+        "def scaled(x):\n    from cachekeypkg.settings import SCALE\n    return x * SCALE\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    tasks = importlib.import_module("cachekeypkg.tasks")
+    cache = ch5._TaskCache(tmp_path / "cache", "e" * 64)
+    before = cache._path((tasks.scaled, 3))
+    assert "SCALE = 2" in ch5.task_source("cachekeypkg.tasks")
+    assert ch5.task_source("cachekeypkg.settings") == "SCALE = 2\n"
+    (pkg / "settings.py").write_text("SCALE = 3\n")
+    for name in ("cachekeypkg.settings", "cachekeypkg.tasks", "cachekeypkg"):
+        sys.modules.pop(name, None)
+    importlib.invalidate_caches()
+    tasks = importlib.import_module("cachekeypkg.tasks")
+    assert cache._path((tasks.scaled, 3)) != before
+    for name in ("cachekeypkg.settings", "cachekeypkg.tasks", "cachekeypkg"):
+        sys.modules.pop(name, None)
+
+
 def test_full_plan_meets_the_reference_contract():
     """The converged plan (no FE run: mesh sizes only): >= 5 critical-voltage levels
     (the least-squares fit has 3 unknowns, and one more level is dropped for the error

@@ -351,10 +351,9 @@ class _TaskCache:
         return cls(Path(root), models_digest()) if root else None
 
     def _path(self, task: tuple) -> Path:
-        import inspect
         fn, *args = task
-        key = repr((fn.__module__, fn.__qualname__, tuple(args),
-                    inspect.getsource(sys.modules[fn.__module__]), self.code_digest)).encode()
+        key = repr((fn.__module__, fn.__qualname__, tuple(args), task_source(fn.__module__),
+                    self.code_digest)).encode()
         return self.root / f"{hashlib.sha256(key).hexdigest()[:32]}.pkl"
 
     def get(self, task: tuple):
@@ -370,6 +369,34 @@ class _TaskCache:
         with tmp.open("wb") as fh:
             pickle.dump(result, fh)
         os.replace(tmp, p)
+
+
+def task_source(module: str) -> str:
+    """The source a task defined in ``module`` depends on outside :mod:`debench.models`:
+    the module's own source, followed by that of every module of the same package it
+    imports (at any depth of the file, recursively; e.g. a task module that takes its cases
+    and material choice from another), in import order. A module that imports no sibling
+    contributes its own source alone."""
+    import ast
+    import importlib
+    import inspect
+    package = module.rpartition(".")[0]
+    seen, order, todo = set(), [], [module]
+    while todo:
+        name = todo.pop(0)
+        if name in seen:
+            continue
+        seen.add(name)
+        order.append(name)
+        src = inspect.getsource(importlib.import_module(name))
+        for node in ast.walk(ast.parse(src)):
+            if not isinstance(node, ast.ImportFrom) or not node.module:
+                continue
+            target = (node.module if node.level == 0
+                      else f"{package}.{node.module}" if node.level == 1 else None)
+            if target is not None and package and target.rpartition(".")[0] == package:
+                todo.append(target)
+    return "\n".join(inspect.getsource(importlib.import_module(n)) for n in order)
 
 
 #: the parts of :mod:`debench.models` the FE tasks run: the buckling model, the
