@@ -205,3 +205,26 @@ def test_fe_suppression_prestretch_converged():
     d = P.suppression_support(0.0, P.MESH_FINE, P.TOL_SUPPRESSION_FINE,
                               n=P.SUPPRESSION_N_FINE)
     assert d["supports"] == "membrane", d
+
+
+#: the guided and the unguided FE suppression searches bracket the same root to XTOL each
+#: (brentq), so they agree within 2 XTOL
+SEARCH_XTOL = 1e-7
+SEARCH_MESH = FEMesh(n_a=2, n_b=10, order=2)
+
+
+def test_fe_suppression_search_finds_the_root_from_any_guess():
+    """The FE suppression pre-stretch (Sec. 3.5.2) does not depend on the search hint: from
+    a guess 0.4 away (outside the first window of width 1e-3) the search widens and
+    brackets the same sign change as the search over the whole window, and a window
+    without a sign change is an error."""
+    from debench.models.circular.fe import pullin_suppression_prestretch
+
+    whole = pullin_suppression_prestretch(0.0, mesh=SEARCH_MESH, xtol=SEARCH_XTOL)
+    far = pullin_suppression_prestretch(0.0, mesh=SEARCH_MESH, xtol=SEARCH_XTOL,
+                                        guess=2.9, width=1e-3)
+    assert abs(far.lamP - whole.lamP) <= 2 * SEARCH_XTOL, (far, whole)
+    assert far.lo <= far.lamP <= far.hi and far.hi - far.lo <= 2 * SEARCH_XTOL
+    with pytest.raises(ConvergenceError, match="not bracketed"):
+        pullin_suppression_prestretch(0.0, mesh=SEARCH_MESH, xtol=SEARCH_XTOL,
+                                      bracket=(2.6, 3.2), guess=2.9)

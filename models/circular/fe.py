@@ -116,6 +116,9 @@ class FEState:
     iterations: int
     residual: float
     x: np.ndarray = field(repr=False)
+    #: d(free unknowns, Phibar^2)/dlam from the bordered tangent at this state (its last
+    #: entry is ``dphibar2_dlam``): the Euler predictor of a continuation step from it
+    tangent: np.ndarray | None = field(default=None, repr=False, compare=False)
 
     @property
     def phibar(self) -> float:
@@ -132,7 +135,9 @@ class BorderedContinuation:
     unknowns), ``_i`` (the load), and ``_system(x, p) -> (residual, d residual/dp)``,
     ``_bordered(x, p) -> (M, J)``, ``_admissible(x)``, ``_finish(x, p, it, resid)`` (and
     ``gf``, ``_tmp`` for :meth:`_vec`); states
-    have ``lam``, ``phibar2``, ``dphibar2_dlam``, ``sigma1A`` and ``x``.
+    have ``lam``, ``phibar2``, ``dphibar2_dlam``, ``sigma1A``, ``x`` and ``tangent`` (the
+    bordered tangent at the state, computed once by ``_finish`` and reused as the
+    predictor of every step from it).
     """
 
     def _newton(self, x, p, lam):
@@ -194,7 +199,12 @@ class BorderedContinuation:
         return base
 
     def _step(self, base: FEState, lam: float) -> FEState:
-        t = self._tangent(base.x, base.phibar2)
+        """Newton from the Euler predictor at ``lam`` (the tangent kept with ``base``).
+
+        Which steps fail and are halved near the solid model's electrode-edge stall
+        depends on the predictor, and with it whether a film's continuation stalls: a
+        predictor of higher order changes that path, so it is not used."""
+        t = base.tangent if base.tangent is not None else self._tangent(base.x, base.phibar2)
         d = lam - base.lam
         x0 = base.x.copy()
         x0[self._F] += d * t[:-1]
@@ -225,6 +235,17 @@ class BorderedContinuation:
             prev = cur
         raise ValueError(f"no {what} for lam in [{self.lamP}, {lam_hi}] (lamP = {self.lamP},"
                          f" c = {self.c})")
+
+    def _cached_system(self, x, p, assemble):
+        """``assemble(x, p)`` (residual and its derivative in Phibar^2), remembered for the
+        last (x, p): Newton evaluates the system at its accepted iterate and the bordered
+        tangent needs it again at the same point. Returns copies."""
+        last = getattr(self, "_last_system", None)
+        if last is not None and last[1] == p and np.array_equal(last[0], x):
+            return last[2].copy(), last[3].copy()
+        res, d = assemble(x, p)
+        self._last_system = (np.array(x, copy=True), p, res.copy(), d.copy())
+        return res, d
 
     def _vec(self, form, x):
         """The form applied at the nodal values ``x`` (the subclass's NGSolve GridFunction
@@ -345,6 +366,9 @@ class CircularFE(BorderedContinuation):
         return out
 
     def _system(self, x, p):
+        return self._cached_system(x, p, self._assemble_system)
+
+    def _assemble_system(self, x, p):
         with np.errstate(all="ignore"):
             rm = self._vec(self._am, x)
             re = self._vec(self._ae, x)
@@ -368,7 +392,8 @@ class CircularFE(BorderedContinuation):
 
     def _finish(self, x, p, it, resid) -> FEState:
         lam = float(x[self._i])
-        dp = float(self._tangent(x, p)[-1])
+        t = self._tangent(x, p)
+        dp = float(t[-1])
         # one-sided T1 at R_A and sigma1 = lambda1 T1 at the centre of the first element
         self._set(x)
         R = np.array([1.0 - 1e-9, 1.0 + 1e-9, 0.5 / self.mesh_spec.n_a])
@@ -379,7 +404,7 @@ class CircularFE(BorderedContinuation):
         sig = l1[2] * T1c
         return FEState(lam=lam, phibar2=float(p), dphibar2_dlam=dp, T1A=float(T1A),
                        T1B=float(T1B),
-                       sigma1A=float(sig), iterations=it, residual=resid, x=x)
+                       sigma1A=float(sig), iterations=it, residual=resid, x=x, tangent=t)
 
     # ------------------------------------------------------------------ post-processing
     def _set(self, x):
@@ -461,14 +486,20 @@ class Suppression:
 def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
                                   Jm: float = JM_VHB, mesh: FEMesh = FEMesh(),
                                   bracket=(2.0, 3.2), xtol: float = 1e-8,
-                                  lam_step: float = 0.1) -> Suppression:
+                                  lam_step: float = 0.1, guess: float | None = None,
+                                  width: float = 1e-3) -> Suppression:
     """The pre-stretch above which pull-in is suppressed (Sec. 3.5.2), by FE alone.
 
     Root in lamP of ``g(lamP)`` = min of dPhibar^2/dlam over (lamP, lam_LoT]
     (:meth:`CircularFE.min_slope_before_loss_of_tension`), each ``g`` from a fresh FE
-    branch; brentq on ``bracket`` (a window of pre-stretches, g < 0 at its lower end and
-    > 0 at its upper end, else ConvergenceError) to ``xtol`` in lamP. No analytic
-    equation (ODE, closed forms of circle A) is used.
+    branch; brentq to ``xtol`` in lamP on a sign change of ``g`` (< 0 below, > 0 above)
+    inside ``bracket`` (a window of pre-stretches; none: ConvergenceError). Without
+    ``guess`` the sign change is that of the window's ends. With a ``guess`` inside the
+    window (a search hint only, e.g. an analytic value), the search starts on
+    ``[guess - width, guess + width]`` and widens towards the side that ``g``'s signs
+    point to, 8 times the width each time, up to the window: a root far from the guess
+    costs a few evaluations more and is found the same way. The root is where the FE's
+    ``g`` changes sign; no analytic equation (ODE, closed forms of circle A) is used.
     """
     v.finite("c", c)
     lo, hi = v.window("bracket", bracket, lo=1.0)
@@ -476,16 +507,32 @@ def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
     seen = {}
 
     def g(lamP):
-        model = CircularFE(lamP, c, radius_ratio=radius_ratio, Jm=Jm, mesh=mesh,
-                           lam_step=lam_step)
-        seen[lamP] = model.min_slope_before_loss_of_tension()
+        if lamP not in seen:
+            model = CircularFE(lamP, c, radius_ratio=radius_ratio, Jm=Jm, mesh=mesh,
+                               lam_step=lam_step)
+            seen[lamP] = model.min_slope_before_loss_of_tension()
         return seen[lamP][0]
 
-    glo, ghi = g(lo), g(hi)
-    if not (glo < 0 < ghi):
-        raise ConvergenceError(f"FE suppression pre-stretch not bracketed in {bracket}: "
-                               f"min slopes {glo:.3g}, {ghi:.3g}")
-    root = checked_brentq(g, lo, hi, xtol, "FE suppression pre-stretch")
+    if guess is None:
+        a, b = lo, hi
+    else:
+        v.in_range("guess", guess, lo, hi)
+        w = v.positive("width", width)
+        a, b = max(lo, guess - w), min(hi, guess + w)
+    ga, gb = g(a), g(b)
+    while not (ga < 0 < gb):
+        if (a, b) == (lo, hi) or (ga >= 0 and a == lo) or (gb <= 0 and b == hi):
+            raise ConvergenceError(f"FE suppression pre-stretch not bracketed in "
+                                   f"{bracket}: min slopes {ga:.3g} at {a:.6g}, "
+                                   f"{gb:.3g} at {b:.6g}")
+        w *= 8.0
+        if ga >= 0:                 # the sign change lies below a
+            a, b, gb = max(lo, a - w), a, ga
+            ga = g(a)
+        else:                       # g(b) <= 0: it lies above b
+            a, b, ga = b, min(hi, b + w), gb
+            gb = g(b)
+    root = checked_brentq(g, a, b, xtol, "FE suppression pre-stretch")
     neg = [x for x in seen if seen[x][0] < 0]
     pos = [x for x in seen if seen[x][0] >= 0]
     if root not in seen:
@@ -511,8 +558,11 @@ def _T1(material, l1, l2, I4):
     """dw/dl1 of the library energy (3.20) at I4 = Phibar^2 (any sign: w is linear in I4,
     so the two complex-step derivatives at I4 = 0 and 1 give it)."""
     h = 1e-30
-    w0 = np.imag(material.free_energy(l1 + 1j * h, l2, 0.0)) / h
-    w1 = np.imag(material.free_energy(l1 + 1j * h, l2, 1.0)) / h
+    l1, l2 = np.asarray(l1, dtype=float), np.asarray(l2, dtype=float)
+    both = np.imag(material.free_energy(np.stack([l1, l1]) + 1j * h, np.stack([l2, l2]),
+                                        np.array([0.0, 1.0]).reshape((2,) + (1,) * l1.ndim))
+                   ) / h
+    w0, w1 = both[0], both[1]
     out = w0 + I4 * (w1 - w0)
     return float(out) if np.ndim(out) == 0 else out
 

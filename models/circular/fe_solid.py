@@ -131,6 +131,9 @@ class SolidState:
     iterations: int
     residual: float
     x: np.ndarray = field(repr=False)
+    #: d(free unknowns, Phibar^2)/dlam from the bordered tangent at this state (the Euler
+    #: predictor of a continuation step from it; last entry ``dphibar2_dlam``)
+    tangent: np.ndarray | None = field(default=None, repr=False, compare=False)
 
     @property
     def phibar(self) -> float:
@@ -300,7 +303,10 @@ class CircularSolidFE(BorderedContinuation):
 
     def _system(self, x, p):
         """Residual: mechanical rows ``r_m + Phibar^2 r_e``, potential rows ``r_e``;
-        and its derivative in Phibar^2."""
+        and its derivative in Phibar^2 (remembered for the last (x, p))."""
+        return self._cached_system(x, p, self._assemble_system)
+
+    def _assemble_system(self, x, p):
         with np.errstate(all="ignore"):
             rm = self._vec(self._am, x)
             re = self._vec(self._ae, x)
@@ -358,12 +364,13 @@ class CircularSolidFE(BorderedContinuation):
     # ------------------------------------------------------------------ post-processing
     def _finish(self, x, p, it, resid) -> SolidState:
         lam = float(1.0 + x[self._i])
-        dp = float(self._tangent(x, p)[-1])
+        t = self._tangent(x, p)
+        dp = float(t[-1])
         self.gf.vec.FV().NumPy()[:] = x
         return SolidState(lam=lam, lam_centre=self._centre_stretch(),
                           phibar2=float(p), dphibar2_dlam=dp,
                           sigma1A=self._centre_stress(p), iterations=it, residual=resid,
-                          x=x)
+                          x=x, tangent=t)
 
     def _centre_stretch(self) -> float:
         """lambda_theta = 1 + u_R/R at the axis, mid-plane (= 1 + du_R/dR there)."""

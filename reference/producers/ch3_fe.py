@@ -26,7 +26,8 @@ from functools import lru_cache
 
 import numpy as np
 from debench.models.circular import circle_a
-from debench.models.circular.actuator import branch, curves
+from debench.models.circular._chapter_pass import current_constants
+from debench.models.circular.actuator import branch, branches, curves_many
 from debench.models.circular.params import Annulus
 from debench.models.circular.shooting import integrate_inward, interface_state, q_for_stretch
 from debench.reference.catalogue import Accuracy, Entry, Outcome
@@ -65,15 +66,58 @@ def _fe(lamP, c, mesh):
     return CircularFE(lamP, c, mesh=FEMesh(**mesh))
 
 
+@lru_cache(maxsize=16)
+def _fe_event_state(kind: str, lamP: float, c: float, mesh: tuple):
+    """The FE state at pull-in (``"pullin"``, searched up to lam = 4) or at loss of tension
+    (``"loss_of_tension"``, up to 8) on the mesh ``mesh`` (sorted items), computed once
+    per command: the pull-in entries of stretch and Phibar read one state."""
+    fe = _fe(lamP, c, dict(mesh))
+    return fe.pullin(4.0) if kind == "pullin" else fe.loss_of_tension(8.0)
+
+
+def _fe_event(quantity: str, lamP: float, c: float, mesh: dict) -> float:
+    if quantity == "loss_of_tension":
+        return _fe_event_state(quantity, float(lamP), float(c), tuple(sorted(mesh.items()))).lam
+    if quantity in ("pullin_phibar", "pullin_lam"):
+        s = _fe_event_state("pullin", float(lamP), float(c), tuple(sorted(mesh.items())))
+        return s.phibar if quantity == "pullin_phibar" else s.lam
+    raise ValueError(f"quantity must be one of loss_of_tension, pullin_phibar, "
+                     f"pullin_lam, got {quantity!r}")
+
+
 @lru_cache(maxsize=32)
 def _branch(lamP: float, equilibrium: str, steps: int = ANALYTIC_STEPS):
     return branch(Annulus(lamP, equilibrium=equilibrium), steps=steps)
 
 
+#: the (lamP, c) whose analytic events the FE entries and the thickness sequences compare
+#: with (``ch3.fe.loss_of_tension_lamP_3``, ``ch3.fe.pullin_*_lamP_1p25`` and the
+#: thickness events): both variants of all of them are located in one batched pass
+#: (:func:`~debench.models.circular.actuator.branches`,
+#: :func:`~debench.models.circular.actuator.curves_many`: the same branches and events as
+#: one :func:`branch` and :func:`curves` each); another case is computed on its own
+EVENT_CASES = ((1.25, 0.0), (3.0, 0.0))
+
+
+@lru_cache(maxsize=8)
+def _analytic_events_many(cases: tuple, steps: int, constants: tuple) -> dict:
+    """{(lamP, c, variant): events} of both variants of every ``(lamP, c)`` in ``cases``:
+    one batched branch trace and one batched event location (``constants``: the model
+    constants as read now, part of the memo key only)."""
+    keys = [(float(lp), float(c), v) for lp, c in cases for v in VARIANTS]
+    brs = branches([Annulus(lp, equilibrium=v) for lp, _, v in keys], steps=steps)
+    cvs = curves_many([(b, [k[1]], None) for b, k in zip(brs, keys, strict=True)],
+                      steps=steps)
+    return {k: cv[0].events for k, cv in zip(keys, cvs, strict=True)}
+
+
 def analytic_events(lamP: float, c: float, equilibrium: str,
                     steps: int = ANALYTIC_STEPS) -> dict:
-    """Pull-in (stretch, Phibar) and loss-of-tension stretch of the analytic model."""
-    ev = curves(_branch(float(lamP), equilibrium, steps), [float(c)])[0].events
+    """Pull-in (stretch, Phibar) and loss-of-tension stretch of the analytic model
+    (RK4 with ``steps`` steps; the cases of :data:`EVENT_CASES` in one batched pass)."""
+    case = (float(lamP), float(c))
+    cases = EVENT_CASES if case in EVENT_CASES else (case,)
+    ev = _analytic_events_many(cases, int(steps), current_constants())[(*case, equilibrium)]
     out = {}
     if ev.get("pullin") is not None:
         out["pullin_lam"], out["pullin_phibar"] = ev["pullin"].lam, ev["pullin"].phibar
@@ -97,15 +141,7 @@ def event_support(quantity: str, lamP: float, c: float, mesh: dict, tol: float,
     """FE value of an event (``loss_of_tension``, ``pullin_phibar``, ``pullin_lam``) beside
     both analytic variants; ``supports`` names the variant within ``tol`` of the FE, or
     ``"neither"``/``"both"``."""
-    fe = _fe(lamP, c, mesh)
-    if quantity == "loss_of_tension":
-        val = fe.loss_of_tension(8.0).lam
-    elif quantity in ("pullin_phibar", "pullin_lam"):
-        s = fe.pullin(4.0)
-        val = s.phibar if quantity == "pullin_phibar" else s.lam
-    else:
-        raise ValueError(f"quantity must be one of loss_of_tension, pullin_phibar, "
-                         f"pullin_lam, got {quantity!r}")
+    val = _fe_event(quantity, lamP, c, mesh)
     out = {"fe": val, "tol": tol}
     for v in VARIANTS:
         out[v] = analytic_events(lamP, c, v, steps)[quantity]
@@ -248,12 +284,15 @@ def suppression_support(c: float, mesh: dict, tol: float, n: int = SUPPRESSION_N
     before loss of tension, ``ch3.assumption.pullin_suppressed``) by FE alone
     (:func:`debench.models.circular.fe.pullin_suppression_prestretch`) beside both analytic
     variants (:mod:`debench.models.circular.analysis`, branch grid of ``n`` points);
-    ``supports`` names the variant within ``tol`` of the FE."""
+    ``supports`` names the variant within ``tol`` of the FE. The FE search starts on
+    the membrane variant's value -+ ``tol`` (a hint: the FE's own sign change decides,
+    and the search widens to the whole window when it lies elsewhere)."""
     from debench.models.circular import analysis
     from debench.models.circular.fe import FEMesh, pullin_suppression_prestretch
 
-    r = pullin_suppression_prestretch(c, mesh=FEMesh(**mesh), xtol=SUPPRESSION_XTOL)
     an = analysis._suppression_prestretches(c, VARIANTS, n=n, xtol=SUPPRESSION_XTOL)
+    r = pullin_suppression_prestretch(c, mesh=FEMesh(**mesh), xtol=SUPPRESSION_XTOL,
+                                      guess=an[VARIANTS.index("membrane")], width=tol)
     out = {"fe": r.lamP, "lam_cusp_fe": r.lam_cusp, "tol": tol}
     for v, x in zip(VARIANTS, an, strict=True):
         out[v] = x
