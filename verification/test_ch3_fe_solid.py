@@ -85,3 +85,41 @@ def test_solid_rejects_bad_input():
         SolidMesh(nz=0)
     with pytest.raises(ValueError, match="penalty"):
         CircularSolidFE(2.0, 0.1, mesh=SMALL_MESH, penalty=0.0)
+
+
+#: central differences of the residual with step DIFF_STEP (relative to the state's scale
+#: 1): truncation ~h^2 |r'''| ~ 1e-12 x the penalty 1e5 and round-off ~eps |r|/h ~ 1e-10 x
+#: |r| ~ 1e-5 relative to |J v| ~ 1e2; TANGENT_RTOL is 10x that
+DIFF_STEP = 1e-6
+TANGENT_RTOL = 1e-4
+
+
+def test_solid_bordered_tangent_is_the_derivative_of_the_residual():
+    """The bordered Newton matrix of the solid ([dR/dx_free, dR/dPhibar^2] on the equation
+    rows) and its load column dR/dx_load, as Newton and the continuation assemble them,
+    are the derivative of the residual along a random direction (central differences) at
+    a state under voltage (lamP = 3, edge stretch 3.2, Phibar^2 > 0)."""
+    model = CircularSolidFE(3.0, 0.2, mesh=SMALL_MESH)
+    s = model.solve(3.2)
+    assert s.phibar2 > 0
+    M, col = model._bordered(s.x, s.phibar2)
+    E, F, i = model._E, model._F, model._i
+    rng = np.random.default_rng(0)
+    v = rng.standard_normal(len(F) + 1)
+
+    def res(t):
+        x = s.x.copy()
+        x[F] += t * v[:-1]
+        return model._system(x, s.phibar2 + t * v[-1])[0][E]
+
+    fd = (res(DIFF_STEP) - res(-DIFF_STEP)) / (2 * DIFF_STEP)
+    got = M @ v
+    assert np.max(np.abs(got - fd)) <= TANGENT_RTOL * np.max(np.abs(got))
+
+    def res_load(t):
+        x = s.x.copy()
+        x[i] += t
+        return model._system(x, s.phibar2)[0][E]
+
+    fd = (res_load(DIFF_STEP) - res_load(-DIFF_STEP)) / (2 * DIFF_STEP)
+    assert np.max(np.abs(col - fd)) <= TANGENT_RTOL * np.max(np.abs(col))

@@ -269,10 +269,6 @@ class CircularSolidFE(BorderedContinuation):
               if abs(vx.point[0] - 1.0) < 1e-12 and abs(vx.point[1]) < 1e-14]
         self._i = self.fes.Range(0).start + VR.GetDofNrs(ng.NodeId(ng.VERTEX, iv[0]))[0]
         self._psi = np.arange(self.fes.Range(3).start, self.fes.Range(3).stop)
-        is_psi = np.zeros(self.fes.ndof)
-        is_psi[self._psi] = 1.0
-        self._rows_e = sp.diags(is_psi, format="csr")
-        self._rows_m = sp.diags(1.0 - is_psi, format="csr")
         self._E = np.nonzero(free)[0]
         self._F = self._E[self._E != self._i]
         self._tmp = self.gf.vec.CreateVector()
@@ -294,12 +290,11 @@ class CircularSolidFE(BorderedContinuation):
 
     # ------------------------------------------------------------------ assembly
     def _mat(self, form, x):
+        """The linearisation of ``form`` at ``x`` as COO arrays (rows, cols, values)."""
         self.gf.vec.FV().NumPy()[:] = x
         form.AssembleLinearization(self.gf.vec)
         rows, cols, vals = form.mat.COO()
-        n = self.fes.ndof
-        return sp.csr_matrix((np.asarray(vals), (np.asarray(rows), np.asarray(cols))),
-                             shape=(n, n))
+        return np.asarray(rows), np.asarray(cols), np.asarray(vals)
 
     def _system(self, x, p):
         """Residual: mechanical rows ``r_m + Phibar^2 r_e``, potential rows ``r_e``;
@@ -317,19 +312,65 @@ class CircularSolidFE(BorderedContinuation):
         return res, dp
 
     def _bordered(self, x, p):
+        """The bordered matrix ``[J[E, F], dR/dPhibar^2[E]]`` (sparse, CSC) and the load
+        column ``J[E, i]`` of the tangent ``J`` (mechanical rows ``J_m + Phibar^2 J_e``,
+        potential rows ``J_e``), scattered straight from the two forms' COO values into
+        a structure fixed at the first call (the sparsity of a form does not change)."""
         Jm = self._mat(self._am, x)
         Je = self._mat(self._ae, x)
-        J = self._rows_m @ (Jm + p * Je) + self._rows_e @ Je   # psi rows: r_e alone
+        plan = self._scatter_plan(Jm, Je)
         _, dp = self._system(x, p)
+        vals = np.concatenate([Jm[2][plan["m"]], Je[2][plan["e"]] * np.where(
+            plan["e_psi"], 1.0, p), dp[self._E]])
+        data = np.bincount(plan["slot"], weights=vals[plan["keep"]], minlength=plan["nnz"])
+        M = sp.csc_matrix((data, plan["indices"], plan["indptr"]), shape=plan["shape"])
+        col = np.bincount(plan["load_row"], weights=vals[plan["load"]],
+                          minlength=len(self._E))
+        return M, col
+
+    def _scatter_plan(self, Jm, Je) -> dict:
+        """Where each COO value of the two forms goes in the bordered matrix (computed
+        once; the COO structure is checked against it at every call)."""
+        plan = getattr(self, "_plan", None)
+        if plan is not None:
+            if not (np.array_equal(plan["rc"][0], Jm[0]) and np.array_equal(plan["rc"][1], Jm[1])
+                    and np.array_equal(plan["rc"][2], Je[0])
+                    and np.array_equal(plan["rc"][3], Je[1])):
+                raise RuntimeError("the sparsity of the solid's tangent changed")
+            return plan
+        n = self.fes.ndof
         E, F = self._E, self._F
-        M = sp.hstack([J[E][:, F], sp.csr_matrix(dp[E][:, None])]).tocsc()
-        return M, J
+        row_of = np.full(n, -1)
+        row_of[E] = np.arange(len(E))
+        col_of = np.full(n, -1)
+        col_of[F] = np.arange(len(F))
+        is_psi = np.zeros(n, dtype=bool)
+        is_psi[self._psi] = True
+        km = (row_of[Jm[0]] >= 0) & ~is_psi[Jm[0]]          # psi rows: J_e alone
+        ke = row_of[Je[0]] >= 0
+        r = np.concatenate([row_of[Jm[0][km]], row_of[Je[0][ke]], np.arange(len(E))])
+        c = np.concatenate([col_of[Jm[1][km]], col_of[Je[1][ke]], np.full(len(E), len(F))])
+        # the load column i: entries with c == i (col_of = -1 there)
+        load = np.concatenate([Jm[1][km] == self._i, Je[1][ke] == self._i,
+                               np.zeros(len(E), dtype=bool)])
+        keep = c >= 0
+        key = c * len(E) + r                                 # column-major: CSC order
+        uniq, slot = np.unique(key[keep], return_inverse=True)
+        full_slot = np.full(len(key), -1)
+        full_slot[keep] = slot
+        indptr = np.searchsorted(uniq // len(E), np.arange(len(F) + 2))
+        self._plan = plan = {
+            "rc": (Jm[0], Jm[1], Je[0], Je[1]), "m": km, "e": ke,
+            "e_psi": is_psi[Je[0][ke]], "slot": full_slot[keep], "nnz": len(uniq),
+            "indices": uniq % len(E), "indptr": indptr, "shape": (len(E), len(F) + 1),
+            "keep": keep, "load": load, "load_row": r[load]}
+        return plan
 
     def _load_value(self, lam):
         return lam - 1.0          # u_R(R_A, 0) = (lam - 1) R_A
 
     def _load_column(self, J):
-        return np.asarray(J[self._E][:, [self._i]].todense()).ravel()
+        return J                  # _bordered returns the load column itself
 
     def _admissible(self, x) -> bool:
         self.gf.vec.FV().NumPy()[:] = x

@@ -8,7 +8,11 @@ analytic variants, with the limit H -> 0 (the ``ch3.fe.thickness_*`` entries rea
 A chapter of its own because it costs minutes of CPU (the loss-of-tension sequence most):
 ``debench verify`` does not rebuild it; its model guard
 (:func:`debench.reference.producers.ch3_fe.thickness_guards`) recomputes the thickest film
-of one sequence and compares it with the stored value.
+of one sequence and compares it with the stored value. The films are independent solves:
+they run as tasks (:func:`film_task`) on the Chapter 5 task runner
+(:func:`debench.reference.builders.ch5.run_tasks`: serial, a Dask LocalCluster or an
+existing scheduler), thinnest first (the longest); the sequences' membrane references and
+analytic variants are computed here.
 """
 
 from __future__ import annotations
@@ -27,13 +31,35 @@ TITLE = "Chapter 3 film thickness: the thin axisymmetric solid on film sequences
 SUMMARY = ("Film sequences of the thin solid FE (Phibar at a fixed centre stretch for lamP = 3 and c = 0, -0.053, and for lamP = 2, 4 at centre stretch lamP + 1; Phibar at pull-in for lamP = 1.25; the loss-of-tension centre stretch for lamP = 3) per film thickness H, the extrapolation to H -> 0, the membrane FE with the in-plane mesh error and both analytic variants.")
 
 
-def thickness(full: bool) -> xr.Dataset:
+def film_task(H: float, quantity: str, lamP: float, c: float, lam_centre: float,
+              nz: int) -> float:
+    """One film of a sequence as a task (H first: the task runner submits the thinnest,
+    the longest, first): the solid's value on SOLID_MESH_COARSE with ``nz`` rows, NaN
+    when its continuation stalls. One thread for BLAS and NGSolve."""
+    from debench.reference.builders._ch5_tasks import _limit_threads
+
+    _limit_threads()
+    return P.film_value(quantity, lamP, c, H, lam_centre, dict(P.SOLID_MESH_COARSE, nz=nz),
+                        stalled_as_nan=True)
+
+
+def thickness(full: bool, scheduler: str | None = None) -> xr.Dataset:
     """Every film sequence of the thin solid the ``ch3.fe.thickness_*`` entries read
     (:data:`~debench.reference.producers.ch3_fe.THICKNESS_SEQUENCES`; ``full`` adds films
     and the edge layer resolved twice as finely): per film H the solid value, with the
     membrane FE (reference mesh), the in-plane mesh error of the limit, both analytic
-    variants and the H -> 0 extrapolation with its uncertainty and observed order."""
+    variants and the H -> 0 extrapolation with its uncertainty and observed order.
+    ``scheduler``: where the films run (:func:`debench.reference.builders.ch5.build`)."""
+    from debench.reference.builders.ch5 import resolve_scheduler, run_tasks
+
     seqs = P.thickness_sequences(full)
+    tasks = [(film_task, float(h), s.quantity, float(s.lamP), float(s.c),
+              float(s.lam_centre), int(s.nz)) for s in seqs for h in s.films]
+    cpu = time.process_time()
+    films = iter(run_tasks(tasks, scheduler=resolve_scheduler(scheduler),
+                           progress=sys.stderr.isatty()))
+    print(f"  ch3_fe_thickness: {len(tasks)} films in {time.process_time() - cpu:.1f} s CPU "
+          "(this process)", file=sys.stderr, flush=True)
     nf = max(len(s.films) for s in seqs)
     shape = (len(seqs), nf)
     H, val, diff = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
@@ -41,15 +67,13 @@ def thickness(full: bool) -> xr.Dataset:
                                             "extrapolated", "extrapolated_observed_order",
                                             "extrapolation_error", "order")}
     for i, s in enumerate(seqs):
-        cpu = time.process_time()
+        vals = [next(films) for _ in s.films]
         d = P.thickness_study(s.quantity, s.lamP, s.films, dict(P.SOLID_MESH_COARSE, nz=s.nz),
-                              s.lam_centre, c=s.c, stalled_as_nan=True)
+                              s.lam_centre, c=s.c, stalled_as_nan=True, values=vals)
         n = len(s.films)
         H[i, :n], val[i, :n], diff[i, :n] = s.films, d["values"], d["diff_membrane_fe"]
         for k in per:
             per[k][i] = d[k]
-        print(f"  ch3_fe_thickness: {s.name} in {time.process_time() - cpu:.1f} s CPU",
-              file=sys.stderr, flush=True)
     a = lambda what: {"long_name": what, "units": "1"}  # noqa: E731
     seq = ("sequence",)
     what = ("the quantity of the sequence: phibar (Phibar at centre stretch lam_centre), "
@@ -83,11 +107,12 @@ def thickness(full: bool) -> xr.Dataset:
 
 
 
-def build(out_dir: Path, *, full: bool = False) -> list[Path]:
+def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) -> list[Path]:
     """Write ``ch3_fe_thickness.nc`` to ``out_dir`` (``full``: more films and the edge layer
-    resolved twice as finely)."""
+    resolved twice as finely; ``scheduler`` as :func:`debench.reference.builders.ch5.build`:
+    None runs the films on a LocalCluster on a machine with more than one core)."""
     from debench.reference.builders.ch3_fe import _params
-    ds = thickness(full)
+    ds = thickness(full, scheduler)
     prm = _params(full, **ds.attrs)
     ds.attrs = {}
     return [write_dataset(ds, NAME, title=TITLE, summary=SUMMARY, parameters=prm,

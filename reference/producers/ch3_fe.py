@@ -466,9 +466,23 @@ def thickness_limit(quantity: str, lamP: float, c: float, lam_centre: float, Hs,
     return out
 
 
+def film_value(quantity: str, lamP: float, c: float, H: float, lam_centre: float,
+               mesh: dict, stalled_as_nan: bool = False) -> float:
+    """:func:`solid_value` of one film; with ``stalled_as_nan``, NaN when its continuation
+    stalls (ConvergenceError: the singular edge tangent of the solid)."""
+    from debench.models.errors import ConvergenceError
+
+    try:
+        return solid_value(quantity, lamP, c, H, lam_centre, mesh)
+    except ConvergenceError:
+        if not stalled_as_nan:
+            raise
+        return math.nan
+
+
 def thickness_study(quantity: str, lamP: float, Hs, mesh: dict, lam_centre: float = math.nan,
                     steps: int = ANALYTIC_STEPS, c: float = 0.0,
-                    stalled_as_nan: bool = False) -> dict:
+                    stalled_as_nan: bool = False, values=None) -> dict:
     """A quantity of the thin solid for the films ``Hs``, computed here: ``"phibar"``
     (Phibar at centre stretch ``lam_centre``), ``"pullin_phibar"`` (the maximum of Phibar,
     independent of the stretch measure) or ``"loss_of_tension"`` (the centre stretch at
@@ -478,20 +492,17 @@ def thickness_study(quantity: str, lamP: float, Hs, mesh: dict, lam_centre: floa
     the solid's in-plane mesh (n_a, n_b, P2) minus the reference, the error the H -> 0
     limit inherits from that mesh. ``stalled_as_nan``: a film whose continuation stalls
     (ConvergenceError: the singular edge tangent of the solid) gets the value NaN, and
-    with it the limit (the dataset records the stall); otherwise the error propagates."""
-    from debench.models.errors import ConvergenceError
-
+    with it the limit (the dataset records the stall); otherwise the error propagates.
+    ``values``: the films' :func:`film_value` when the caller computed them already (the
+    dataset builder runs the films as independent tasks); else they are computed here."""
     if quantity not in THICKNESS_QUANTITIES:
         raise ValueError(f"quantity must be one of {THICKNESS_QUANTITIES}, got {quantity!r}")
-    f = []
-    for h in Hs:
-        try:
-            f.append(solid_value(quantity, lamP, c, h, lam_centre, mesh))
-        except ConvergenceError:
-            if not stalled_as_nan:
-                raise
-            f.append(math.nan)
-    f = np.array(f)
+    if values is None:
+        values = [film_value(quantity, lamP, c, h, lam_centre, mesh, stalled_as_nan)
+                  for h in Hs]
+    elif len(values) != len(Hs):
+        raise ValueError(f"values must hold one value per film ({len(Hs)}), got {len(values)}")
+    f = np.array(values, dtype=float)
     mem = _membrane_fe_value(quantity, lamP, c, lam_centre, MEMBRANE_REFERENCE_MESH)
     inplane = dict(n_a=mesh["n_a"], n_b=mesh["n_b"], order=2)
     mesh_error = _membrane_fe_value(quantity, lamP, c, lam_centre, inplane) - mem
@@ -629,7 +640,8 @@ def fe_thickness(entry: Entry) -> Outcome:
 
 __all__ = ["ACCURACY", "GUARD_SEQUENCE", "FilmSequence", "analytic_events", "analytic_phibar",
            "erratum_eq_3_32", "event_support", "fe_event", "fe_suppression_prestretch",
-           "fe_thickness", "h_limit", "interface_balance", "penalty_spread", "solid_phibar",
+           "fe_thickness", "film_value", "h_limit", "interface_balance", "penalty_spread",
+           "solid_phibar",
            "solid_value", "stored_sequence", "thickness_limit", "thickness_sequences",
            "thickness_study",
            "profile_comparison", "suppression_support", "voltage_stretch"]
