@@ -15,6 +15,7 @@ film (default run) and every film (``--full``). Numbers and orders: the thicknes
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pytest
 from debench.reference import catalogue
@@ -147,6 +148,24 @@ def test_thin_solid_thickest_film_recomputes(entry_id):
     q, lamP, c, lc, s = _sequence_of(catalogue.by_id()[entry_id])
     got = P.solid_value(q, lamP, c, s["H"][0], lc, P.SOLID_MESH_COARSE)
     assert _close(got, s["values"][0]), (got, s)
+
+
+def test_film_task_is_the_stored_film_and_is_keyed_on_the_code(monkeypatch):
+    """A film run as a builder task (:func:`film_task`) is the stored film (the thickest of
+    the lamP = 3 Phibar sequence); the code digest its task carries changes with the
+    solid model's source, so that a cached task result is never served for other code."""
+    from debench.reference.builders import ch3_fe_thickness as B
+
+    g = P.GUARD_SEQUENCE
+    s = P.stored_sequence(P._thickness_data(), g.quantity, g.lamP, g.c, g.lam_centre, g.nz)
+    got = B.film_task(s["H"][0], g.quantity, g.lamP, g.c, g.lam_centre, g.nz,
+                      B.film_sources())
+    assert _close(got, s["values"][0]), (got, s["values"][0])
+    before = B.film_sources()
+    real = Path.read_bytes
+    monkeypatch.setattr(Path, "read_bytes", lambda self: real(self) + (
+        b"#" if self.name == "fe_solid.py" else b""))
+    assert B.film_sources() != before
 
 
 @pytest.mark.slow

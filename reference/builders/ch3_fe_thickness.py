@@ -17,6 +17,7 @@ analytic variants are computed here.
 
 from __future__ import annotations
 
+import hashlib
 import sys
 import time
 from pathlib import Path
@@ -31,11 +32,27 @@ TITLE = "Chapter 3 film thickness: the thin axisymmetric solid on film sequences
 SUMMARY = ("Film sequences of the thin solid FE (Phibar at a fixed centre stretch for lamP = 3 and c = 0, -0.053, and for lamP = 2, 4 at centre stretch lamP + 1; Phibar at pull-in for lamP = 1.25; the loss-of-tension centre stretch for lamP = 3) per film thickness H, the extrapolation to H -> 0, the membrane FE with the in-plane mesh error and both analytic variants.")
 
 
+def film_sources() -> str:
+    """sha256 of the source a film runs beyond what the task runner's cache key holds
+    (:func:`debench.reference.builders.ch5.models_digest` covers the materials and the
+    top-level model modules): the Chapter 3 models and the producer module."""
+    import debench.models.circular as circular
+    import debench.reference.producers.ch3_fe as producer
+
+    h = hashlib.sha256()
+    for f in [*sorted(Path(circular.__file__).parent.glob("*.py")), Path(producer.__file__)]:
+        h.update(f.name.encode())
+        h.update(f.read_bytes())
+    return h.hexdigest()
+
+
 def film_task(H: float, quantity: str, lamP: float, c: float, lam_centre: float,
-              nz: int) -> float:
+              nz: int, sources: str = "") -> float:
     """One film of a sequence as a task (H first: the task runner submits the thinnest,
     the longest, first): the solid's value on SOLID_MESH_COARSE with ``nz`` rows, NaN
-    when its continuation stalls. One thread for BLAS and NGSolve."""
+    when its continuation stalls. One thread for BLAS and NGSolve. ``sources``
+    (:func:`film_sources`) is not used here: it is part of the task, so that a result
+    kept by the runner's cache (``DEBENCH_FE_CACHE``) is never served for other code."""
     from debench.reference.builders._ch5_tasks import _limit_threads
 
     _limit_threads()
@@ -53,8 +70,9 @@ def thickness(full: bool, scheduler: str | None = None) -> xr.Dataset:
     from debench.reference.builders.ch5 import resolve_scheduler, run_tasks
 
     seqs = P.thickness_sequences(full)
+    code = film_sources()
     tasks = [(film_task, float(h), s.quantity, float(s.lamP), float(s.c),
-              float(s.lam_centre), int(s.nz)) for s in seqs for h in s.films]
+              float(s.lam_centre), int(s.nz), code) for s in seqs for h in s.films]
     cpu = time.process_time()
     films = iter(run_tasks(tasks, scheduler=resolve_scheduler(scheduler),
                            progress=sys.stderr.isatty()))
