@@ -324,6 +324,10 @@ class CircularSolidFE(BorderedContinuation):
             plan["e_psi"], 1.0, p), dp[self._E]])
         data = np.bincount(plan["slot"], weights=vals[plan["keep"]], minlength=plan["nnz"])
         M = sp.csc_matrix((data, plan["indices"], plan["indptr"]), shape=plan["shape"])
+        # zeros out (the forms' structural zeros, cancellations): SuperLU orders the
+        # columns by the structure, and the continuation's path near the electrode-edge
+        # stall depends on the round-off of that order
+        M.eliminate_zeros()
         col = np.bincount(plan["load_row"], weights=vals[plan["load"]],
                           minlength=len(self._E))
         return M, col
