@@ -690,6 +690,9 @@ def compute(full: bool = False, progress: bool = True, scheduler=None):
     data["eig_axisymmetry"] = (("case", "eig_record", "mode"),
                                np.array([pad(rfin[c].eig_axisym, neig, (3,)) for c in names]),
                                attrs1("fraction of the mode in the angular harmonic n = 0"))
+    data["eig_wavenumber"] = (("case", "eig_record", "mode"),
+                              np.array([pad(rfin[c].eig_wavenumber, neig, (3,)) for c in names]),
+                              attrs1("dominant angular harmonic of the mode (0: axisymmetric)"))
 
     rl = [rfin[c] for c in names]
     pullin_acc = "parabola through the voltage maximum of this mesh (< 1e-3 relative)"
@@ -773,25 +776,38 @@ def compute(full: bool = False, progress: bool = True, scheduler=None):
     return crit, ramp_ds, params
 
 
-def lowest_nonaxisymmetric(eig_lam, eig_axisym, axisym_max: float = 0.5) -> np.ndarray:
-    """Per eigen-record, the lowest eigenvalue of a non-axisymmetric mode (n = 0 fraction
-    below ``axisym_max``); inf where a record has none or is NaN padding (the Fig. 5.5
-    counterparts plot it against the deflection)."""
-    lam = np.where(np.asarray(eig_axisym) < axisym_max, np.asarray(eig_lam), np.nan)
+def axisymmetric(eig_n) -> np.ndarray:
+    """Which recorded modes are axisymmetric: those whose dominant angular harmonic (the
+    harmonic with the largest share of the mode, ``eig_wavenumber`` of the records; see
+    :func:`debench.models.buckling.fem.mode_harmonics`) is n = 0. The dominant harmonic
+    rather than a threshold on the n = 0 share: on the unstructured meshes the pull-in mode
+    can carry half of its amplitude in n >= 1 harmonics spread over several wavenumbers
+    (measured: 47 % in n = 0 at the first record past pull-in of one R/t0 = 10 mesh),
+    while a wrinkling mode's share is concentrated in one n >= 1. NaN padding is not
+    axisymmetric."""
+    n = np.asarray(eig_n, float)
+    return np.isfinite(n) & (n == 0)
+
+
+def lowest_nonaxisymmetric(eig_lam, eig_n) -> np.ndarray:
+    """Per eigen-record, the lowest eigenvalue of a non-axisymmetric mode (dominant
+    harmonic n >= 1, :func:`axisymmetric`); inf where a record has none or is NaN padding
+    (the Fig. 5.5 counterparts plot it against the deflection)."""
+    lam = np.where(axisymmetric(eig_n), np.nan, np.asarray(eig_lam, float))
     return np.nanmin(np.where(np.isfinite(lam), lam, np.inf), axis=1)
 
 
-def first_instability(eig_w, eig_v, eig_lam, eig_axisym, eig_n,
-                      axisym_max: float = 0.5) -> dict:
+def first_instability(eig_w, eig_v, eig_lam, eig_axisym, eig_n) -> dict:
     """The first instability recorded along a path: the first eigen-record where an
     eigenvalue of the condensed tangent at fixed voltage is <= 0, classified by the mode
-    that is lowest there: ``axisymmetric`` (n = 0 fraction >= ``axisym_max``) is the
-    pull-in limit point of the axisymmetric film, ``non-axisymmetric`` a wrinkling
-    bifurcation. Its deflection / t0 (``w``) and voltage (``v``) are interpolated linearly
+    that is lowest there (:func:`axisymmetric`): ``axisymmetric`` is the pull-in limit
+    point of the axisymmetric film, ``non-axisymmetric`` a wrinkling bifurcation. Its
+    deflection / t0 (``w``) and voltage (``v``) are interpolated linearly
     to the zero of the lowest eigenvalue of that kind between the previous record and this
     one; ``n`` is the mode's dominant wavenumber; ``lam_ratio`` the three recorded
     eigenvalues there over the largest lowest eigenvalue of the path (how far the next
-    modes are from zero); ``axisym`` their n = 0 fractions. Kind ``"none"`` (NaN values)
+    modes are from zero); ``axisym`` their n = 0 fractions, ``wavenumbers`` their dominant
+    wavenumbers. Kind ``"none"`` (NaN values)
     when nothing became unstable. The voltage maximum of the deflection-controlled path is
     not used: where the path turns at a bifurcation, its maximum is the bifurcation, not
     the axisymmetric limit point."""
@@ -800,14 +816,16 @@ def first_instability(eig_w, eig_v, eig_lam, eig_axisym, eig_n,
     ok = np.isfinite(w)
     lam, ax, w, v, n = lam[ok], ax[ok], w[ok], v[ok], np.asarray(eig_n)[ok]
     out = {"kind": "none", "w": math.nan, "v": math.nan, "n": math.nan,
-           "lam_ratio": [math.nan] * 3, "axisym": [math.nan] * 3}
+           "lam_ratio": [math.nan] * 3, "axisym": [math.nan] * 3,
+           "wavenumbers": [math.nan] * 3}
     bad = np.flatnonzero(np.min(lam, axis=1) <= 0.0)
     if not bad.size:
         return out
     i = int(bad[0])
     j = int(np.argmin(lam[i]))
-    axisym = ax[i, j] >= axisym_max
-    same = (ax >= axisym_max) if axisym else (ax < axisym_max)
+    sym = axisymmetric(n)
+    axisym = bool(sym[i, j])
+    same = sym if axisym else ~sym
     lowest = np.min(np.where(same, lam, np.inf), axis=1)
     wi, vi = w[i], v[i]
     if i > 0 and np.isfinite(lowest[i - 1]) and lowest[i - 1] > 0:
@@ -816,18 +834,18 @@ def first_instability(eig_w, eig_v, eig_lam, eig_axisym, eig_n,
     scale = float(np.max(np.min(lam, axis=1)))
     out.update(kind="axisymmetric" if axisym else "non-axisymmetric", w=float(wi),
                v=float(vi), n=float(n[i, j]), lam_ratio=[float(x) / scale for x in lam[i]],
-               axisym=[float(x) for x in ax[i]])
+               axisym=[float(x) for x in ax[i]], wavenumbers=[float(x) for x in n[i]])
     return out
 
 
-def _min_nonaxisym(r, axisym_max: float = 0.5) -> float:
-    """Smallest eigenvalue of a non-axisymmetric mode (n = 0 fraction below
-    ``axisym_max``) among the records up to the pull-in deflection (NaN: none recorded)."""
+def _min_nonaxisym(r) -> float:
+    """Smallest eigenvalue of a non-axisymmetric mode (:func:`axisymmetric`) among the
+    records up to the pull-in deflection (NaN: none recorded)."""
     if len(r.eig_v) == 0:
         return float("nan")
     upto = np.asarray(r.eig_w) <= (r.w_pullin if r.w_pullin is not None else np.inf)
-    lam = np.where(np.asarray(r.eig_axisym) < axisym_max, np.asarray(r.eig_lam), np.nan)[upto]
-    return float(np.nanmin(lam)) if np.any(np.isfinite(lam)) else float("nan")
+    lam = lowest_nonaxisymmetric(r.eig_lam, r.eig_wavenumber)[upto]
+    return float(np.min(lam)) if np.any(np.isfinite(lam)) else float("nan")
 
 
 def figures(crit, ramps, fig_dir: Path) -> list[Path]:
@@ -876,7 +894,7 @@ def figures(crit, ramps, fig_dir: Path) -> list[Path]:
     fig, ax = plt.subplots(figsize=(5.8, 4.2))
     for case, style in (("nh_t1", "-o"), ("ogden_t1", "--s")):
         r = ramps.sel(case=case)
-        lam_min = lowest_nonaxisymmetric(r.eig_lambda.values, r.eig_axisymmetry.values)
+        lam_min = lowest_nonaxisymmetric(r.eig_lambda.values, r.eig_wavenumber.values)
         ok = np.isfinite(r.eig_w.values) & np.isfinite(lam_min)
         ax.plot(r.eig_w.values[ok], lam_min[ok], style, ms=3,
                 label=f"{case}, radius/thickness 10")

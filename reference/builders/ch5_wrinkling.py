@@ -53,21 +53,17 @@ quadratic elements per half-wave). The search is converged-only: one R/t0 = 20 O
 with eigen-analyses costs ~10-25 CPU minutes, beyond the default reproduce's budget, so the
 default build writes nothing."""
 
-#: a mode is non-axisymmetric when less than half of it is in the n = 0 harmonic
-AXISYM_MAX = 0.5
-
-
 def path_instability(r) -> dict:
     """The first instability recorded along one path
     (:func:`debench.reference.builders.ch5.first_instability`: its kind, voltage,
     deflection / t0 and wavenumber) and the smallest eigenvalue of a non-axisymmetric mode
     recorded up to it (the whole path when nothing became unstable) with its wavenumber."""
-    from debench.reference.builders.ch5 import first_instability
+    from debench.reference.builders.ch5 import axisymmetric, first_instability
     lam, ax = np.asarray(r.eig_lam, float), np.asarray(r.eig_axisym, float)
     w, n = np.asarray(r.eig_w, float), np.asarray(r.eig_wavenumber, float)
-    out = first_instability(w, r.eig_v, lam, ax, n, AXISYM_MAX)
+    out = first_instability(w, r.eig_v, lam, ax, n)
     upto = w <= (out["w"] if np.isfinite(out["w"]) else np.inf)
-    non = np.where(ax < AXISYM_MAX, lam, np.nan)[upto]
+    non = np.where(axisymmetric(n), np.nan, lam)[upto]
     out["min_lambda"] = out["min_lambda_n"] = math.nan
     if np.any(np.isfinite(non)):
         i, j = np.unravel_index(np.nanargmin(non), non.shape)
@@ -168,7 +164,7 @@ def figure(ds: xr.Dataset, fig_dir: Path) -> list[Path]:
     fig, ax = plt.subplots(figsize=(5.8, 4.2))
     for lev, style in zip(ds.level.values, ("-o", "--s", ":^", "-.v", "-D"), strict=False):
         r = ds.sel(level=lev)
-        lam_min = lowest_nonaxisymmetric(r.eig_lam.values, r.eig_axisym.values, AXISYM_MAX)
+        lam_min = lowest_nonaxisymmetric(r.eig_lam.values, r.eig_wavenumber.values)
         ok = np.isfinite(r.eig_w.values) & np.isfinite(lam_min)
         ax.plot(r.eig_w.values[ok], lam_min[ok], style, ms=3,
                 label=f"h = {float(r.h_rel):g} t0 ({float(r.rim_elements):.0f} rim elements)")
@@ -201,6 +197,7 @@ def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) ->
                  "kept R = 10 mm (§5.3.1, Fig. 5.5)."),
         parameters={"full": full, "levels_h_rel": list(LEVELS[full]), "layers": LAYERS,
                     "order": ORDER, "aspect": ASPECT, "eig_every": EIG_EVERY,
-                    "dv_max": DV_MAX, "axisym_max": AXISYM_MAX, "case": CASE,
+                    "dv_max": DV_MAX, "case": CASE,
+                    "mode_kind": "dominant angular harmonic (0: axisymmetric)",
                     "thickness_m": CASES[CASE][1]},
     )] + figure(ds, out_dir / "figures")

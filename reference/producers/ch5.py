@@ -462,7 +462,8 @@ def wrinkling_search(ds) -> dict:
     (:func:`debench.reference.builders.ch5.first_instability`: ``first_kind``, its
     deflection / t0 ``w_first_over_t0``, its voltage over the largest voltage of the path
     ``v_first_over_v_max``, wavenumber ``n_first``, the recorded eigenvalues there
-    ``lam_ratio_first`` and their n = 0 fractions ``axisym_first``); ``first`` -- it is a
+    ``lam_ratio_first``, their n = 0 fractions ``axisym_first`` and dominant wavenumbers
+    ``wavenumbers_first``); ``first`` -- it is a
     non-axisymmetric mode (wrinkling before pull-in); ``consistent`` -- the same kind on
     every resolution; the two finest levels' wrinkling deflections / t0 (``w_over_t0``,
     ``w_over_t0_second``; NaN where the first instability is not wrinkling); per level the
@@ -471,15 +472,14 @@ def wrinkling_search(ds) -> dict:
     the path (``min_nonaxisymmetric_lambda``, ``max_nonaxisymmetric_lambda``); the path's
     voltage maximum (``w_pullin_over_t0``: the dataset's ``w_pullin``) and why it ended."""
     from debench.reference.builders.ch5 import first_instability, lowest_nonaxisymmetric
-    from debench.reference.builders.ch5_wrinkling import AXISYM_MAX
     firsts, w_min, lam_min, lam_max = [], [], [], []
     for lev in ds.level.values:
         r = ds.sel(level=lev)
         f = first_instability(r.eig_w.values, r.eig_v.values, r.eig_lam.values,
-                              r.eig_axisym.values, r.eig_wavenumber.values, AXISYM_MAX)
+                              r.eig_axisym.values, r.eig_wavenumber.values)
         f["v_over_v_max"] = f["v"] / float(np.nanmax(r.v.values))
         firsts.append(f)
-        lam = lowest_nonaxisymmetric(r.eig_lam.values, r.eig_axisym.values, AXISYM_MAX)
+        lam = lowest_nonaxisymmetric(r.eig_lam.values, r.eig_wavenumber.values)
         upto = r.eig_w.values <= (f["w"] if np.isfinite(f["w"]) else np.inf)
         lam = np.where(upto & np.isfinite(lam), lam, np.inf)
         k = int(np.argmin(lam))
@@ -498,6 +498,7 @@ def wrinkling_search(ds) -> dict:
             "n_first": [f["n"] for f in firsts],
             "lam_ratio_first": [f["lam_ratio"] for f in firsts],
             "axisym_first": [f["axisym"] for f in firsts],
+            "wavenumbers_first": [f["wavenumbers"] for f in firsts],
             "w_over_t0": wrinkle(firsts[-1], "w"),
             "w_over_t0_second": wrinkle(firsts[-2], "w"),
             "v": wrinkle(firsts[-1], "v"), "n": wrinkle(firsts[-1], "n"),
@@ -532,7 +533,7 @@ def hypothesis_wrinkling(entry: Entry) -> Outcome:
         mesh_err = abs(found["w_over_t0"] - found["w_over_t0_second"]) * t0_mm
     status = "explained" if both and abs(value - t) <= mesh_err + dt else "unexplained"
     r10 = _ramps().sel(case="ogden_t0p5")     # the same film at the stated R/t0 = 10
-    lam10 = lowest_nonaxisymmetric(r10.eig_lambda.values, r10.eig_axisymmetry.values)
+    lam10 = lowest_nonaxisymmetric(r10.eig_lambda.values, r10.eig_wavenumber.values)
     lam10 = lam10[np.isfinite(lam10) & (r10.eig_w.values <= float(r10.w_pullin))]
     w_mm = [w * t0_mm for w in found["w_first_over_t0"]]
     return Outcome(value, status=status, details=found | {
