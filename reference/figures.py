@@ -97,13 +97,29 @@ def save(fig, path: Path | str) -> list[Path]:
     if path.suffix in (".png", ".svg"):
         path = path.with_suffix("")
     path.parent.mkdir(parents=True, exist_ok=True)
+    bbox = tight_bbox(fig)
     out = []
     for suffix in (".png", ".svg"):
         p = path.with_name(path.name + suffix)
-        fig.savefig(p, dpi=DPI, bbox_inches="tight")
+        fig.savefig(p, dpi=DPI, bbox_inches=bbox)
         out.append(p)
     plt.close(fig)
     return out
+
+
+def tight_bbox(fig):
+    """The box (inches) that ``savefig(..., bbox_inches="tight")`` crops ``fig`` to at
+    :data:`DPI`: the tight bounding box of every artist after one layout pass without
+    rendering, padded by ``savefig.pad_inches``.
+
+    :func:`save` computes it once and writes both formats with it, instead of one layout
+    pass per format (the layout pass costs about as much as drawing the figure).
+    """
+    import matplotlib.pyplot as plt
+
+    fig.set_dpi(DPI)
+    fig.draw_without_rendering()
+    return fig.get_tightbbox().padded(plt.rcParams["savefig.pad_inches"])
 
 
 def printed_values(figure: str) -> list[Any]:

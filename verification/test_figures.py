@@ -178,3 +178,35 @@ def test_figures_are_not_written_inside_not_written(tmp_path):
     assert not list(tmp_path.iterdir())
     fig, _ = plt.subplots()
     assert [p.name for p in save(fig, tmp_path / "a")] == ["a.png", "a.svg"]
+
+
+def test_save_crops_both_formats_as_savefig_tight(tmp_path):
+    """:func:`figures.save` lays the figure out once (:func:`figures.tight_bbox`) and writes
+    both formats with that box: the PNG has the size ``savefig(bbox_inches="tight")`` gives
+    (a legend outside the axes and a two-line title included), and the SVG the same box."""
+    import re
+
+    import matplotlib.image as mpimg
+
+    plt = F.pyplot()
+
+    def draw():
+        fig, ax = plt.subplots(figsize=(5, 3))
+        ax.semilogx([1e-2, 1, 10], [1, 2, 3], label="a long legend label")
+        ax.set_title("a title\nover two lines")
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.2))
+        return fig
+
+    fig = draw()
+    fig.savefig(tmp_path / "ref.png", dpi=F.DPI, bbox_inches="tight")
+    fig.savefig(tmp_path / "ref.svg", dpi=F.DPI, bbox_inches="tight")
+    plt.close(fig)
+    png, svg = F.save(draw(), tmp_path / "new")
+    assert mpimg.imread(png).shape == mpimg.imread(tmp_path / "ref.png").shape
+
+    def size(p):
+        head = p.read_text()[:2000]
+        return [float(re.search(rf'{k}="([\d.]+)pt"', head).group(1)) for k in ("width", "height")]
+
+    # the SVG's box from the PNG's layout: equal to a point (text metrics at 72 vs 120 dpi)
+    assert size(svg) == pytest.approx(size(tmp_path / "ref.svg"), abs=1.0)

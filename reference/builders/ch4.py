@@ -222,18 +222,23 @@ def voltage_dataset(progress=True) -> xr.Dataset:
 
 
 # --------------------------------------------------------------------------- figures
+def _roots_as_points(kH, lam_cr):
+    """(kH, lam_cr) of every root of a (kH, root) array as two flat arrays: one marker-only
+    line draws all of them (one artist instead of one per root column, the same points)."""
+    lam_cr = np.asarray(lam_cr, float)
+    return np.repeat(np.asarray(kH, float), lam_cr.shape[1]), lam_cr.ravel()
+
+
 def _plot_curves(ax, ds, v, xi, D, style, label):
     sel = ds.lam_cr.sel(variant=v, xi=xi, Dhat=D).values
     par = ds.parity.sel(variant=v, xi=xi, Dhat=D).values
-    kH = ds.kH.values
     first = True
-    for j in range(sel.shape[1]):
-        for pcode, colour in ((0, "tab:blue"), (1, "tab:red")):
-            y = np.where(par[:, j] == pcode, sel[:, j], np.nan)
-            if np.isfinite(y).any():
-                ax.semilogx(kH, y, style, color=colour, ms=1.6 if style == "." else 2.2,
-                            mew=0.6, linestyle="none", label=label if first else None)
-                first = False
+    for pcode, colour in ((0, "tab:blue"), (1, "tab:red")):
+        x, y = _roots_as_points(ds.kH.values, np.where(par == pcode, sel, np.nan))
+        if np.isfinite(y).any():
+            ax.semilogx(x, y, style, color=colour, ms=1.6 if style == "." else 2.2,
+                        mew=0.6, linestyle="none", label=label if first else None)
+            first = False
 
 
 def _shade_unstable(ax, ds, v, xi, D, **style):
@@ -315,10 +320,9 @@ def figures(out: Path, c42: xr.Dataset, c45: xr.Dataset, lim: xr.Dataset, ar: xr
     fig, axs = plt.subplots(1, 3, figsize=(13, 4), sharey=True)
     for ax, v in zip(axs, VARIANTS, strict=True):
         for k, xi in enumerate(FIG45_XI):
-            sel = c45.lam_cr.sel(variant=v, xi=xi, Dhat=2.0).values
-            for j in range(sel.shape[1]):
-                ax.semilogx(c45.kH, sel[:, j], ".", ms=1.5, color=f"C{k}",
-                            label=rf"$\xi$ = {xi:g}" if j == 0 else None)
+            x, y = _roots_as_points(c45.kH.values,
+                                    c45.lam_cr.sel(variant=v, xi=xi, Dhat=2.0).values)
+            ax.semilogx(x, y, ".", ms=1.5, color=f"C{k}", label=rf"$\xi$ = {xi:g}")
             lamE = float(c45.lam_ellipticity.sel(variant=v, xi=xi))
             if np.isfinite(lamE):
                 ax.axhline(lamE, color=f"C{k}", lw=0.7, ls=":",
@@ -409,10 +413,9 @@ def _voltage_figure(out: Path, vc: xr.Dataset) -> list[Path]:
     fig, axs = plt.subplots(1, 2, figsize=(11, 4), sharey=True)
     for ax, xi in zip(axs, (0.0, 5.0), strict=True):
         for k, V in enumerate(vc.Vhat.values):
-            sel = vc.lam_cr.sel(variant="printed", xi=xi, Vhat=V).values
-            for j in range(sel.shape[1]):
-                ax.semilogx(vc.kH, sel[:, j], ".", ms=2, color=f"C{k}",
-                            label=rf"$\hat V$ = {V:g}" if j == 0 else None)
+            x, y = _roots_as_points(vc.kH.values,
+                                    vc.lam_cr.sel(variant="printed", xi=xi, Vhat=V).values)
+            ax.semilogx(x, y, ".", ms=2, color=f"C{k}", label=rf"$\hat V$ = {V:g}")
         ax.set_title(rf"voltage control (beyond the thesis), $\xi$ = {xi:g}, printed coeffs")
         ax.set_xlabel(L["kH"])
         ax.set_ylim(0.4, 3.0)
