@@ -126,14 +126,24 @@ def analytic_events(lamP: float, c: float, equilibrium: str,
     return out
 
 
+@lru_cache(maxsize=64)
+def _interface_states(lamP: float, equilibrium: str, lams: tuple, steps: int):
+    """The annulus interface states (lam, T1 at R_A) at the circle-A stretches ``lams``
+    (Newton on the shooting parameter): independent of c (c enters circle A only), so
+    that the curves of every c share them."""
+    br = _branch(lamP, equilibrium, steps)
+    lam = np.array(lams)
+    q = q_for_stretch(br.annulus, lam, np.interp(lam, br.lam, br.q), steps=steps)
+    st = interface_state(br.annulus, q, steps=steps)
+    return st.lam, st.T1, br.annulus.kappa
+
+
 def analytic_phibar(lamP: float, c: float, equilibrium: str, lams,
                     steps: int = ANALYTIC_STEPS) -> np.ndarray:
     """Phibar(lam) of the analytic model ((3.30), (3.32) and the annulus ODE)."""
-    br = _branch(float(lamP), equilibrium, steps)
-    lams = np.asarray(lams, dtype=float)
-    q = q_for_stretch(br.annulus, lams, np.interp(lams, br.lam, br.q), steps=steps)
-    st = interface_state(br.annulus, q, steps=steps)
-    return np.sqrt(circle_a.phibar_squared(st.lam, st.T1, c, br.annulus.kappa))
+    lams = tuple(float(x) for x in np.atleast_1d(np.asarray(lams, dtype=float)))
+    lam, T1, kappa = _interface_states(float(lamP), equilibrium, lams, int(steps))
+    return np.sqrt(circle_a.phibar_squared(lam, T1, c, kappa))
 
 
 def event_support(quantity: str, lamP: float, c: float, mesh: dict, tol: float,
