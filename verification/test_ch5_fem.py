@@ -286,22 +286,66 @@ def test_deflection_asymmetry_measures_a_prescribed_wavenumber_n_deflection():
     assert deflection_asymmetry(m)[0] < 1e-9 * amp
 
 
-def test_stability_records_start_random_because_starting_modes_can_hide_the_unstable_one():
+def test_lowest_eigenvalues_are_certified_when_the_start_misses_the_unstable_mode():
     """The flat film above its critical voltage has one negative eigenvalue (the buckling
-    mode). LOBPCG from a random block finds it; started from the next modes only, it
-    converges on them at once and misses it. That is why the ramps' eigen-records start
-    from a random block (``voltage_ramp``), not from the previous record's modes."""
+    mode). Started from the next modes only, LOBPCG (whose exact-inverse preconditioner
+    favours eigenvalues near zero) converges on them and would miss it; the inertia count
+    sees an eigenvalue below the lowest one found and the shifted, positive definite solve
+    returns it. The same negative eigenvalue comes from a random start without a shift."""
     m = MembraneModel(Plate(), NeoHookean(), COARSE, with_imperfection=False)
     m.set_voltage(1.5 * analytic.critical_voltage_plate(NeoHookean(), 10.0))
     m.newton()
     lam, modes = m.lowest_eigenvalues(nev=4)
     # measured -3.4e-3 vs +3.0e-3 (of the L2-mass-normalised spectrum): signs are far
     # above the eigen-residual 1e-10
-    assert lam[0] < 0 < lam[1]
-    hidden, _ = m.lowest_eigenvalues(nev=3, x0=modes[:, 1:])
-    assert np.all(hidden > 0)            # the trap the records avoid
+    assert lam[0] < 0 < lam[1] and m.last_eig["shift"] == 0.0
+    found, _ = m.lowest_eigenvalues(nev=3, x0=modes[:, 1:])
+    assert m.last_eig["shift"] < lam[0]                  # the certification acted
+    # eigen-residual 1e-10 on both solves: agreement to 1e-6 is far above it
+    np.testing.assert_allclose(found, lam[:3], rtol=1e-6)
     again, _ = m.lowest_eigenvalues(nev=3, seed=5)
-    assert again[0] == pytest.approx(lam[0], rel=1e-6)   # eigen-residual 1e-10
+    assert again[0] == pytest.approx(lam[0], rel=1e-6)
+
+
+def test_eigenvalue_count_agrees_with_the_dense_spectrum():
+    """Sylvester + Haynsworth (``eigenvalue_count``): the number of eigenvalues of the
+    condensed pencil (S, M) below a shift, from LDL^T pivots of the saddle-point tangent,
+    equals the count from a dense generalised eigen-solve of S = K_uu - K_up K_pp^-1 K_pu,
+    on the flat film below and above its critical voltage (0, 1 and several unstable
+    modes)."""
+    import scipy.linalg as sl
+    m = MembraneModel(Plate(), NeoHookean(), COARSE, with_imperfection=False)
+    vcr = analytic.critical_voltage_plate(NeoHookean(), 10.0)
+    for factor in (1.1, 1.4, 2.5):
+        m.set_voltage(factor * vcr)
+        m.newton()
+        m.tangent()                     # the tangent at the converged state
+        iu, ip = m._ufree, m._pfree
+        Kuu = m._scipy(m.a.mat, iu, iu).toarray()
+        Kup = m._scipy(m.a.mat, iu, ip).toarray()
+        Kpp = m._scipy(m.a.mat, ip, ip).toarray()
+        S = Kuu - Kup @ np.linalg.solve(Kpp, Kup.T)
+        dense = sl.eigh(0.5 * (S + S.T), m._scipy(m.m.mat, iu, iu).toarray(),
+                        eigvals_only=True)
+        # shifts midway between neighbouring eigenvalues: far from any eigenvalue compared
+        # with the round-off of the pivots (relative 1e-12 of ||K||)
+        shifts = [0.0] + list(0.5 * (dense[:6] + dense[1:7]))
+        for sigma in shifts:
+            assert m.eigenvalue_count(sigma) == int(np.count_nonzero(dense < sigma)), (
+                factor, sigma)
+
+
+def test_negative_pivots_count_the_negative_eigenvalues():
+    """Sylvester's law of inertia on a random sparse symmetric indefinite matrix; a
+    singular matrix raises instead of returning a count."""
+    import scipy.sparse as sps
+    from debench.models.buckling.fem import negative_pivots
+    rng = np.random.default_rng(3)
+    A = sps.random(60, 60, density=0.1, random_state=rng)
+    A = (A + A.T + sps.diags(rng.uniform(-3.0, 3.0, 60))).tocsc()
+    assert negative_pivots(A) == int(np.count_nonzero(np.linalg.eigvalsh(A.toarray()) < 0))
+    with pytest.raises(ConvergenceError):
+        negative_pivots(sps.csc_matrix(np.diag([1.0, 0.0, -1.0])))
 
 
 def test_critical_voltage_sensitivity_to_bulk_modulus_is_small():
