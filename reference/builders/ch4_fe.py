@@ -25,6 +25,8 @@ from debench.reference.producers import ch4_fe as prod
 COMMON = {"alpha": 0.0, "beta": 0.5, "mu": 1.0, "eps": 1.0, "order": 3,
           "variant_compared": "derived", "units": "mu = eps = 1, Dhat = D2/sqrt(mu eps)"}
 CONVERGENCE_CASES = (((0.0, 0.0, 0.3), "E"), ((0.0, 0.0, 2.0), "O"))
+#: mesh levels of the convergence study (sqrt 2 refinement)
+CONVERGENCE_LEVELS = (0, 1, 2, 3)
 #: Accuracy of a stored root error lam_FE - lam_det: the FE root is located to
 #: strip_fe.XTOL = 1e-11 (a certified bracket that narrow), the determinant root to
 #: ~1e-13, and round-off moves a root by ~1e-12; 1e-10 is 100x that round-off and still
@@ -43,12 +45,43 @@ def _accuracy(acc=None) -> dict:
             "accuracy_reason": acc.reason}
 
 
-def agreement_dataset(full: bool) -> xr.Dataset:
+def compare_task(xi: float, load: float, kH: float, level: int, control: str,
+                 parity: str | None) -> tuple:
+    """:func:`debench.reference.producers.ch4_fe.compare` with positional arguments: one
+    independent FE task of :func:`plan` (a Dask task)."""
+    return prod.compare(xi, load, kH, level=level, control=control, parity=parity)
+
+
+def limit_task(name: str):
+    """:func:`debench.reference.producers.ch4_fe.limit_comparison` as a task of
+    :func:`plan`."""
+    return prod.limit_comparison(name)
+
+
+def plan(full: bool) -> dict[str, list[tuple]]:
+    """The independent FE tasks of a build ``(function, *args)``, by dataset: every
+    comparison of :func:`agreement_dataset`, :func:`convergence_dataset` and
+    :func:`limits_dataset` (each assembles and solves its own strip model)."""
     level = 2 if full else 0
     cases = prod.CASES_FULL if full else prod.CASES_FAST
-    rows = [c for case in cases for c in prod.compare(*case, level=level)]
-    rows += [c for case in prod.VOLTAGE_CASES
-             for c in prod.compare(*case, level=level, control="voltage")]
+    return {
+        "agreement": [(compare_task, *case, level, "charge", None) for case in cases]
+        + [(compare_task, *case, level, "voltage", None) for case in prod.VOLTAGE_CASES],
+        "convergence": [(compare_task, *case, int(lv), "charge", par)
+                        for case, par in CONVERGENCE_CASES for lv in CONVERGENCE_LEVELS],
+        "limits": [(limit_task, name) for name in prod.LIMITS],
+    }
+
+
+def _results(tasks, done) -> list:
+    """The results of ``tasks`` from ``done`` (task -> result), computed now if absent."""
+    done = {} if done is None else done
+    return [done[t] if t in done else t[0](*t[1:]) for t in tasks]
+
+
+def agreement_dataset(full: bool, done: dict | None = None) -> xr.Dataset:
+    """``done``: results of :func:`plan`'s tasks already computed (task -> result)."""
+    rows = [c for res in _results(plan(full)["agreement"], done) for c in res]
     col = {k: [getattr(c, k) for c in rows] for k in
            ("xi", "load", "kH", "parity", "control", "lam_det", "lam_fe", "ndof", "level")}
     return xr.Dataset(
@@ -67,14 +100,16 @@ def agreement_dataset(full: bool) -> xr.Dataset:
         coords={"root": ("root", np.arange(len(rows)), _attrs("root index"))})
 
 
-def convergence_dataset() -> tuple[xr.Dataset, dict]:
-    levels = np.arange(4)
+def convergence_dataset(done: dict | None = None) -> tuple[xr.Dataset, dict]:
+    """``done``: results of :func:`plan`'s tasks already computed (task -> result)."""
+    levels = np.asarray(CONVERGENCE_LEVELS)
+    res = iter(_results(plan(False)["convergence"], done))
     err = np.full((len(CONVERGENCE_CASES), levels.size), np.nan)
     h = np.full(err.shape, np.nan)
     orders = {}
     for i, (case, par) in enumerate(CONVERGENCE_CASES):
         for lv in levels:
-            err[i, lv] = prod.compare(*case, level=int(lv), parity=par)[0].diff
+            err[i, lv] = next(res)[0].diff
             h[i, lv] = 1 / strip_fe.default_mesh(case[2], level=int(lv)).nx
         orders[f"kH={case[2]:g} {par}"] = float(np.polyfit(np.log(h[i]),
                                                            np.log(np.abs(err[i])), 1)[0])
@@ -90,10 +125,11 @@ def convergence_dataset() -> tuple[xr.Dataset, dict]:
     return ds, orders
 
 
-def limits_dataset() -> xr.Dataset:
+def limits_dataset(done: dict | None = None) -> xr.Dataset:
     """The Biot and Euler limit roots (:func:`debench.reference.producers.ch4_fe.
-    limit_comparison`) on the producers' mesh level."""
-    rows = [prod.limit_comparison(name) for name in prod.LIMITS]
+    limit_comparison`) on the producers' mesh level (``done``: as
+    :func:`agreement_dataset`)."""
+    rows = _results(plan(False)["limits"], done)
     acc = prod.ACCURACY
 
     def col(k):
@@ -115,17 +151,36 @@ def limits_dataset() -> xr.Dataset:
                                         "(lit.plate.euler_thin_limit)"})})
 
 
-def build(out_dir: Path, *, full: bool = False, progress: bool = True) -> list[Path]:
+def build(out_dir: Path, *, full: bool = False, progress: bool = True,
+          scheduler: str | None = None) -> list[Path]:
+    """Compute and write the three datasets into ``out_dir``.
+
+    The independent FE tasks (:func:`plan`) run as :func:`debench.reference.builders.ch5.
+    run_tasks` runs them: ``scheduler`` None or ``"serial"`` in this process, ``"local"``
+    on a Dask LocalCluster sized to the machine (``debench reproduce ch4_fe --scheduler
+    local``), an address: an existing scheduler (same results: each task is a pure
+    function of its arguments). Serial by default: the build is about 50 s of CPU, and a
+    LocalCluster's start costs seconds and can time out on a heavily loaded machine.
+    """
+    from debench.reference.builders.ch5 import resolve_scheduler, run_tasks
+
     out_dir = Path(out_dir)
+    p = plan(full)
+    # the finest convergence meshes first (the longest tasks: a worker that starts them
+    # last would finish alone)
+    tasks = list(dict.fromkeys(p["convergence"][::-1] + p["agreement"] + p["limits"]))
+    done = dict(zip(tasks, run_tasks(tasks, scheduler=None if scheduler in (None, "serial")
+                                     else resolve_scheduler(scheduler),
+                                     progress=False), strict=True))
     paths = [write_dataset(
-        agreement_dataset(full), "ch4_fe_agreement", out_dir=out_dir, overwrite=True,
+        agreement_dataset(full, done), "ch4_fe_agreement", out_dir=out_dir, overwrite=True,
         title="Plate bifurcation: plane-strain strip FE vs exponential-ansatz determinant",
         summary="Critical stretches lam_cr(kH) of the pre-stretched dielectric plate from a "
                 "2D periodic strip FE model (NGSolve, Taylor-Hood order 3, library energy "
                 "(4.22)) beside the determinant roots (Figs 4.2, 4.5; charge and voltage "
                 "control).",
         parameters={**COMMON, "level": 2 if full else 0})]
-    ds, orders = convergence_dataset()
+    ds, orders = convergence_dataset(done)
     paths.append(write_dataset(
         ds, "ch4_fe_convergence", out_dir=out_dir, overwrite=True,
         title="Plate strip FE: convergence of the critical stretch",
@@ -137,7 +192,7 @@ def build(out_dir: Path, *, full: bool = False, progress: bool = True) -> list[P
         # they are quoted in the summary and refitted from ``error`` and ``h``
         parameters=COMMON))
     paths.append(write_dataset(
-        limits_dataset(), "ch4_fe_limits", out_dir=out_dir, overwrite=True,
+        limits_dataset(done), "ch4_fe_limits", out_dir=out_dir, overwrite=True,
         title="Plate strip FE: the thick (Biot) and thin (Euler) limits",
         summary="Flexural critical stretch of the plane-strain strip FE at kH = "
                 f"{prod.KH_BIOT:g} (Biot's surface instability 0.66614 as kH -> inf) and "
