@@ -104,10 +104,10 @@ EIG_COUNT_MARGIN = 1e-8
 eigenvalue of the pencil below ``lambda_1 - margin``; and, when no computed eigenvalue is
 within the margin of zero, as many eigenvalues below zero as were computed), relative to
 the pencil's scale (the largest Rayleigh quotient of the random start block, ~ its upper
-spectrum).  Far above the
-eigenvalue error (EIG_RTOL on that scale) and the pivots' round-off next to a singular
-tangent (at the critical voltage lambda_1 is zero to 1e-11: a shift 1e-17 below it gave
-a wrong count), and far below the gaps between the modes the records resolve."""
+spectrum).  Far above the eigenvalue error (EIG_RTOL on that scale) and the pivots'
+round-off next to a singular tangent (at the critical voltage lambda_1 is zero to 1e-11:
+a shift 1e-17 below it gave a wrong count), and far below the gaps between the modes the
+records resolve."""
 REALCOMPILE_MIN_DOFS = 20000
 """``compile="auto"`` compiles the energy to C++ above this size: compiling takes 15-20 s
 (measured), assembly is 1.2-2.3x faster with identical matrices, so it pays only for

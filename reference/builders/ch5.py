@@ -381,14 +381,13 @@ def task_source(module: str) -> str:
     import importlib
     import inspect
     package = module.rpartition(".")[0]
-    seen, order, todo = set(), [], [module]
+    sources: dict[str, str] = {}
+    todo = [module]
     while todo:
         name = todo.pop(0)
-        if name in seen:
+        if name in sources:
             continue
-        seen.add(name)
-        order.append(name)
-        src = inspect.getsource(importlib.import_module(name))
+        src = sources[name] = inspect.getsource(importlib.import_module(name))
         for node in ast.walk(ast.parse(src)):
             if not isinstance(node, ast.ImportFrom) or not node.module:
                 continue
@@ -396,7 +395,7 @@ def task_source(module: str) -> str:
                       else f"{package}.{node.module}" if node.level == 1 else None)
             if target is not None and package and target.rpartition(".")[0] == package:
                 todo.append(target)
-    return "\n".join(inspect.getsource(importlib.import_module(n)) for n in order)
+    return "\n".join(sources.values())
 
 
 #: the parts of :mod:`debench.models` the FE tasks run: the buckling model, the
