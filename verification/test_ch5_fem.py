@@ -348,6 +348,19 @@ def test_negative_pivots_count_the_negative_eigenvalues():
         negative_pivots(sps.csc_matrix(np.diag([1.0, 0.0, -1.0])))
 
 
+def test_inertia_counts_refuse_bad_input():
+    """A non-square or non-finite matrix, or a NaN shift, raises ValueError naming it."""
+    import scipy.sparse as sps
+    from debench.models.buckling.fem import negative_pivots
+    with pytest.raises(ValueError, match="square"):
+        negative_pivots(sps.csc_matrix(np.ones((2, 3))))
+    with pytest.raises(ValueError, match="finite"):
+        negative_pivots(sps.csc_matrix(np.diag([1.0, np.nan])))
+    m = MembraneModel(Plate(), NeoHookean(), COARSE, with_imperfection=False)
+    with pytest.raises(ValueError, match="sigma"):
+        m.eigenvalue_count(float("nan"))
+
+
 def test_critical_voltage_sensitivity_to_bulk_modulus_is_small():
     """Assumption ch5.assumption.compressibility ('J = 1' in §5.3 vs k of Table 5.1).
     Plate theory + flat film: k -> 100 k changes v_cr by < 0.1 %.  FE: the change for

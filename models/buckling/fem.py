@@ -736,6 +736,7 @@ class MembraneModel:
         is an eigenvalue to working precision (a zero pivot).  Assembles the tangent at
         the current state unless the factorised one is current.
         """
+        sigma = float(val.finite("sigma", sigma))
         if not self._fresh:
             self.assemble()
         return self._count(sigma)
@@ -820,9 +821,14 @@ def negative_pivots(A) -> int:
     inertia): the negative pivots of ``P A P^T = L D L^T``, computed by SuperLU in symmetric
     mode with diagonal pivots only (threshold 0; the row and column orderings must agree,
     checked).  Raises ConvergenceError on a zero or non-finite pivot (``A`` singular to
-    working precision) or when SuperLU had to pivot off the diagonal."""
+    working precision) or when SuperLU had to pivot off the diagonal; ValueError when ``A``
+    is not square or has non-finite entries."""
+    A = sp.csc_matrix(A, dtype=float)
+    require(A.ndim == 2 and A.shape[0] == A.shape[1] and A.shape[0] > 0,
+            f"A must be a non-empty square matrix, got shape {A.shape}")
+    require(bool(np.all(np.isfinite(A.data))), "A must have finite entries")
     try:
-        lu = splu(sp.csc_matrix(A), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+        lu = splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                   options={"SymmetricMode": True})
     except RuntimeError as exc:          # SuperLU: "Factor is exactly singular"
         raise ConvergenceError(f"negative_pivots: {exc} (matrix singular)") from exc
