@@ -100,8 +100,9 @@ def thesis_values_problems(data_dir: Path | None = None) -> list[str]:
             "`debench reproduce catalogue --write-data`)"] if bad else []
 
 
-def build(out_dir: Path, *, full: bool = False) -> list[Path]:
-    """Write ``thesis_values.nc`` into ``out_dir`` (``full`` has no effect)."""
+def build(out_dir: Path, *, full: bool = False, results=None) -> list[Path]:
+    """Write ``thesis_values.nc`` into ``out_dir`` (``full`` has no effect); ``results``:
+    ``catalogue.evaluate_all()`` when the caller has it (evaluated here otherwise)."""
     entries = catalogue.load()
     ds = catalogue_dataset(entries)
     path = write_dataset(
@@ -115,7 +116,7 @@ def build(out_dir: Path, *, full: bool = False) -> list[Path]:
         parameters={"n_entries": len(entries),
                     "catalogue_files": ",".join(sorted({e.file for e in entries}))},
     )
-    results = catalogue.evaluate_all(entries)
+    results = catalogue.evaluate_all(entries) if results is None else results
     errors = [r.entry.id for r in results if r.status == "error"]
     if errors:
         raise RuntimeError(f"producers raised for {errors}: fix them before storing values")

@@ -10,7 +10,10 @@ model.  Normalised voltage ``v = Phi/t0 sqrt(eps/mu_ref)``, mu_ref = 156000 Pa
 from __future__ import annotations
 
 import math
+from contextlib import contextmanager
+from contextvars import ContextVar
 from functools import lru_cache
+from pathlib import Path
 
 import numpy as np
 from debench.models.materials.constants import (
@@ -296,6 +299,44 @@ def discretisation(entry: Entry) -> Outcome:
 #: The coarse recomputation's critical voltage is converged by the secant to
 #: ``solver.CRITICAL_VTOL`` (1e-6 in v) on top of Newton's relative tolerance; 10x margin.
 COARSE_ATOL = 1e-5
+#: the ``ch5_critical_voltage`` dataset the ``ch5`` builder wrote in the running command
+#: (:func:`recomputed_in_this_command`), or None
+_RECOMPUTED: ContextVar = ContextVar("ch5_recomputed", default=None)
+
+
+@contextmanager
+def recomputed_in_this_command(path):
+    """Within the block, :func:`coarse_guards` takes the coarsest level of each case from
+    the ``ch5_critical_voltage`` dataset at ``path`` instead of solving it again.
+
+    ``path`` is the dataset the ``ch5`` builder wrote earlier in the same command, i.e.
+    computed now by the code being checked: its coarsest level is the same computation as
+    the guard's (the critical voltage of the perfect film on the same mesh, layers and
+    order, one task of the builder), so it serves both. It is used only when its
+    parameters equal those of the curated dataset the guard checks (materials, mesh
+    sequence, layers, order); otherwise the guard solves as usual.
+    """
+    from debench.reference.datasets import read_dataset
+
+    path = Path(path)
+    token = _RECOMPUTED.set(read_dataset(path.stem, data_dir=path.parent))
+    try:
+        yield
+    finally:
+        _RECOMPUTED.reset(token)
+
+
+def _recomputed_coarsest(crit, case: str) -> tuple[float, int] | None:
+    """(v_cr, ndof) of ``case`` on the coarsest level of the dataset of
+    :func:`recomputed_in_this_command`, when it has the parameters of ``crit``."""
+    from debench.reference.datasets import dataset_parameters
+
+    fresh = _RECOMPUTED.get()
+    if (fresh is None or dataset_parameters(fresh) != dataset_parameters(crit)
+            or case not in fresh.case.values.tolist()):
+        return None
+    level = fresh.sel(case=case).isel(level=0)
+    return float(level.v_cr), int(level.ndof)
 
 
 def coarse_guards(material=None, cases=None) -> list:
@@ -311,7 +352,9 @@ def coarse_guards(material=None, cases=None) -> list:
     extrapolate the same mesh sequence, are tied to the code that made them.
 
     ``material`` (a function of the material name, ``"nh"`` or ``"ogden"``) and ``cases``
-    (a subset of the dataset's cases) exist for mutation tests.
+    (a subset of the dataset's cases) exist for mutation tests. Inside
+    :func:`recomputed_in_this_command` (and without ``material``) the coarsest critical
+    voltages computed by the ``ch5`` builder of the same command are used, not solved twice.
     """
     from debench.models.buckling.parameters import Discretisation, Plate
     from debench.models.buckling.solver import critical_voltage
@@ -330,10 +373,14 @@ def coarse_guards(material=None, cases=None) -> list:
     computed = [c for c in crit.case.values.tolist() if c not in SCALE_COPIES]
     for case in (computed if cases is None else cases):
         name, t0 = CASES[case]
-        res = critical_voltage(Plate(thickness=t0), make(name), disc)
-        v = res.v
+        shared = _recomputed_coarsest(crit, case) if material is None else None
+        if shared is None:
+            res = critical_voltage(Plate(thickness=t0), make(name), disc)
+            v, ndof = res.v, res.ndof
+        else:
+            v, ndof = shared
         stored = float(crit.v_cr.sel(case=case).values[0])
-        out.append(Guarded(f"ch5.guard.{case}.ndof_coarse", float(res.ndof), 0.5,
+        out.append(Guarded(f"ch5.guard.{case}.ndof_coarse", float(ndof), 0.5,
                            "degrees of freedom of the coarsest mesh (an integer)"))
         out.append(Guarded(f"ch5.guard.{case}.v_cr_coarse", float(v), COARSE_ATOL, reason))
         out.append(Guarded(f"ch5.guard.{case}.v_cr_coarse_minus_curated", float(v) - stored,
