@@ -397,22 +397,21 @@ def _build_concurrently(chapters: list[str], out: Path, full: bool, scheduler: s
             sys.stdout.write(built.stdout)
             sys.stderr.write(built.stderr)
             if built.error is not None:
-                sys.stderr.flush()
-                _stop_pool(executor)
                 raise built.error from ChapterTraceback(
                     f"{built.chapter} failed in a pool process:\n{built.traceback}")
             written[built.chapter] = built.paths
             for p in built.paths:
                 print(f"  wrote {p}", file=sys.stderr)
             if tty:
-                running = [c for f, c in futures.items() if f.running()]
                 print(f"[{k}/{len(order)}] {built.chapter} done: {built.cpu:.0f} s CPU, "
-                      f"{built.wall:.0f} s; {time.monotonic() - started:.0f} s elapsed"
-                      + (f"; running {', '.join(running)}" if running else ""),
+                      f"{built.wall:.0f} s; {time.monotonic() - started:.0f} s since the start",
                       file=sys.stderr)
             sys.stderr.flush()
-    finally:
-        executor.shutdown(wait=True, cancel_futures=True)
+    except BaseException:      # a chapter failed, or an interrupt: nothing else runs on
+        sys.stderr.flush()
+        _stop_pool(executor)
+        raise
+    executor.shutdown(wait=True)
     return {c: written[c] for c in chapters if c in written}
 
 
