@@ -307,6 +307,52 @@ def test_curated_r20_imperfection_sensitivity():
     assert ds.w_at_v_max.values[0, 2] > W_SPLIT > ds.w_at_v_max.values[1, 2], d
 
 
+def _paths(name):
+    """(label, w, v, eig_w, eig_v, eig_lam) of every recorded path of a curated dataset."""
+    ds = read_dataset(name)
+    lam = ds["eig_lam"] if "eig_lam" in ds else ds["eig_lambda"]
+    outer = ds.v.dims[:-1]
+    for idx in np.ndindex(*(ds.sizes[d] for d in outer)):
+        sel = dict(zip(outer, idx, strict=True))
+        yield (f"{name}{list(idx)}", ds.w[sel].values, ds.v[sel].values,
+               ds.eig_w[sel].values, ds.eig_v[sel].values, lam[sel].values)
+
+
+@pytest.mark.parametrize("name", ["ch5_ramps", "ch5_wrinkling"])
+def test_curated_records_past_a_voltage_maximum_show_the_unstable_mode(name):
+    """Past a path's voltage maximum at least one eigenvalue of the tangent at fixed voltage
+    is negative (the determinant changes sign at the maximum): no curated eigen-record
+    there may show only positive eigenvalues (which is what an eigen-solver that missed
+    the unstable mode records). At least one path of each dataset has records past its
+    maximum, so the check is not empty."""
+    from debench.reference.builders.ch5 import stable_records_past_voltage_maximum
+
+    checked = 0
+    for label, w, v, ew, ev, lam in _paths(name):
+        bad = stable_records_past_voltage_maximum(w, v, ew, ev, lam)
+        assert bad.size == 0, (label, ew[bad], lam[bad])
+        k = int(np.nanargmax(v))
+        checked += int(np.sum(np.isfinite(ew) & (ew > w[k]) & (ev < v[k])))
+    assert checked > 0
+
+
+def test_stable_records_past_voltage_maximum_flags_only_records_past_the_maximum():
+    from debench.reference.builders.ch5 import stable_records_past_voltage_maximum as check
+
+    w = np.array([0.0, 1.0, 2.0, 3.0, 4.0, np.nan])
+    v = np.array([0.0, 0.5, 0.8, 0.7, 0.6, np.nan])
+    ew = np.array([1.0, 3.0, 4.0, np.nan])
+    ev = np.array([0.5, 0.7, 0.6, np.nan])
+    lam = np.array([[0.1, 0.2], [-0.1, 0.2], [0.1, 0.2], [np.nan, np.nan]])
+    assert check(w, v, ew, ev, lam).tolist() == [2]       # the positive record past it
+    lam[2, 0] = -0.2
+    assert check(w, v, ew, ev, lam).size == 0
+    # a rising path has no maximum to be past
+    assert check(w, np.linspace(0, 1, 6), ew, ev, lam).size == 0
+    with pytest.raises(ValueError, match="eig_lam"):
+        check(w, v, ew, ev, lam[:2])
+
+
 CH5 = [e for e in catalogue.load() if e.file == "ch5.toml"]
 
 

@@ -837,6 +837,39 @@ def first_instability(eig_w, eig_v, eig_lam, eig_axisym, eig_n) -> dict:
     return out
 
 
+def stable_records_past_voltage_maximum(w, v, eig_w, eig_v, eig_lam) -> np.ndarray:
+    """The eigen-records of one deflection-controlled path that lie past its voltage
+    maximum and show no negative eigenvalue; an empty array when there are none.
+
+    Past a voltage maximum the path descends in voltage: at the maximum the derivative of
+    the equilibrium voltage along the path changes sign, and with it the determinant of the
+    tangent at fixed voltage (the path's tangent solves K du/dw = -dR/dv dv/dw), so an odd
+    number of its eigenvalues has crossed zero and at least one is negative until the path
+    turns again. A record there whose eigenvalues are all positive is therefore not the
+    lowest part of the spectrum: an eigen-solver that missed the unstable mode. The maximum
+    is the largest computed path point (``w``, ``v``, the path; NaN padding ignored); the
+    records checked are those after it in deflection and below it in voltage (``eig_w``,
+    ``eig_v``, ``eig_lam``: the records, rows of eigenvalues). A path whose largest voltage
+    is its last point has none. Returns the indices (into the records) of the offending
+    ones."""
+    w, v = np.asarray(w, float), np.asarray(v, float)
+    ew, ev = np.asarray(eig_w, float), np.asarray(eig_v, float)
+    lam = np.asarray(eig_lam, float)
+    if w.shape != v.shape or ew.shape != ev.shape or lam.shape[:1] != ew.shape:
+        raise ValueError(f"path shapes w {w.shape}, v {v.shape} and record shapes eig_w "
+                         f"{ew.shape}, eig_v {ev.shape}, eig_lam {lam.shape} do not match")
+    ok = np.flatnonzero(np.isfinite(v) & np.isfinite(w))
+    if not ok.size:
+        return np.array([], int)
+    k = ok[int(np.argmax(v[ok]))]
+    if k == ok[-1]:
+        return np.array([], int)
+    with np.errstate(invalid="ignore"):
+        past = np.isfinite(ew) & (ew > w[k]) & (ev < v[k])
+        stable = np.all(lam > 0.0, axis=1)
+    return np.flatnonzero(past & stable)
+
+
 def _min_nonaxisym(r) -> float:
     """Smallest eigenvalue of a non-axisymmetric mode (:func:`axisymmetric`) among the
     records up to the pull-in deflection (NaN: none recorded)."""
