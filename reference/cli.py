@@ -209,14 +209,15 @@ def report_figures(figures: Path) -> Path:
     return figures
 
 
-#: CPU seconds of each builder's default build (one thread, measured at commit 80b8e4c
-#: on the 2-core development machine: ch3_fe_thickness ..., see below): `debench reproduce`
-#: starts the longest first, so that the longest chapter never starts last. Only the order
-#: depends on these numbers; a chapter not listed counts as :data:`UNLISTED_BUILD_CPU_S`.
+#: CPU seconds of each builder's default build, one thread, FE tasks serial in the
+#: chapter's process (measured in one `debench reproduce --jobs 2` on the 2-core
+#: development machine, heavily loaded, so upper bounds): `debench reproduce` starts the
+#: longest first, so that no long chapter starts last. Only the order depends on these
+#: numbers; a chapter not listed counts as :data:`UNLISTED_BUILD_CPU_S`.
 BUILD_CPU_S = {
-    "ch3_fe_thickness": 150.0, "ch5": 70.0, "ch4_fe": 45.0, "ch4": 37.0,
-    "ch5_methods": 31.0, "ch5_thickness": 27.0, "ch4_inplane": 21.0, "ch3": 12.0,
-    "ch3_fe": 13.0, "ch2_appendix": 3.0, "ch5_imperfection": 0.0, "ch5_wrinkling": 0.0,
+    "ch3_fe_thickness": 96.3, "ch5": 70.7, "ch4_fe": 32.8, "ch4": 28.3,
+    "ch5_thickness": 26.7, "ch5_methods": 23.3, "ch4_inplane": 16.9, "ch3": 9.0,
+    "ch3_fe": 7.2, "ch2_appendix": 0.7, "ch5_imperfection": 0.0, "ch5_wrinkling": 0.0,
 }
 UNLISTED_BUILD_CPU_S = 60.0
 
