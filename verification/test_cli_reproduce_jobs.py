@@ -237,10 +237,18 @@ def test_the_catalogue_builder_gets_the_commands_evaluation_and_ch5_dataset(
     assert p5._RECOMPUTED.get() is None                      # only for the catalogue build
 
 
-def _curated_copy(tmp_path, **changed):
+def _curated_copy(tmp_path, layers_marker=None, **changed):
+    """The curated ``ch5_critical_voltage`` written to ``tmp_path`` with parameters
+    ``changed`` and, with ``layers_marker``, ``v_cr_layers`` (and ``ndof_layers``)
+    replaced by marker values (case index + layer count / 100, 100 x that)."""
     from debench.reference.datasets import dataset_parameters, read_dataset, write_dataset
 
-    ds = read_dataset("ch5_critical_voltage")
+    ds = read_dataset("ch5_critical_voltage").copy(deep=True)
+    if layers_marker:
+        marks = (np.arange(ds.sizes["case"])[:, None]
+                 + ds.layer_count.values[None, :] / 100.0)
+        ds["v_cr_layers"].values[:] = marks
+        ds["ndof_layers"].values[:] = np.round(100 * marks).astype(np.int64)
     params = dict(dataset_parameters(ds), **changed)
     return write_dataset(ds, "ch5_critical_voltage", out_dir=tmp_path, overwrite=True,
                          title=ds.attrs["title"], summary=ds.attrs["summary"],
@@ -287,6 +295,32 @@ def test_coarse_guard_solves_when_the_commands_dataset_has_other_parameters(tmp_
     assert len(solved) == 1 and solved[0].layers == layers
     assert guards["ch5.guard.nh_t1.v_cr_coarse"] == 0.5
     assert guards["ch5.guard.nh_t1.ndof_coarse"] == 7.0
+
+
+def test_coarse_guard_takes_the_layer_study_point_of_its_discretisation(tmp_path,
+                                                                        monkeypatch):
+    """The default ``ch5`` build holds the guard's discretisation (coarsest in-plane size,
+    the curated layer count) as a point of its through-thickness study, not as a level of
+    its one-layer sequence: that point is taken (marker values show which one)."""
+    from debench.models.buckling import solver
+    from debench.reference.datasets import dataset_parameters
+    from debench.reference.producers import ch5 as p5
+
+    def no_solve(*a, **k):
+        raise AssertionError("solved although the layer study holds the discretisation")
+
+    monkeypatch.setattr(solver, "critical_voltage", no_solve)
+    crit = p5._crit()
+    layers, h0 = int(dataset_parameters(crit)["layers"]), float(crit.h_rel.values[0])
+    fresh = _curated_copy(tmp_path, layers_marker=True, layers=layers - 1,
+                          layer_study_h_rel=h0)
+    with p5.recomputed_in_this_command(fresh):
+        guards = {g.key: g.value for g in p5.coarse_guards()}
+    cases = crit.case.values.tolist()
+    for case in ("nh_t1", "ogden_t1"):
+        mark = cases.index(case) + layers / 100.0
+        assert guards[f"ch5.guard.{case}.v_cr_coarse"] == mark
+        assert guards[f"ch5.guard.{case}.ndof_coarse"] == round(100 * mark)
 
 
 @pytest.mark.slow

@@ -306,15 +306,15 @@ _RECOMPUTED: ContextVar = ContextVar("ch5_recomputed", default=None)
 
 @contextmanager
 def recomputed_in_this_command(path):
-    """Within the block, :func:`coarse_guards` takes the coarsest level of each case from
-    the ``ch5_critical_voltage`` dataset at ``path`` instead of solving it again.
+    """Within the block, :func:`coarse_guards` takes the coarsest-mesh critical voltages
+    from the ``ch5_critical_voltage`` dataset at ``path`` instead of solving them again.
 
     ``path`` is the dataset the ``ch5`` builder wrote earlier in the same command, i.e.
-    computed now by the code being checked: its coarsest level is the same computation as
-    the guard's (the critical voltage of the perfect film on the same mesh, layers and
-    order, one task of the builder), so it serves both. It is used only when its
-    parameters equal those of the curated dataset the guard checks (materials, mesh
-    sequence, layers, order); otherwise the guard solves as usual.
+    computed now by the code being checked. A critical voltage stored there on the guard's
+    discretisation (same in-plane size, layers and order, the default plate) is the guard's
+    computation itself (the builder's task solves the same problem with the same inputs),
+    whether it is a level of its mesh sequence or a point of its through-thickness study;
+    only such values are taken, any other case is solved as usual.
     """
     from debench.reference.datasets import read_dataset
 
@@ -326,17 +326,28 @@ def recomputed_in_this_command(path):
         _RECOMPUTED.reset(token)
 
 
-def _recomputed_coarsest(crit, case: str) -> tuple[float, int] | None:
-    """(v_cr, ndof) of ``case`` on the coarsest level of the dataset of
-    :func:`recomputed_in_this_command`, when it has the parameters of ``crit``."""
+def _recomputed(case: str, h_rel: float, layers: int, order: int) -> tuple[float, int] | None:
+    """(v_cr, ndof) of ``case`` on the discretisation (h_rel, layers, order) of the default
+    plate from the dataset of :func:`recomputed_in_this_command`, None when it holds none."""
+    from debench.models.buckling.parameters import Plate
     from debench.reference.datasets import dataset_parameters
 
     fresh = _RECOMPUTED.get()
-    if (fresh is None or dataset_parameters(fresh) != dataset_parameters(crit)
-            or case not in fresh.case.values.tolist()):
+    if fresh is None or case not in fresh.case.values.tolist():
         return None
-    level = fresh.sel(case=case).isel(level=0)
-    return float(level.v_cr), int(level.ndof)
+    par = dataset_parameters(fresh)
+    if int(par["order"]) != order or float(par["aspect"]) != Plate.aspect:
+        return None
+    one = fresh.sel(case=case)
+    h = fresh.h_rel.values.tolist()
+    if int(par["layers"]) == layers and h_rel in h:
+        k = h.index(h_rel)
+        return float(one.v_cr.values[k]), int(one.ndof.values[k])
+    if (float(par["layer_study_h_rel"]) == h_rel
+            and layers in fresh.layer_count.values.tolist()):
+        at = one.sel(layer_count=layers)
+        return float(at.v_cr_layers), int(at.ndof_layers)
+    return None
 
 
 def coarse_guards(material=None, cases=None) -> list:
@@ -373,7 +384,8 @@ def coarse_guards(material=None, cases=None) -> list:
     computed = [c for c in crit.case.values.tolist() if c not in SCALE_COPIES]
     for case in (computed if cases is None else cases):
         name, t0 = CASES[case]
-        shared = _recomputed_coarsest(crit, case) if material is None else None
+        shared = (_recomputed(case, h0, disc.layers, disc.order) if material is None
+                  else None)
         if shared is None:
             res = critical_voltage(Plate(thickness=t0), make(name), disc)
             v, ndof = res.v, res.ndof
