@@ -69,6 +69,17 @@ from .params import JM_VHB, locking_stretch_equibiaxial
 #: relative round-off floor ~1e-12 leaves a margin of 100)
 NEWTON_RTOL = 1e-10
 NEWTON_MAXITER = 40
+#: a Newton step is taken when the simplified correction at the trial state is smaller
+#: than the update by this factor (contraction, theta < 1): an update that does not
+#: contract has left the region where Newton converges to the solution next to its start
+NEWTON_THETA_MAX = 1.0
+#: smallest damping factor of a continuation's Newton step
+#: (:meth:`BorderedContinuation._newton`): below it the predictor is too far from a
+#: solution for Newton to contract towards one, and a shorter continuation step (a
+#: predictor error 4x smaller) is cheaper than more damping
+NEWTON_DAMPING_MIN = 2.0**-3
+#: smallest damping factor that keeps a state admissible when no shorter step exists
+ADMISSIBLE_DAMPING_MIN = 2.0**-30
 #: continuation step in lam (halved on a Newton failure, at most MAX_HALVINGS times)
 LAM_STEP = 0.05
 MAX_HALVINGS = 12
@@ -140,7 +151,20 @@ class BorderedContinuation:
     predictor of every step from it).
     """
 
-    def _newton(self, x, p, lam):
+    def _newton(self, x, p, lam, monotone: bool = True):
+        """Damped Newton at the load ``lam`` from ``(x, p)`` with the natural monotonicity
+        test (Deuflhard, affine covariant): a step ``s dz`` (s = 1, 1/2, ...) is taken when
+        the trial state is admissible and the simplified correction there, ``dz_bar`` =
+        -J(x)^-1 R(x + s dz) (the same factorisation), satisfies ``|dz_bar| <
+        NEWTON_THETA_MAX |dz|`` (2-norm of :func:`_factor`'s weighted unknowns): each
+        accepted step contracts towards the solution next to the start, and a start from
+        which Newton would wander (|dz| growing, landing after tens of iterations on a
+        state that depends on round-off) is refused. Converged when a full update is below
+        NEWTON_RTOL relative; no admissible, contracting step down to s =
+        NEWTON_DAMPING_MIN, or no convergence in NEWTON_MAXITER steps: ConvergenceError
+        (the continuation then takes a shorter step).
+        ``monotone=False`` (a first state from an inconsistent start, where no shorter step
+        exists): full steps, damped only to stay admissible."""
         x = x.copy()
         x[self._i] = self._load_value(lam)
         E, F = self._E, self._F
@@ -150,22 +174,29 @@ class BorderedContinuation:
                 raise ConvergenceError(f"FE Newton: inadmissible state at lam = {lam:.6g} "
                                        f"(Gent locking or lambda <= 0), lamP = {self.lamP}")
             M, _ = self._bordered(x, p)
-            dz = _solve(M, -res[E], lam)
+            solve, w = _factor(M, lam)
+            dz = solve(-res[E])
+            size = float(np.linalg.norm(dz * w))
+            step = float(np.max(np.abs(dz)))
             scale = 1.0
-            for _ in range(30):  # damping: keep the trial state admissible
+            while True:             # s = 1, 1/2, ...
                 xt = x.copy()
                 xt[F] += scale * dz[:-1]
                 pt = p + scale * dz[-1]
                 rt, _ = self._system(xt, pt)
-                if np.all(np.isfinite(rt[E])) and self._admissible(xt):
+                ok = bool(np.all(np.isfinite(rt[E])) and self._admissible(xt))
+                if ok and scale == 1.0 and step <= NEWTON_RTOL * (1 + np.max(np.abs(xt))
+                                                                 + abs(pt)):
+                    return xt, pt, it, float(np.max(np.abs(rt[E])))
+                if ok and (not monotone or np.linalg.norm(solve(-rt[E]) * w)
+                           < NEWTON_THETA_MAX * size):
                     break
                 scale *= 0.5
-            else:
-                raise ConvergenceError(f"FE Newton: no admissible step at lam = {lam:.6g}")
+                if scale < (NEWTON_DAMPING_MIN if monotone else ADMISSIBLE_DAMPING_MIN):
+                    raise ConvergenceError(
+                        f"FE Newton: no admissible contracting step at lam = {lam:.6g} "
+                        f"(|dz| = {size:.3g}), lamP = {self.lamP}")
             x, p, res = xt, pt, rt
-            step = scale * np.max(np.abs(dz))
-            if scale == 1.0 and step <= NEWTON_RTOL * (1 + np.max(np.abs(x)) + abs(p)):
-                return x, p, it, float(np.max(np.abs(res[E])))
         raise ConvergenceError(f"FE Newton: |dz| = {step:.3g} after {NEWTON_MAXITER} "
                                f"iterations at lam = {lam:.6g}, lamP = {self.lamP}")
 
@@ -199,11 +230,9 @@ class BorderedContinuation:
         return base
 
     def _step(self, base: FEState, lam: float) -> FEState:
-        """Newton from the Euler predictor at ``lam`` (the tangent kept with ``base``).
-
-        Which steps fail and are halved near the solid model's electrode-edge stall
-        depends on the predictor, and with it whether a film's continuation stalls: a
-        predictor of higher order changes that path, so it is not used."""
+        """Newton from the Euler predictor at ``lam`` (the tangent kept with ``base``);
+        a step that Newton cannot contract from is refused (ConvergenceError) and
+        :meth:`solve` halves it, so that no step crosses a fold of the branch."""
         t = base.tangent if base.tangent is not None else self._tangent(base.x, base.phibar2)
         d = lam - base.lam
         x0 = base.x.copy()
@@ -541,17 +570,83 @@ def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
                        hi=float(min(pos)), evaluations=len(seen))
 
 
-def _solve(M, b, lam):
-    """Solve of the bordered system (dense, or sparse LU for a scipy sparse ``M``); a
-    singular tangent is a ConvergenceError."""
+#: sweeps of the power-of-two equilibration of a sparse bordered matrix
+#: (:func:`equilibrate`); each halves the log of the row and column max spreads, and
+#: the solid's tangent reaches a condition ~1e6 after a few (measured, module test)
+EQUILIBRATION_SWEEPS = 8
+
+
+def equilibrate(M):
+    """Row and column scalings ``(r, c)``, integer powers of two, such that
+    ``diag(r) M diag(c)`` has every row and column max-abs entry within a factor ~2 of 1
+    (Ruiz sweeps of 1/sqrt(max |.|), rounded to powers of two so that the scaling itself
+    is exact in floating point). ``M``: scipy sparse, no empty row or column."""
+    A = sp.csc_matrix(M)
+    vals = np.abs(A.data)
+    rows = A.indices
+    cols = np.repeat(np.arange(A.shape[1]), np.diff(A.indptr))
+    by_row = np.argsort(rows, kind="stable")
+    row_start = np.searchsorted(rows[by_row], np.arange(A.shape[0]))
+    col_start = A.indptr[:-1]
+    if (np.any(np.diff(A.indptr) == 0) or len(np.unique(rows)) != A.shape[0]
+            or not np.all(np.isfinite(vals))):
+        raise ConvergenceError("FE: the bordered tangent has an empty row or column or a "
+                               "non-finite entry")
+    r = np.ones(A.shape[0])
+    c = np.ones(A.shape[1])
+    for _ in range(EQUILIBRATION_SWEEPS):
+        v = vals * r[rows] * c[cols]
+        rmax = np.maximum.reduceat(v[by_row], row_start)
+        cmax = np.maximum.reduceat(v, col_start)
+        if not (np.all(rmax > 0) and np.all(cmax > 0)):
+            raise ConvergenceError("FE: the bordered tangent has a zero row or column")
+        dr = np.exp2(np.round(-0.5 * np.log2(rmax)))
+        dc = np.exp2(np.round(-0.5 * np.log2(cmax)))
+        if np.all(dr == 1.0) and np.all(dc == 1.0):
+            break
+        r *= dr
+        c *= dc
+    return r, c
+
+
+def _factor(M, lam):
+    """Factorisation of the bordered matrix ``M``: ``(solve, weights)``, ``solve(b)`` the
+    solution of ``M z = b`` and ``weights`` those of the unknowns in the norm of a Newton
+    update. A sparse ``M`` (the thin solid's saddle-point tangent) is equilibrated first
+    (:func:`equilibrate`): its pressure block is the mass matrix over the penalty (~1e-8
+    beside displacement entries ~1e9 at the default penalty), a condition ~1e18 unscaled,
+    at which the pressure part of an unscaled LU solve is round-off (its value then
+    depends on the pivot order); scaled, ~1e6. Its weights are 1/(column scaling): the
+    update measured in the unknowns of the equilibrated system, where every column has
+    unit size. A dense ``M`` (the membrane) is solved as it is, weights 1. A singular
+    ``M`` is a ConvergenceError."""
+    def singular(exc):
+        return ConvergenceError(f"FE: singular bordered tangent at lam = {lam:.6g}")
+
     try:
         if sp.issparse(M):
+            r, c = equilibrate(M)
+            A = sp.csc_matrix(M, copy=True)
+            A.data *= r[A.indices] * np.repeat(c, np.diff(A.indptr))
             with warnings.catch_warnings():
                 warnings.simplefilter("error", spla.MatrixRankWarning)
-                return spla.splu(M.tocsc()).solve(np.asarray(b, dtype=float))
-        return np.linalg.solve(M, b)
+                lu = spla.splu(A)
+            return (lambda b: c * lu.solve(r * np.asarray(b, dtype=float))), 1.0 / c
     except (np.linalg.LinAlgError, RuntimeError, spla.MatrixRankWarning) as exc:
-        raise ConvergenceError(f"FE: singular bordered tangent at lam = {lam:.6g}") from exc
+        raise singular(exc) from exc
+
+    def dense(b):
+        try:
+            return np.linalg.solve(M, b)
+        except np.linalg.LinAlgError as exc:
+            raise singular(exc) from exc
+    return dense, np.ones(M.shape[1])
+
+
+def _solve(M, b, lam):
+    """Solve of the bordered system (:func:`_factor`); a singular tangent is a
+    ConvergenceError."""
+    return _factor(M, lam)[0](b)
 
 
 def _T1(material, l1, l2, I4):

@@ -61,13 +61,27 @@ and by 0 from n_a = 2 to 4. Because the mesh scales with H, this error is an edg
 term of order H like the thickness effect itself: the limit H -> 0 on a fixed ``nz`` is
 the membrane (``verification/test_ch3_fe_thickness.py``).
 
-Limits: on under-resolved edge layers the bordered tangent becomes singular before loss
-of tension (a checkerboard pressure mode with the top-surface node just outside the
-electrode edge, where J departs from 1 by up to 9 % and lambda_R < 1), and the
-continuation raises ConvergenceError; where it occurs depends on the mesh, not
-monotonically on H or ``nz``. It is not a turning point of the load: prescribing u_R at a
-mid-plane node inside circle A (R = 0.55) instead of at R_A stalls at the same state
-(H = 0.1, nz = 1: centre stretch 5.0704 both ways).
+Linear solves and Newton: the bordered tangent is a saddle-point matrix whose pressure
+block is the mass matrix over the penalty: unscaled its condition is ~1e18 (~kappa^2;
+1.7e14, 1.7e18, 1.7e22 at kappa = 1e3, 1e5, 1e7, H = 0.2), so that the pressure part of
+an LU solve would be round-off and depend on SuperLU's pivot order (explicit zeros kept
+in the structure, another column ordering). It is equilibrated by powers of two before
+the factorisation (condition ~1e6, :func:`debench.models.circular.fe._factor`), and
+Newton takes only steps that pass the natural monotonicity test
+(:meth:`~debench.models.circular.fe.BorderedContinuation._newton`), so that a step
+converges to the solution next to its predictor or is refused and shortened.
+
+Limits: on under-resolved edge layers the branch folds in the edge stretch before loss
+of tension (lamP = 3: the smallest singular value of the equilibrated bordered tangent
+falls like sqrt(lam* - lam), 1.1e-6 at lam = 4.96 to 2.2e-7 at 4.975, H = 0.05, fold at
+lam* = 4.9754, centre stretch 5.000; a mode of the top-surface nodes at the electrode
+edge, where J departs from 1 by up to 9 % and lambda_R < 1); the continuation then
+raises ConvergenceError. Where it occurs depends on the mesh, not monotonically on H or
+``nz``. Prescribing u_R at a mid-plane node inside circle A (R = 0.55) instead of at R_A
+stalls at the same state (H = 0.1, nz = 1: centre stretch 5.0704 both ways). A full
+Newton from a step across the fold can wander (|dz| ~ 1e4) and land on another state
+after tens of iterations, a landing that depends on round-off: the monotonicity test
+refuses such steps.
 """
 
 from __future__ import annotations
@@ -285,7 +299,7 @@ class CircularSolidFE(BorderedContinuation):
         p.Set(-(lP**-4) / (1 - (I1 - 3) / self.Jm))   # P_ZZ = 0 of the Gent energy
         psi.Set(ng.y)
         x = self.gf.vec.FV().NumPy().copy()
-        x, p2, it, resid = self._newton(x, 0.0, self.lamP)
+        x, p2, it, resid = self._newton(x, 0.0, self.lamP, monotone=False)
         return self._finish(x, p2, it, resid)
 
     # ------------------------------------------------------------------ assembly
@@ -324,9 +338,7 @@ class CircularSolidFE(BorderedContinuation):
             plan["e_psi"], 1.0, p), dp[self._E]])
         data = np.bincount(plan["slot"], weights=vals[plan["keep"]], minlength=plan["nnz"])
         M = sp.csc_matrix((data, plan["indices"], plan["indptr"]), shape=plan["shape"])
-        # zeros out (the forms' structural zeros, cancellations): SuperLU orders the
-        # columns by the structure, and the continuation's path near the electrode-edge
-        # stall depends on the round-off of that order
+        # zeros out (the forms' structural zeros, cancellations): a smaller factorisation
         M.eliminate_zeros()
         col = np.bincount(plan["load_row"], weights=vals[plan["load"]],
                           minlength=len(self._E))

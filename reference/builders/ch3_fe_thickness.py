@@ -49,15 +49,15 @@ def film_sources() -> str:
 def film_task(H: float, quantity: str, lamP: float, c: float, lam_centre: float,
               nz: int, sources: str = "") -> float:
     """One film of a sequence as a task (H first: the task runner submits the thinnest,
-    the longest, first): the solid's value on SOLID_MESH_COARSE with ``nz`` rows, NaN
-    when its continuation stalls. One thread for BLAS and NGSolve. ``sources``
+    the longest, first): the solid's value on SOLID_MESH_COARSE with ``nz`` rows; a film
+    that cannot be solved raises ConvergenceError naming it (the runner then fails the
+    build naming the task: no NaN reaches the dataset). One thread for BLAS and NGSolve. ``sources``
     (:func:`film_sources`) is not used here: it is part of the task, so that a result
     kept by the runner's cache (``DEBENCH_FE_CACHE``) is never served for other code."""
     from debench.reference.builders._ch5_tasks import _limit_threads
 
     _limit_threads()
-    return P.film_value(quantity, lamP, c, H, lam_centre, dict(P.SOLID_MESH_COARSE, nz=nz),
-                        stalled_as_nan=True)
+    return P.film_value(quantity, lamP, c, H, lam_centre, dict(P.SOLID_MESH_COARSE, nz=nz))
 
 
 def thickness(full: bool, scheduler: str | None = None) -> xr.Dataset:
@@ -87,7 +87,7 @@ def thickness(full: bool, scheduler: str | None = None) -> xr.Dataset:
     for i, s in enumerate(seqs):
         vals = [next(films) for _ in s.films]
         d = P.thickness_study(s.quantity, s.lamP, s.films, dict(P.SOLID_MESH_COARSE, nz=s.nz),
-                              s.lam_centre, c=s.c, stalled_as_nan=True, values=vals)
+                              s.lam_centre, c=s.c, values=vals)
         n = len(s.films)
         H[i, :n], val[i, :n], diff[i, :n] = s.films, d["values"], d["diff_membrane_fe"]
         for k in per:
@@ -104,7 +104,7 @@ def thickness(full: bool, scheduler: str | None = None) -> xr.Dataset:
         "lam_centre": (seq, np.array([s.lam_centre for s in seqs]), a("centre stretch of circle A at which Phibar is compared (NaN: an event)")),
         "nz": (seq, np.array([s.nz for s in seqs]), a("element rows through the half thickness (edge elements H/(2 nz) square)")),
         "H": (("sequence", "film"), H, a("undeformed film thickness H/R_A (NaN: no such film)")),
-        "value_solid": (("sequence", "film"), val, a("the quantity by the thin axisymmetric solid FE (NaN at a film H: the continuation stalled)")),
+        "value_solid": (("sequence", "film"), val, a("the quantity by the thin axisymmetric solid FE (NaN: no such film)")),
         "diff_membrane_fe": (("sequence", "film"), diff, a("solid minus membrane FE (reference mesh)")),
         "membrane_fe": (seq, per["membrane_fe"], a("the quantity by the membrane FE on the reference mesh")),
         "mesh_error": (seq, per["mesh_error"], a("membrane FE on the solid's in-plane mesh minus the reference: the error the H -> 0 limit inherits")),

@@ -477,22 +477,23 @@ def thickness_limit(quantity: str, lamP: float, c: float, lam_centre: float, Hs,
 
 
 def film_value(quantity: str, lamP: float, c: float, H: float, lam_centre: float,
-               mesh: dict, stalled_as_nan: bool = False) -> float:
-    """:func:`solid_value` of one film; with ``stalled_as_nan``, NaN when its continuation
-    stalls (ConvergenceError: the singular edge tangent of the solid)."""
+               mesh: dict) -> float:
+    """:func:`solid_value` of one film; a film whose continuation cannot be followed to
+    its value (ConvergenceError: e.g. a fold of the solid's branch in the edge stretch
+    before the event, :mod:`debench.models.circular.fe_solid`) raises ConvergenceError
+    naming the film: no film is ever recorded as NaN."""
     from debench.models.errors import ConvergenceError
 
     try:
         return solid_value(quantity, lamP, c, H, lam_centre, mesh)
-    except ConvergenceError:
-        if not stalled_as_nan:
-            raise
-        return math.nan
+    except ConvergenceError as exc:
+        raise ConvergenceError(f"thin-solid film {quantity} (lamP = {lamP:g}, c = {c:g}, "
+                               f"H = {H:g}, lam_centre = {lam_centre:g}, mesh {mesh}): "
+                               f"{exc}") from exc
 
 
 def thickness_study(quantity: str, lamP: float, Hs, mesh: dict, lam_centre: float = math.nan,
-                    steps: int = ANALYTIC_STEPS, c: float = 0.0,
-                    stalled_as_nan: bool = False, values=None) -> dict:
+                    steps: int = ANALYTIC_STEPS, c: float = 0.0, values=None) -> dict:
     """A quantity of the thin solid for the films ``Hs``, computed here: ``"phibar"``
     (Phibar at centre stretch ``lam_centre``), ``"pullin_phibar"`` (the maximum of Phibar,
     independent of the stretch measure) or ``"loss_of_tension"`` (the centre stretch at
@@ -500,18 +501,18 @@ def thickness_study(quantity: str, lamP: float, Hs, mesh: dict, lam_centre: floa
     from the membrane FE with the orders of that difference, and :func:`h_limit` beside
     both analytic variants (:func:`thickness_limit`). ``mesh_error``: the membrane FE on
     the solid's in-plane mesh (n_a, n_b, P2) minus the reference, the error the H -> 0
-    limit inherits from that mesh. ``stalled_as_nan``: a film whose continuation stalls
-    (ConvergenceError: the singular edge tangent of the solid) gets the value NaN, and
-    with it the limit (the dataset records the stall); otherwise the error propagates.
-    ``values``: the films' :func:`film_value` when the caller computed them already (the
-    dataset builder runs the films as independent tasks); else they are computed here."""
+    limit inherits from that mesh. A film that cannot be solved raises ConvergenceError
+    naming it (:func:`film_value`). ``values``: the films' :func:`film_value` (finite)
+    when the caller computed them already (the dataset builder runs the films as
+    independent tasks); else they are computed here."""
     if quantity not in THICKNESS_QUANTITIES:
         raise ValueError(f"quantity must be one of {THICKNESS_QUANTITIES}, got {quantity!r}")
     if values is None:
-        values = [film_value(quantity, lamP, c, h, lam_centre, mesh, stalled_as_nan)
-                  for h in Hs]
+        values = [film_value(quantity, lamP, c, h, lam_centre, mesh) for h in Hs]
     elif len(values) != len(Hs):
         raise ValueError(f"values must hold one value per film ({len(Hs)}), got {len(values)}")
+    elif not all(math.isfinite(v) for v in values):
+        raise ValueError(f"values must be finite (one solved value per film), got {values}")
     f = np.array(values, dtype=float)
     mem = _membrane_fe_value(quantity, lamP, c, lam_centre, MEMBRANE_REFERENCE_MESH)
     inplane = dict(n_a=mesh["n_a"], n_b=mesh["n_b"], order=2)
@@ -520,8 +521,10 @@ def thickness_study(quantity: str, lamP: float, Hs, mesh: dict, lam_centre: floa
 
 
 #: films of the loss-of-tension sequence on SOLID_MESH_COARSE: ratio 4, because on this
-#: mesh family the continuation stalls (singular tangent at the electrode edge,
-#: :mod:`debench.models.circular.fe_solid`) before loss of tension at H = 0.1 and 0.025
+#: mesh family the branch folds in the edge stretch (singular tangent at the electrode
+#: edge, :mod:`debench.models.circular.fe_solid`) before loss of tension at H = 0.1 and
+#: 0.025; the stored H = 0.05 and 0.0125 films were reached by Newton iterations that
+#: crossed such a fold (see the module of the solid), which the continuation now refuses
 LOT_FILMS = (0.2, 0.05, 0.0125)
 
 
