@@ -353,6 +353,21 @@ def test_stable_records_past_voltage_maximum_flags_only_records_past_the_maximum
         check(w, v, ew, ev, lam[:2])
 
 
+def test_propagated_accuracy_bounds_the_change_of_derived_values():
+    """First-order bound, one input at a time: exact for a linear function, and it bounds
+    the change when every input moves by its accuracy at once (ratio of two values)."""
+    from debench.reference.builders.ch5 import propagated_accuracy
+
+    x, dx = np.array([2.0, 3.0]), np.array([1e-3, 2e-3])
+    assert np.allclose(propagated_accuracy(lambda y: y[0] - 2 * y[1], x, dx), 5e-3,
+                       rtol=1e-9)
+    bound = propagated_accuracy(lambda y: y[1] / y[0], x, dx)
+    for sign in ((1, -1), (-1, 1), (1, 1)):
+        moved = (x[1] + sign[1] * dx[1]) / (x[0] + sign[0] * dx[0])
+        # second-order terms (dx/x)^2 ~ 1e-6 of the bound are below the 1.01 margin
+        assert abs(moved - x[1] / x[0]) <= 1.01 * bound
+
+
 CH5 = [e for e in catalogue.load() if e.file == "ch5.toml"]
 
 

@@ -101,6 +101,23 @@ def richardson(h, v):
 FIT_SAFETY = 3.0
 
 
+def propagated_accuracy(f, x, dx) -> np.ndarray:
+    """Bound on the change of ``f(x)`` (an array function of an array) when each input
+    ``x[i]`` moves by up to ``dx[i]``: the sum over inputs of the change each causes alone
+    (first order, one input at a time), elementwise. Regenerated derived values (ratios,
+    extrapolations, error estimates) may differ from the curated ones by this much when
+    their inputs are iterates converged only to ``dx``."""
+    x = np.asarray(x, float)
+    dx = np.broadcast_to(np.asarray(dx, float), x.shape)
+    base = np.asarray(f(x), float)
+    out = np.zeros_like(base)
+    for i in np.ndindex(x.shape):
+        xi = x.copy()
+        xi[i] += dx[i]
+        out += np.abs(np.asarray(f(xi), float) - base)
+    return out
+
+
 def convergence_fit(h, v, expected_order: float | None = None) -> dict[str, float]:
     """Mesh limit of ``v(h) = v_inf + C h^p`` with an error estimate.
 
