@@ -305,6 +305,10 @@ def test_curated_r20_imperfection_sensitivity():
         assert d["path_end"][0][j] == "stalled before the limit point", d
     assert np.all(np.diff(ds.v_max.values[1]) > 0), d["v_max"]
     assert ds.w_at_v_max.values[0, 2] > W_SPLIT > ds.w_at_v_max.values[1, 2], d
+    # the largest seed on h = 2.5 t0 passes the bifurcation and becomes unstable first at
+    # its axisymmetric limit point, past the voltage maximum
+    assert d["first_kind"][0][2] == "axisymmetric", d
+    assert d["first_w_over_t0"][0][2] > ds.w_at_v_max.values[0, 2], d
 
 
 def _paths(name):
@@ -318,7 +322,7 @@ def _paths(name):
                ds.eig_w[sel].values, ds.eig_v[sel].values, lam[sel].values)
 
 
-@pytest.mark.parametrize("name", ["ch5_ramps", "ch5_wrinkling"])
+@pytest.mark.parametrize("name", ["ch5_ramps", "ch5_wrinkling", "ch5_imperfection"])
 def test_curated_records_past_a_voltage_maximum_show_the_unstable_mode(name):
     """Past a path's voltage maximum at least one eigenvalue of the tangent at fixed voltage
     is negative (the determinant changes sign at the maximum): no curated eigen-record
