@@ -478,9 +478,7 @@ def _build_catalogue(out: Path, full: bool, results, by_chapter) -> list[Path]:
             from debench.reference.producers.ch5 import recomputed_in_this_command
 
             stack.enter_context(recomputed_in_this_command(fresh[0]))
-        extra = ({"results": results} if "results" in inspect.signature(mod.build).parameters
-                 else {})
-        paths = list(mod.build(out, full=full, **extra))
+        paths = list(mod.build(out, full=full, results=results))
     for p in paths:
         print(f"  wrote {p}", file=sys.stderr)
     return paths
