@@ -24,6 +24,9 @@ chapter plus ``literature.toml``). Each ``[[entry]]`` has
 ``as_printed``            errata: the printed form;  ``corrected``: the consistent form
 ``reference``             literature: the citation (derived: the closed form used)
 ``replaces``              an earlier id of the same entry (still resolved by ``by_id``)
+``root_cause``            errata (required with a status): the id of the erratum that is
+                          the root error (its own id for a root); any other entry whose
+                          status follows from an erratum names that root too
 ========================  ==============================================================
 
 A producer is a function ``f(entry) -> Outcome``. It must be quick (seconds) so that
@@ -72,6 +75,9 @@ STATUSES = (
     "assumed",           # assumption: the value we use where the thesis is silent
     "input",             # a stated parameter; the models use exactly it (transcription
                          # checked), so there is nothing to reproduce
+    "not_comparable",    # a setting of ours (discretisation, element type) that the thesis
+                         # states differently for its own method: neither a result nor a
+                         # failure to reproduce one (the diagnosis gives the reason)
     "error",             # the producer raised: always a regression
 )
 _ID = re.compile(r"^(ch[2-5]|app|lit)\.[a-z0-9_]+(\.[a-zA-Z0-9_]+)*$")
@@ -145,6 +151,7 @@ class Entry:
     corrected: str = ""
     reference: str = ""
     replaces: str = ""
+    root_cause: str = ""
     notes: str = ""
     file: str = ""
 
@@ -253,7 +260,27 @@ def _parse(files: tuple[tuple[str, bytes], ...]) -> tuple[Entry, ...]:
                     f"duplicate id {entry.id!r} in {name} and {seen[entry.id]}")
             seen[entry.id] = name
             entries.append(entry)
+    _validate_root_causes(entries)
     return tuple(entries)
+
+
+def _validate_root_causes(entries: list[Entry]) -> None:
+    """Every erratum with a status names its root error; a root names itself; every
+    ``root_cause`` is the id of an erratum that is its own root (no chains)."""
+    errata = {e.id: e for e in entries if e.kind == "erratum"}
+    for e in entries:
+        where = f"{e.file}: {e.id}"
+        if e.kind == "erratum" and e.expected_status != "pending" and not e.root_cause:
+            raise CatalogueError(f"{where}: an erratum with a status needs a root_cause "
+                                 "(its own id when it is the root error)")
+        if not e.root_cause:
+            continue
+        root = errata.get(e.root_cause)
+        if root is None:
+            raise CatalogueError(f"{where}: root_cause {e.root_cause!r} is not an erratum")
+        if root.root_cause != root.id:
+            raise CatalogueError(f"{where}: root_cause {e.root_cause!r} is not a root "
+                                 f"(it names {root.root_cause!r})")
 
 
 def _validate(e: Entry) -> None:
@@ -321,7 +348,7 @@ class Result:
             "unit": e.unit, "status": self.status, "expected_status": e.expected_status,
             "diagnosis": self.diagnosis, "tolerance": e.implied_tolerance(),
             "evidence": self.evidence or e.evidence, "source": e.source,
-            "parameters": e.parameters,
+            "parameters": e.parameters, "root_cause": e.root_cause,
         }
 
 
@@ -364,6 +391,14 @@ def judge(entry: Entry, outcome: Outcome) -> Result:
             return Result(entry, outcome.value, "not_reproduced",
                           f"the models use {outcome.value!r}, the thesis states "
                           f"{entry.value!r}", outcome.evidence, outcome.details)
+    if outcome.status == "not_comparable":
+        # a setting of ours beside the thesis' setting: the same one is an input, a
+        # different one describes another method (not a result to reproduce)
+        tol = entry.implied_tolerance() or 0.0
+        same = (outcome.value == entry.value if not isinstance(entry.value, int | float)
+                else abs(float(outcome.value) - float(entry.value)) <= tol * (1 + 1e-12))
+        return Result(entry, outcome.value, "input" if same else "not_comparable", diagnosis,
+                      outcome.evidence, outcome.details)
     if outcome.status is not None:
         if outcome.status not in STATUSES:
             raise CatalogueError(f"{entry.id}: producer returned unknown status {outcome.status!r}")

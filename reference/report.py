@@ -22,7 +22,8 @@ STATUS_MARK = {
     "confirmed": "📝 erratum confirmed", "refuted": "erratum refuted",
     "editorial": "✏️ editorial erratum",
     "explained": "🔎 explained", "unexplained": "🔎 unexplained",
-    "assumed": "assumed", "input": "input (stated parameter)", "error": "💥 error",
+    "assumed": "assumed", "input": "input (stated parameter)",
+    "not_comparable": "↔️ not comparable (our setting)", "error": "💥 error",
 }
 CHAPTER_TITLES = {
     "ch2": "Chapter 2 and Appendix A: invariants and constitutive equations",
@@ -75,17 +76,45 @@ def results_table(results: Iterable[Result], kinds=("claim", "literature")) -> s
     return "\n".join(rows)
 
 
-def errata_table(results: Iterable[Result]) -> str:
-    rows = ["| id | equation | as printed | corrected | status | evidence |",
-            "|---|---|---|---|---|---|"]
+def _by_root_cause(results: list[Result]) -> list[tuple[str, list[Result]]]:
+    """Errata grouped by their root error (catalogue field ``root_cause``), roots in
+    catalogue order; within a group the root first."""
+    groups: dict[str, list[Result]] = {}
     for r in results:
-        e = r.entry
-        if e.kind != "erratum":
-            continue
-        rows.append(f"| `{e.id}` | {_cell(e.source.get('equation', ''), 20)} | "
-                    f"{_cell(e.as_printed, None)} | {_cell(e.corrected, None)} | "
-                    f"{STATUS_MARK.get(r.status, r.status)} | "
-                    f"`{_cell(r.evidence or e.evidence, None)}` |")
+        if r.entry.kind == "erratum":
+            groups.setdefault(r.entry.root_cause or r.entry.id, []).append(r)
+    return [(root, sorted(rs, key=lambda r: r.entry.id != root))
+            for root, rs in groups.items()]
+
+
+def errata_table(results: Iterable[Result]) -> str:
+    """Markdown table of the errata, grouped by root cause (the root error first)."""
+    rows = ["| root cause | id | equation | as printed | corrected | status | evidence |",
+            "|---|---|---|---|---|---|---|"]
+    for root, group in _by_root_cause(list(results)):
+        for r in group:
+            e = r.entry
+            cause = "root" if e.id == root else f"`{root}`"
+            rows.append(f"| {cause} | `{e.id}` | {_cell(e.source.get('equation', ''), 20)} | "
+                        f"{_cell(e.as_printed, None)} | {_cell(e.corrected, None)} | "
+                        f"{STATUS_MARK.get(r.status, r.status)} | "
+                        f"`{_cell(r.evidence or e.evidence, None)}` |")
+    return "\n".join(rows)
+
+
+def root_cause_table(results: Iterable[Result]) -> str:
+    """Markdown table: each root error, the errata and the other entries that follow from
+    it (entries naming it as ``root_cause``)."""
+    results = list(results)
+    rows = ["| root error | status | errata it causes | other entries it causes |",
+            "|---|---|---|---|"]
+    for root, group in _by_root_cause(results):
+        head = group[0]
+        errata = [f"`{r.entry.id}`" for r in group[1:]]
+        others = [f"`{r.entry.id}` ({STATUS_MARK.get(r.status, r.status)})" for r in results
+                  if r.entry.kind != "erratum" and r.entry.root_cause == root]
+        rows.append(f"| `{root}` | {STATUS_MARK.get(head.status, head.status)} | "
+                    f"{', '.join(errata) or '—'} | {', '.join(others) or '—'} |")
     return "\n".join(rows)
 
 
@@ -113,7 +142,7 @@ def summary_line(results: list[Result]) -> str:
     counts = status_counts(results)
     order = ["reproduced", "not_reproduced", "not_reproducible", "pending", "confirmed",
              "refuted", "editorial", "explained", "unexplained", "assumed", "input",
-             "error"]
+             "not_comparable", "error"]
     return ", ".join(f"{counts[s]} {s.replace('_', ' ')}" for s in order if counts[s])
 
 
@@ -121,7 +150,7 @@ def chapter_summary(results: list[Result]) -> str:
     """Markdown table of status counts per chapter."""
     cols = ["reproduced", "not_reproduced", "not_reproducible", "pending", "confirmed",
             "refuted", "editorial", "explained", "unexplained", "assumed", "input",
-             "error"]
+             "not_comparable", "error"]
     present = [c for c in cols if any(r.status == c for r in results)]
     names = {"confirmed": "errata confirmed", "refuted": "errata refuted",
              "editorial": "editorial errata"}
@@ -140,7 +169,8 @@ def chapter_summary(results: list[Result]) -> str:
 def _headline(r: Result) -> bool:
     """Numeric thesis claims and literature values (not stated inputs)."""
     v = r.entry.value
-    return (r.entry.kind in ("claim", "literature") and r.status != "input"
+    return (r.entry.kind in ("claim", "literature")
+            and r.status not in ("input", "not_comparable")
             and isinstance(v, int | float) and not isinstance(v, bool))
 
 
@@ -163,6 +193,10 @@ def readme_block(results: list[Result]) -> str:
         "### Errata",
         "",
         errata_table(results),
+        "",
+        "Root causes: each root error and what follows from it.",
+        "",
+        root_cause_table(results),
         "",
         "### Diagnoses: hypotheses tested against the numbers that do not reproduce",
         "",
@@ -212,8 +246,10 @@ def chapter_verdict(prefix: str, chunk: list[Result]) -> str:
             f"ours {_fmt(r.value, r.entry.unit)}" for r in misses) + ".")
     errata = [r for r in chunk if r.entry.kind == "erratum"]
     if errata:
+        roots = {r.entry.root_cause or r.entry.id for r in errata}
         parts.append(f"Errata: {counts['confirmed']} confirmed, {counts['editorial']} "
-                     f"editorial, {counts['refuted']} refuted of {len(errata)} (" +
+                     f"editorial, {counts['refuted']} refuted of {len(errata)}, from "
+                     f"{len(roots)} root causes (" +
                      ", ".join(f"`{r.entry.id}`" for r in errata) + ").")
     diag = [r for r in chunk if r.entry.kind == "diagnosis"]
     if diag:
@@ -271,7 +307,9 @@ def write_report(out_dir: Path, results: list[Result], *, data_problems: list[st
         "Status meanings: *reproduced* = within half a unit of the last printed digit; "
         "*not reproduced* = our value differs (diagnosis given); *not reproducible* = the "
         "thesis lacks information (named); *pending* = no model yet; errata are "
-        "*confirmed*, *refuted* or *editorial* (a wrong cross-reference); a diagnosis "
+        "*confirmed*, *refuted* or *editorial* (a wrong cross-reference), grouped by their root "
+        "error; *not comparable* = a setting of ours (mesh, element type) that the thesis "
+        "states differently for its own method, neither a result nor a failure; a diagnosis "
         "(hypothesis) is *explained* when it gives the printed number to its digits.",
         "",
         "## Verdict per chapter",
@@ -309,6 +347,7 @@ def write_report(out_dir: Path, results: list[Result], *, data_problems: list[st
         for fig in rest:
             lines += _figure_lines(fig, out_dir)
     lines += ["## Errata", "", errata_table(results), ""]
+    lines += ["### Root causes", "", root_cause_table(results), ""]
     lines += ["## Diagnoses", "", diagnosis_table(results), ""]
     if data_problems:
         lines += ["## Dataset problems", ""] + [f"- {p}" for p in data_problems] + [""]

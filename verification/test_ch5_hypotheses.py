@@ -98,6 +98,7 @@ def test_convergence_fit_with_the_expected_order_covers_a_pre_asymptotic_sequenc
     "ch5.hypothesis.mu_in_mpa.pullin_voltage_t1_ogden",
     "ch5.hypothesis.mu_in_mpa.critical_voltage_t1_nh",
     "ch5.hypothesis.read_off.critical_voltage_t1",
+    "ch5.hypothesis.nominal_field.field_t1_nh",
 ])
 def test_hypothesis_status(entry_id):
     """Each diagnosis evaluates to its recorded status (explained or unexplained), from
@@ -122,3 +123,38 @@ def test_hypothesis_status_flips_with_the_numbers(monkeypatch):
     moved = {**ids, anchor.id: replace(anchor, value=anchor.value * 1.5, printed="0.075")}
     monkeypatch.setattr(catalogue, "by_id", lambda entries=None: moved)
     assert ch5.hypothesis_thickness(e).status == "unexplained"
+
+
+
+def test_no_offered_hypothesis_leaves_its_target_unmoved():
+    """A "mu in MPa" hypothesis is offered only for quantities the normalisation changes
+    (normalised voltages); for a deflection or a field in V/um it cannot move its target
+    and the producer refuses it."""
+    from dataclasses import replace
+
+    from debench.reference.producers import ch5
+
+    offered = [e for e in catalogue.load() if e.producer.endswith(":hypothesis_mu_in_mpa")]
+    assert offered
+    assert all(ch5.moves_its_target(e.parameters["quantity"]) for e in offered)
+    e = replace(offered[0], parameters={**offered[0].parameters, "quantity": "field"})
+    with pytest.raises(ValueError, match="cannot move its target"):
+        ch5.hypothesis_mu_in_mpa(e)
+
+
+def test_nominal_field_at_pullin_is_near_the_neo_hookean_field_but_not_the_ogden_one():
+    """Table 5.5: the nominal field Phi/t0 at our neo-Hookean pull-in (eps_r = 4.7) lies
+    within 0.5 % of the printed 41.6 V/um but outside its printed digits, and the printed
+    pull-in voltage 0.268 (mu = 1 MPa) brackets it; the same definition for the Ogden film
+    is more than 40 % below the printed 47.6 V/um."""
+    from debench.reference.producers import ch5
+
+    e = catalogue.by_id()["ch5.hypothesis.nominal_field.field_t1_nh"]
+    out = ch5.hypothesis_nominal_field(e)
+    d = out.details
+    assert out.status == "unexplained"
+    assert abs(out.value / d["thesis"] - 1) < 0.005
+    assert abs(out.value - d["thesis"]) > d["tolerance"]
+    lo, hi = d["printed_pullin_field_interval"]
+    assert lo <= d["thesis"] <= hi
+    assert d["other_nominal"] < 0.6 * d["other_thesis"]

@@ -84,9 +84,10 @@ def test_status_is_computed_not_declared(results):
 
 
 #: statuses a producer may name unconditionally: ``input`` is checked by ``judge`` against
-#: the stated value (a mismatch becomes not_reproduced); ``assumed`` labels an assumption
-#: whose producer computes the sensitivity.
-_LABEL_STATUSES = {"input", "assumed"}
+#: the stated value (a mismatch becomes not_reproduced); ``not_comparable`` too (our
+#: setting equal to the thesis' becomes input, a different one stays not_comparable);
+#: ``assumed`` labels an assumption whose producer computes the sensitivity.
+_LABEL_STATUSES = {"input", "not_comparable", "assumed"}
 
 
 def _declared_statuses(path: Path) -> list[str]:
@@ -225,3 +226,53 @@ def test_readme_results_table_is_current(results):
     text = (ROOT / "README.md").read_text()
     block = START + text.split(START, 1)[1].split(END, 1)[0] + END
     assert block == readme_block(results), "run `debench report --readme`"
+
+
+def test_a_setting_of_ours_is_an_input_when_equal_and_not_comparable_otherwise():
+    """``not_comparable`` is judged: our setting equal to the thesis' is an input, a
+    different one is neither reproduced nor not reproduced."""
+    e = _entry()
+    assert judge(e, Outcome(0.518, status="not_comparable")).status == "input"
+    assert judge(e, Outcome(0.6, status="not_comparable")).status == "not_comparable"
+
+
+def test_every_erratum_names_its_root_cause(entries):
+    """Errata carry ``root_cause``: their own id for a root error, else a root erratum's
+    id; entries that follow from an erratum (of any kind) name a root too."""
+    ids = catalogue.by_id(entries)
+    for e in entries:
+        if e.kind == "erratum" and e.expected_status != "pending":
+            assert e.root_cause, e.id
+        if e.root_cause:
+            root = ids[e.root_cause]
+            assert root.kind == "erratum" and root.root_cause == root.id, e.id
+
+
+def test_a_root_cause_that_is_no_root_is_rejected(tmp_path):
+    """The loader rejects a root cause that is not an erratum or not its own root."""
+    text = (CATALOGUE_TEXT_ERRATUM.format(id="ch3.erratum.a", root="ch3.erratum.a")
+            + CATALOGUE_TEXT_ERRATUM.format(id="ch3.erratum.b", root="ch3.erratum.a"))
+    (tmp_path / "x.toml").write_text(text)
+    assert len(catalogue.load(tmp_path)) == 2
+    (tmp_path / "x.toml").write_text(
+        text + CATALOGUE_TEXT_ERRATUM.format(id="ch3.erratum.c", root="ch3.erratum.b"))
+    with pytest.raises(catalogue.CatalogueError, match="not a root"):
+        catalogue.load(tmp_path)
+    (tmp_path / "x.toml").write_text(
+        CATALOGUE_TEXT_ERRATUM.format(id="ch3.erratum.d", root="ch3.missing"))
+    with pytest.raises(catalogue.CatalogueError, match="not an erratum"):
+        catalogue.load(tmp_path)
+
+
+CATALOGUE_TEXT_ERRATUM = """
+[[entry]]
+id = "{id}"
+kind = "erratum"
+root_cause = "{root}"
+quantity = "q"
+source = {{ chapter = 3, equation = "3.1", page = 1 }}
+as_printed = "a"
+corrected = "b"
+evidence = "verification/test_x.py::test_y"
+expected_status = "confirmed"
+"""

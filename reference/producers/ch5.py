@@ -276,9 +276,10 @@ def model_input(entry: Entry) -> Outcome:
 
 
 def discretisation(entry: Entry) -> Outcome:
-    """The thesis' Abaqus discretisation vs ours (not a physical claim): our element
-    layers and the element count of our finest mesh of the case, as recorded in the
-    curated critical-voltage dataset; the status is the comparison with the thesis."""
+    """The thesis' Abaqus discretisation beside ours: our element layers and the element
+    count of our finest mesh of the case, as recorded in the curated critical-voltage
+    dataset. A setting of our method, not a result: ``judge`` makes it ``input`` when it
+    equals the thesis' setting and ``not_comparable`` otherwise."""
     from debench.reference.datasets import dataset_parameters
 
     c = _crit()
@@ -288,10 +289,9 @@ def discretisation(entry: Entry) -> Outcome:
     else:
         case = {"geometry.elements_t1": "ogden_t1", "geometry.elements_t0p5": "ogden_t0p5"}[key]
         ours = int(c.nelements.sel(case=case).values.max())
-    return Outcome(value=float(ours), details={"ramp_ndof": _ramps().ndof.values.tolist()},
-                   diagnosis=("different discretisation by design (quadratic prisms; the "
-                              "layer study and the mesh convergence of v_cr are in "
-                              "ch5_critical_voltage.nc and the evidence test)"),
+    return Outcome(value=float(ours), status="not_comparable",
+                   details={"ramp_ndof": _ramps().ndof.values.tolist()},
+                   diagnosis=entry.diagnosis,
                    evidence=f"{EV_FEM}::test_element_layers_barely_change_the_critical_voltage")
 
 
@@ -405,9 +405,15 @@ def coarse_guards(material=None, cases=None) -> list:
 #: hypothesis "mu in MPa" says was used instead: 1 MPa for 0.156 MPa, a units slip.
 MU_HYPOTHESIS = 1.0e6
 #: how each quantity transforms under a change of the normalising modulus: normalised
-#: voltages scale with sqrt(mu_ref/mu_used); deflections and physical fields do not
-#: depend on the normalisation at all
+#: voltages scale with sqrt(mu_ref/mu_used). Deflections and physical fields do not depend
+#: on the normalisation: a "mu in MPa" hypothesis about them cannot move its target, so it
+#: is not offered (:func:`hypothesis_mu_in_mpa` refuses it).
 _SCALING = {"voltage": math.sqrt(MU_REF / MU_HYPOTHESIS), "displacement": 1.0, "field": 1.0}
+
+
+def moves_its_target(quantity: str) -> bool:
+    """Whether the "mu in MPa" normalisation changes a quantity of this kind at all."""
+    return _SCALING[quantity] != 1.0
 
 
 def _target(entry: Entry):
@@ -421,6 +427,9 @@ def hypothesis_mu_in_mpa(entry: Entry) -> Outcome:
     """Our value of the target claim converted as the thesis would print it had it
     normalised with mu = 1 MPa instead of 0.156 MPa; ``explained`` when that gives the
     printed number within half a unit of its last digit."""
+    if not moves_its_target(entry.parameters["quantity"]):
+        raise ValueError(f"{entry.id}: the normalisation does not change a "
+                         f"{entry.parameters['quantity']}: the hypothesis cannot move its target")
     target, ours = _target(entry)
     if isinstance(ours.value, bool | str):
         raise ValueError(f"{entry.id}: target {target.id} is not a numeric claim")
@@ -451,30 +460,85 @@ def _w_at_voltage(case: str, v: float) -> float:
     return float(np.interp(v, vv[:top], ww[:top]))
 
 
+def _v_at_w(case: str, w: float) -> float:
+    """Normalised voltage of the imperfect ramp at centre deflection ``w`` / t0 (before the
+    voltage maximum; linear interpolation between ramp steps)."""
+    r = _ramps().sel(case=case)
+    vv, ww = r.v.values, r.w_mid.values
+    ok = np.isfinite(vv) & np.isfinite(ww)
+    vv, ww = vv[ok], ww[ok]
+    top = int(np.argmax(vv)) + 1
+    if not ww[0] <= w <= ww[top - 1]:
+        raise ValueError(f"w = {w} outside the ramp of {case} [{ww[0]}, {ww[top - 1]}]")
+    return float(np.interp(w, ww[:top], vv[:top]))
+
+
 def hypothesis_read_off(entry: Entry) -> Outcome:
     """Were the printed critical voltages read off the imperfect ramps at one deflection?
 
-    Under the "mu in MPa" normalisation each printed critical voltage (with its printed
-    precision) maps to an interval of voltages of our imperfect ramp, hence to an interval
-    of centre deflections. ``explained`` when the intervals of the two materials overlap:
-    one deflection threshold w* then gives both printed numbers. Value: the deflection
-    (/ t0) at the NH value."""
+    Under the "mu in MPa" normalisation the anchor's printed critical voltage (with its
+    printed precision) maps to an interval of voltages of our imperfect ramp, hence to an
+    interval of centre deflections; read off the target's ramp at those deflections, it
+    predicts the target's critical voltage (converted the same way). Value: the prediction
+    at the middle of the anchor's deflection interval, a voltage like the target's;
+    ``explained`` when the predicted interval meets the target's printed one (one
+    deflection threshold then gives both printed numbers)."""
     from debench.reference import catalogue
 
     ids = catalogue.by_id()
-    out = {}
-    for key in ("target", "other"):
+    k = _SCALING["voltage"]
+    w_int = {}
+    for key in ("anchor", "target"):
         e = ids[entry.parameters[key]]
-        case = _case(e)
         tol = e.implied_tolerance()
-        k = _SCALING["voltage"]
-        lo, hi = ((float(e.value) - tol) / k, (float(e.value) + tol) / k)
-        out[case] = (_w_at_voltage(case, lo), _w_at_voltage(case, hi))
-    (a0, a1), (b0, b1) = out.values()
-    overlap = max(a0, b0) <= min(a1, b1)
-    return Outcome(0.5 * (a0 + a1), status="explained" if overlap else "unexplained",
-                   details={f"w_interval_over_t0.{c}": list(v) for c, v in out.items()}
-                   | {"imperfection_over_t0": 1e-3})
+        w_int[key] = (_w_at_voltage(_case(e), (float(e.value) - tol) / k),
+                      _w_at_voltage(_case(e), (float(e.value) + tol) / k))
+    target = ids[entry.parameters["target"]]
+    tcase = _case(target)
+    a0, a1 = w_int["anchor"]
+    predicted = _v_at_w(tcase, 0.5 * (a0 + a1)) * k
+    interval = [_v_at_w(tcase, a0) * k, _v_at_w(tcase, a1) * k]
+    tol = target.implied_tolerance()
+    overlap = (interval[0] <= float(target.value) + tol
+               and float(target.value) - tol <= interval[1])
+    return Outcome(predicted, status="explained" if overlap else "unexplained",
+                   details={f"w_interval_over_t0.{_case(ids[entry.parameters[key]])}":
+                            list(w_int[key]) for key in ("anchor", "target")}
+                   | {"predicted_interval": interval, "imperfection_over_t0": 1e-3})
+
+
+def hypothesis_nominal_field(entry: Entry) -> Outcome:
+    """Is the printed "true field at instability" the nominal field Phi/t0 at pull-in?
+
+    Ours: the nominal field of our pull-in voltage (mesh limit), in V/um at the assumed
+    eps_r; ``explained`` when it gives the target's printed number to its digits. Details:
+    the eps_r that would give the printed number, the nominal field of the printed pull-in
+    voltage under the "mu in MPa" normalisation (the interval of its printed digits), and
+    the same definition for the ``other`` claim (its target and our value)."""
+    from debench.reference import catalogue
+
+    ids = catalogue.by_id()
+    target = ids[entry.parameters["target"]]
+
+    def nominal(pullin_id: str, eps_r: float = EPS_R) -> float:
+        v = float(_ramps().sel(case=_case(ids[pullin_id])).v_pullin_extrapolated)
+        return _field_V_per_um(v, eps_r)
+
+    value = nominal(entry.parameters["pullin"])
+    tol = target.implied_tolerance()
+    explained = abs(value - float(target.value)) <= tol * (1 + 1e-12)
+    pullin = ids[entry.parameters["pullin"]]
+    ptol = pullin.implied_tolerance()
+    in_mpa = math.sqrt(MU_HYPOTHESIS / (EPS_R * EPS0)) * 1e-6
+    other = ids[entry.parameters["other"]]
+    return Outcome(value, status="explained" if explained else "unexplained",
+                   details={"thesis": float(target.value), "tolerance": tol,
+                            "eps_r_that_would_match": EPS_R * (value / float(target.value)) ** 2,
+                            "printed_pullin_field_interval": [
+                                (float(pullin.value) - ptol) * in_mpa,
+                                (float(pullin.value) + ptol) * in_mpa],
+                            "other_thesis": float(other.value),
+                            "other_nominal": nominal(entry.parameters["other_pullin"])})
 
 
 @lru_cache(maxsize=4)
