@@ -98,6 +98,16 @@ def test_eq_3_27_is_taylor_expansion_of_3_26():
     import debench.models.materials.membrane as mm
     jm = mm.JimenezMcMeekingPermittivity(eps0_bar=2.0, c0=0.01)
     assert jm.zhao_suo_linearisation().c == pytest.approx(-6 * 0.01 / 2.0)
+    # the producer's check: the statement holds, so the erratum is the equation numbers
+    # only (editorial); a different relation between c and c0 fails the check
+    from debench.reference import catalogue
+    from debench.reference.producers.ch3 import taylor_3_27_of_3_26_holds
+
+    assert taylor_3_27_of_3_26_holds()
+    assert taylor_3_27_of_3_26_holds(c0=0.02, eps0=3.0)
+    assert not taylor_3_27_of_3_26_holds(factor=-4.0)
+    r = catalogue.evaluate(catalogue.by_id()["ch3.erratum.eq_17_16c"])
+    assert r.status == "editorial"
 
 
 def test_c_effects_are_in_section_3_5():

@@ -503,7 +503,7 @@ def figures(ds: dict[str, xr.Dataset], fig_dir: Path) -> list[Path]:
     mark_thesis(axs[1, 0], 0.0, printed_value(eid), "thesis (printed value)", entries=[eid],
                 note=rf"{printed_value(eid):g} (pull-in, $c$ = 0)", note_offset=(-40, 125),
                 arrow=True)
-    eids = ["ch3.pullin.c_threshold_lamP_1p25", "ch3.pullin.c_threshold_lamP_1p25_before_lot"]
+    eids = ["ch3.pullin.c_threshold_lamP_1p25"]
     mark_thesis_x(axs[0, 0], printed_value(eids[0]), None, entries=eids, note_y=0.3,
                   note=f"no pull-in below\n$c$ = {printed_value(eids[0]):g}")
     eid = "ch3.max_stretch_gain.lamP_2"
