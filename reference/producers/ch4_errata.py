@@ -217,3 +217,44 @@ CHECKS = {
     "eq4_75_80_beta": eq4_75_80_beta, "eq4_76_xi_term": eq4_76_xi_term,
     "eq4_81_amplitude": eq4_81_amplitude, "eq4_38_dI4": eq4_38_dI4,
 }
+
+
+# --------------------------------------------------------------------------- root causes
+def c_misses_the_term_b_misses() -> bool:
+    """(4.56) is the root error of (4.55) again: on the grid, the derived minus printed c
+    equals the derived minus printed 2b, and both are -2 xi lam^-4."""
+    return all(abs(t[2] - t[1]) < ALG_TOL * 100 and abs(t[1] + 2 * xi * lam**-4) < ALG_TOL * 100
+               for lam in LAMS for xi in XIS for t in [b_c_terms(lam, xi)])
+
+
+def bicubic_follows_from_printed_b_c() -> bool:
+    """(4.63) carries no error of its own: its printed roots annihilate the symbol built
+    from the printed (4.54)-(4.60) at every grid point."""
+    return all(bicubic_residuals(xi, lam)["printed_roots_on_printed_symbol"] < ROOT_TOL
+               for lam in LAMS for xi in XIS)
+
+
+def ellipticity_loss_is_the_missing_term(xi: float = 5.0, D: float = 0.0,
+                                         beta: float = 0.5) -> bool:
+    """The TI curves of Figs 4.2/4.5 lie where (4.22) is not strongly elliptic because of the
+    term (4.55)-(4.56) omit: at the start of each printed-coefficient upper curve
+    (Dhat = 0, 1, 2) c - beta Dhat^2 is positive with the printed c and negative with the
+    derived one, which differ by exactly that term."""
+    from debench.models.plate.analysis import thin_limit
+
+    for Dh in (0.0, 1.0, 2.0):
+        lam = float(thin_limit(PlateParams(xi, Dh, beta, 0.0, "printed")).max())
+        der = coefficients(np.array(lam), PlateParams(xi, Dh, beta, 0.0, "derived"))
+        pri = printed_coefficients(np.array(lam), xi, 0.0, beta, Dh)
+        if not (float(pri[2]) - beta * Dh**2 > 0 > float(der[2]) - beta * Dh**2):
+            return False
+    return True
+
+
+#: the check that an entry's root cause is the erratum it names (entries whose
+#: ``root_cause`` is another entry than themselves)
+ROOT_CAUSE_CHECKS = {
+    "ch4.erratum.eq4_56_c": c_misses_the_term_b_misses,
+    "ch4.erratum.eq4_63_bicubic": bicubic_follows_from_printed_b_c,
+    "ch4.ellipticity.ti_curves_well_posed": ellipticity_loss_is_the_missing_term,
+}
