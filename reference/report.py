@@ -10,6 +10,7 @@ import datetime as _dt
 import os
 from collections import Counter
 from collections.abc import Iterable
+from dataclasses import dataclass
 from pathlib import Path
 
 from debench.reference.catalogue import Result
@@ -118,23 +119,120 @@ def root_cause_table(results: Iterable[Result]) -> str:
     return "\n".join(rows)
 
 
-def diagnosis_table(results: Iterable[Result]) -> str:
-    """Markdown table of the diagnoses: hypothesis, the thesis number it targets, what the
-    hypothesis predicts from our values, and whether that is the printed number."""
+#: words of an entry's ``quantity`` that name what kind of quantity it is, in the order
+#: they are looked for; the earliest one in the text decides (:func:`quantity_kind`)
+QUANTITY_WORDS = (("share", "share"), ("voltage", "voltage"), ("phibar", "voltage"),
+                  ("field", "field"), ("displacement", "displacement"),
+                  ("deflection", "displacement"), ("dhat", "Dhat"), ("area", "area"),
+                  ("stretch", "stretch"))
+
+
+def quantity_kind(entry) -> str:
+    """What kind of quantity an entry's value is: ``parameters.quantity`` when the entry
+    states it, otherwise the earliest word of :data:`QUANTITY_WORDS` in its ``quantity``
+    text ("" when none occurs)."""
+    stated = entry.parameters.get("quantity")
+    if isinstance(stated, str) and stated:
+        return stated
+    text = entry.quantity.lower()
+    hits = [(text.find(w), kind) for w, kind in QUANTITY_WORDS if w in text]
+    return min(hits)[1] if hits else ""
+
+
+def value_kind(value) -> str:
+    """``number``, ``bool``, ``text`` or ``none``: what a table cell compares."""
+    if value is None:
+        return "none"
+    if isinstance(value, bool):
+        return "bool"
+    if isinstance(value, int | float):
+        return "number"
+    return "text"
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """One diagnosis row: the value the hypothesis predicts and the value it is compared
+    with, each with its unit and kind of quantity. ``against`` says where the compared
+    value comes from: the target entry's printed value, or the value the producer states
+    it compared with (``details["compared_with"]``, in the entry's unit and kind)."""
+
+    predicted: object
+    predicted_unit: str
+    predicted_kind: str
+    compared: object
+    compared_unit: str
+    compared_kind: str
+    against: str
+
+
+def diagnosis_comparison(r: Result, ids: dict) -> Comparison:
+    """The comparison a diagnosis row shows (:class:`Comparison`)."""
+    e = r.entry
+    kind = quantity_kind(e)
+    if "compared_with" in r.details:
+        return Comparison(r.value, e.unit, kind, r.details["compared_with"], e.unit, kind,
+                          "stated by the producer")
+    t = ids.get(e.parameters.get("target", ""))
+    if t is None:
+        return Comparison(r.value, e.unit, kind, None, "", "", "missing target")
+    return Comparison(r.value, e.unit, kind, t.value, t.unit, quantity_kind(t), "target")
+
+
+def row_problems(results: Iterable[Result]) -> list[str]:
+    """Rows of the report's tables that do not compare like with like: a claim or
+    literature row whose value and ours are of different kinds (number, bool, text; a
+    missing value on either side is shown as such), a diagnosis row whose predicted and
+    compared values differ in unit or kind of quantity, or whose kind is unknown."""
     from debench.reference.catalogue import by_id
 
     results = list(results)
     ids = by_id([r.entry for r in results])
-    rows = ["| hypothesis | target | thesis value | predicted | status |",
-            "|---|---|---|---|---|"]
+    out = []
+    for r in results:
+        e = r.entry
+        if e.kind in ("claim", "literature"):
+            a, b = value_kind(e.value), value_kind(r.value)
+            if "none" not in (a, b) and a != b:
+                out.append(f"{e.id}: thesis value is {a}, ours is {b}")
+        elif e.kind == "diagnosis":
+            c = diagnosis_comparison(r, ids)
+            if not c.predicted_kind:
+                out.append(f"{e.id}: kind of the predicted quantity unknown")
+            if (c.predicted_unit, c.predicted_kind) != (c.compared_unit, c.compared_kind):
+                out.append(f"{e.id}: predicts {c.predicted_kind} [{c.predicted_unit}], "
+                           f"compared with {c.compared_kind} [{c.compared_unit}] "
+                           f"({c.against})")
+            if value_kind(c.predicted) not in ("number", "none") or \
+                    value_kind(c.compared) != "number":
+                out.append(f"{e.id}: predicted {value_kind(c.predicted)}, compared with "
+                           f"{value_kind(c.compared)}")
+    return out
+
+
+def diagnosis_table(results: Iterable[Result]) -> str:
+    """Markdown table of the diagnoses: hypothesis, the entry it targets, the value it is
+    compared with (the target's printed value, or the criterion its producer states) and
+    what the hypothesis predicts, each with unit and kind, and whether they agree."""
+    from debench.reference.catalogue import by_id
+
+    results = list(results)
+    ids = by_id([r.entry for r in results])
+    rows = ["| hypothesis | target | compared with | predicted | kind | status |",
+            "|---|---|---|---|---|---|"]
     for r in results:
         e = r.entry
         if e.kind != "diagnosis":
             continue
+        c = diagnosis_comparison(r, ids)
         t = ids.get(e.parameters.get("target", ""))
-        thesis = _fmt(t.printed or t.value, t.unit) if t else "—"
-        rows.append(f"| `{e.id}` | `{e.parameters.get('target', '')}` | {thesis} | "
-                    f"{_fmt(r.value, e.unit)} | {STATUS_MARK.get(r.status, r.status)} |")
+        shown = (_fmt(t.printed or t.value, t.unit) if c.against == "target" and t
+                 else _fmt(c.compared, c.compared_unit))
+        if c.against != "target":
+            shown += f" ({r.details.get('compared_as', 'criterion')})"
+        rows.append(f"| `{e.id}` | `{e.parameters.get('target', '')}` | {shown} | "
+                    f"{_fmt(c.predicted, c.predicted_unit)} | {c.predicted_kind} | "
+                    f"{STATUS_MARK.get(r.status, r.status)} |")
     return "\n".join(rows)
 
 

@@ -276,3 +276,13 @@ corrected = "b"
 evidence = "verification/test_x.py::test_y"
 expected_status = "confirmed"
 """
+
+
+def test_every_report_row_compares_like_with_like(results):
+    """The report's tables put beside each other only values of the same kind: a claim's
+    printed value and ours are both numbers, both booleans or both text, and a diagnosis
+    predicts a quantity of the same unit and kind (voltage, field, displacement, share,
+    Dhat) as the value it is compared with."""
+    from debench.reference import report
+
+    assert report.row_problems(results) == []

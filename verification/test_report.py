@@ -8,7 +8,7 @@ import re
 
 import pytest
 from debench.reference import catalogue, crosschecks, report
-from debench.reference.catalogue import Result
+from debench.reference.catalogue import Entry, Result
 
 
 @pytest.fixture(scope="module")
@@ -76,3 +76,44 @@ def test_figures_save_writes_png_and_svg(tmp_path):
     paths = save(fig, tmp_path / "fig9_1_example.png")
     assert [p.name for p in paths] == ["fig9_1_example.png", "fig9_1_example.svg"]
     assert all(p.stat().st_size > 0 for p in paths)
+
+
+def test_row_check_flags_a_deflection_compared_with_a_voltage():
+    """:func:`report.row_problems` can fail: a hypothesis predicting a deflection (w/t0)
+    against a normalised voltage, a share against a voltage, and a boolean beside a
+    number are each reported; the same hypothesis predicting a voltage is not."""
+    from dataclasses import replace
+
+    target = Entry(id="ch5.t.voltage", kind="claim", quantity="normalised critical voltage",
+                   value=0.078, printed="0.078", source={"section": "5.3", "page": 1})
+    deflection = Entry(id="ch5.hypothesis.t.read_off", kind="diagnosis",
+                       quantity="centre deflection at the printed voltage",
+                       parameters={"target": target.id, "quantity": "displacement"})
+    share = replace(deflection, id="ch5.hypothesis.t.share",
+                    parameters={"target": target.id, "quantity": "share"})
+    good = replace(deflection, id="ch5.hypothesis.t.voltage",
+                   parameters={"target": target.id, "quantity": "voltage"})
+    rows = [Result(target, True, "not_reproduced", ""),
+            Result(deflection, 0.0026, "unexplained", ""),
+            Result(share, 0.31, "unexplained", ""), Result(good, 0.08, "unexplained", "")]
+    problems = report.row_problems(rows)
+    assert [p.split(":")[0] for p in problems] == [
+        "ch5.t.voltage", "ch5.hypothesis.t.read_off", "ch5.hypothesis.t.share"]
+    assert report.quantity_kind(target) == "voltage"
+
+
+def test_errata_are_grouped_by_root_cause(results):
+    """The errata table lists each root error first and the errata it causes after it;
+    the root-cause table names the other entries that follow from a root."""
+    table = report.errata_table(results).splitlines()[2:]
+    ids = [row.split("|")[2].strip(" `") for row in table]
+    causes = [row.split("|")[1].strip(" `") for row in table]
+    by_id = {r.entry.id: r.entry for r in results}
+    for i, (eid, cause) in enumerate(zip(ids, causes, strict=True)):
+        root = by_id[eid].root_cause
+        assert cause == ("root" if root == eid else root)
+        if root != eid:       # a consequence comes after its root, within its group
+            j = ids.index(root)
+            assert j < i and all(by_id[x].root_cause == root for x in ids[j:i + 1])
+    roots = report.root_cause_table(results)
+    assert "`ch4.erratum.eq4_55_b`" in roots and "`ch4.ellipticity.ti_curves_well_posed`" in roots

@@ -414,7 +414,8 @@ def hypothesis_beta_in_rows(entry: Entry) -> Outcome:
     return Outcome(stated["ti"], status="explained" if explained else "unexplained",
                    diagnosis=entry.diagnosis, evidence=EV,
                    details={"text": text, "peaks": by_beta, "window": window,
-                            "compared_with": text["ti"]})
+                            "compared_with": text["ti"],
+                            "compared_as": f"case ({p['case_ti']}) of the text"})
 
 
 __all__ = [n for n in dir() if not n.startswith("_")] + ["replace"]

@@ -121,7 +121,8 @@ def coupling_gap(entry: Entry) -> Outcome:
     d = gap_decomposition(_methods())
     ok = coupling_explains_gap(d)
     return Outcome(d["coupling_share"], status="explained" if ok else "unexplained",
-                   evidence=EVIDENCE, details=d | {"compared_with": COUPLING_SHARE_MIN})
+                   evidence=EVIDENCE, details=d | {"compared_with": COUPLING_SHARE_MIN,
+                                "compared_as": "explains the gap at least"})
 
 
 def incompressible_critical_voltage(entry: Entry) -> Outcome:
