@@ -123,7 +123,7 @@ def test_max_stretch_reduction_eps_r_sensitivity():
                      for k in range(eps.size)])
     assert vals.max() <= peak["value"] + 1e-9
     assert peak["value"] < 19.12 - e.implied_tolerance()
-    assert 4.0 <= peak["eps_r"] <= 4.3
+    assert 4.0 <= float(peak["eps_r"]) <= 4.3
     assert _status(e.id).details["eps_r_peak"] == peak
 
 

@@ -334,8 +334,11 @@ def reduction_peak_over_eps_r(lamP: float, c: float, equilibrium: str = "printed
 
     res = minimize_scalar(neg, bounds=(lo, hi), method="bounded",
                           options={"xatol": 1e-6})
-    return {"eps_r": float(res.x), "value": float(-res.fun), "interval": [search[0], search[1]],
-            "grid_max": float(vals[i])}
+    # the location of a smooth maximum is fixed only to ~sqrt(round-off) of the values
+    # (1e-4 here), so it is reported as text to 3 decimals; the peak value is second
+    # order in that and is a guarded number
+    return {"eps_r": f"{res.x:.3f}", "value": float(-res.fun),
+            "interval": [search[0], search[1]], "grid_max": float(vals[i])}
 
 
 def _failures(lamP, c, radius_ratio, Jm, equilibrium, eps_r=params.EPS_R_ASSUMED):
