@@ -75,6 +75,9 @@ def catalogue_dataset(entries: list[catalogue.Entry] | None = None) -> xr.Datase
                            "erratum: the printed form"),
         "corrected": text("corrected", [e.corrected for e in entries],
                           "erratum: the corrected form"),
+        "root_cause": text("root_cause", [e.root_cause for e in entries],
+                           "the erratum that is the root error of this entry (an erratum "
+                           "names itself when it is the root; empty: none)"),
     }
     coords = {"entry": ("entry", np.array([e.id for e in entries], dtype=object),
                         {"long_name": "stable catalogue identifier"})}
