@@ -424,7 +424,7 @@ def write_report(out_dir: Path, results: list[Result], *, data_problems: list[st
         chunk = [r for r in results if r.entry.id.split(".")[0] == prefix]
         lines += [f"## {CHAPTER_TITLES.get(prefix, prefix)}", "", results_table(chunk), ""]
         diag = [r for r in chunk if r.diagnosis and r.status in
-                ("not_reproduced", "not_reproducible", "error")]
+                ("not_reproduced", "not_reproducible", "not_comparable", "error")]
         if diag:
             lines += ["Diagnoses:", ""]
             lines += [f"- `{r.entry.id}`: {r.diagnosis}" for r in diag]

@@ -251,9 +251,25 @@ def ellipticity_loss_is_the_missing_term(xi: float = 5.0, D: float = 0.0,
     return True
 
 
+def dI4_is_the_appendix_formula(seed: int = 38) -> bool:
+    """(4.38) is the formula (A.4) prints (one transcription serves both labels), and that
+    formula evaluates to what the (4.38) check tests: zero at the seeded state."""
+    from debench.models.invariants import printed as pr
+
+    if pr.SAME_FORMULA.get("A.4") != "4.38":
+        return False
+    rng = np.random.default_rng(seed)
+    F = np.eye(3) + 0.3 * rng.standard_normal((3, 3))
+    a = rng.standard_normal(3)
+    a /= np.linalg.norm(a)
+    func = pr.PRINTED_DERIVATIVES["A.4"][3]
+    return bool(np.allclose(func(F, np.zeros(3), a), dI4_dF(seed)["printed"], atol=ALG_TOL))
+
+
 #: the check that an entry's root cause is the erratum it names (entries whose
 #: ``root_cause`` is another entry than themselves)
 ROOT_CAUSE_CHECKS = {
+    "ch4.erratum.eq4_38_dI4": dI4_is_the_appendix_formula,
     "ch4.erratum.eq4_56_c": c_misses_the_term_b_misses,
     "ch4.erratum.eq4_63_bicubic": bicubic_follows_from_printed_b_c,
     "ch4.ellipticity.ti_curves_well_posed": ellipticity_loss_is_the_missing_term,
