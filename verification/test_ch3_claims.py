@@ -151,7 +151,7 @@ def test_fig39a_holds_on_the_pullin_range():
     down to the before-loss-of-tension threshold (the closed form, to solver precision),
     lam_max and its Phibar rise there as c decreases, and every point of the 0 to -0.1
     sweep below it fails by loss of tension; so the claim fails on the whole Table 3.1
-    range (our assumption before) and holds on [0, -0.0633]."""
+    range and holds on [0, -0.0633]."""
     d = prod.pullin_range_of_fig39a(1.25)
     closed = analysis.pullin_c_threshold_closed_form(Annulus(1.25))
     assert d["c_end"] == pytest.approx(closed, abs=THRESHOLD_AGREEMENT)

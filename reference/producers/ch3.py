@@ -697,11 +697,11 @@ def fig39_unstated_range(entry: Entry) -> Outcome:
     holds there and loss of tension governs beyond, whether the figure's range went beyond
     depends on the unstated range (``not_reproducible``); otherwise ``not_reproduced``."""
     d = pullin_range_of_fig39a(_p(entry, "lamP"))
+    evidence = f"{EV}::test_fig39a_holds_on_the_pullin_range"
     if d["holds_on_pullin_range"] and d["loss_of_tension_below"]:
         return Outcome(value=True, status="not_reproducible", details=d,
-                       diagnosis=entry.diagnosis, evidence=f"{EV}::test_fig39a_holds_on_the_pullin_range")
-    return Outcome(value=False, details=d, diagnosis=entry.diagnosis,
-                   evidence=f"{EV}::test_fig39a_holds_on_the_pullin_range")
+                       diagnosis=entry.diagnosis, evidence=evidence)
+    return Outcome(value=False, details=d, diagnosis=entry.diagnosis, evidence=evidence)
 
 
 _CHECKS = {
