@@ -99,17 +99,37 @@ class Quantity:
     along_units: str = "1"
     along_scale: str = "linear"
     interpolate_power: float = 1.0
+    #: ``{function = "module:name", selectors = [...], args = {...}}``: a weight w(x) such
+    #: that y^p w is smooth where y^p has poles (interpolated instead of y^p)
+    interpolate_weight: dict[str, Any] = field(default_factory=dict)
     dataset: str | None = None
     variable: str | None = None
     function: str | None = None
     function_args: dict[str, Any] = field(default_factory=dict)
     grid: dict[str, Any] = field(default_factory=dict)
     discretisation_from: dict[str, Any] = field(default_factory=dict)
+    #: units of each coordinate ("" for a text coordinate such as a material name)
+    coordinate_units: dict[str, str] = field(default_factory=dict)
+    #: exact definition: formula, criterion, tangent, branch, root_numbering, normalisation
+    definition: dict[str, str] = field(default_factory=dict)
+    #: where the reference is defined: window, and what is excluded and why
+    domain: dict[str, Any] = field(default_factory=dict)
 
     @property
     def coordinates(self) -> tuple[str, ...]:
         """Coordinate names a user supplies (selectors, then the abscissa)."""
         return self.select + ((self.along,) if self.along else ())
+
+    def units_of(self, name: str) -> str:
+        """Units of the quantity or of one of its coordinates ("" for text)."""
+        if name == self.name:
+            return self.units
+        if name == self.along:
+            return self.along_units
+        if name in self.coordinate_units:
+            return self.coordinate_units[name]
+        raise ProblemError(f"quantity {self.name} has no coordinate {name!r}; "
+                           f"coordinates {list(self.coordinates)}")
 
 
 @dataclass(frozen=True)
@@ -121,14 +141,20 @@ class Problem:
     chapter: int
     summary: str
     geometry: str
-    boundary_conditions: str
-    loading: str
+    boundary_conditions: Any
+    loading: Any
     thesis: dict[str, Any]
     parameters: dict[str, dict[str, Any]]
     quantities: tuple[Quantity, ...]
     catalogue: tuple[str, ...] = ()
     references: tuple[str, ...] = ()
     file: str = ""
+    #: energy, compressibility, extension off J = 1, equations, materials
+    model: dict[str, Any] = field(default_factory=dict)
+    #: for a named variant: the default problem it varies and why it exists
+    variant: dict[str, str] | None = None
+    #: the spec as parsed from TOML (what the schema validates)
+    raw: dict[str, Any] = field(default_factory=dict, repr=False, compare=False)
 
     def quantity(self, name: str | None = None) -> Quantity:
         """The quantity ``name`` (default: the only one)."""
@@ -152,12 +178,16 @@ class Problem:
             "id": self.id, "title": self.title, "chapter": self.chapter,
             "summary": self.summary, "geometry": self.geometry,
             "boundary_conditions": self.boundary_conditions, "loading": self.loading,
+            "model": self.model, "variant": self.variant,
             "thesis": self.thesis, "parameters": self.parameters,
             "catalogue": list(self.catalogue), "references": list(self.references),
             "provenance": provenance(self),
             "quantities": [{
                 "name": q.name, "long_name": q.long_name, "units": q.units,
                 "coordinates": list(q.coordinates), "select": list(q.select),
+                "coordinate_units": {c: q.units_of(c) for c in q.coordinates
+                                     if c in q.coordinate_units or c == q.along},
+                "definition": q.definition, "domain": q.domain,
                 "defaults": q.defaults, "along": q.along, "along_units": q.along_units,
                 "source": (f"dataset {q.dataset}:{q.variable}" if q.source == "dataset"
                            else f"closed form {q.function}({q.function_args})"),
@@ -223,14 +253,17 @@ def _quantity(raw: Mapping[str, Any], where: str) -> Quantity:
 
 def load_file(path: Path) -> Problem:
     """One problem spec from a TOML file."""
+    import copy
+
     raw = tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    parsed = copy.deepcopy(raw)
     where = Path(path).name
     try:
         quantities = tuple(_quantity(q, where) for q in raw.pop("quantity"))
         problem = Problem(
             catalogue=tuple(raw.pop("catalogue", ())),
             references=tuple(raw.pop("references", ())),
-            quantities=quantities, file=where, **raw)
+            quantities=quantities, file=where, raw=parsed, **raw)
     except (KeyError, TypeError) as exc:
         raise ProblemError(f"{where}: malformed problem spec ({exc})") from None
     if problem.id != Path(path).stem:
@@ -306,12 +339,24 @@ class Reference:
     interpolation: np.ndarray
 
 
+def _weight(q: Quantity, sel_values: Mapping[str, Any]):
+    """The interpolation weight w(x) of ``q`` at the selected curve (None: no weight)."""
+    if not q.interpolate_weight:
+        return None
+    module, _, name = q.interpolate_weight["function"].partition(":")
+    fn = getattr(importlib.import_module(module), name)
+    kw = {**q.interpolate_weight.get("args", {}),
+          **{k: float(sel_values[k]) for k in q.interpolate_weight.get("selectors", ())}}
+    return lambda x: np.asarray(fn(np.asarray(x, dtype=float), **kw), dtype=float)
+
+
 def _curve_at(x: np.ndarray, y: np.ndarray, xq: np.ndarray, name: str, log: bool,
-              power: float = 1.0):
+              power: float = 1.0, weight=None):
     """Cubic-spline value and its error estimate (distance to the half-grid spline).
 
     ``power`` p: interpolate ``y**p`` (a curve with a square-root end, such as Phibar near
-    Phibar = 0, is smooth in Phibar^2), then return ``(.)**(1/p)``.
+    Phibar = 0, is smooth in Phibar^2), then return ``(.)**(1/p)``. ``weight`` w(x):
+    interpolate ``y**p w`` (smooth where y^p has poles), then divide by w(xq).
     """
     from scipy.interpolate import CubicSpline
 
@@ -337,16 +382,29 @@ def _curve_at(x: np.ndarray, y: np.ndarray, xq: np.ndarray, name: str, log: bool
     t = np.log(x[ok]) if log else x[ok]
     tq = np.log(xq) if log else xq
     yp = y[ok] ** power
+    if weight is not None:
+        yp = yp * weight(x[ok])
     half = np.unique(np.r_[np.arange(0, t.size, 2), t.size - 1])
     if half.size < 4:
         raise ValueError(f"the reference curve along {name} is too short to interpolate "
                          f"with an error estimate ({t.size} points)")
     cubic = CubicSpline(t, yp)(tq)
     coarse = CubicSpline(t[half], yp[half])(tq)
+    if weight is not None:
+        wq = weight(xq)
+        cubic, coarse = cubic / wq, coarse / wq
     if power != 1.0:
         cubic, coarse = (np.maximum(cubic, 0.0) ** (1 / power),
                          np.maximum(coarse, 0.0) ** (1 / power))
     return cubic, np.abs(cubic - coarse)
+
+
+def _describe(chosen: Mapping[str, Any]) -> str:
+    """``xi = 5, Dhat = 5, root = 0``: the curve a message is about."""
+    def show(v):
+        v = v.item() if isinstance(v, np.generic) else v
+        return f"{v:g}" if isinstance(v, float) else str(v)
+    return ", ".join(f"{k} = {show(v)}" for k, v in chosen.items()) or "the curve"
 
 
 def reference_at(problem: Problem, quantity: Quantity,
@@ -400,11 +458,14 @@ def reference_at(problem: Problem, quantity: Quantity,
                 raise ProblemError(f"{problem.id}:{quantity.name}: curve is not 1-D after "
                                    f"selection ({y.dims})")
             xq = np.asarray(arrays[-1][idx], dtype=float)
-            value[idx], interp[idx] = _curve_at(np.asarray(x.values, float),
-                                                np.asarray(y.values, float), xq,
-                                                quantity.along,
-                                                quantity.along_scale == "log",
-                                                quantity.interpolate_power)
+            chosen = {s: ds[s].values[i] for s, i in sel.items()}
+            try:
+                value[idx], interp[idx] = _curve_at(
+                    np.asarray(x.values, float), np.asarray(y.values, float), xq,
+                    quantity.along, quantity.along_scale == "log",
+                    quantity.interpolate_power, _weight(quantity, chosen))
+            except ValueError as exc:
+                raise ValueError(f"{_describe(chosen)}: {exc}") from None
     tol = quantity.accuracy.tolerance(value, quantity.accuracy.discretisation + disc)
     return Reference(value, tol + interp, interp)
 
