@@ -52,6 +52,10 @@ PROBLEMS_DIR = Path(__file__).resolve().parent / "problems"
 #: decimal-to-binary conversion (1e-16) is a different grid point; 1e-9 is far above it
 #: and far below any grid spacing (>= 1e-3)
 COORD_MATCH_RTOL = 1e-9
+#: an abscissa within this relative distance of a stored grid point takes the stored value
+#: (no interpolation error): a few ulp, so only the grid printed by ``--json`` (17
+#: significant digits, which round-trip exactly) and its round-off qualify
+NODE_MATCH_RTOL = 1e-15
 
 
 class ProblemError(ValueError):
@@ -396,7 +400,12 @@ def _curve_at(x: np.ndarray, y: np.ndarray, xq: np.ndarray, name: str, log: bool
     if power != 1.0:
         cubic, coarse = (np.maximum(cubic, 0.0) ** (1 / power),
                          np.maximum(coarse, 0.0) ** (1 / power))
-    return cubic, np.abs(cubic - coarse)
+    # on a grid point the reference is the stored value itself: no interpolation error
+    xs = x[ok]
+    k = np.clip(np.searchsorted(xs, xq), 0, xs.size - 1)
+    node = np.isclose(xs[k], xq, rtol=NODE_MATCH_RTOL, atol=0.0)
+    cubic = np.where(node, y[ok][k], cubic)
+    return cubic, np.where(node, 0.0, np.abs(cubic - coarse))
 
 
 def _describe(chosen: Mapping[str, Any]) -> str:
@@ -425,6 +434,12 @@ def reference_at(problem: Problem, quantity: Quantity,
     n = arrays[0].size if arrays else 1
     if quantity.source == "function":
         xq = np.asarray(arrays[-1], dtype=float)
+        lo, hi = float(quantity.grid["start"]), float(quantity.grid["stop"])
+        outside = ~((xq >= lo) & (xq <= hi))
+        if outside.any():
+            raise ValueError(f"{quantity.along} must lie in the reference range [{lo:g}, "
+                             f"{hi:g}] (problem {problem.id}); got "
+                             f"{xq[outside][:3].tolist()}")
         ref = _function(quantity)(xq)
         zeros = np.zeros(n)
         return Reference(ref, quantity.accuracy.tolerance(ref), zeros)
@@ -502,3 +517,248 @@ def reference_json(problem: Problem) -> dict[str, Any]:
                     _discretisation_error(ds, var, q.discretisation_from).values)
         out["reference"][q.name] = item
     return out
+
+
+# --------------------------------------------------------------------------- rendering
+def _md_value(v: Any) -> str:
+    if isinstance(v, list):
+        return ", ".join(_md_value(x) for x in v)
+    return f"{v:g}" if isinstance(v, float) else str(v)
+
+
+def _md_units(u: str) -> str:
+    return "text" if u == "" else f"`{u}`"
+
+
+def _md_parameters(pars: Mapping[str, Mapping[str, Any]]) -> list[str]:
+    out = ["| parameter | value | units | meaning |", "|---|---|---|---|"]
+    for name, par in pars.items():
+        out.append(f"| `{name}` | {_md_value(par.get('value'))} | "
+                   f"{_md_units(par.get('units', ''))} | {par.get('description', '')} |")
+    return out
+
+
+def render_markdown(problem: Problem) -> str:
+    """The page ``debench problems ID --markdown`` prints: everything needed to implement
+    the problem and check it, from the spec alone."""
+    p = problem
+    out = [f"# {p.id}: {p.title}", "", f"Chapter {p.chapter}. {p.summary}", ""]
+    if p.variant:
+        out += [f"**Variant of `{p.variant['of']}`.** {p.variant['why']}", ""]
+    out += ["## Geometry", "", p.geometry, "", "## Model", ""]
+    m = p.model
+    for key, label in (("energy", "Energy"), ("compressibility", "Compressibility"),
+                       ("extension_off_J1", "Extension off J = 1"),
+                       ("equations", "Equations")):
+        if m.get(key):
+            out += [f"**{label}.** {m[key]}", ""]
+    for mat in m.get("material", ()):
+        out += [f"### Material `{mat['name']}`", "", f"- energy: {mat['energy']}",
+                f"- compressibility: {mat['compressibility']}"]
+        if mat.get("extension_off_J1"):
+            out.append(f"- extension off J = 1: {mat['extension_off_J1']}")
+        out += ["", *_md_parameters(mat["parameters"]), ""]
+    out += ["## Boundary conditions", ""]
+    if isinstance(p.boundary_conditions, str):
+        out += [p.boundary_conditions, ""]
+    else:
+        out += ["| boundary | kinematic | electric |", "|---|---|---|"]
+        out += [f"| {b['boundary']} | {b['kinematic']} | {b['electric']} |"
+                for b in p.boundary_conditions]
+        out.append("")
+    out += ["## Loading", ""]
+    if isinstance(p.loading, str):
+        out += [p.loading, ""]
+    else:
+        out += [f"**Path.** {p.loading['path']}", "",
+                f"**Controlled.** {p.loading['controlled']}", ""]
+    out += ["## Parameters", "", *_md_parameters(p.parameters), ""]
+    for q in p.quantities:
+        acc = q.accuracy
+        out += [f"## Quantity `{q.name}` [{_md_units(q.units)}]", "", q.long_name, ""]
+        for key in ("formula", "criterion", "tangent", "branch", "root_numbering",
+                    "normalisation"):
+            if q.definition.get(key):
+                out.append(f"- **{key.replace('_', ' ')}**: {q.definition[key]}")
+        out += ["", "**Coordinates** (columns of your results file, with units):", ""]
+        for c in q.coordinates:
+            role = ("abscissa, interpolated" + (" in log" if q.along_scale == "log" else "")
+                    if c == q.along else "selector, matched to the grid")
+            dflt = f"; default {q.defaults[c]}" if c in q.defaults else ""
+            unit = q.units_of(c) if (c in q.coordinate_units or c == q.along) else "?"
+            out.append(f"- `{c}` [{_md_units(unit)}]: {role}{dflt}")
+        out += ["", f"**Domain.** {q.domain.get('window', '')}", ""]
+        if q.domain.get("excluded"):
+            out += ["| excluded | why |", "|---|---|"]
+            out += [f"| {e['what']} | {e['why']} |" for e in q.domain["excluded"]]
+            out.append("")
+        out += [f"**Accuracy.** |error| <= atol + rtol |ref| + discretisation "
+                f"(+ the interpolation error estimate off the grid): atol = {acc.atol:g}, "
+                f"rtol = {acc.rtol:g} ({acc.reason}); discretisation "
+                + (f"{float(acc.discretisation):g}" if np.ndim(acc.discretisation) == 0
+                   else "per value") + f": {acc.discretisation_reason}", ""]
+        src = (f"dataset `{q.dataset}.nc`, variable `{q.variable}`" if q.source == "dataset"
+               else f"closed form on the grid {q.grid}")
+        header = ",".join(f"{c} [{q.units_of(c)}]" if (c in q.coordinate_units and
+                          q.units_of(c)) or c == q.along else c for c in q.coordinates)
+        out += [f"**Reference values.** {src}; `debench problems {p.id} --json` prints "
+                "them with their coordinates.", "",
+                f"**Check.** `debench check {p.id} results.csv` with the header "
+                f"`{header},{q.name} [{q.units}]`; every reference point of the curves or "
+                "values you address must be covered (or pass `--partial` and the report "
+                "says what was covered).", ""]
+    prov = provenance(p)
+    if prov["datasets"]:
+        out += ["## Provenance", ""]
+        out += [f"- `{d['file']}` sha256 `{d['sha256']}`" for d in prov["datasets"].values()]
+        out.append("")
+    out.append("Thesis: " + ", ".join(f"{k} {v}" for k, v in p.thesis.items()))
+    return "\n".join(out) + "\n"
+
+
+# --------------------------------------------------------------------------- coverage
+class CoverageError(ValueError):
+    """Results that do not cover the reference points they address (and did not declare
+    partial coverage)."""
+
+
+@dataclass(frozen=True)
+class Coverage:
+    """How much of the addressed reference a set of results covers.
+
+    ``required``: the reference curves (or values) the results address: every grid value
+    of a selector without a default, the values given (or the default) of a selector with
+    one; ``covered``: those fully covered (a curve: on each finite stretch of the stored
+    curve, the points span it and no gap between them, nor to its ends, exceeds the widest
+    stored spacing there, in log for a log abscissa; a value: present). ``missing``:
+    descriptions of the others (the first few).
+    """
+
+    declared: str
+    required: int
+    covered: int
+    missing: tuple[str, ...]
+
+    @property
+    def complete(self) -> bool:
+        return self.covered == self.required
+
+    def describe(self) -> str:
+        what = f"{self.covered}/{self.required} addressed reference curves or values covered"
+        if self.complete:
+            return f"coverage complete ({what})"
+        head = "; ".join(self.missing[:3]) + (" ..." if len(self.missing) > 3 else "")
+        return f"PARTIAL coverage ({self.declared}): {what}; not covered: {head}"
+
+
+#: slack on "no gap wider than the widest stored spacing": relative round-off of the
+#: user's printed abscissae (17 digits) is far below it, a skipped grid point far above
+COVERAGE_GAP_SLACK = 1e-9
+
+
+def _segments(ok: np.ndarray):
+    """(start, stop) index pairs of the runs of True in ``ok`` (stop inclusive)."""
+    idx = np.flatnonzero(np.diff(np.r_[0, ok.astype(int), 0]))
+    return [(int(a), int(b) - 1) for a, b in zip(idx[::2], idx[1::2], strict=True)]
+
+
+def _curve_covered(x: np.ndarray, y: np.ndarray, xq: np.ndarray, log: bool) -> str | None:
+    """None if the points ``xq`` cover every finite stretch of the curve (x, y), else why."""
+    order = np.argsort(x)
+    x, y = x[order], y[order]
+    t = np.log(x) if log else x
+    tq = np.sort(np.log(xq) if log else xq)
+    for a, b in _segments(np.isfinite(y) & np.isfinite(x)):
+        if b - a < 1:
+            continue   # an isolated stored value: nothing to interpolate, not required
+        seg = t[a:b + 1]
+        gap = float(np.max(np.diff(seg))) * (1 + COVERAGE_GAP_SLACK)
+        inside = tq[(tq >= seg[0] - gap) & (tq <= seg[-1] + gap)]
+        pts = np.concatenate([[seg[0]], np.clip(inside, seg[0], seg[-1]), [seg[-1]]])
+        widest = float(np.max(np.diff(pts)))
+        if widest > gap:
+            lo, hi = (np.exp(seg[[0, -1]]) if log else seg[[0, -1]])
+            return (f"range [{lo:.6g}, {hi:.6g}] has a gap of {widest:.3g}"
+                    f"{' in log' if log else ''} between your points (the reference "
+                    f"spacing there is <= {gap:.3g})")
+    return None
+
+
+def coverage(problem: Problem, quantity: Quantity, coords: Mapping[str, Any], *,
+             declared: str = "none") -> Coverage:
+    """The :class:`Coverage` of results at ``coords`` (names -> arrays, as
+    :func:`reference_at`) of the reference of ``quantity``."""
+    import itertools
+
+    given = {**quantity.defaults, **dict(coords)}
+    names = quantity.coordinates
+    arrays = [np.ravel(a) for a in np.broadcast_arrays(*[np.asarray(given[n])
+                                                         for n in names])]
+    sel_arrays = dict(zip(quantity.select, arrays[:len(quantity.select)], strict=True))
+    if quantity.source == "function":
+        x = np.linspace(quantity.grid["start"], quantity.grid["stop"],
+                        int(quantity.grid["num"]))
+        why = _curve_covered(x, np.ones_like(x), np.asarray(arrays[-1], float),
+                             quantity.along_scale == "log")
+        return Coverage(declared, 1, int(why is None),
+                        () if why is None else (f"{quantity.along}: {why}",))
+    ds = _dataset(quantity)
+    var = ds[quantity.variable]
+    choices = []
+    for s in quantity.select:
+        grid = ds[s].values
+        if s in quantity.defaults:
+            wanted = list(dict.fromkeys(np.asarray(sel_arrays[s]).tolist()))
+            choices.append([_match(grid, w, s) for w in wanted])
+        else:
+            choices.append(list(range(grid.size)))
+    required = covered = 0
+    missing: list[str] = []
+    # the user's points by grid combination (selector values matched as reference_at does)
+    by_combo: dict[tuple, list[int]] = {}
+    groups: dict[tuple, list[int]] = {}
+    for i, k in enumerate(zip(*[sel_arrays[s] for s in quantity.select], strict=True)
+                          if quantity.select else [()] * arrays[0].size):
+        groups.setdefault(tuple(str(v) for v in k), []).append(i)
+    for idx in groups.values():
+        combo = tuple(_match(ds[s].values, sel_arrays[s][idx[0]], s) for s in quantity.select)
+        by_combo.setdefault(combo, []).extend(idx)
+    for combo in itertools.product(*choices):
+        sel = dict(zip(quantity.select, combo, strict=True))
+        y = np.asarray(var.isel(sel).values, float)
+        if not np.isfinite(y).any():
+            continue   # no reference value at all (e.g. a root number that never occurs)
+        required += 1
+        chosen = {s: ds[s].values[i] for s, i in sel.items()}
+        mine = by_combo.get(tuple(combo), [])
+        if quantity.along is None:
+            if mine:
+                covered += 1
+            else:
+                missing.append(_describe(chosen))
+            continue
+        x = ds[quantity.along].isel({k: v for k, v in sel.items()
+                                     if k in ds[quantity.along].dims})
+        why = ("no points" if not mine else
+               _curve_covered(np.asarray(x.values, float), y,
+                              np.asarray(arrays[-1], float)[mine],
+                              quantity.along_scale == "log"))
+        if why is None:
+            covered += 1
+        else:
+            missing.append(f"{_describe(chosen)}: {why}")
+    return Coverage(declared, required, covered, tuple(missing))
+
+
+def duplicates(quantity: Quantity, coords: Mapping[str, Any]) -> list[str]:
+    """Coordinate tuples that occur more than once in ``coords`` (described)."""
+    given = {**quantity.defaults, **dict(coords)}
+    names = quantity.coordinates
+    arrays = [np.ravel(a) for a in np.broadcast_arrays(*[np.asarray(given[n])
+                                                         for n in names])]
+    seen: dict[tuple, int] = {}
+    for row in zip(*arrays, strict=True):
+        k = tuple(str(v) for v in row)
+        seen[k] = seen.get(k, 0) + 1
+    return [", ".join(f"{n} = {v}" for n, v in zip(names, k, strict=True)) + f" ({c} times)"
+            for k, c in seen.items() if c > 1]
