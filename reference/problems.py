@@ -354,13 +354,62 @@ def _weight(q: Quantity, sel_values: Mapping[str, Any]):
     return lambda x: np.asarray(fn(np.asarray(x, dtype=float), **kw), dtype=float)
 
 
+#: an interval of a stored curve whose change exceeds this many times the larger change of
+#: its two neighbours is a jump, not a resolved part of the curve: on these grids the
+#: changes of neighbouring intervals of a smooth curve differ by a factor <= 3 (square-root
+#: ends and turning points included); a root number that shifts because a root enters or
+#: leaves the stretch window changes by 10-1000 times more
+JUMP_FACTOR = 20.0
+#: ... and exceeds this fraction of the curve's magnitude (round-off on flat parts is no jump)
+JUMP_FLOOR = 1e-6
+
+
+def _transformed(x, y, power: float = 1.0, weight=None):
+    """The values a curve is splined in: ``y**power * weight(x)``."""
+    v = y**power
+    if weight is not None:
+        v = v * weight(x)
+    return v
+
+
+def _pieces(t: np.ndarray, v: np.ndarray) -> list[tuple[int, int]]:
+    """(first, last) indices of the runs of finite ``v`` (sorted abscissa ``t``) that hold
+    no jump (:data:`JUMP_FACTOR`): the pieces a spline may cover."""
+    ok = np.isfinite(v) & np.isfinite(t)
+    d = np.abs(np.diff(v))
+    nb = np.full(d.shape, np.nan)
+    if d.size > 1:
+        nb[1:] = d[:-1]
+        nb[:-1] = np.fmax(nb[:-1], d[1:])
+    scale = np.nanmax(np.abs(v[ok])) if ok.any() else 0.0
+    with np.errstate(invalid="ignore"):
+        jump = (d > JUMP_FACTOR * np.nan_to_num(nb, nan=np.inf)) & (d > JUMP_FLOOR * scale)
+    out, start = [], None
+    for k in range(v.size):
+        if not ok[k]:
+            if start is not None:
+                out.append((start, k - 1))
+            start = None
+            continue
+        if start is None:
+            start = k
+        if k < v.size - 1 and jump[k]:
+            out.append((start, k))
+            start = None
+    if start is not None:
+        out.append((start, v.size - 1))
+    return out
+
+
 def _curve_at(x: np.ndarray, y: np.ndarray, xq: np.ndarray, name: str, log: bool,
               power: float = 1.0, weight=None):
     """Cubic-spline value and its error estimate (distance to the half-grid spline).
 
     ``power`` p: interpolate ``y**p`` (a curve with a square-root end, such as Phibar near
     Phibar = 0, is smooth in Phibar^2), then return ``(.)**(1/p)``. ``weight`` w(x):
-    interpolate ``y**p w`` (smooth where y^p has poles), then divide by w(xq).
+    interpolate ``y**p w`` (smooth where y^p has poles), then divide by w(xq). Each piece
+    of the curve (:func:`_pieces`: between gaps and jumps) has its own spline; a point in
+    a gap, on a jump or outside the finite range is refused.
     """
     from scipy.interpolate import CubicSpline
 
@@ -376,36 +425,41 @@ def _curve_at(x: np.ndarray, y: np.ndarray, xq: np.ndarray, name: str, log: bool
     if outside.any():
         raise ValueError(f"{name} must lie in the reference range [{lo:.6g}, {hi:.6g}]; "
                          f"got {xq[outside][:3].tolist()}")
-    # a point whose bracketing grid points are not both finite lies in a gap of the curve
-    j = np.clip(np.searchsorted(x, xq, side="right") - 1, 0, x.size - 2)
-    on_node = np.isclose(x[j], xq, rtol=0, atol=0) & ok[j]
-    gap = ~(ok[j] & ok[j + 1]) & ~on_node
-    if gap.any():
-        raise ValueError(f"{name} = {xq[gap][:3].tolist()} falls in a gap of the reference "
-                         "curve (no reference value there: no root or inadmissible state)")
-    t = np.log(x[ok]) if log else x[ok]
+    t = np.log(x) if log else x
     tq = np.log(xq) if log else xq
-    yp = y[ok] ** power
-    if weight is not None:
-        yp = yp * weight(x[ok])
-    half = np.unique(np.r_[np.arange(0, t.size, 2), t.size - 1])
-    if half.size < 4:
-        raise ValueError(f"the reference curve along {name} is too short to interpolate "
-                         f"with an error estimate ({t.size} points)")
-    cubic = CubicSpline(t, yp)(tq)
-    coarse = CubicSpline(t[half], yp[half])(tq)
-    if weight is not None:
-        wq = weight(xq)
-        cubic, coarse = cubic / wq, coarse / wq
-    if power != 1.0:
-        cubic, coarse = (np.maximum(cubic, 0.0) ** (1 / power),
-                         np.maximum(coarse, 0.0) ** (1 / power))
-    # on a grid point the reference is the stored value itself: no interpolation error
-    xs = x[ok]
-    k = np.clip(np.searchsorted(xs, xq), 0, xs.size - 1)
-    node = np.isclose(xs[k], xq, rtol=NODE_MATCH_RTOL, atol=0.0)
-    cubic = np.where(node, y[ok][k], cubic)
-    return cubic, np.where(node, 0.0, np.abs(cubic - coarse))
+    v = _transformed(x, y, power, weight)
+    pieces = _pieces(t, v)
+    k = np.clip(np.searchsorted(x, xq), 0, x.size - 1)
+    node = np.isclose(x[k], xq, rtol=NODE_MATCH_RTOL, atol=0.0) & ok[k]
+    value, error = np.full(xq.size, np.nan), np.zeros(xq.size)
+    value[node] = y[k[node]]
+    todo = ~node
+    for a, b in pieces:
+        inside = todo & (xq >= x[a]) & (xq <= x[b])
+        if not inside.any():
+            continue
+        if b - a + 1 < 4:
+            raise ValueError(f"{name} = {xq[inside][:3].tolist()} lies on a piece of the "
+                             f"reference curve too short to interpolate with an error "
+                             f"estimate ({b - a + 1} points)")
+        tt, vv = t[a:b + 1], v[a:b + 1]
+        half = np.unique(np.r_[np.arange(0, tt.size, 2), tt.size - 1])
+        cubic = CubicSpline(tt, vv)(tq[inside])
+        coarse = CubicSpline(tt[half], vv[half])(tq[inside])
+        if weight is not None:
+            wq = weight(xq[inside])
+            cubic, coarse = cubic / wq, coarse / wq
+        if power != 1.0:
+            cubic, coarse = (np.maximum(cubic, 0.0) ** (1 / power),
+                             np.maximum(coarse, 0.0) ** (1 / power))
+        value[inside], error[inside] = cubic, np.abs(cubic - coarse)
+        todo &= ~inside
+    if todo.any():
+        raise ValueError(f"{name} = {xq[todo][:3].tolist()} falls in a gap of the reference "
+                         "curve (no reference value there: no root or inadmissible state) "
+                         "or on a jump of it (a root enters or leaves the stretch window "
+                         "and the root numbers shift)")
+    return value, error
 
 
 def _describe(chosen: Mapping[str, Any]) -> str:
@@ -656,19 +710,14 @@ class Coverage:
 COVERAGE_GAP_SLACK = 1e-9
 
 
-def _segments(ok: np.ndarray):
-    """(start, stop) index pairs of the runs of True in ``ok`` (stop inclusive)."""
-    idx = np.flatnonzero(np.diff(np.r_[0, ok.astype(int), 0]))
-    return [(int(a), int(b) - 1) for a, b in zip(idx[::2], idx[1::2], strict=True)]
-
-
 def _curve_covered(x: np.ndarray, y: np.ndarray, xq: np.ndarray, log: bool) -> str | None:
-    """None if the points ``xq`` cover every finite stretch of the curve (x, y), else why."""
+    """None if the points ``xq`` cover every piece of the curve (x, y) (values splined
+    as ``y``; :func:`_pieces`: between gaps and jumps), else why."""
     order = np.argsort(x)
     x, y = x[order], y[order]
     t = np.log(x) if log else x
     tq = np.sort(np.log(xq) if log else xq)
-    for a, b in _segments(np.isfinite(y) & np.isfinite(x)):
+    for a, b in _pieces(t, y):
         if b - a < 1:
             continue   # an isolated stored value: nothing to interpolate, not required
         seg = t[a:b + 1]
@@ -739,8 +788,10 @@ def coverage(problem: Problem, quantity: Quantity, coords: Mapping[str, Any], *,
             continue
         x = ds[quantity.along].isel({k: v for k, v in sel.items()
                                      if k in ds[quantity.along].dims})
+        xv = np.asarray(x.values, float)
         why = ("no points" if not mine else
-               _curve_covered(np.asarray(x.values, float), y,
+               _curve_covered(xv, _transformed(xv, y, quantity.interpolate_power,
+                                               _weight(quantity, chosen)),
                               np.asarray(arrays[-1], float)[mine],
                               quantity.along_scale == "log"))
         if why is None:
