@@ -4,9 +4,11 @@ ch4_plate_critical_stretch --markdown`` only (mpmath; nothing from debench).
 The page's model.equations: coefficients a, 2b, c, d, e, f, g of the incremental energy of
 (4.22) at fixed true D2 (variant 'derived', alpha = 0, beta = 1/2, mu = eps = 1), the six
 exponentials exp(-k s x2) (s = +-1 electric, +-s of the reduced quartic with B = (d/f) s A)
-and the three boundary rows on each face x2 = +-h/2, k h = kH lam^-2. Here the full 6 x 6
-determinant is formed directly (no parity split, no special treatment of close roots: the
-working precision absorbs the cancellation) and its zeros are found by a sign scan in lam
+and the three boundary rows on each face x2 = +-h/2, k h = kH lam^-2. Here the determinant is
+formed per mode family (the page's branch: flexural psi even, extensional psi odd; their
+roots can be 3e-7 apart), with no special treatment of close quartic roots but the
+division by their difference (the working precision absorbs the cancellation), and its
+zeros are found by a sign scan in lam
 followed by the Illinois bracketing iteration, both in 40 digits; as the page says, the
 determinant is divided by the difference of the two quartic roots.
 """
@@ -14,6 +16,7 @@ determinant is divided by the difference of the two quartic roots.
 from __future__ import annotations
 
 import mpmath as mp
+import numpy as np
 
 #: working digits: the determinant loses up to ~12 digits where two quartic roots nearly
 #: coincide (lam -> 1, xi = 0: separation ~ 1e-4) and the columns scale as exp(s kH)
@@ -21,8 +24,11 @@ DIGITS = 40
 #: the stretch window of the page's domain
 WINDOW = (mp.mpf("0.4"), mp.mpf(8))
 BETA = mp.mpf("0.5")
-#: a cheaper sign scan: neighbouring roots of these curves are >= 5 % apart in lam and
-#: 120 geometric points over the window are 2.5 % apart
+#: sign-scan points over the window (geometric, double precision, per mode family): roots
+#: of one family are >= 0.8 % apart on these curves (measured on the reference), 2000
+#: points are 0.15 % apart
+N_SCAN = 2000
+#: a cheaper scan (2.5 % apart) for single checks where the roots are known to be far apart
 N_SCAN_FAST = 120
 
 
@@ -41,39 +47,87 @@ def coefficients(lam, xi, D):
     return a, b2, c, d, e, f, g
 
 
-def determinant(lam, kH, xi, D):
-    """The 6 x 6 determinant of the six exponentials' boundary rows on both faces."""
+def determinant(lam, kH, xi, D, parity=None):
+    """The 6 x 6 determinant of the six exponentials' boundary rows on both faces
+    (``parity`` None), or the 3 x 3 determinant of one mode family on the face x2 = +h/2:
+    "E" (psi even: the modes s and -s with equal A, the electric ones with opposite B) or
+    "O" (psi odd), divided by the difference of the quartic roots (the page's note)."""
     with mp.workdps(DIGITS):
         lam, kH, xi, D = (mp.mpf(x) for x in (lam, kH, xi, D))
         a, b2, c, d, e, f, g = coefficients(lam, xi, D)
         qa, qb, qc = a, b2 - d**2 / f, c - d**2 / f
         disc = mp.sqrt(mp.mpc(qb**2 - 4 * qa * qc))
-        modes = []
         pair = [mp.sqrt((qb + disc) / (2 * qc)), mp.sqrt((qb - disc) / (2 * qc))]
-        for s in pair:
-            modes += [(s, 1, d / f * s), (-s, 1, -d / f * s)]
-        modes += [(mp.mpf(1), 0, 1), (mp.mpf(-1), 0, 1)]
         t = kH * lam**-2        # k h
-        M = mp.matrix(6, 6)
-        for j, (s, A, B) in enumerate(modes):
+
+        def column(s, A, B, w):
             rows = (c * (1 + s**2) * A - d * s * B,
                     (b2 + c - c * s**2) * s * A - (e - d * s**2) * B,
                     d * (1 + s**2) * A - f * s * B)
-            # each column divided by exp(|Re s| t/2) (zeros unchanged): bounded entries
-            # also where a quartic root grows without bound (lam -> lam_E)
+            return ([r * mp.exp(-s * t / 2 - w) for r in rows]      # face x2 = +h/2
+                    + [r * mp.exp(s * t / 2 - w) for r in rows])    # face x2 = -h/2
+
+        # each column divided by exp(|Re s| t/2) (zeros unchanged): bounded entries also
+        # where a quartic root grows without bound (lam -> lam_E)
+        cols = []
+        for s in pair:
             w = abs(mp.re(s)) * t / 2
-            for i, r in enumerate(rows):
-                M[i, j] = r * mp.exp(-s * t / 2 - w)       # face x2 = +h/2
-                M[i + 3, j] = r * mp.exp(s * t / 2 - w)    # face x2 = -h/2
-        # the page's note: two quartic roots coincide at xi = 0, lam = 1 and the plain
-        # determinant changes sign there (a spurious zero); divided by their difference it
-        # does not (and it is real also for a complex-conjugate pair)
+            cols.append((column(s, 1, d / f * s, w), column(-s, 1, -d / f * s, w)))
+        one = mp.mpf(1)
+        cols.append((column(one, 0, 1, t / 2), column(-one, 0, 1, t / 2)))
+        if parity is None:
+            M = mp.matrix(6, 6)
+            flat = [c_ for p_ in cols for c_ in p_]
+            for j, col in enumerate(flat):
+                for i in range(6):
+                    M[i, j] = col[i]
+        else:
+            sign = 1 if parity == "E" else -1
+            M = mp.matrix(3, 3)
+            for j, (cp, cm) in enumerate(cols):
+                sj = -sign if j == 2 else sign     # electric mode: opposite combination
+                for i in range(3):
+                    M[i, j] = cp[i] + sj * cm[i]
         return mp.re(mp.det(M) / (pair[0] - pair[1]))
 
 
-def roots(kH, xi, D, n_scan=600):
+def determinant_double(lam, kH, xi, D, parity):
+    """:func:`determinant` of one mode family in double precision, vectorised over
+    ``lam`` (for the sign scan only: it loses up to ~12 digits where the quartic roots
+    nearly coincide, which moves a sign change by far less than a scan interval)."""
+    lam = np.asarray(lam, dtype=float)
+    beta = float(BETA)
+    a = lam**2
+    b2 = lam**2 + (1 - 2 * xi) * lam**-4 + 6 * xi * lam**-8 + beta * D**2
+    c = (1 - 2 * xi) * lam**-4 + 2 * xi * lam**-8 + beta * D**2
+    d, e, f = beta * D, 2 * beta * D, beta
+    qa, qb, qc = a, b2 - d**2 / f, c - d**2 / f
+    disc = np.sqrt((qb**2 - 4 * qa * qc).astype(complex))
+    pair = [np.sqrt((qb + disc) / (2 * qc)), np.sqrt((qb - disc) / (2 * qc))]
+    t = kH * lam**-2
+    one = np.ones_like(pair[0])
+
+    def top(sv, A, B, w):
+        rows = (c * (1 + sv**2) * A - d * sv * B,
+                (b2 + c - c * sv**2) * sv * A - (e - d * sv**2) * B,
+                d * (1 + sv**2) * A - f * sv * B)
+        return np.stack([r * np.exp(-sv * t / 2 - w) for r in rows], axis=-1)
+
+    sign = 1 if parity == "E" else -1
+    cols = []
+    for sv in pair:
+        w = np.abs(sv.real) * t / 2
+        cols.append(top(sv, one, d / f * sv, w) + sign * top(-sv, one, -d / f * sv, w))
+    cols.append(top(one, 0 * one, one, t / 2) - sign * top(-one, 0 * one, one, t / 2))
+    M = np.stack(cols, axis=-1)
+    with np.errstate(all="ignore"):
+        return np.real(np.linalg.det(M) / (pair[0] - pair[1]))
+
+
+def roots(kH, xi, D, n_scan=N_SCAN):
     """Every zero in the window (below lam_E), ascending: geometric sign scan of ``n_scan``
-    points plus points approaching lam_E, each sign change refined to 30 digits."""
+    points plus points approaching lam_E (double precision), each sign change confirmed
+    and refined to 30 digits in 40-digit arithmetic."""
     with mp.workdps(DIGITS):
         lo, hi = WINDOW
         lam_e = ellipticity_limit(xi)
@@ -82,14 +136,20 @@ def roots(kH, xi, D, n_scan=600):
         if lam_e < hi:
             grid += [lam_e * (1 - mp.mpf(10) ** -k) for k in range(2, 12)]
         grid = sorted(x for x in grid if x < top)
-        vals = [determinant(x, kH, xi, D) for x in grid]
         out = []
-        for x0, x1, f0, f1 in zip(grid, grid[1:], vals, vals[1:], strict=False):
-            if f0 == 0:
-                out.append(x0)
-            elif f0 * f1 < 0:
-                out.append(_bracketed(lambda x: determinant(x, kH, xi, D), x0, x1, f0, f1))
-        return out
+        for parity in ("E", "O"):   # the families separately: their roots can nearly meet
+            signs = np.sign(determinant_double(np.array([float(x) for x in grid]),
+                                               float(kH), float(xi), float(D), parity))
+            for k in np.flatnonzero(signs[:-1] * signs[1:] < 0):
+                x0, x1 = grid[k], grid[k + 1]
+
+                def det(x, parity=parity):
+                    return determinant(x, kH, xi, D, parity)
+
+                f0, f1 = det(x0), det(x1)
+                if f0 * f1 < 0:   # the sign change confirmed in 40 digits
+                    out.append(_bracketed(det, x0, x1, f0, f1))
+        return sorted(out)
 
 
 def _bracketed(f, a, b, fa, fb, rtol=mp.mpf(10) ** -30, maxiter=400):
