@@ -112,6 +112,9 @@ class Quantity:
     function_args: dict[str, Any] = field(default_factory=dict)
     grid: dict[str, Any] = field(default_factory=dict)
     discretisation_from: dict[str, Any] = field(default_factory=dict)
+    #: dataset coordinates held at one value for this problem (e.g. the equilibrium
+    #: variant of a dataset that stores several), selected before anything else
+    fixed: dict[str, Any] = field(default_factory=dict)
     #: units of each coordinate ("" for a text coordinate such as a material name)
     coordinate_units: dict[str, str] = field(default_factory=dict)
     #: exact definition: formula, criterion, tangent, branch, root_numbering, normalisation
@@ -314,7 +317,8 @@ def _function(q: Quantity):
 def _dataset(q: Quantity):
     from debench.reference.datasets import read_dataset
 
-    return read_dataset(q.dataset)
+    ds = read_dataset(q.dataset)
+    return ds.sel(q.fixed) if q.fixed else ds
 
 
 def _match(values: np.ndarray, wanted: Any, name: str) -> int:
@@ -653,14 +657,20 @@ def render_markdown(problem: Problem) -> str:
                    else "per value") + f": {acc.discretisation_reason}", ""]
         src = (f"dataset `{q.dataset}.nc`, variable `{q.variable}`" if q.source == "dataset"
                else f"closed form on the grid {q.grid}")
+        if q.fixed:
+            src += " at " + ", ".join(f"{k} = {v}" for k, v in q.fixed.items())
         header = ",".join(f"{c} [{q.units_of(c)}]" if (c in q.coordinate_units and
                           q.units_of(c)) or c == q.along else c for c in q.coordinates)
         out += [f"**Reference values.** {src}; `debench problems {p.id} --json` prints "
                 "them with their coordinates.", "",
                 f"**Check.** `debench check {p.id} results.csv` with the header "
-                f"`{header},{q.name} [{q.units}]`; every reference point of the curves or "
-                "values you address must be covered (or pass `--partial` and the report "
-                "says what was covered).", ""]
+                f"`{header},{q.name} [{q.units}]`. Coverage: every stored "
+                + ("curve" if q.along else "value") + " of every value of a selector "
+                "without a default, and of the values your file gives of one with a "
+                "default" + (", each at least as densely as the stored grid over its "
+                             "whole range (any points; the stored ones are exact)"
+                             if q.along else "") + "; or pass `--partial` and the report "
+                "says what was covered.", ""]
     prov = provenance(p)
     if prov["datasets"]:
         out += ["## Provenance", ""]

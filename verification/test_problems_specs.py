@@ -116,6 +116,60 @@ def test_off_grid_points_near_the_ends_meet_the_stated_accuracy(problem_id, lamP
         assert last == lam.size - 1
 
 
+#: RK4 steps of the independent recomputation of the failure points (8x the reference's;
+#: the error is O(h^4): the 1600-step error is ~4000x smaller than the 200-step one)
+FINE_STEPS = 1600
+EVENTS = ("pullin", "loss_of_tension", "breakdown")
+
+
+def _failure_point_errors(lamPs):
+    """max |stored - recomputed at FINE_STEPS| per quantity of ch3_failure_points, and the
+    (lamP, c) where the stored and recomputed events disagree on existence."""
+    from debench.models.circular.actuator import branch, curves
+    from debench.models.circular.params import Annulus
+
+    p = problems.get("ch3_failure_points")
+    ds = read_dataset("ch3_failure_points").sel(p.quantity("pullin_lambda").fixed)
+    worst = {q.name: 0.0 for q in p.quantities}
+    disagree = []
+    for lamP in lamPs:
+        br = branch(Annulus(float(lamP), 15.0, equilibrium="membrane"), n=300,
+                    steps=FINE_STEPS)
+        cs = [float(c) for c in ds.c.values if 1 + c * (2.5 * lamP - 2) > 0]
+        for cv, c in zip(curves(br, cs), cs, strict=True):
+            for kind in EVENTS:
+                ev = cv.events[kind]
+                for var in ("lambda", "phibar"):
+                    ref = float(ds[f"{kind}_{var}"].sel(lamP=lamP, c=c))
+                    val = np.nan if ev is None else (ev.lam if var == "lambda" else ev.phibar)
+                    if np.isnan(ref) != np.isnan(val):
+                        disagree.append((lamP, c, kind))
+                    elif not np.isnan(ref):
+                        worst[f"{kind}_{var}"] = max(worst[f"{kind}_{var}"], abs(ref - val))
+    return worst, disagree
+
+
+def test_failure_points_within_stated_discretisation_error_fast():
+    """lamP = 3 (the worst pre-stretch of loss of tension's Phibar and of breakdown): the
+    stored events against FINE_STEPS RK4 steps, within each quantity's stated error."""
+    worst, disagree = _failure_point_errors([3.0])
+    assert not disagree
+    p = problems.get("ch3_failure_points")
+    for name, err in worst.items():
+        assert err <= p.quantity(name).accuracy.discretisation, (name, err)
+
+
+@pytest.mark.slow
+def test_failure_points_within_stated_discretisation_error_everywhere():
+    """Every stored lamP and c (the measurement the spec quotes)."""
+    lamPs = read_dataset("ch3_failure_points").lamP.values
+    worst, disagree = _failure_point_errors(lamPs)
+    assert not disagree
+    p = problems.get("ch3_failure_points")
+    for name, err in worst.items():
+        assert 0 < err <= p.quantity(name).accuracy.discretisation, (name, err)
+
+
 def test_free_membrane_tolerance_admits_an_iterative_solver_and_refuses_outside():
     """A 1e-12 relative error (an iterative solver's stopping) passes, a 1e-6 one (a
     model error is >= 1e-3) fails; stretches outside [1, 5] are refused."""
