@@ -155,3 +155,35 @@ def test_cleanroom_plate_passes_check_on_every_curve(tmp_path, capsys):
     cols = _plate_rows(curves, 1, capsys)
     path = _csv(tmp_path / "p.csv", "xi [1],Dhat [1],kH [1],lam_cr [1]", cols)
     assert cli.main(["check", "ch4_plate_critical_stretch", path]) == 0
+
+
+def _failure_point_files(tmp_path, lamPs, capsys):
+    """One CSV per quantity of ch3_failure_points from the clean room's events."""
+    ref = _reference_json("ch3_failure_points", capsys)["reference"]["pullin_lambda"]
+    c_grid = ref["coords"]["c"]
+    rows: dict[str, list] = {}
+    for lamP in lamPs:
+        cs = [c for c in c_grid if 1 + c * (2.5 * lamP - 2) > 0]
+        for (c, kind), (lam, ph) in voltage_stretch.events(lamP, cs).items():
+            rows.setdefault(f"{kind}_lambda", []).append((lamP, c, lam))
+            rows.setdefault(f"{kind}_phibar", []).append((lamP, c, ph))
+    return {name: _csv(tmp_path / f"{name}.csv", f"lamP [1],c [1],{name} [1]",
+                       list(zip(*r, strict=True))) for name, r in rows.items()}
+
+
+def test_cleanroom_failure_points_pass_check_at_one_prestretch(tmp_path, capsys):
+    """lamP = 3, every c: the six quantities, declared partial coverage."""
+    files = _failure_point_files(tmp_path, [3.0], capsys)
+    assert set(files) == {f"{k}_{v}" for k in ("pullin", "loss_of_tension", "breakdown")
+                          for v in ("lambda", "phibar")} - {"pullin_lambda", "pullin_phibar"}
+    for name, path in files.items():
+        assert cli.main(["check", "ch3_failure_points", path, "--partial"]) == 0, name
+
+
+@pytest.mark.slow
+def test_cleanroom_failure_points_pass_check_everywhere(tmp_path, capsys):
+    """Every pre-stretch and c: full coverage of each quantity."""
+    lamPs = _reference_json("ch3_failure_points", capsys)["reference"]["pullin_lambda"][
+        "coords"]["lamP"]
+    for name, path in _failure_point_files(tmp_path, lamPs, capsys).items():
+        assert cli.main(["check", "ch3_failure_points", path]) == 0, name

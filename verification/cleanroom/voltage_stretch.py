@@ -112,3 +112,66 @@ def phibar_from_interface(lam_a, t1_b, c: float):
 def phibar(lam_a, lamP: float, c: float, printed: bool = False):
     """Phibar at the stretches lam_a of circle A (membrane balance, or (3.33) as printed)."""
     return phibar_from_interface(lam_a, interface(lam_a, lamP, printed), c)
+
+
+#: stretches per pre-stretch on which the events are bracketed (spacing <= 0.012: the
+#: cubic spline of T1_B through them errs by ~ h^4 ~ 2e-8 relative)
+EVENT_POINTS = 600
+#: breakdown: Phibar_B = sqrt(eps_r eps0/mu) E_B(lam)/lam^2, E_B = 51e6 lam^1.13 V/m
+EPS_R, EPS0, MU = 4.7, 8.85e-12, 51e3
+
+
+def locking_stretch() -> float:
+    """lam_lock: 2 lam^2 + lam^-4 - 3 = Jm (equibiaxial Gent lock of circle A)."""
+    from scipy.optimize import brentq
+
+    return brentq(lambda x: 2 * x**2 + x**-4 - 3 - JM, 1.0, 100.0, xtol=1e-15)
+
+
+def events(lamP: float, cs, printed: bool = False) -> dict:
+    """{(c, kind): (lambda_a, Phibar)} of the pages' events on each curve: pull-in (first
+    local maximum of Phibar), loss of tension (first T1_B(R_A) = 0), breakdown (first
+    Phibar = Phibar_B from below); absent when the curve has none. The interface stress
+    is computed on EVENT_POINTS stretches and splined; each event is the root of the
+    spline-based function in its first bracketing interval (brentq)."""
+    from scipy.interpolate import CubicSpline
+    from scipy.optimize import brentq
+
+    top = 0.999 * locking_stretch() * (1 - 1e-6)
+    lam = np.linspace(lamP, top, EVENT_POINTS)
+    t1 = CubicSpline(lam, interface(lam, lamP, printed))
+
+    def s(x):
+        return (x**2 - x**-4) / (1 - (2 * x**2 + x**-4 - 3) / JM)
+
+    def p2(x, c):
+        return (s(x) - x * t1(x)) / (x**4 * (1 + c * (2.5 * x - 2)))
+
+    def dp2(x, c, h=1e-6):
+        return (p2(x + h, c) - p2(x - h, c)) / (2 * h)
+
+    def pb2(x):
+        return EPS_R * EPS0 / MU * (51e6 * x**1.13 / x**2) ** 2
+
+    def first_root(f, x, sign):
+        v = f(x)
+        k = np.flatnonzero((sign * v[:-1] > 0) & (sign * v[1:] <= 0))
+        if not k.size:
+            return None
+        return brentq(f, x[k[0]], x[k[0] + 1], xtol=1e-14, rtol=1e-14)
+
+    out = {}
+    for c in cs:
+        end = top if c >= 0 else min(top, (4 - 2 / c) / 5 * (1 - 1e-9))
+        x = lam[lam < end]
+        funcs = {"pullin": (lambda y, c=c: dp2(y, c), 1, x[1:-1]),
+                 # the page: on the annulus branch, for every c (K may be <= 0 there)
+                 "loss_of_tension": (lambda y: t1(y), 1, lam),
+                 "breakdown": (lambda y, c=c: p2(y, c) - pb2(y), -1, x[1:])}
+        for kind, (f, sign, xs) in funcs.items():
+            r = first_root(f, xs, sign)
+            if r is not None:
+                # the page's convention: Phibar 0 where K <= 0 (no curve reaches r)
+                ph = np.sqrt(p2(r, c)) if 1 + c * (2.5 * r - 2) > 0 else 0.0
+                out[(c, kind)] = (r, float(ph))
+    return out
