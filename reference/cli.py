@@ -630,8 +630,18 @@ def cmd_problems(args) -> int:
         return 0
     spec = p.spec()
     print(f"{p.id}: {p.title} (Chapter {p.chapter})\n\n{p.summary}\n")
-    for key in ("geometry", "boundary_conditions", "loading"):
-        print(f"{key.replace('_', ' ')}: {spec[key]}")
+    print(f"geometry: {p.geometry}")
+    if isinstance(p.boundary_conditions, str):
+        print(f"boundary conditions: {p.boundary_conditions}")
+    else:
+        print("boundary conditions:")
+        for b in p.boundary_conditions:
+            print(f"  {b['boundary']}: kinematic {b['kinematic']}; electric {b['electric']}")
+    if isinstance(p.loading, str):
+        print(f"loading: {p.loading}")
+    else:
+        print(f"loading: {p.loading['path']}\ncontrolled: {p.loading['controlled']}")
+    print(f"(the full page: debench problems {p.id} --markdown)")
     print("thesis: " + ", ".join(f"{k} {v}" for k, v in p.thesis.items()))
     print("parameters:")
     for name, par in p.parameters.items():

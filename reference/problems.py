@@ -1,34 +1,45 @@
 """Reference problems: benchmark specs that users check their own codes against.
 
 A reference problem (one TOML file in ``reference/problems/``, in the spirit of the
-cardiac-mechanics benchmark of Land et al. 2015) states
+cardiac-mechanics benchmark of Land et al. 2015; its completeness is checked against
+``verification/schemas/problem-spec.schema.json``) states
 
-* the **spec**: parameters with units, geometry, boundary conditions, loading and the
-  thesis section / equations / figure it comes from;
-* per **quantity of interest**: its coordinates (``select``: coordinates matched exactly,
-  ``along``: the abscissa of a curve, interpolated), units, and where the reference values
-  come from: a curated dataset (``source = "dataset"``, read verified by
-  :func:`debench.reference.datasets.read_dataset`) or a closed form
-  (``source = "function"``);
+* the **spec**: the model (energy with every parameter and its units, compressibility,
+  the extension off J = 1 where stresses depend on it, the equations), every boundary
+  with its kinematic and electric condition, the load path and what is controlled, the
+  thesis section / equations / figure; a named **variant** says which default problem it
+  varies and why (the thesis "as printed");
+* per **quantity of interest**: its exact definition (formula, criterion, tangent,
+  branch, root numbering, normalisation), its domain (window, and what is excluded and
+  why), its coordinates with units (``select``: matched exactly; ``along``: the abscissa
+  of a curve, interpolated; ``fixed``: dataset coordinates held at one value), and where
+  the reference values come from: a curated dataset (``source = "dataset"``, read verified
+  by :func:`debench.reference.datasets.read_dataset`) or a closed form
+  (``source = "function"``, refused outside its grid's range);
 * the **accuracy** of the reference values: the solver tolerance (the ``ACCURACY`` of the
   producer module that guards the values, ``from = "module:ACCURACY"``, or an explicit
   ``rtol``/``atol``) plus the discretisation error, measured (``discretisation_atol``) or
   read from the dataset (``discretisation_from``), each with its reason.
 
 Curves are interpolated with a cubic spline in the abscissa (in its logarithm for
-``along_scale = "log"``); the interpolation error at a point is estimated as the distance
-between that spline and the spline through every other grid point (for a resolved smooth
-curve the O(h^4) error of the coarse spline is about 16 times that of the full one, so the
-estimate is conservative) and added to the tolerance. Points outside the reference curve, or
-in a gap of it (NaN: no root, inadmissible state), are rejected with ``ValueError``.
-A curve with a square-root end (Phibar near Phibar = 0) is interpolated in its square
-(``interpolate_power = 2``), in which it is smooth.
+``along_scale = "log"``), piece by piece between gaps (NaN: no root, inadmissible state)
+and jumps (a root number shifting as a root enters the stretch window); points in a gap,
+on a jump or outside the curve are rejected with ``ValueError`` naming the curve. The
+interpolation error at a point is estimated as the distance between that spline and the
+spline through every other grid point (for a resolved smooth curve the O(h^4) error of the
+coarse spline is about 16 times that of the full one, so the estimate is conservative)
+and added to the tolerance; a stored grid point carries none. A curve with a square-root
+end is splined in its square (``interpolate_power = 2``), one with poles in its product
+with a weight that removes them (``interpolate_weight``).
+
+:func:`coverage` says whether results cover every reference curve or value they address;
+:func:`render_markdown` is the page ``debench problems ID --markdown`` prints.
 
 Examples
 --------
 >>> from debench.reference import problems
 >>> [p.id for p in problems.load_all()][:2]
-['ch2_kernel_states', 'ch3_free_membrane_nh']
+['ch2_kernel_states', 'ch3_failure_points']
 >>> problems.get("ch3_free_membrane_nh").quantity("phibar").units
 '1'
 """
