@@ -592,7 +592,7 @@ def reference_json(problem: Problem) -> dict[str, Any]:
 def _md_value(v: Any) -> str:
     if isinstance(v, list):
         return ", ".join(_md_value(x) for x in v)
-    return f"{v:g}" if isinstance(v, float) else str(v)
+    return repr(v) if isinstance(v, float) else str(v)   # every digit the spec states
 
 
 def _md_units(u: str) -> str:
