@@ -142,6 +142,7 @@ def free_membrane_phibar(lam, c: float, kappa: float):
     return np.sqrt(phibar_squared(lam, 0.0, c, kappa))
 
 
+@v.finite_result
 def voltage_weight(lam, c: float, kappa: float):
     """``w(lam) = lam^4 K(lam) (1 - kappa (2 lam^2 + lam^-4 - 3))`` with K of (3.30).
 
