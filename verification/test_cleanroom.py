@@ -59,10 +59,13 @@ def _csv(path, header, columns):
     return str(path)
 
 
-def test_cleanroom_free_membrane_passes_check(tmp_path, capsys):
-    lam = np.linspace(1.0, 5.0, 401)
-    path = _csv(tmp_path / "m.csv", "lam [1],phibar [1]", [lam, free_membrane.phibar(lam)])
-    assert cli.main(["check", "ch3_free_membrane_nh", path]) == 0
+@pytest.mark.parametrize("problem_id, Jm, top", [("ch3_free_membrane_nh", np.inf, 5.0),
+                                               ("ch3_free_membrane_gent", 120.0, 7.8)])
+def test_cleanroom_free_membrane_passes_check(problem_id, Jm, top, tmp_path, capsys):
+    lam = np.linspace(1.0, top, 401)
+    path = _csv(tmp_path / "m.csv", "lam [1],phibar [1]",
+                [lam, free_membrane.phibar(lam, Jm, top)])
+    assert cli.main(["check", problem_id, path]) == 0
     assert "coverage complete" in capsys.readouterr().out
 
 

@@ -170,6 +170,27 @@ def test_failure_points_within_stated_discretisation_error_everywhere():
         assert 0 < err <= p.quantity(name).accuracy.discretisation, (name, err)
 
 
+@pytest.mark.parametrize("problem_id, Jm", [("ch3_free_membrane_nh", None),
+                                           ("ch3_free_membrane_gent", 120)])
+def test_free_membrane_closed_forms_against_40_digits(problem_id, Jm):
+    """Both free-membrane references on their whole grid against 40-digit evaluations of
+    Phibar^2 = (lam^-2 - lam^-8)/(1 - (2 lam^2 + lam^-4 - 3)/Jm): within 1 % of the
+    stated tolerance (measured <= 2.8e-15 relative)."""
+    import mpmath
+
+    p = problems.get(problem_id)
+    q = p.quantity()
+    lam = np.linspace(q.grid["start"], q.grid["stop"], int(q.grid["num"]))
+    ref = problems.reference_at(p, q, {"lam": lam})
+    with mpmath.workdps(40):
+        exact = []
+        for x in lam:
+            x = mpmath.mpf(x)
+            gent = 1 if Jm is None else 1 - (2 * x**2 + x**-4 - 3) / Jm
+            exact.append(float(mpmath.sqrt((x**-2 - x**-8) / gent)))
+    assert np.all(np.abs(ref.value - np.array(exact)) <= 0.01 * ref.tolerance)
+
+
 def test_free_membrane_tolerance_admits_an_iterative_solver_and_refuses_outside():
     """A 1e-12 relative error (an iterative solver's stopping) passes, a 1e-6 one (a
     model error is >= 1e-3) fails; stretches outside [1, 5] are refused."""
