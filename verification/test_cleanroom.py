@@ -190,3 +190,32 @@ def test_cleanroom_failure_points_pass_check_everywhere(tmp_path, capsys):
         "coords"]["lamP"]
     for name, path in _failure_point_files(tmp_path, lamPs, capsys).items():
         assert cli.main(["check", "ch3_failure_points", path]) == 0, name
+
+
+def _voltage_plate_rows(curves, stride, capsys):
+    ref = _reference_json("ch4_plate_voltage_control", capsys)["reference"]["lam_cr"]
+    kH = np.array(ref["coords"]["kH"], dtype=float)[::stride]
+    cols = ([], [], [], [])
+    for xi, V in curves:
+        for k in kH:
+            r = plate.roots(k, xi, V, voltage=True)
+            if r:
+                for col, v in zip(cols, (xi, V, k, float(r[0])), strict=True):
+                    col.append(v)
+    return cols
+
+
+def test_cleanroom_plate_voltage_control_passes_check_on_sampled_curves(tmp_path, capsys):
+    """Root 0 at fixed voltage, (xi, Vhat) = (0, 0.5), (5, 1), every 8th published kH:
+    declared partial coverage."""
+    cols = _voltage_plate_rows([(0.0, 0.5), (5.0, 1.0)], 8, capsys)
+    path = _csv(tmp_path / "v.csv", "xi [1],Vhat [1],kH [1],lam_cr [1]", cols)
+    assert cli.main(["check", "ch4_plate_voltage_control", path, "--partial"]) == 0
+
+
+@pytest.mark.slow
+def test_cleanroom_plate_voltage_control_passes_check_on_every_curve(tmp_path, capsys):
+    curves = [(xi, V) for xi in (0.0, 5.0) for V in (0.25, 0.5, 0.75, 1.0)]
+    cols = _voltage_plate_rows(curves, 1, capsys)
+    path = _csv(tmp_path / "v.csv", "xi [1],Vhat [1],kH [1],lam_cr [1]", cols)
+    assert cli.main(["check", "ch4_plate_voltage_control", path]) == 0

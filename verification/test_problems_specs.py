@@ -367,3 +367,19 @@ def test_coverage_of_a_curve_needs_the_whole_range_as_densely_as_the_grid():
     assert not problems.coverage(p, q, {"lam": [1.0, 3.0, 5.0]}).complete
     assert not problems.coverage(p, q, {"lam": grid[::2]}).complete
     assert problems.coverage(p, q, {"lam": grid}).complete
+
+
+@pytest.mark.parametrize("xi, Vhat", [(0.0, 0.25), (0.0, 1.0), (5.0, 0.5), (5.0, 1.0)])
+def test_ch4_voltage_reference_is_complete_and_matches_40_digit_roots(xi, Vhat):
+    """ch4_plate_voltage_control at every 20th stored kH: the clean room's 40-digit roots
+    of the determinant with Dhat = Dhat(lam) (per-family scan of 2000 stretches) are the
+    stored roots, as many and within MP_ROOT_RTOL."""
+    from verification.cleanroom import plate
+
+    ds = read_dataset("ch4_voltage_control").sel(variant="derived", xi=xi, Vhat=Vhat)
+    for kH in ds.kH.values[::20]:
+        stored = ds.lam_cr.sel(kH=kH).values
+        stored = stored[np.isfinite(stored)]
+        exact = np.array([float(x) for x in plate.roots(kH, xi, Vhat, voltage=True)])
+        assert exact.size == stored.size, (kH, exact, stored)
+        assert np.all(np.abs(stored - exact) <= MP_ROOT_RTOL * exact), (kH, exact, stored)

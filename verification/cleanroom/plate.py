@@ -47,13 +47,20 @@ def coefficients(lam, xi, D):
     return a, b2, c, d, e, f, g
 
 
-def determinant(lam, kH, xi, D, parity=None):
+def dhat(lam, D, voltage: bool):
+    """The true displacement: D itself, or at fixed voltage Vhat = D the page's
+    Dhat(lam) = Vhat lam^2/(alpha lam^4 + beta) with alpha = 0."""
+    return D * lam**2 / BETA if voltage else D
+
+
+def determinant(lam, kH, xi, D, parity=None, voltage=False):
     """The 6 x 6 determinant of the six exponentials' boundary rows on both faces
     (``parity`` None), or the 3 x 3 determinant of one mode family on the face x2 = +h/2:
     "E" (psi even: the modes s and -s with equal A, the electric ones with opposite B) or
     "O" (psi odd), divided by the difference of the quartic roots (the page's note)."""
     with mp.workdps(DIGITS):
         lam, kH, xi, D = (mp.mpf(x) for x in (lam, kH, xi, D))
+        D = dhat(lam, D, voltage)
         a, b2, c, d, e, f, g = coefficients(lam, xi, D)
         qa, qb, qc = a, b2 - d**2 / f, c - d**2 / f
         disc = mp.sqrt(mp.mpc(qb**2 - 4 * qa * qc))
@@ -91,12 +98,13 @@ def determinant(lam, kH, xi, D, parity=None):
         return mp.re(mp.det(M) / (pair[0] - pair[1]))
 
 
-def determinant_double(lam, kH, xi, D, parity):
+def determinant_double(lam, kH, xi, D, parity, voltage=False):
     """:func:`determinant` of one mode family in double precision, vectorised over
     ``lam`` (for the sign scan only: it loses up to ~12 digits where the quartic roots
     nearly coincide, which moves a sign change by far less than a scan interval)."""
     lam = np.asarray(lam, dtype=float)
     beta = float(BETA)
+    D = D * lam**2 / beta if voltage else D
     a = lam**2
     b2 = lam**2 + (1 - 2 * xi) * lam**-4 + 6 * xi * lam**-8 + beta * D**2
     c = (1 - 2 * xi) * lam**-4 + 2 * xi * lam**-8 + beta * D**2
@@ -124,8 +132,9 @@ def determinant_double(lam, kH, xi, D, parity):
         return np.real(np.linalg.det(M) / (pair[0] - pair[1]))
 
 
-def roots(kH, xi, D, n_scan=N_SCAN):
-    """Every zero in the window (below lam_E), ascending: geometric sign scan of ``n_scan``
+def roots(kH, xi, D, n_scan=N_SCAN, voltage=False):
+    """Every zero in the window (below lam_E), ascending (``voltage``: D is the fixed
+    voltage Vhat, ch4_plate_voltage_control): geometric sign scan of ``n_scan``
     points plus points approaching lam_E (double precision), each sign change confirmed
     and refined to 30 digits in 40-digit arithmetic."""
     with mp.workdps(DIGITS):
@@ -139,12 +148,13 @@ def roots(kH, xi, D, n_scan=N_SCAN):
         out = []
         for parity in ("E", "O"):   # the families separately: their roots can nearly meet
             signs = np.sign(determinant_double(np.array([float(x) for x in grid]),
-                                               float(kH), float(xi), float(D), parity))
+                                               float(kH), float(xi), float(D), parity,
+                                               voltage))
             for k in np.flatnonzero(signs[:-1] * signs[1:] < 0):
                 x0, x1 = grid[k], grid[k + 1]
 
                 def det(x, parity=parity):
-                    return determinant(x, kH, xi, D, parity)
+                    return determinant(x, kH, xi, D, parity, voltage)
 
                 f0, f1 = det(x0), det(x1)
                 if f0 * f1 < 0:   # the sign change confirmed in 40 digits
