@@ -750,7 +750,8 @@ def read_results(path: Path, quantity: str | None, prob) -> tuple[str, dict]:
         try:
             cols[name] = conv(np.array([float(x) for x in raw]))
         except ValueError:
-            raise UsageError(f"{path}: column {name} holds a value that is not a number")
+            raise UsageError(f"{path}: column {name} holds a value that is not a "
+                             "number") from None
     return qname, cols
 
 

@@ -146,6 +146,10 @@ class Quantity:
             return self.along_units
         if name in self.coordinate_units:
             return self.coordinate_units[name]
+        if name in self.select and self.source == "dataset":
+            # a spec that does not state them: the units the dataset's coordinate carries
+            # (CF: numeric coordinates have units; text ones none)
+            return str(_dataset(self)[name].attrs.get("units", ""))
         raise ProblemError(f"quantity {self.name} has no coordinate {name!r}; "
                            f"coordinates {list(self.coordinates)}")
 
