@@ -383,3 +383,15 @@ def test_ch4_voltage_reference_is_complete_and_matches_40_digit_roots(xi, Vhat):
         exact = np.array([float(x) for x in plate.roots(kH, xi, Vhat, voltage=True)])
         assert exact.size == stored.size, (kH, exact, stored)
         assert np.all(np.abs(stored - exact) <= MP_ROOT_RTOL * exact), (kH, exact, stored)
+
+
+@pytest.mark.parametrize("problem", COMPLETE, ids=_ids(COMPLETE))
+def test_gent_kappa_of_every_reference_is_one_over_the_stated_Jm(problem):
+    """A 1/Jm passed to a closed form or an interpolation weight is the Jm the page
+    states (one value, stated once for the reader)."""
+    jm = problem.parameters.get("Jm", {}).get("value")
+    for q in problem.quantities:
+        for args in (q.function_args, q.interpolate_weight.get("args", {})):
+            if "kappa" in args:
+                expected = 0.0 if jm == "inf" else 1.0 / float(jm)
+                assert args["kappa"] == pytest.approx(expected, rel=1e-15), q.name
