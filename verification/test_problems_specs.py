@@ -395,3 +395,26 @@ def test_gent_kappa_of_every_reference_is_one_over_the_stated_Jm(problem):
             if "kappa" in args:
                 expected = 0.0 if jm == "inf" else 1.0 / float(jm)
                 assert args["kappa"] == pytest.approx(expected, rel=1e-15), q.name
+
+
+@pytest.mark.parametrize("dataset, selector", [("ch4_fig4_2_curves", "Dhat"),
+                                               ("ch4_voltage_control", "Vhat")])
+def test_ch4_curves_jump_only_where_the_number_of_roots_changes(dataset, selector):
+    """The jump rule (problems.JUMP_FACTOR) splits a stored root curve only between two
+    kH with different numbers of roots in the window (a root entering or leaving shifts
+    the numbers), never inside a smooth part; and it finds such jumps."""
+    ds = read_dataset(dataset)
+    t = np.log(ds.kH.values)
+    jumps = 0
+    for v in ds.variant.values:
+        for xi in ds.xi.values:
+            for s in ds[selector].values:
+                lam = ds.lam_cr.sel(variant=v, xi=xi, **{selector: s}).values
+                count = np.isfinite(lam).sum(axis=1)
+                for r in range(lam.shape[1]):
+                    pieces = problems._pieces(t, lam[:, r])
+                    for (_, b), (c, _) in zip(pieces, pieces[1:], strict=False):
+                        if c == b + 1:
+                            jumps += 1
+                            assert count[b] != count[c], (v, xi, s, r, ds.kH.values[b])
+    assert jumps > 0
