@@ -418,3 +418,11 @@ def test_ch4_curves_jump_only_where_the_number_of_roots_changes(dataset, selecto
                             jumps += 1
                             assert count[b] != count[c], (v, xi, s, r, ds.kH.values[b])
     assert jumps > 0
+
+
+@pytest.mark.parametrize("problem", problems.load_all(), ids=_ids(problems.load_all()))
+def test_catalogue_entries_a_problem_names_exist(problem):
+    from debench.reference import catalogue
+
+    missing = set(problem.catalogue) - set(catalogue.by_id())
+    assert not missing, missing
