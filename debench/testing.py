@@ -74,6 +74,26 @@ class Comparison:
                 f"tolerance ({self.tolerance_source}); worst |error|/tolerance = "
                 f"{worst:.3g}{cov}")
 
+    def by_curve(self, along: str | None = None) -> str:
+        """One row per curve (selector combination; ``along``: the abscissa, not a
+        selector): points, failures and the worst |error|/tolerance, worst first."""
+        names = [k for k in self.coords if k != along]
+        if not names:
+            return ""
+        groups: dict[tuple, list[int]] = {}
+        for i, key in enumerate(zip(*(self.coords[k] for k in names), strict=True)):
+            groups.setdefault(tuple(_fmt(v) for v in key), []).append(i)
+        body = sorted(([*key, str(len(idx)), str(int(self.failed[idx].sum())),
+                        _fmt(float(self.ratio[idx].max()))]
+                       for key, idx in groups.items()),
+                      key=lambda r: -float(r[-1]))
+        head = [*names, "points", "failed", "worst |err|/tol"]
+        widths = [max(len(h), *(len(r[j]) for r in body)) for j, h in enumerate(head)]
+        line = lambda cells: "  ".join(c.rjust(w) for c, w in zip(cells, widths, strict=True))  # noqa: E731
+        return "\n".join([f"per curve ({len(body)}):" if along else
+                          f"per selection ({len(body)}):", line(head),
+                          *(line(r) for r in body)])
+
     def table(self, rows: int = WORST_ROWS) -> str:
         """The worst points: coordinates, value, reference, error, tolerance."""
         order = np.argsort(-self.ratio, kind="stable")[:rows]

@@ -782,6 +782,8 @@ def cmd_check(args) -> int:
     except ValueError as exc:
         raise UsageError(str(exc)) from None
     print(result.summary())
+    if q.along and len(q.select):
+        print(result.by_curve(q.along))
     print(result.table())
     return EXIT_OK if result.passed else EXIT_FAILED
 

@@ -350,6 +350,26 @@ def test_check_refuses_what_it_cannot_judge(tmp_path, capsys, header, rows, mess
     assert message in capsys.readouterr().err
 
 
+def test_check_prints_a_row_per_curve_worst_first(tmp_path, capsys):
+    """Two curves of ch3_voltage_stretch, one perturbed: the per-curve table lists both,
+    the perturbed one first and failed."""
+    ds = read_dataset("ch3_voltage_stretch_membrane").sel(lamP=2.0)
+    lam = ds.lambda_a.values
+    rows = []
+    for c, scale in ((0.0, 1.0), (-0.053, 1.001)):
+        y = ds.phibar.sel(c=c).values
+        rows += [(2.0, c, x, v * scale) for x, v in zip(lam, y, strict=True)
+                 if np.isfinite(v)]
+    path = tmp_path / "v.csv"
+    path.write_text("lamP [1],c [1],lambda_a [1],phibar [1]\n" + "\n".join(
+        ",".join(repr(float(x)) for x in r) for r in rows) + "\n")
+    assert cli.main(["check", "ch3_voltage_stretch", str(path), "--partial"]) == 1
+    out = capsys.readouterr().out
+    table = out.split("per curve (2):", 1)[1].splitlines()
+    assert table[2].split()[:2] == ["2", "-0.053"] and table[3].split()[:2] == ["2", "0"]
+    assert int(table[2].split()[3]) > 0 and int(table[3].split()[3]) == 0
+
+
 def test_declared_partial_coverage_is_reported(tmp_path, capsys):
     data = _ch2_rows("W")[:7]
     assert cli.main(["check", "ch2_kernel_states", _ch2_csv(
