@@ -3,7 +3,7 @@
 Installed with debench; in your own test suite::
 
     def test_my_membrane(debench_reference):
-        lam = np.linspace(1.05, 3.0, 40)
+        lam = np.linspace(1.0, 5.0, 401)   # the reference grid: full coverage
         debench_reference.assert_matches("ch3_free_membrane_nh", "phibar",
                                          my_solver(lam), {"lam": lam})
 
@@ -20,17 +20,21 @@ class DebenchReference:
     """What the fixture provides: :func:`debench.testing.assert_matches` and friends."""
 
     @staticmethod
-    def assert_matches(problem, quantity, values, coords, rtol=None, *, atol=None):
+    def assert_matches(problem, quantity, values, coords, rtol=None, *, atol=None,
+                       coverage="full"):
         from debench.testing import assert_matches
 
         __tracebackhide__ = True
-        return assert_matches(problem, quantity, values, coords, rtol, atol=atol)
+        return assert_matches(problem, quantity, values, coords, rtol, atol=atol,
+                              coverage=coverage)
 
     @staticmethod
-    def compare(problem, quantity, values, coords, *, rtol=None, atol=None):
+    def compare(problem, quantity, values, coords, *, rtol=None, atol=None,
+                coverage="full"):
         from debench.testing import compare
 
-        return compare(problem, quantity, values, coords, rtol=rtol, atol=atol)
+        return compare(problem, quantity, values, coords, rtol=rtol, atol=atol,
+                       coverage=coverage)
 
     @staticmethod
     def problem(problem_id):

@@ -10,7 +10,7 @@ Examples
 --------
 >>> import numpy as np
 >>> from debench.testing import assert_matches
->>> lam = np.linspace(1.05, 3.0, 40)
+>>> lam = np.linspace(1.0, 5.0, 401)             # the reference range, as densely
 >>> phibar = np.sqrt(lam**-2 - lam**-8)        # your free-membrane solver here
 >>> assert_matches("ch3_free_membrane_nh", "phibar", phibar, {"lam": lam}).passed
 True
@@ -42,6 +42,9 @@ class Comparison:
     reference: np.ndarray
     tolerance: np.ndarray
     tolerance_source: str
+    #: :class:`debench.reference.problems.Coverage` of the addressed reference (None: not
+    #: assessed)
+    coverage: Any = None
 
     @property
     def error(self) -> np.ndarray:
@@ -66,8 +69,30 @@ class Comparison:
         n, bad = self.values.size, int(self.failed.sum())
         worst = float(self.ratio.max()) if n else 0.0
         verdict = "MATCHES" if not bad else "DOES NOT MATCH"
+        cov = f"; {self.coverage.describe()}" if self.coverage is not None else ""
         return (f"{self.problem}:{self.quantity} {verdict}: {n - bad}/{n} points within "
-                f"tolerance ({self.tolerance_source}); worst |error|/tolerance = {worst:.3g}")
+                f"tolerance ({self.tolerance_source}); worst |error|/tolerance = "
+                f"{worst:.3g}{cov}")
+
+    def by_curve(self, along: str | None = None) -> str:
+        """One row per curve (selector combination; ``along``: the abscissa, not a
+        selector): points, failures and the worst |error|/tolerance, worst first."""
+        names = [k for k in self.coords if k != along]
+        if not names:
+            return ""
+        groups: dict[tuple, list[int]] = {}
+        for i, key in enumerate(zip(*(self.coords[k] for k in names), strict=True)):
+            groups.setdefault(tuple(_fmt(v) for v in key), []).append(i)
+        body = sorted(([*key, str(len(idx)), str(int(self.failed[idx].sum())),
+                        _fmt(float(self.ratio[idx].max()))]
+                       for key, idx in groups.items()),
+                      key=lambda r: -float(r[-1]))
+        head = [*names, "points", "failed", "worst |err|/tol"]
+        widths = [max(len(h), *(len(r[j]) for r in body)) for j, h in enumerate(head)]
+        line = lambda cells: "  ".join(c.rjust(w) for c, w in zip(cells, widths, strict=True))  # noqa: E731
+        return "\n".join([f"per curve ({len(body)}):" if along else
+                          f"per selection ({len(body)}):", line(head),
+                          *(line(r) for r in body)])
 
     def table(self, rows: int = WORST_ROWS) -> str:
         """The worst points: coordinates, value, reference, error, tolerance."""
@@ -94,7 +119,8 @@ def _fmt(x: Any) -> str:
 
 
 def compare(problem: str, quantity: str | None, values, coords: Mapping[str, Any], *,
-            rtol: float | None = None, atol: float | None = None) -> Comparison:
+            rtol: float | None = None, atol: float | None = None,
+            coverage: str = "full") -> Comparison:
     """Compare ``values`` at ``coords`` with the reference of ``problem``.
 
     Parameters
@@ -112,6 +138,13 @@ def compare(problem: str, quantity: str | None, values, coords: Mapping[str, Any
         Your tolerance. ``None`` (default) applies the stated accuracy of the reference;
         otherwise the larger of yours and the stated one, plus the interpolation error
         estimate, applies.
+    coverage
+        ``"full"`` (default): your points must cover every reference curve or value they
+        address (:func:`debench.reference.problems.coverage`: every grid value of a
+        selector without a default, the values you give of one with a default; each curve
+        at least as densely as the stored grid over its whole range), else
+        :class:`~debench.reference.problems.CoverageError`; ``"partial"``: any subset,
+        reported in :attr:`Comparison.coverage`. Repeated coordinates raise ValueError.
 
     Returns
     -------
@@ -122,9 +155,22 @@ def compare(problem: str, quantity: str | None, values, coords: Mapping[str, Any
     for name, x in (("rtol", rtol), ("atol", atol)):
         if x is not None and not (np.isfinite(x) and x >= 0):
             raise ValueError(f"{name} must be finite and >= 0, got {x}")
+    if coverage not in ("full", "partial"):
+        raise ValueError(f"coverage must be 'full' or 'partial', got {coverage!r}")
     prob = problems.get(problem)
     q = prob.quantity(quantity)
     ref = problems.reference_at(prob, q, coords)
+    dup = problems.duplicates(q, coords)
+    if dup:
+        raise ValueError(f"{prob.id}:{q.name}: repeated coordinates ({len(dup)}): "
+                         + "; ".join(dup[:3]))
+    cov = problems.coverage(prob, q, coords, declared="declared" if coverage == "partial"
+                            else "not declared")
+    if coverage == "full" and not cov.complete:
+        raise problems.CoverageError(
+            f"{prob.id}:{q.name}: {cov.describe()}. Cover every reference point of what "
+            "you address, or declare partial coverage (coverage='partial', "
+            "debench check --partial)")
     given = {**q.defaults, **dict(coords)}
     arrays = np.broadcast_arrays(np.asarray(values, dtype=float),
                                  *[np.asarray(given[n]) for n in q.coordinates])
@@ -141,17 +187,19 @@ def compare(problem: str, quantity: str | None, values, coords: Mapping[str, Any
                       coords={n: a.ravel() for n, a in zip(q.coordinates, arrays[1:],
                                                            strict=True)},
                       values=vals, reference=ref.value, tolerance=tol,
-                      tolerance_source=source)
+                      tolerance_source=source, coverage=cov)
 
 
 def assert_matches(problem: str, quantity: str | None, values, coords: Mapping[str, Any],
-                   rtol: float | None = None, *, atol: float | None = None) -> Comparison:
+                   rtol: float | None = None, *, atol: float | None = None,
+                   coverage: str = "full") -> Comparison:
     """Raise ``AssertionError`` (with a table of the worst points) unless ``values`` match
     the reference of ``problem``; see :func:`compare` for the arguments.
 
     Returns the :class:`Comparison` when they match.
     """
-    result = compare(problem, quantity, values, coords, rtol=rtol, atol=atol)
+    result = compare(problem, quantity, values, coords, rtol=rtol, atol=atol,
+                     coverage=coverage)
     if not result.passed:
         raise AssertionError(f"{result.summary()}\n{result.table()}")
     return result

@@ -3,8 +3,8 @@
 An incompressible neo-Hookean membrane (shear modulus mu, permittivity eps, thickness H),
 free at its edge, is stretched equibiaxially by a voltage Phi. Equilibrium of the
 homogeneous state: true stress mu (lam^2 - lam^-4) = eps E^2 with E = Phi lam^2 / H.
-This script solves it numerically - for each voltage, the stretch on the stable branch
-by root finding - as your own code would, writes the curve to a CSV file that
+This script solves it numerically - for each stretch on the reference grid, the voltage
+that holds it, by root finding - as your own code would, writes the curve to a CSV file that
 ``debench check`` reads, and checks it with the Python API.
 
 Run: ``python examples/free_membrane_nh.py [out.csv]``; then
@@ -19,18 +19,19 @@ from scipy.optimize import brentq
 MU = 1.0  # stresses and voltages normalised: phibar = sqrt(eps/mu) Phi/H
 
 
-def residual(lam, phibar):
+def residual(phibar, lam):
     """Mechanical minus electrical true stress over mu, equibiaxial state."""
     return MU * (lam**2 - lam**-4) - phibar**2 * lam**4
 
 
-def stretch(phibar):
-    """Stretch on the stable branch (below the pull-in stretch 2^(1/3))."""
-    return brentq(residual, 1.0, 2.0 ** (1 / 3), args=(phibar,), xtol=1e-15, rtol=1e-15)
+def voltage(lam):
+    """The voltage that holds the stretch lam (the residual falls from >= 0 at phibar = 0
+    to < 0 at phibar = 1 for every lam >= 1)."""
+    return brentq(residual, 0.0, 1.0, args=(lam,), xtol=1e-15, rtol=1e-15)
 
 
-phibar = np.linspace(0.05, 0.68, 30)
-lam = np.array([stretch(p) for p in phibar])
+lam = np.linspace(1.0, 5.0, 401)  # the stretch is the coordinate: the reference grid
+phibar = np.array([voltage(x) for x in lam])  # the voltage is the quantity
 
 if __name__ == "__main__":
     from debench.testing import assert_matches

@@ -625,10 +625,23 @@ def cmd_problems(args) -> int:
     if args.json:
         print(json.dumps(problems.reference_json(p), ensure_ascii=False))
         return 0
+    if args.markdown:
+        print(problems.render_markdown(p), end="")
+        return 0
     spec = p.spec()
     print(f"{p.id}: {p.title} (Chapter {p.chapter})\n\n{p.summary}\n")
-    for key in ("geometry", "boundary_conditions", "loading"):
-        print(f"{key.replace('_', ' ')}: {spec[key]}")
+    print(f"geometry: {p.geometry}")
+    if isinstance(p.boundary_conditions, str):
+        print(f"boundary conditions: {p.boundary_conditions}")
+    else:
+        print("boundary conditions:")
+        for b in p.boundary_conditions:
+            print(f"  {b['boundary']}: kinematic {b['kinematic']}; electric {b['electric']}")
+    if isinstance(p.loading, str):
+        print(f"loading: {p.loading}")
+    else:
+        print(f"loading: {p.loading['path']}\ncontrolled: {p.loading['controlled']}")
+    print(f"(the full page: debench problems {p.id} --markdown)")
     print("thesis: " + ", ".join(f"{k} {v}" for k, v in p.thesis.items()))
     print("parameters:")
     for name, par in p.parameters.items():
@@ -646,31 +659,63 @@ def cmd_problems(args) -> int:
     return 0
 
 
-def read_results(path: Path, quantity: str | None, coordinates: tuple[str, ...],
-                 units: dict[str, str]) -> tuple[str, dict]:
-    """Columns of a user's results file: CSV with header ``name [units]``, or netCDF
-    (variables named like the coordinates and the quantity, broadcast against it)."""
+def _unit(spelled: str | None, expected: str, column: str, where: str):
+    """A converter of a column in units ``spelled`` to ``expected`` (compared by
+    meaning with cf-units, the UDUNITS-2 library of the CF conventions: ``J/m3`` ==
+    ``J m-3``, ``kPa`` converts to ``Pa``). ``expected == ""``: a text coordinate, no
+    units. UsageError for missing, unknown or incompatible units."""
+    import cf_units
+
+    if expected == "":
+        if spelled:
+            raise UsageError(f"{where}: {column} is a text coordinate and takes no units, "
+                             f"got [{spelled}]")
+        return None
+    if spelled is None or not spelled.strip():
+        raise UsageError(f"{where}: {column} has no units; write them as '{column} "
+                         f"[{expected}]' ('1' for a dimensionless quantity)")
+    try:
+        got, want = cf_units.Unit(spelled.strip()), cf_units.Unit(expected)
+    except ValueError:
+        raise UsageError(f"{where}: {column} has units [{spelled}], which cf-units "
+                         "(UDUNITS-2) does not parse") from None
+    if got.is_unknown() or got.is_no_unit() or not got.is_convertible(want):
+        raise UsageError(f"{where}: {column} has units [{spelled}], not convertible to "
+                         f"the expected [{expected}]")
+    return lambda x: got.convert(np.asarray(x, dtype=float), want)
+
+
+def read_results(path: Path, quantity: str | None, prob) -> tuple[str, dict]:
+    """Columns of a user's results file for one quantity of ``prob``: CSV with header
+    ``name [units]``, or netCDF (variables named like the coordinates and the quantity,
+    with a ``units`` attribute, broadcast against it). Every numeric column needs units,
+    compared by meaning and converted to the problem's; a column that is neither the
+    quantity nor one of its coordinates, or a repeated column, is refused."""
     path = Path(path)
     if not path.is_file():
         raise UsageError(f"FILE {path} does not exist")
+    names = [q.name for q in prob.quantities]
     if path.suffix in (".nc", ".nc4", ".cdf"):
         import xarray as xr
 
         with xr.open_dataset(path) as ds:
-            qname = quantity or next((n for n in units if n in ds.data_vars
-                                      and n not in coordinates), None)
+            qname = quantity or next((n for n in names if n in ds.data_vars), None)
             if qname is None or qname not in ds:
                 raise UsageError(f"{path} has no variable for quantity "
-                                 f"{quantity or sorted(units)}")
+                                 f"{quantity or names}")
+            q = _quantity_of(prob, qname)
+            unknown = sorted(set(ds.data_vars) - {qname, *q.coordinates})
+            if unknown:
+                raise UsageError(f"{path}: variables {unknown} are not the quantity "
+                                 f"{qname} or its coordinates {list(q.coordinates)}")
             cols = {}
-            for n in (*coordinates, qname):
+            for n in (*q.coordinates, qname):
                 if n not in ds.variables:
                     continue
-                unit = ds[n].attrs.get("units")
-                if unit is not None and n in units and str(unit) != units[n]:
-                    raise UsageError(f"{path}: {n} has units {unit!r}, expected {units[n]!r}")
+                conv = _unit(ds[n].attrs.get("units"), q.units_of(n), n, str(path))
                 a, _ = xr.broadcast(ds[n], ds[qname])
-                cols[n] = a.transpose(*ds[qname].dims).values.ravel()
+                v = a.transpose(*ds[qname].dims).values.ravel()
+                cols[n] = conv(v) if conv else v
         return qname, cols
     import csv
 
@@ -678,26 +723,45 @@ def read_results(path: Path, quantity: str | None, coordinates: tuple[str, ...],
         rows = [r for r in csv.reader(fh) if r and not r[0].startswith("#")]
     if len(rows) < 2:
         raise UsageError(f"{path}: expected a header and at least one row")
-    header = []
+    header, spelled = [], {}
     for cell in rows[0]:
-        name, _, rest = cell.strip().partition("[")
-        name, unit = name.strip(), (rest.rstrip("]").strip() if rest else None)
-        if unit is not None and name in units and unit != units[name]:
-            raise UsageError(f"{path}: column {name} has units [{unit}], "
-                             f"expected [{units[name]}]")
+        name, bracket, rest = cell.strip().partition("[")
+        name = name.strip()
+        if name in spelled:
+            raise UsageError(f"{path}: column {name} appears twice in the header")
         header.append(name)
-    qname = quantity or next((n for n in header if n in units and n not in coordinates), None)
+        spelled[name] = rest.rstrip().removesuffix("]").strip() if bracket else None
+    qname = quantity or next((n for n in header if n in names), None)
     if qname is None or qname not in header:
-        raise UsageError(f"{path}: no column for quantity {quantity or sorted(units)}; "
+        raise UsageError(f"{path}: no column for quantity {quantity or names}; "
                          f"header {header}")
+    q = _quantity_of(prob, qname)
+    unknown = [n for n in header if n not in (qname, *q.coordinates)]
+    if unknown:
+        raise UsageError(f"{path}: columns {unknown} are not the quantity {qname} or its "
+                         f"coordinates {list(q.coordinates)}")
     cols = {}
     for j, name in enumerate(header):
-        raw = [r[j].strip() for r in rows[1:]]
-        try:
-            cols[name] = np.array([float(x) for x in raw])
-        except ValueError:
+        conv = _unit(spelled[name], q.units_of(name), name, str(path))
+        raw = [r[j].strip() if j < len(r) else "" for r in rows[1:]]
+        if conv is None:
             cols[name] = np.array(raw)
+            continue
+        try:
+            cols[name] = conv(np.array([float(x) for x in raw]))
+        except ValueError:
+            raise UsageError(f"{path}: column {name} holds a value that is not a "
+                             "number") from None
     return qname, cols
+
+
+def _quantity_of(prob, name: str):
+    from debench.reference import problems
+
+    try:
+        return prob.quantity(name)
+    except problems.ProblemError as exc:
+        raise UsageError(str(exc)) from None
 
 
 def cmd_check(args) -> int:
@@ -709,21 +773,18 @@ def cmd_check(args) -> int:
         prob = problems.get(args.problem)
     except problems.ProblemError as exc:
         raise UsageError(str(exc)) from None
-    units = {q.name: q.units for q in prob.quantities}
-    for q in prob.quantities:
-        if q.along:
-            units.setdefault(q.along, q.along_units)
-    coord_names = tuple(dict.fromkeys(c for q in prob.quantities for c in q.coordinates))
-    qname, cols = read_results(Path(args.file), args.quantity, coord_names, units)
+    qname, cols = read_results(Path(args.file), args.quantity, prob)
+    q = prob.quantity(qname)
     try:
-        q = prob.quantity(qname)
         result = compare(prob.id, q.name, cols[qname],
-                         {c: cols[c] for c in q.coordinates if c in cols}, rtol=args.rtol)
+                         {c: cols[c] for c in q.coordinates if c in cols}, rtol=args.rtol,
+                         coverage="partial" if args.partial else "full")
     except ValueError as exc:
         raise UsageError(str(exc)) from None
     print(result.summary())
-    if not result.passed or args.verbose:
-        print(result.table())
+    if q.along and len(q.select):
+        print(result.by_curve(q.along))
+    print(result.table())
     return EXIT_OK if result.passed else EXIT_FAILED
 
 
@@ -821,6 +882,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("id", nargs="?", help="problem id (default: list all)")
     s.add_argument("--json", action="store_true", help="JSON: the spec and, per quantity, "
                    "reference coordinates, values, units and accuracy")
+    s.add_argument("--markdown", action="store_true", help="the problem page (markdown): "
+                   "everything needed to implement the problem and check it")
     s.set_defaults(func=cmd_problems)
 
     s = sub.add_parser("check", help="check your results (CSV or netCDF) against a "
@@ -830,8 +893,11 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--quantity", help="quantity to check (default: the one in FILE)")
     s.add_argument("--rtol", type=float, help="your relative tolerance (default: the "
                    "stated accuracy of the reference, which is also the floor)")
-    s.add_argument("--verbose", action="store_true", help="print the worst points also "
-                   "when the results match")
+    s.add_argument("--partial", action="store_true", help="declare partial coverage: "
+                   "check the points given and report what they cover (default: every "
+                   "reference curve or value the file addresses must be covered)")
+    s.add_argument("--verbose", action="store_true", help="accepted for compatibility: "
+                   "the table of the worst points is always printed")
     s.set_defaults(func=cmd_check)
 
     s = sub.add_parser("cite", help="BibTeX and CSL-JSON for a catalogue entry, dataset "

@@ -8,7 +8,8 @@ import pytest
 from debench.reference.builders import ch3 as builder
 from debench.reference.datasets import DatasetError, data_dir, read_dataset
 
-NAMES = ("ch3_annulus_profiles", "ch3_voltage_stretch", "ch3_failure_points", "ch3_c_sweep",
+NAMES = ("ch3_annulus_profiles", "ch3_voltage_stretch", "ch3_voltage_stretch_membrane",
+         "ch3_failure_points", "ch3_c_sweep",
          "ch3_eps_r_sensitivity")
 #: same code, same inputs: only floating-point differences between platforms/BLAS
 REGEN_RTOL = 1e-9

@@ -140,3 +140,18 @@ def free_membrane_phibar(lam, c: float, kappa: float):
     """
     v.at_least("lam", lam, 1.0)
     return np.sqrt(phibar_squared(lam, 0.0, c, kappa))
+
+
+@v.finite_result
+def voltage_weight(lam, c: float, kappa: float):
+    """``w(lam) = lam^4 K(lam) (1 - kappa (2 lam^2 + lam^-4 - 3))`` with K of (3.30).
+
+    By the interface balance, ``Phibar^2 w = (lam^2 - lam^-4) - lam T1B (1 - kappa (2 lam^2
+    + lam^-4 - 3))``: smooth in lam up to the Gent locking stretch of circle A and through
+    K = 0, where Phibar^2 itself has poles. Interpolating Phibar^2 w instead of Phibar
+    keeps a spline accurate there. ``lam`` finite and > 0; ``c`` finite, ``kappa >= 0``.
+    """
+    lam = np.asarray(v.positive("lam", lam), dtype=float)
+    c = v.finite("c", c)
+    kappa = v.nonnegative("kappa", kappa)
+    return lam**4 * _K(lam, c) * (1 - kappa * (2 * lam**2 + lam**-4 - 3))

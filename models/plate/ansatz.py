@@ -40,13 +40,22 @@ from debench.models.plate.coefficients import (
     _coefficients,
     _reduced_quartic,
     _strongly_elliptic,
+    ellipticity_limit_stretch,
 )
 
 PARITIES = ("E", "O")
-#: below this separation of the quartic roots the divided difference is replaced by a
-#: central difference of step _DS (truncation ~ |s2 - s3|^2 / 24, rounding ~ eps / _DS).
-_CLOSE = 1e-3
-_DS = 1e-4
+#: below this separation of the quartic roots the divided difference (rounding
+#: ~ eps / |s2 - s3| <= 2e-11 relative) is replaced by the derivative of the column at the
+#: midpoint (truncation |s2 - s3|^2 / 24 <= 4e-12 relative), taken by the five-point
+#: stencil _STENCIL of step _DS (truncation ~ _DS^4 / 30 ~ 3e-14, rounding ~ eps / _DS
+#: ~ 2e-13); both stay far below the 1e-7 relative accuracy stated for the roots
+_CLOSE = 1e-5
+_DS = 1e-3
+_STENCIL = ((-2, 1 / 12), (-1, -8 / 12), (1, 8 / 12), (2, -1 / 12))
+#: relative distances below the loss of strong ellipticity lam_E added to the scan grid,
+#: so that a root between the last regular scan point and lam_E (where the scaled
+#: determinant tends to 0) is bracketed
+_ELLIPTIC_APPROACH = tuple(10.0**-k for k in range(2, 11))
 
 
 def _row_coefficients(lam, p: PlateParams, coef=None):
@@ -214,19 +223,18 @@ def _determinants(lam, kH, params, parities=PARITIES):
     safe = np.where(close, 1.0, diff)
     if np.any(close):
         m = 0.5 * (s2 + s3)
-        rp, rm = (_column_rows(m + _DS, "quartic", rcx, kappa),
-                  _column_rows(m - _DS, "quartic", rcx, kappa))
-        thp, thm = np.tanh((m + _DS) * (t / 2)), np.tanh((m - _DS) * (t / 2))
+        shifted = [(w, _column_rows(m + j * _DS, "quartic", rcx, kappa),
+                    np.tanh((m + j * _DS) * (t / 2))) for j, w in _STENCIL]
     ell = (_strongly_elliptic(lam, p, quartic) if p.variant != "literal"
            else np.ones_like(lam, bool))
     out = []
     for parity in parities:
         det = -_pair_det(r2, r3, r1, th2, th3, th1, parity) / safe
         if np.any(close):
-            dc = (_pair_det(r2, rp, r1, th2, thp, th1, parity)
-                  - _pair_det(r2, rm, r1, th2, thm, th1, parity)
-                  + _pair_det(r3, rp, r1, th3, thp, th1, parity)
-                  - _pair_det(r3, rm, r1, th3, thm, th1, parity)) / (4 * _DS)
+            # det [avg, dcol/ds(m), c1], linear in its second column: the stencil's sum
+            dc = sum(w * (_pair_det(r2, rs, r1, th2, ths, th1, parity)
+                          + _pair_det(r3, rs, r1, th3, ths, th1, parity))
+                     for w, rs, ths in shifted) / (2 * _DS)
             det = np.where(close, dc, det)
         out.append(np.where(ell, np.real(det), np.nan))
     return out
@@ -250,11 +258,23 @@ XTOL = 1e-13
 MIN_SCAN = 10
 
 
-def scan_grid(window=LAM_WINDOW, n=N_SCAN):
-    """Geometric grid of ``n >= 2`` stretches over ``window = (lo, hi)``, 0 < lo < hi."""
+def scan_grid(window=LAM_WINDOW, n=N_SCAN, params: PlateParams | None = None):
+    """Geometric grid of ``n >= 2`` stretches over ``window = (lo, hi)``, 0 < lo < hi.
+
+    With ``params``, the stretches lam_E (1 - 10^-k), k = 2..10, below the loss of strong
+    ellipticity lam_E of the model (:func:`~debench.models.plate.coefficients.
+    ellipticity_limit_stretch`) inside the window are added, so that a root just below
+    lam_E is bracketed although the next regular grid point is not elliptic.
+    """
     lo, hi = v.window("window", window)
     n = v.integer_at_least("n", n, 2)
-    return np.geomspace(lo, hi, n)
+    grid = np.geomspace(lo, hi, n)
+    if params is None:
+        return grid
+    lam_e = ellipticity_limit_stretch(params)
+    extra = lam_e * (1.0 - np.asarray(_ELLIPTIC_APPROACH))
+    extra = extra[(extra > lo) & (extra < hi)]
+    return np.unique(np.concatenate([grid, extra])) if extra.size else grid
 
 
 def _refine(f, a, b, fa, fb, xtol=XTOL, maxiter=200):
@@ -325,7 +345,7 @@ def critical_stretches(kH: float, params: PlateParams, *, window=LAM_WINDOW,
             isinstance(x, str) and x in PARITIES for x in parities) or not len(parities):
         raise ValueError(f"parities must be a non-empty sequence of {PARITIES}, "
                          f"got {parities!r}")
-    grid = scan_grid(window, n_scan)
+    grid = scan_grid(window, n_scan, params)
     lams, pars = [], []
     for par, vals in zip(parities, _determinants(grid, kH, params, tuple(parities)),
                          strict=True):
@@ -390,7 +410,7 @@ def curves_vectorised(kH_values, params: PlateParams, *, window=LAM_WINDOW,
     v.integer_at_least("max_roots", max_roots, 1)
     v.tolerance("xtol", xtol)
     v.integer_at_least("max_iter", max_iter, 1)
-    grid = scan_grid(window, n_scan)
+    grid = scan_grid(window, n_scan, params)
     # both parities on the (kH, lam) scan grid in one pass (lam-only work once per lam)
     dets = _determinants(grid[None, :], kH_values[:, None], params, PARITIES)
     rows, lams, pars = [], [], []

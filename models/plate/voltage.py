@@ -97,7 +97,7 @@ def critical_stretches_at_voltage(kH: float, Vhat: float, params: PlateParams, *
     v.integer_at_least("n_scan", n_scan, MIN_SCAN)
     require(params.variant != "literal", "voltage control needs a consistent variant "
             "('derived' or 'printed'), got 'literal'")
-    grid = scan_grid(window, n_scan)
+    grid = scan_grid(window, n_scan, params)
     lams, pars = [], []
     for par in PARITIES:
         dv = _determinant_at_voltage(grid, kH, Vhat, params, par)
@@ -140,7 +140,7 @@ def curves_at_voltage(kH_values, Vhat: float, params: PlateParams, *, window=LAM
     v.integer_at_least("max_roots", max_roots, 1)
     require(params.variant != "literal", "voltage control needs a consistent variant "
             "('derived' or 'printed'), got 'literal'")
-    grid = scan_grid(window, n_scan)
+    grid = scan_grid(window, n_scan, params)
     K, L = np.meshgrid(kH_values, grid, indexing="ij")
     rows, lams, pars = [], [], []
     for ip, par in enumerate(PARITIES):

@@ -7,6 +7,8 @@ Datasets (``ch3_*``, written with :func:`debench.reference.datasets.write_datase
   circle-A stretch, lamP = 3, R_B/R_A = 15, Phibar = 0.2, c = 0 and -0.053 (Figs 3.2-3.3).
 * ``ch3_voltage_stretch``: Phibar(lambda), sigma1^(A)(lambda), the breakdown line, for the
   pre-stretches and c values of Figs 3.4-3.8 (equilibrium as printed, Eq. 3.33).
+* ``ch3_voltage_stretch_membrane``: the same curves with the consistent thin-membrane
+  balance d(R T1)/dR = T2 in annulus B (erratum ch3.erratum.eq_3_33).
 * ``ch3_failure_points``: pull-in, loss of tension, breakdown and the first failure per
   (equilibrium variant, lamP, c) (Fig. 3.7 symbols; the printed/membrane comparison).
 * ``ch3_c_sweep``: lam_max and Phibar at failure over c in [-0.1, 0] for lamP = 1.25, 2,
@@ -178,6 +180,18 @@ def voltage_stretch(family) -> xr.Dataset:
         })
 
 
+#: the ``equilibrium`` parameter of a dataset built with the thin-membrane balance
+MEMBRANE_EQUILIBRIUM = "membrane: d(R T1)/dR = T2 (consistent thin-membrane balance)"
+
+
+def _with_equilibrium(ds: xr.Dataset, equilibrium: str) -> xr.Dataset:
+    """``ds`` with the ``equilibrium`` parameter (a dataset attribute, which the writer
+    merges over the common parameters)."""
+    ds = ds.copy()
+    ds.attrs["equilibrium"] = equilibrium
+    return ds
+
+
 def _family(ch: Chapter, equilibrium: str = "printed") -> dict:
     """{lamP: (branch, curves over C_CURVES)} of one variant, from the chapter pass."""
     return {p: (ch.branches[(float(p), equilibrium)],
@@ -273,6 +287,8 @@ def compute(full: bool = False) -> dict[str, xr.Dataset]:
     return {
         "ch3_annulus_profiles": annulus_profiles(full, ch),
         "ch3_voltage_stretch": voltage_stretch(_family(ch)),
+        "ch3_voltage_stretch_membrane": _with_equilibrium(
+            voltage_stretch(_family(ch, "membrane")), MEMBRANE_EQUILIBRIUM),
         "ch3_failure_points": failure_points(full, ch),
         "ch3_c_sweep": c_sweep(full, ch=ch),
         "ch3_eps_r_sensitivity": eps_r_sensitivity(full, ch),
@@ -284,6 +300,8 @@ _TEXT = {
                              "Stretches along the radius of annulus B of the pre-stretched circular actuator, lamP = 3, RB/RA = 15, Phibar = 0.2, constant (c = 0) and Zhao-Suo (c = -0.053) permittivity."),
     "ch3_voltage_stretch": ("Chapter 3 voltage-stretch curves (Figs 3.4-3.8)",
                             "Normalised voltage and circle-A stress versus circle-A stretch for pre-stretches 1.1-5 and c from 0 to -0.1, RB/RA = 15, Gent Jm = 120; the dielectric breakdown line."),
+    "ch3_voltage_stretch_membrane": ("Chapter 3 voltage-stretch curves, consistent thin-membrane balance",
+                                     "Normalised voltage and circle-A stress versus circle-A stretch for pre-stretches 1.1-5 and c from 0 to -0.1, RB/RA = 15, Gent Jm = 120, with the thin-membrane balance d(R T1)/dR = T2 in annulus B instead of the printed Eq. (3.33); the dielectric breakdown line."),
     "ch3_failure_points": ("Chapter 3 failure points (Fig. 3.7) for both annulus equilibrium variants",
                            "Pull-in, local minimum, loss of tension and breakdown points and the governing failure mode for each pre-stretch and c, with Eq. (3.33) as printed and with the thin-membrane balance."),
     "ch3_c_sweep": ("Chapter 3 maximum stretch versus c (Fig. 3.9)",

@@ -1,0 +1,197 @@
+"""Clean-room ch4_plate_critical_stretch, written from ``debench problems
+ch4_plate_critical_stretch --markdown`` only (mpmath; nothing from debench).
+
+The page's model.equations: coefficients a, 2b, c, d, e, f, g of the incremental energy of
+(4.22) at fixed true D2 (variant 'derived', alpha = 0, beta = 1/2, mu = eps = 1), the six
+exponentials exp(-k s x2) (s = +-1 electric, +-s of the reduced quartic with B = (d/f) s A)
+and the three boundary rows on each face x2 = +-h/2, k h = kH lam^-2. Here the determinant is
+formed per mode family (the page's branch: flexural psi even, extensional psi odd; their
+roots can be 3e-7 apart), with no special treatment of close quartic roots but the
+division by their difference (the working precision absorbs the cancellation), and its
+zeros are found by a sign scan in lam
+followed by the Illinois bracketing iteration, both in 40 digits; as the page says, the
+determinant is divided by the difference of the two quartic roots.
+"""
+
+from __future__ import annotations
+
+import mpmath as mp
+import numpy as np
+
+#: working digits: the determinant loses up to ~12 digits where two quartic roots nearly
+#: coincide (lam -> 1, xi = 0: separation ~ 1e-4) and the columns scale as exp(s kH)
+DIGITS = 40
+#: the stretch window of the page's domain
+WINDOW = (mp.mpf("0.4"), mp.mpf(8))
+BETA = mp.mpf("0.5")
+#: sign-scan points over the window (geometric, double precision, per mode family): roots
+#: of one family are >= 0.8 % apart on these curves (measured on the reference), 2000
+#: points are 0.15 % apart
+N_SCAN = 2000
+#: a cheaper scan (2.5 % apart) for single checks where the roots are known to be far apart
+N_SCAN_FAST = 120
+
+
+def ellipticity_limit(xi):
+    """lam_E = (2 xi/(2 xi - 1))^(1/4) for xi > 1/2 (the page's exclusion), else inf."""
+    xi = mp.mpf(xi)
+    return (2 * xi / (2 * xi - 1)) ** mp.mpf("0.25") if xi > mp.mpf("0.5") else mp.inf
+
+
+def coefficients(lam, xi, D):
+    """(a, 2b, c, d, e, f, g) of the page, variant 'derived', alpha = 0."""
+    a = lam**2
+    b2 = lam**2 + (1 - 2 * xi) * lam**-4 + 6 * xi * lam**-8 + BETA * D**2
+    c = (1 - 2 * xi) * lam**-4 + 2 * xi * lam**-8 + BETA * D**2
+    d, e, f, g = BETA * D, 2 * BETA * D, BETA, BETA
+    return a, b2, c, d, e, f, g
+
+
+def dhat(lam, D, voltage: bool):
+    """The true displacement: D itself, or at fixed voltage Vhat = D the page's
+    Dhat(lam) = Vhat lam^2/(alpha lam^4 + beta) with alpha = 0."""
+    return D * lam**2 / BETA if voltage else D
+
+
+def determinant(lam, kH, xi, D, parity=None, voltage=False):
+    """The 6 x 6 determinant of the six exponentials' boundary rows on both faces
+    (``parity`` None), or the 3 x 3 determinant of one mode family on the face x2 = +h/2:
+    "E" (psi even: the modes s and -s with equal A, the electric ones with opposite B) or
+    "O" (psi odd), divided by the difference of the quartic roots (the page's note)."""
+    with mp.workdps(DIGITS):
+        lam, kH, xi, D = (mp.mpf(x) for x in (lam, kH, xi, D))
+        D = dhat(lam, D, voltage)
+        a, b2, c, d, e, f, g = coefficients(lam, xi, D)
+        qa, qb, qc = a, b2 - d**2 / f, c - d**2 / f
+        disc = mp.sqrt(mp.mpc(qb**2 - 4 * qa * qc))
+        pair = [mp.sqrt((qb + disc) / (2 * qc)), mp.sqrt((qb - disc) / (2 * qc))]
+        t = kH * lam**-2        # k h
+
+        def column(s, A, B, w):
+            rows = (c * (1 + s**2) * A - d * s * B,
+                    (b2 + c - c * s**2) * s * A - (e - d * s**2) * B,
+                    d * (1 + s**2) * A - f * s * B)
+            return ([r * mp.exp(-s * t / 2 - w) for r in rows]      # face x2 = +h/2
+                    + [r * mp.exp(s * t / 2 - w) for r in rows])    # face x2 = -h/2
+
+        # each column divided by exp(|Re s| t/2) (zeros unchanged): bounded entries also
+        # where a quartic root grows without bound (lam -> lam_E)
+        cols = []
+        for s in pair:
+            w = abs(mp.re(s)) * t / 2
+            cols.append((column(s, 1, d / f * s, w), column(-s, 1, -d / f * s, w)))
+        one = mp.mpf(1)
+        cols.append((column(one, 0, 1, t / 2), column(-one, 0, 1, t / 2)))
+        if parity is None:
+            M = mp.matrix(6, 6)
+            flat = [c_ for p_ in cols for c_ in p_]
+            for j, col in enumerate(flat):
+                for i in range(6):
+                    M[i, j] = col[i]
+        else:
+            sign = 1 if parity == "E" else -1
+            M = mp.matrix(3, 3)
+            for j, (cp, cm) in enumerate(cols):
+                sj = -sign if j == 2 else sign     # electric mode: opposite combination
+                for i in range(3):
+                    M[i, j] = cp[i] + sj * cm[i]
+        return mp.re(mp.det(M) / (pair[0] - pair[1]))
+
+
+def determinant_double(lam, kH, xi, D, parity, voltage=False):
+    """:func:`determinant` of one mode family in double precision, vectorised over
+    ``lam`` (for the sign scan only: it loses up to ~12 digits where the quartic roots
+    nearly coincide, which moves a sign change by far less than a scan interval)."""
+    lam = np.asarray(lam, dtype=float)
+    beta = float(BETA)
+    D = D * lam**2 / beta if voltage else D
+    a = lam**2
+    b2 = lam**2 + (1 - 2 * xi) * lam**-4 + 6 * xi * lam**-8 + beta * D**2
+    c = (1 - 2 * xi) * lam**-4 + 2 * xi * lam**-8 + beta * D**2
+    d, e, f = beta * D, 2 * beta * D, beta
+    qa, qb, qc = a, b2 - d**2 / f, c - d**2 / f
+    disc = np.sqrt((qb**2 - 4 * qa * qc).astype(complex))
+    pair = [np.sqrt((qb + disc) / (2 * qc)), np.sqrt((qb - disc) / (2 * qc))]
+    t = kH * lam**-2
+    one = np.ones_like(pair[0])
+
+    def top(sv, A, B, w):
+        rows = (c * (1 + sv**2) * A - d * sv * B,
+                (b2 + c - c * sv**2) * sv * A - (e - d * sv**2) * B,
+                d * (1 + sv**2) * A - f * sv * B)
+        return np.stack([r * np.exp(-sv * t / 2 - w) for r in rows], axis=-1)
+
+    sign = 1 if parity == "E" else -1
+    cols = []
+    for sv in pair:
+        w = np.abs(sv.real) * t / 2
+        cols.append(top(sv, one, d / f * sv, w) + sign * top(-sv, one, -d / f * sv, w))
+    cols.append(top(one, 0 * one, one, t / 2) - sign * top(-one, 0 * one, one, t / 2))
+    M = np.stack(cols, axis=-1)
+    with np.errstate(all="ignore"):
+        return np.real(np.linalg.det(M) / (pair[0] - pair[1]))
+
+
+def roots(kH, xi, D, n_scan=N_SCAN, voltage=False):
+    """Every zero in the window (below lam_E), ascending (``voltage``: D is the fixed
+    voltage Vhat, ch4_plate_voltage_control): geometric sign scan of ``n_scan``
+    points plus points approaching lam_E (double precision), each sign change confirmed
+    and refined to 30 digits in 40-digit arithmetic."""
+    with mp.workdps(DIGITS):
+        lo, hi = WINDOW
+        lam_e = ellipticity_limit(xi)
+        top = min(hi, lam_e)
+        grid = [lo * (top / lo) ** (mp.mpf(i) / n_scan) for i in range(n_scan)]
+        if lam_e < hi:
+            grid += [lam_e * (1 - mp.mpf(10) ** -k) for k in range(2, 12)]
+        grid = sorted(x for x in grid if x < top)
+        out = []
+        for parity in ("E", "O"):   # the families separately: their roots can nearly meet
+            signs = np.sign(determinant_double(np.array([float(x) for x in grid]),
+                                               float(kH), float(xi), float(D), parity,
+                                               voltage))
+            for k in np.flatnonzero(signs[:-1] * signs[1:] < 0):
+                x0, x1 = grid[k], grid[k + 1]
+
+                def det(x, parity=parity):
+                    return determinant(x, kH, xi, D, parity, voltage)
+
+                f0, f1 = det(x0), det(x1)
+                if f0 * f1 < 0:   # the sign change confirmed in 40 digits
+                    out.append(_bracketed(det, x0, x1, f0, f1))
+        return sorted(out)
+
+
+def _bracketed(f, a, b, fa, fb, rtol=mp.mpf(10) ** -30, maxiter=400):
+    """The zero of ``f`` in [a, b] (fa fb < 0) by the Illinois variant of regula falsi, to
+    a bracket of ``rtol`` relative; RuntimeError if it does not get there."""
+    side = 0
+    for _ in range(maxiter):
+        if abs(b - a) <= rtol * abs(b):
+            return (a + b) / 2
+        x = b - fb * (b - a) / (fb - fa)
+        if not (min(a, b) < x < max(a, b)):
+            x = (a + b) / 2
+        fx = f(x)
+        if fx == 0:
+            return x
+        if fx * fb < 0:
+            a, fa = b, fb
+            side = 0
+        else:
+            fa = fa / 2 if side == 1 else fa
+            side = 1
+        b, fb = x, fx
+    raise RuntimeError(f"regula falsi did not reach rtol {rtol} in {maxiter} iterations")
+
+
+def root_near(kH, xi, D, guess, rel=mp.mpf("1e-4")):
+    """The zero bracketed by guess (1 -+ rel) (ValueError when no sign change brackets
+    it): a cheap refinement where the sign scan of :func:`roots` is not needed."""
+    with mp.workdps(DIGITS):
+        g = mp.mpf(guess)
+        a, b = g * (1 - rel), g * (1 + rel)
+        fa, fb = determinant(a, kH, xi, D), determinant(b, kH, xi, D)
+        if fa * fb > 0:
+            raise ValueError(f"no sign change of the determinant in [{a}, {b}]")
+        return _bracketed(lambda x: determinant(x, kH, xi, D), a, b, fa, fb)

@@ -1,0 +1,221 @@
+"""Clean-room implementations of the reference problems (verification/cleanroom/), each
+written from the problem's rendered page alone with numpy, scipy or mpmath, pass
+``debench check`` - the way a stranger's correct code must.
+
+Own tolerances: none is loosened; each clean room is more accurate than the stated
+accuracy of its reference (free membrane: Newton to 1e-12 against rtol 1e-10; kernel:
+30-digit numerical derivatives against rtol 1e-6; voltage-stretch: RK4 with 1000 steps,
+error ~4e-9 against 5e-6 (2e-6 as printed); plate: 40-digit roots against rtol 1e-7), so
+each is checked at the reference's stated accuracy.
+"""
+
+from __future__ import annotations
+
+import ast
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from debench.reference import cli
+
+from verification.cleanroom import free_membrane, kernel, plate, voltage_stretch
+
+CLEANROOM = Path(__file__).parent / "cleanroom"
+#: what a clean room may import: the peer libraries and the standard library's future
+ALLOWED = {"numpy", "scipy", "mpmath", "__future__"}
+#: plate clean room: stored kH indices (every 40th of 401) of the curves it computes in the
+#: default run (a scan and its 40-digit refinements cost ~0.04 s per kH)
+PLATE_KH_STRIDE = 40
+
+
+def test_cleanroom_imports_nothing_from_debench():
+    """Every clean-room module imports only numpy, scipy, mpmath (and __future__)."""
+    files = sorted(CLEANROOM.glob("*.py"))
+    assert len([f for f in files if f.name != "__init__.py"]) >= 4
+    for f in files:
+        for node in ast.walk(ast.parse(f.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                roots = {a.name.split(".")[0] for a in node.names}
+            elif isinstance(node, ast.ImportFrom):
+                roots = {(node.module or "").split(".")[0]}
+            else:
+                continue
+            assert roots <= ALLOWED, (f.name, roots)
+
+
+def _reference_json(problem_id, capsys):
+    """What `debench problems ID --json` prints (the published grid a stranger reads)."""
+    capsys.readouterr()
+    assert cli.main(["problems", problem_id, "--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def _csv(path, header, columns):
+    rows = zip(*columns, strict=True)
+    path.write_text(header + "\n" + "\n".join(",".join(
+        repr(float(x)) if isinstance(x, float | np.floating) else str(x) for x in r)
+        for r in rows) + "\n")
+    return str(path)
+
+
+@pytest.mark.parametrize("problem_id, Jm, top", [("ch3_free_membrane_nh", np.inf, 5.0),
+                                               ("ch3_free_membrane_gent", 120.0, 7.8)])
+def test_cleanroom_free_membrane_passes_check(problem_id, Jm, top, tmp_path, capsys):
+    lam = np.linspace(1.0, top, 401)
+    path = _csv(tmp_path / "m.csv", "lam [1],phibar [1]",
+                [lam, free_membrane.phibar(lam, Jm, top)])
+    assert cli.main(["check", problem_id, path]) == 0
+    assert "coverage complete" in capsys.readouterr().out
+
+
+def test_cleanroom_kernel_passes_check(tmp_path, capsys):
+    """W and sigma of the six materials at the five states: full coverage, both pass."""
+    mats, states = list(kernel.MATERIALS), list(kernel.STATES)
+    rows_w = [(m, s, kernel.energy(m, s)) for m in mats for s in states]
+    path = _csv(tmp_path / "w.csv", "material,state,W [J m-3]", list(zip(*rows_w,
+                                                                          strict=True)))
+    assert cli.main(["check", "ch2_kernel_states", path]) == 0
+    rows_s = []
+    for m in mats:
+        for s in states:
+            sig = kernel.stress(m, s)
+            rows_s += [(m, s, i, a, sig[i][a]) for i in range(3) for a in range(3)]
+    path = _csv(tmp_path / "s.csv", "material,state,i [1],alpha [1],sigma [Pa]",
+                list(zip(*rows_s, strict=True)))
+    assert cli.main(["check", "ch2_kernel_states", path]) == 0
+    assert "coverage complete (270/270" in capsys.readouterr().out
+
+
+def _voltage_stretch_rows(problem_id, lamPs, capsys):
+    ref = _reference_json(problem_id, capsys)["reference"]["phibar"]
+    along = ref["along"]
+    lamP_grid, c_grid = ref["coords"]["lamP"], ref["coords"]["c"]
+    cols = ([], [], [], [])
+    for lamP in lamPs:
+        lam = np.array(along["values"][lamP_grid.index(lamP)], dtype=float)
+        tb = voltage_stretch.interface(lam, lamP, problem_id.endswith("as_printed"))
+        for c in c_grid:
+            ph = voltage_stretch.phibar_from_interface(lam, tb, c)
+            ok = np.isfinite(ph)
+            for x, y in zip(lam[ok], ph[ok], strict=True):
+                for col, v in zip(cols, (lamP, c, x, y), strict=True):
+                    col.append(v)
+    return cols
+
+
+@pytest.mark.parametrize("problem_id", ["ch3_voltage_stretch",
+                                        "ch3_voltage_stretch_as_printed"])
+def test_cleanroom_voltage_stretch_passes_check_at_one_prestretch(problem_id, tmp_path,
+                                                                   capsys):
+    """lamP = 2, every c, at the published grid stretches: declared partial coverage."""
+    cols = _voltage_stretch_rows(problem_id, [2.0], capsys)
+    path = _csv(tmp_path / "v.csv", "lamP [1],c [1],lambda_a [1],phibar [1]", cols)
+    assert cli.main(["check", problem_id, path, "--partial"]) == 0
+    out = capsys.readouterr().out
+    assert "MATCHES" in out and "PARTIAL coverage (declared): 7/55" in out
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("problem_id", ["ch3_voltage_stretch",
+                                        "ch3_voltage_stretch_as_printed"])
+def test_cleanroom_voltage_stretch_passes_check_everywhere(problem_id, tmp_path, capsys):
+    """Every pre-stretch and c: full coverage."""
+    lamPs = _reference_json(problem_id, capsys)["reference"]["phibar"]["coords"]["lamP"]
+    cols = _voltage_stretch_rows(problem_id, lamPs, capsys)
+    path = _csv(tmp_path / "v.csv", "lamP [1],c [1],lambda_a [1],phibar [1]", cols)
+    assert cli.main(["check", problem_id, path]) == 0
+    assert "coverage complete" in capsys.readouterr().out
+
+
+def _plate_rows(curves, stride, capsys):
+    ref = _reference_json("ch4_plate_critical_stretch", capsys)["reference"]["lam_cr"]
+    kH = np.array(ref["coords"]["kH"], dtype=float)[::stride]
+    cols = ([], [], [], [])
+    for xi, D in curves:
+        for k in kH:
+            r = plate.roots(k, xi, D, n_scan=plate.N_SCAN)
+            if r:
+                for col, v in zip(cols, (xi, D, k, float(r[0])), strict=True):
+                    col.append(v)
+    return cols
+
+
+def test_cleanroom_plate_passes_check_on_sampled_curves(tmp_path, capsys):
+    """Root 0 of (xi, Dhat) = (0, 0), (0, 2), (5, 5) at every 40th published kH: declared
+    partial coverage (every kH of every curve is the slow test)."""
+    cols = _plate_rows([(0.0, 0.0), (0.0, 2.0), (5.0, 5.0)], PLATE_KH_STRIDE, capsys)
+    path = _csv(tmp_path / "p.csv", "xi [1],Dhat [1],kH [1],lam_cr [1]", cols)
+    assert cli.main(["check", "ch4_plate_critical_stretch", path, "--partial"]) == 0
+    assert "MATCHES" in capsys.readouterr().out
+
+
+@pytest.mark.slow
+def test_cleanroom_plate_passes_check_on_every_curve(tmp_path, capsys):
+    """Root 0 of every xi and Dhat at every published kH: full coverage."""
+    curves = [(xi, D) for xi in (0.0, 5.0) for D in (0.0, 1.0, 2.0, 2.2, 2.4, 2.6, 3.0,
+                                                      4.0, 5.0)]
+    cols = _plate_rows(curves, 1, capsys)
+    path = _csv(tmp_path / "p.csv", "xi [1],Dhat [1],kH [1],lam_cr [1]", cols)
+    assert cli.main(["check", "ch4_plate_critical_stretch", path]) == 0
+
+
+def _failure_point_files(tmp_path, lamPs, capsys):
+    """One CSV per quantity of ch3_failure_points from the clean room's events."""
+    ref = _reference_json("ch3_failure_points", capsys)["reference"]["pullin_lambda"]
+    c_grid = ref["coords"]["c"]
+    rows: dict[str, list] = {}
+    for lamP in lamPs:
+        cs = [c for c in c_grid if 1 + c * (2.5 * lamP - 2) > 0]
+        for (c, kind), (lam, ph) in voltage_stretch.events(lamP, cs).items():
+            rows.setdefault(f"{kind}_lambda", []).append((lamP, c, lam))
+            rows.setdefault(f"{kind}_phibar", []).append((lamP, c, ph))
+    return {name: _csv(tmp_path / f"{name}.csv", f"lamP [1],c [1],{name} [1]",
+                       list(zip(*r, strict=True))) for name, r in rows.items()}
+
+
+def test_cleanroom_failure_points_pass_check_at_one_prestretch(tmp_path, capsys):
+    """lamP = 3, every c: the six quantities, declared partial coverage."""
+    files = _failure_point_files(tmp_path, [3.0], capsys)
+    assert set(files) == {f"{k}_{v}" for k in ("pullin", "loss_of_tension", "breakdown")
+                          for v in ("lambda", "phibar")} - {"pullin_lambda", "pullin_phibar"}
+    for name, path in files.items():
+        assert cli.main(["check", "ch3_failure_points", path, "--partial"]) == 0, name
+
+
+@pytest.mark.slow
+def test_cleanroom_failure_points_pass_check_everywhere(tmp_path, capsys):
+    """Every pre-stretch and c: full coverage of each quantity."""
+    lamPs = _reference_json("ch3_failure_points", capsys)["reference"]["pullin_lambda"][
+        "coords"]["lamP"]
+    for name, path in _failure_point_files(tmp_path, lamPs, capsys).items():
+        assert cli.main(["check", "ch3_failure_points", path]) == 0, name
+
+
+def _voltage_plate_rows(curves, stride, capsys):
+    ref = _reference_json("ch4_plate_voltage_control", capsys)["reference"]["lam_cr"]
+    kH = np.array(ref["coords"]["kH"], dtype=float)[::stride]
+    cols = ([], [], [], [])
+    for xi, V in curves:
+        for k in kH:
+            r = plate.roots(k, xi, V, voltage=True)
+            if r:
+                for col, v in zip(cols, (xi, V, k, float(r[0])), strict=True):
+                    col.append(v)
+    return cols
+
+
+def test_cleanroom_plate_voltage_control_passes_check_on_sampled_curves(tmp_path, capsys):
+    """Root 0 at fixed voltage, (xi, Vhat) = (0, 0.5), (5, 1), every 8th published kH:
+    declared partial coverage."""
+    cols = _voltage_plate_rows([(0.0, 0.5), (5.0, 1.0)], 8, capsys)
+    path = _csv(tmp_path / "v.csv", "xi [1],Vhat [1],kH [1],lam_cr [1]", cols)
+    assert cli.main(["check", "ch4_plate_voltage_control", path, "--partial"]) == 0
+
+
+@pytest.mark.slow
+def test_cleanroom_plate_voltage_control_passes_check_on_every_curve(tmp_path, capsys):
+    curves = [(xi, V) for xi in (0.0, 5.0) for V in (0.25, 0.5, 0.75, 1.0)]
+    cols = _voltage_plate_rows(curves, 1, capsys)
+    path = _csv(tmp_path / "v.csv", "xi [1],Vhat [1],kH [1],lam_cr [1]", cols)
+    assert cli.main(["check", "ch4_plate_voltage_control", path]) == 0
