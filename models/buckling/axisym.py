@@ -130,6 +130,7 @@ REFINEMENTS = 4
 REFINE_RTOL = 1e-13
 """Iterative refinement stops below this relative residual (two orders above round-off)."""
 MAX_ORDER = 12
+TANGENTS = ("coupled", "frozen_potential", "initial_stress")
 MAX_LAYERS = 30
 
 
@@ -567,10 +568,11 @@ class AxisymModel:
         Y = spaces[0] * spaces[1] * spaces[2] * spaces[3]
         return Y, [s.ndof for s in spaces]
 
-    def _mode_forms(self, n: int):
-        """Bilinear forms (Hessian of the enthalpy at the state, mass) of wavenumber n."""
-        if n in self._forms:
-            return self._forms[n]
+    def _mode_forms(self, n: int, tangent: str = "coupled"):
+        """Bilinear forms (Hessian at the state, mass) of wavenumber n: of the enthalpy
+        (``"coupled"``, ``"frozen_potential"``), or the initial-stress form (:meth:`spectrum`)."""
+        if (n, tangent) in self._forms:
+            return self._forms[(n, tangent)]
         Y, sizes = self._mode_space(n)
         (a1, a2, W, Q), (b1, b2, bw, _) = Y.TnT()
         g = ngs.grad
@@ -590,8 +592,23 @@ class AxisymModel:
         dGs = _mat3([[0, -(n * U + V) / R, 0], [gV[0], 0, gV[1]], [0, -n * W / R, 0]])
         dEc = -(gi.trans * _vec3((g(Q)[0], 0, g(Q)[1])))
         dEs = _vec3((0, n * Q / R, 0))
-        energy = (self._enthalpy((Gx0 + dGc) * gi, E0 + dEc)
-                  + self._enthalpy((Gx0 + dGs) * gi, E0 + dEs))
+        if tangent == "initial_stress":
+            # material stiffness of the unloaded film + the stress stiffness of the total
+            # second Piola-Kirchhoff stress S = F^-1 dOmega/dF of the state
+            F0 = (Gx0 * gi).MakeVariable()
+            S0 = ngs.Inv(F0) * self._enthalpy(F0, E0).Diff(F0)
+            mat = self.material
+            kw = {"delta": self.disc.ogden_delta} if isinstance(mat, Ogden) else {}
+            energy = 0
+            for dG in (dGc, dGs):
+                dF = dG * gi
+                energy = energy + (ngf.mechanical_energy_cf(mat, ngs.Id(3) + dF, **kw)
+                                   / self.mu_ref
+                                   + 0.5 * ngs.InnerProduct(S0, dF.trans * dF))
+            energy = energy + 0 * Q * Q         # the potential block is unused
+        else:
+            energy = (self._enthalpy((Gx0 + dGc) * gi, E0 + dEc)
+                      + self._enthalpy((Gx0 + dGs) * gi, E0 + dEs))
         k = ngs.BilinearForm(Y, symmetric=False)
         k += ngs.Variation((energy * R).Compile() * ngs.dx)
         m = ngs.BilinearForm(Y, symmetric=False)
@@ -601,7 +618,7 @@ class AxisymModel:
         is_u = np.zeros(Y.ndof, dtype=bool)
         is_u[: sum(sizes[:3])] = True
         out = (Y, k, _coo(m.mat, Y.ndof), free, is_u)
-        self._forms[n] = out
+        self._forms[(n, tangent)] = out
         return out
 
     def mode_blocks(self, n: int) -> np.ndarray:
@@ -624,12 +641,14 @@ class AxisymModel:
             start += sp_k.ndof
         return out
 
-    def mode_matrices(self, n: int):
+    def mode_matrices(self, n: int, tangent: str = "coupled"):
         """(K, M, iu, ip): the saddle-point tangent of wavenumber ``n`` at the current state
         on its free DOFs, the mass on the displacement DOFs, and the masks of the
-        displacement and potential DOFs among the free ones."""
+        displacement and potential DOFs among the free ones (``tangent``: see
+        :meth:`spectrum`)."""
         n = val.integer_at_least("n", n, 0)
-        Y, k, M, free, is_u = self._mode_forms(n)
+        val.choice("tangent", tangent, TANGENTS)
+        Y, k, M, free, is_u = self._mode_forms(n, tangent)
         t = time.perf_counter()
         zero = ngs.GridFunction(Y)
         k.AssembleLinearization(zero.vec)
@@ -639,8 +658,16 @@ class AxisymModel:
         iu = is_u[free]
         return K, M, iu, ~iu
 
-    def spectrum(self, n: int, nev: int = 3, *, sigma: float | None = None) -> ModeSpectrum:
+    def spectrum(self, n: int, nev: int = 3, *, sigma: float | None = None,
+                 tangent: str = "coupled") -> ModeSpectrum:
         """Lowest ``nev`` eigenvalues of ``S_n x = lam M_n x`` at the current state.
+
+        ``tangent``: ``"coupled"`` -- the condensed tangent at fixed electrode voltage
+        ``S = K_uu - K_up K_pp^-1 K_pu``; ``"frozen_potential"`` -- ``K_uu``, the tangent at
+        fixed potential (the field does not redistribute with the mode); ``"initial_stress"``
+        -- the classical linear buckling operator: the material stiffness of the unloaded
+        film plus the stress stiffness ``int S : (dF^T dF)`` of the state's total second
+        Piola-Kirchhoff stress (mechanical + Maxwell).
 
         Shift-invert Lanczos (ARPACK) about ``sigma`` (default: a shift below the spectrum
         found by inertia counts, so the returned eigenvalues are the algebraically lowest);
@@ -649,20 +676,28 @@ class AxisymModel:
         (ConvergenceError otherwise, and when an eigen-residual exceeds EIG_RTOL)."""
         nev = val.integer_at_least("nev", nev, 1)
         t = time.perf_counter()
-        K, M, iu, ip = self.mode_matrices(n)
+        K, M, iu, ip = self.mode_matrices(n, tangent)
         Mu = M[iu][:, iu]
         nu = int(iu.sum())
         require(nev < nu - 1, f"nev = {nev} must be < {nu - 1} (displacement DOFs)")
-        Kuu, Kup, Kpp = K[iu][:, iu], K[iu][:, ip], K[ip][:, ip].tocsc()
-        lu_pp = _Factor(Kpp, "AxisymModel.spectrum (potential block)")
-        npp = negative_pivots(Kpp)
-        require(npp == Kpp.shape[0], "AxisymModel.spectrum: the potential block is not "
-                                     "negative definite (no dielectric saddle point)")
+        Kuu = K[iu][:, iu]
+        if tangent == "coupled":
+            Kup, Kpp = K[iu][:, ip], K[ip][:, ip].tocsc()
+            lu_pp = _Factor(Kpp, "AxisymModel.spectrum (potential block)")
+            npp = negative_pivots(Kpp)
+            require(npp == Kpp.shape[0], "AxisymModel.spectrum: the potential block is not "
+                                         "negative definite (no dielectric saddle point)")
 
-        def S(x):
-            x = np.asarray(x).reshape(nu, -1)
-            return Kuu @ x - Kup @ np.column_stack(
-                [lu_pp.solve(c) for c in np.asarray(Kup.T @ x).T])
+            def S(x):
+                x = np.asarray(x).reshape(nu, -1)
+                return Kuu @ x - Kup @ np.column_stack(
+                    [lu_pp.solve(c) for c in np.asarray(Kup.T @ x).T])
+        else:
+            K, M, npp = Kuu.tocsc(), Mu, 0
+            iu = np.ones(nu, dtype=bool)
+
+            def S(x):
+                return Kuu @ np.asarray(x).reshape(nu, -1)
 
         def count_below(s):
             return negative_pivots((K - s * _embed(Mu, iu)).tocsc()) - npp
@@ -761,6 +796,7 @@ class AxisymCritical:
 
     n: int
     v: float
+    tangent: str
     thickness: float
     e: float
     lam: float
@@ -777,7 +813,8 @@ class AxisymCritical:
 
 def critical_voltage(plate: Plate, material: NeoHookean | Ogden,
                      disc: AxisymDiscretisation | None = None, *, n: int = 0,
-                     v_start: float | None = None, maxit: int = 30) -> AxisymCritical:
+                     v_start: float | None = None, maxit: int = 30,
+                     tangent: str = "coupled") -> AxisymCritical:
     """Critical normalised voltage of the perfect clamped film in wavenumber ``n``.
 
     The flat state (rim clamped, the nonlinear pre-buckling state with the rim's
@@ -790,6 +827,10 @@ def critical_voltage(plate: Plate, material: NeoHookean | Ogden,
     the first crossing of that wavenumber, not a higher mode's).
 
     Accuracy contract: ``v`` is the zero of this discretisation's lowest eigenvalue to within
+    ``tangent`` (:meth:`AxisymModel.spectrum`) chooses the stability operator: the coupled
+    tangent at fixed voltage (the definition of the critical voltage), or the frozen-potential
+    or initial-stress operator (the classical methods it is compared with).
+
     ``vtol``, the difference between the inverse-quadratic and the secant roots of the last
     evaluations (:data:`CRITICAL_STEP`). The final state is certified by the inertia count
     of every spectrum (:meth:`AxisymModel.spectrum`). The discretisation error
@@ -800,6 +841,7 @@ def critical_voltage(plate: Plate, material: NeoHookean | Ogden,
 
     n = val.integer_at_least("n", n, 0)
     maxit = val.integer_at_least("maxit", maxit, 1)
+    val.choice("tangent", tangent, TANGENTS)
     t_cpu = time.process_time()
     model = AxisymModel(plate, material, disc, with_imperfection=False)
     v0 = critical_voltage_plate(material, plate.aspect) if v_start is None else float(
@@ -816,7 +858,7 @@ def critical_voltage(plate: Plate, material: NeoHookean | Ogden,
         model.reset()
         model.set_voltage(math.sqrt(x))
         model.newton()
-        spec = model.spectrum(n, nev=1)
+        spec = model.spectrum(n, nev=1, tangent=tangent)
         hist.append((math.sqrt(x), float(spec.lam[0])))
         last.update(residual=spec.residual, ndof=spec.ndof,
                     newton=model.last_newton["residual_rel"])
@@ -833,7 +875,7 @@ def critical_voltage(plate: Plate, material: NeoHookean | Ogden,
         if abs(x_new - xs[-1]) < CRITICAL_STEP * xs[-1] and len(xs) >= 3:
             x_iqi = _inverse_quadratic_root(xs[-3:], ls[-3:])
             return AxisymCritical(
-                n=n, v=math.sqrt(x_iqi), thickness=model.centre_thickness(),
+                n=n, v=math.sqrt(x_iqi), tangent=tangent, thickness=model.centre_thickness(),
                 e=model.centre_field(), lam=ls[-1], eig_residual=last["residual"],
                 newton_residual_rel=last["newton"], iterations=it + 2,
                 ndof=model.ndof, ndof_mode=last["ndof"], order=model.disc.order,
