@@ -125,6 +125,11 @@ def test_voltage_maximum_is_where_the_axisymmetric_eigenvalue_changes_sign():
     assert lam0[-1] < 0 <= lam0[-2]
     k = len(v) - 1
     assert v[k] < v[k - 1] or v[k - 1] - v[k - 2] < v[k - 2] - v[k - 3]
+    top = ax.zero_crossing(m, pts, 0)
+    # the zero of lambda_0 is the voltage maximum: no recorded state lies above it (up to
+    # the Newton tolerance of the voltage, ~1e-12)
+    assert top is not None and top.v >= v.max() - 1e-10
+    assert pts[-2].w < top.w < pts[-1].w
 
 
 def test_bad_inputs_raise_naming_the_argument():

@@ -769,8 +769,9 @@ def _embed(Mu: sp.spmatrix, iu: np.ndarray) -> sp.csc_matrix:
     return (P @ Mu @ P.T).tocsc()
 
 
-__all__ = ["AxisymCritical", "AxisymDiscretisation", "AxisymModel", "ModeSpectrum", "PathPoint",
-           "critical_voltage", "follow_path", "section_mesh", "section_nodes"]
+__all__ = ["AxisymCritical", "AxisymDiscretisation", "AxisymModel", "Crossing", "ModeSpectrum",
+           "PathPoint", "TANGENTS", "critical_voltage", "follow_path", "section_mesh",
+           "section_nodes", "zero_crossing"]
 
 
 CRITICAL_STEP = 1e-6
@@ -909,13 +910,64 @@ class PathPoint:
     e: float
     lam: dict
     newton_residual_rel: float
+    state: np.ndarray = field(repr=False, default_factory=lambda: np.zeros(0))
 
 
 def _record(model: AxisymModel, wavenumbers) -> PathPoint:
     lam = {int(n): float(model.spectrum(int(n), nev=1).lam[0]) for n in wavenumbers}
     return PathPoint(w=model.centre_deflection(), v=model.v, thickness=model.centre_thickness(),
                      e=model.centre_field(), lam=lam,
-                     newton_residual_rel=model.last_newton["residual_rel"])
+                     newton_residual_rel=model.last_newton["residual_rel"],
+                     state=model.state())
+
+
+ZERO_WTOL = 1e-9
+"""The secant on lambda_n(w) = 0 stops when its step in the deflection is below ZERO_WTOL t0
+(the voltage at a voltage maximum is stationary in w, so its error is second order)."""
+
+
+@dataclass(frozen=True)
+class Crossing:
+    """Where the lowest eigenvalue of wavenumber ``n`` vanishes along the path: deflection
+    ``w`` (t0), voltage ``v``, centre thickness; ``wtol`` the secant's last step. For n = 0
+    this is the voltage maximum (pull-in)."""
+
+    n: int
+    w: float
+    v: float
+    thickness: float
+    wtol: float
+
+
+def zero_crossing(model: AxisymModel, points: list[PathPoint], n: int,
+                  *, maxit: int = 30) -> Crossing | None:
+    """The first zero of the wavenumber-n eigenvalue along a recorded path (None if it does
+    not change sign there): secant in the deflection between the two recorded states that
+    bracket the sign change, each trial state by deflection control from the nearer one."""
+    n = val.integer_at_least("n", n, 0)
+    pts = [p for p in points if n in p.lam]
+    for a, b in zip(pts, pts[1:], strict=False):
+        if a.lam[n] >= 0 > b.lam[n]:
+            break
+    else:
+        return None
+    ws, ls, states = [a.w, b.w], [a.lam[n], b.lam[n]], [(a.state, a.v), (b.state, b.v)]
+    for _ in range(maxit):
+        w_new = ws[-1] - ls[-1] * (ws[-1] - ws[-2]) / (ls[-1] - ls[-2])
+        near = min(range(len(ws)), key=lambda k: abs(ws[k] - w_new))
+        model.set_state(states[near][0])
+        model.v = states[near][1]
+        model.newton_deflection(w_new)
+        lam = float(model.spectrum(n, nev=1).lam[0])
+        step = abs(w_new - ws[-1])
+        ws.append(w_new)
+        ls.append(lam)
+        states.append((model.state(), model.v))
+        if step < ZERO_WTOL:
+            return Crossing(n=n, w=w_new, v=model.v, thickness=model.centre_thickness(),
+                            wtol=step)
+    raise ConvergenceError(f"zero_crossing(n={n}): no convergence in {maxit} steps: "
+                           f"{list(zip(ws, ls, strict=True))}")
 
 
 def follow_path(model: AxisymModel, w_end: float, *, v_switch: float, dv: float = 0.01,
