@@ -182,10 +182,10 @@ def compute(full: bool = False, solved: dict | None = None) -> tuple[xr.Dataset,
                 "error estimate of v_cr_converged: safety_factor x max(p_step_change, "
                 "grading_change)", atol=acc["error"])),
             "p_step_change": (("case", "n"), conv["p_step_change"], a(
-                "|v_cr(top order) - v_cr(top order - 1)| at the finest grading",
+                "abs(v_cr(top order) - v_cr(top order - 1)) at the finest grading",
                 atol=acc["p_step_change"])),
             "grading_change": (("case", "n"), conv["grading_change"], a(
-                "|v_cr(finest grading) - v_cr(second finest)| at the top order",
+                "abs(v_cr(finest grading) - v_cr(second finest)) at the top order",
                 atol=acc["grading_change"])),
             "safety_factor": ((), fs, a(
                 "GCI safety factor (Roache): 1.25 with >= 3 orders in the p-sequence, else 3")),
@@ -203,9 +203,9 @@ def compute(full: bool = False, solved: dict | None = None) -> tuple[xr.Dataset,
             "bias_3d_extrapolated": (("case",), bias_ext, a(
                 "v_cr_3d_extrapolated - v_cr_converged(n = 0)", atol=acc["v"])),
             "reference_bar_contains_axisym": (("case",), within_ref, a(
-                "|bias_3d_reference| <= v_cr_3d_reference_error", **flag)),
+                "abs(bias_3d_reference) <= v_cr_3d_reference_error", **flag)),
             "extrapolated_bar_contains_axisym": (("case",), within_ext, a(
-                "|bias_3d_extrapolated| <= v_cr_3d_extrapolated_error", **flag)),
+                "abs(bias_3d_extrapolated) <= v_cr_3d_extrapolated_error", **flag)),
         },
         coords={
             "case": ("case", list(CASES), {"long_name": "material and thickness "
