@@ -1,0 +1,125 @@
+"""The curated axisymmetric critical voltages (``ch5_axisym.nc``, builder
+:mod:`debench.reference.builders.ch5_axisym`): the converged values and their error
+estimates follow from the stored p- and grading-sequences by the stated rule, the coarsest
+solve of the plan reproduces, the catalogue's values lie within the computed error, and the
+3D model's error bar is compared with them by the check functions the producers call."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from debench.reference import catalogue
+from debench.reference.builders import ch5_axisym as builder
+from debench.reference.datasets import read_dataset
+from debench.reference.producers import ch5 as prod
+
+#: converged() recomputed from the stored sequence is the same arithmetic on the same
+#: numbers: exact up to the netCDF round trip (none for float64)
+EXACT = 0.0
+AXISYM_ENTRIES = ("ch5.derived.axisym_critical_voltage_nh",
+                  "ch5.derived.axisym_critical_voltage_ogden")
+CROSSCHECK_ENTRIES = ("ch5.crosscheck.axisym_vs_3d_critical_voltage_nh",
+                      "ch5.crosscheck.axisym_vs_3d_critical_voltage_ogden")
+
+
+@pytest.fixture(scope="module")
+def ds():
+    return read_dataset("ch5_axisym")
+
+
+def test_converged_value_and_error_follow_the_gci_rule_on_synthetic_sequences():
+    """Converged value = top order at the finest grading; error = 1.25 (>= 3 orders) or 3
+    (fewer) times the larger of the last p-step change and the finest grading change."""
+    v = np.array([[1.0, 0.9], [0.8, 0.75]])            # 2 orders: factor 3
+    got = builder.converged(v)
+    assert got["v"] == 0.75
+    assert got["p_step_change"] == pytest.approx(0.15)
+    assert got["grading_change"] == pytest.approx(0.05)
+    assert got["error"] == pytest.approx(3 * 0.15)
+    v3 = np.array([[1.0, 0.9], [0.8, 0.75], [0.7, 0.74]])   # 3 orders: factor 1.25
+    got = builder.converged(v3)
+    assert got["safety_factor"] == 1.25
+    assert got["error"] == pytest.approx(1.25 * max(0.01, 0.04))
+    with pytest.raises(ValueError, match="need >= 2 orders"):
+        builder.converged(np.array([[1.0, 0.9]]))
+
+
+def test_curated_converged_values_follow_from_the_stored_sequences(ds):
+    """v_cr_converged, v_cr_error, the two changes and the safety factor are the rule of
+    :func:`converged` applied to the stored v_cr(order, layers) of every (case, n)."""
+    for case in ds.case.values:
+        for n in ds.n.values:
+            c = ds.sel(case=case, n=n)
+            got = builder.converged(c.v_cr.values)
+            for var, key in (("v_cr_converged", "v"), ("v_cr_error", "error"),
+                             ("p_step_change", "p_step_change"),
+                             ("grading_change", "grading_change")):
+                assert abs(float(c[var]) - got[key]) <= EXACT, (case, n, var)
+    assert float(ds.safety_factor) == builder.safety_factor(ds.sizes["order"])
+
+
+def test_axisymmetric_mode_is_critical_and_the_sequences_decrease(ds):
+    """n = 1 bifurcates above n = 0 at every discretisation (the flat film buckles
+    axisymmetrically first), and raising the order lowers every critical voltage at the
+    finest grading (the FE model is stiffer than the limit)."""
+    v = ds.v_cr
+    assert bool((v.sel(n=1) > v.sel(n=0)).all())
+    finest = v.isel(layers=-1).values
+    assert np.all(np.diff(finest, axis=-1) < 0)
+
+
+def test_coarsest_solve_of_the_plan_reproduces_the_curated_value(ds):
+    """The neo-Hookean n = 0 critical voltage on the coarsest discretisation of the plan
+    (lowest order and grading: seconds), recomputed by the model guard that ``debench
+    verify`` runs, equals the stored one within the dataset's regeneration accuracy."""
+    guards = {g.key: g for g in prod.axisym_coarse_guards()}
+    diff = guards["ch5.guard.axisym.nh_t1.v_cr_coarse_minus_curated"]
+    assert abs(diff.value) <= diff.tolerance, (diff.value, diff.tolerance)
+    p, L = int(ds.order.values[0]), int(ds.layers.values[0])
+    ndof = int(ds.ndof.sel(case="nh_t1", n=0, order=p, layers=L))
+    assert guards["ch5.guard.axisym.nh_t1.ndof_coarse"].value == ndof
+
+
+def test_axisym_catalogue_values_lie_within_the_computed_error(ds):
+    """Each catalogued axisymmetric critical voltage lies within the dataset's error
+    estimate of the converged value (the check the producer calls), and the catalogue's
+    stated tolerance is not tighter than that estimate."""
+    entries = catalogue.by_id()
+    for eid in AXISYM_ENTRIES:
+        e = entries[eid]
+        case = f"{e.parameters['material']}_t1"
+        got = prod.axisym_value_check(ds, case, int(e.parameters["n"]), e.value)
+        assert got["within"], (eid, got["v"], e.value, got["error"])
+        assert e.tolerance >= got["error"], (eid, e.tolerance, got["error"])
+        assert catalogue.evaluate(e).status == e.expected_status == "reproduced"
+
+
+def test_3d_error_bar_contains_the_axisymmetric_critical_voltage(ds):
+    """The 3D model's reference critical voltage (in-plane mesh limit plus through-thickness
+    correction) contains the axisymmetric converged value within its error bar for both
+    materials (the check the cross-check entries' producer calls), and the dataset's stored
+    comparison says the same."""
+    crit = read_dataset("ch5_critical_voltage")
+    for eid in CROSSCHECK_ENTRIES:
+        e = catalogue.by_id()[eid]
+        case = f"{e.parameters['material']}_t1"
+        got = prod.axisym_vs_3d(ds, crit, case)
+        assert got["contains"], (case, got["bias"], got["v_3d_error"])
+        assert int(ds.reference_bar_contains_axisym.sel(case=case)) == int(got["contains"])
+        assert float(ds.bias_3d_reference.sel(case=case)) == pytest.approx(got["bias"],
+                                                                           abs=1e-15)
+        assert catalogue.evaluate(e).status == e.expected_status
+
+
+def test_problem_page_quotes_the_3d_values_of_the_curated_dataset():
+    """The reference problem ch5_critical_voltage quotes the 3D model's n = 0 values and
+    error bars in its summary: they are those of ch5_critical_voltage.nc, to the printed
+    digits."""
+    from debench.reference import problems
+
+    summary = problems.get("ch5_critical_voltage").summary
+    crit = read_dataset("ch5_critical_voltage")
+    for case in ("nh_t1", "ogden_t1"):
+        c = crit.sel(case=case)
+        quoted = f"{float(c.v_cr_reference):.5f} +- {float(c.v_cr_reference_error):.5f}"
+        assert quoted in summary, (case, quoted)
