@@ -18,9 +18,9 @@ from debench.testing import compare
 
 SCHEMA = json.loads((Path(__file__).parent / "schemas" / "problem-spec.schema.json")
                     .read_text(encoding="utf-8"))
-#: problems whose spec is being rewritten with the axisymmetric Chapter 5 model; their
-#: schema test is expected to fail until then (strict: it flags when they pass)
-PENDING = {"ch5_critical_voltage"}
+#: problems whose spec is being rewritten; their schema test is expected to fail until
+#: then (strict: it flags when they pass)
+PENDING: set[str] = set()
 #: the independent root computation (verification/cleanroom/plate.py, 40 digits, roots to
 #: 1e-30) is exact at the scale of the stated accuracy; the reference's own error is its
 #: regula-falsi bracket, 1e-12 relative
