@@ -80,10 +80,10 @@ def test_scalar_quantity_uses_discretisation_error_from_the_dataset():
     (``v_cr_error`` of ch5_axisym: the GCI of its p- and grading-sequences)."""
     from debench.reference.datasets import read_dataset
 
-    ds = read_dataset("ch5_axisym").stack(point=("case", "n"))
+    ds = read_dataset("ch5_axisym").sel(n=0)
     ref = ds.v_cr_converged.values
     gap = ds.v_cr_error.values
-    coords = {"case": ds.case.values, "n": ds.n.values}
+    coords = {"case": ds.case.values}
     ok = compare("ch5_critical_voltage", "v_cr", ref + 0.5 * gap, coords)
     assert ok.passed
     bad = compare("ch5_critical_voltage", "v_cr", ref + 1.5 * gap, coords)
