@@ -509,19 +509,25 @@ class AxisymModel:
                 break
             Kff = K[fr][:, fr]
             b = (K @ dirv)[fr]
-            fac = _Factor(Kff, f"AxisymModel.newton_deflection at c = {c:.6g}")
             rhs_x, rhs_g = -r[fr], -g
-            dx, dv = np.zeros(Kff.shape[0]), 0.0
-            for _ in range(REFINEMENTS + 1):
-                # bordered residual of the current correction, then one block solve of it
-                ex = rhs_x - (Kff @ dx + b * dv)
-                eg = rhs_g - dx[kf]
-                y1, y2 = fac.solve(ex, check=False), fac.solve(b, check=False)
-                ddv = (y1[kf] - eg) / y2[kf]
-                dx += y1 - ddv * y2
-                dv += ddv
-                if np.linalg.norm(ex) <= REFINE_RTOL * max(np.linalg.norm(rhs_x), 1e-300):
-                    break
+            try:
+                dx, dv = self._bordered_by_blocks(Kff, b, kf, rhs_x, rhs_g, c)
+            except ConvergenceError:
+                # K_ff singular to working precision: at the voltage maximum itself, where
+                # the bordered system is regular -- factorise it whole, with pivoting
+                nf = Kff.shape[0]
+                e = sp.csr_matrix(([1.0], ([0], [kf])), shape=(1, nf))
+                B = sp.bmat([[Kff, sp.csr_matrix(b[:, None])], [e, None]]).tocsc()
+                try:
+                    sol = splu(B).solve(np.concatenate([rhs_x, [rhs_g]]))
+                except RuntimeError as exc:
+                    raise ConvergenceError(f"AxisymModel.newton_deflection at c = {c:.6g}: "
+                                           f"bordered system singular ({exc})") from exc
+                res = float(np.linalg.norm(B @ sol - np.concatenate([rhs_x, [rhs_g]])))
+                if not (np.all(np.isfinite(sol))
+                        and res <= DIRECT_RTOL * max(float(np.linalg.norm(rhs_x)), 1e-300)):
+                    raise
+                dx, dv = sol[:nf], float(sol[nf])
             # damping: a voltage correction above DV_MAX_REL of the voltage is a step
             # outside the linearisation's reach (the deflection responds to the voltage
             # steeply near the critical voltage): take the part of it that stays inside
@@ -535,6 +541,24 @@ class AxisymModel:
             self.stats["newton_steps"] += 1
         raise ConvergenceError(f"AxisymModel.newton_deflection: residual {rn:.3e} (relative "
                                f"{rn / ref:.3e}) after {maxit} steps at c = {c:.6g}")
+
+    @staticmethod
+    def _bordered_by_blocks(Kff, b, kf, rhs_x, rhs_g, c):
+        """Solve ``[[Kff, b], [e_kf^T, 0]] (dx, dv) = (rhs_x, rhs_g)`` by block elimination
+        with one factorisation of Kff and iterative refinement of the bordered residual."""
+        fac = _Factor(Kff, f"AxisymModel.newton_deflection at c = {c:.6g}")
+        dx, dv = np.zeros(Kff.shape[0]), 0.0
+        y2 = fac.solve(b, check=False)
+        for _ in range(REFINEMENTS + 1):
+            ex = rhs_x - (Kff @ dx + b * dv)
+            eg = rhs_g - dx[kf]
+            y1 = fac.solve(ex, check=False)
+            ddv = (y1[kf] - eg) / y2[kf]
+            dx += y1 - ddv * y2
+            dv += ddv
+            if np.linalg.norm(ex) <= REFINE_RTOL * max(np.linalg.norm(rhs_x), 1e-300):
+                break
+        return dx, dv
 
     # --------------------------------------------------------------- point values
     def _at(self, comp: int, r: float, z: float) -> float:
@@ -984,7 +1008,9 @@ def follow_path(model: AxisymModel, w_end: float, *, v_switch: float, dv: float 
     from the deflection ``all_from`` on with those of ``all_wavenumbers`` too.
     With ``stop_past_maximum`` the path ends at the first recorded state whose wavenumber-0
     eigenvalue is negative (past the voltage maximum, where the tangent at fixed voltage
-    turns indefinite). Raises ConvergenceError when the step falls below 1e-6 t0."""
+    turns indefinite), or, when the step falls below 1e-6 t0 on a falling voltage (past the
+    maximum), at its last converged state. Raises ConvergenceError when the step falls
+    below 1e-6 t0 otherwise."""
     v_switch = val.positive("v_switch", v_switch)
     w_end = val.finite("w_end", w_end)
     require(0 in tuple(wavenumbers) or not stop_past_maximum,
@@ -1012,6 +1038,13 @@ def follow_path(model: AxisymModel, w_end: float, *, v_switch: float, dv: float 
             model.v = v0
             dw *= 0.5
             if dw < 1e-6:
+                if stop_past_maximum and prev is not None and v0 < prev[1]:
+                    # past the voltage maximum the deflection-controlled tangent turns
+                    # singular again (a further eigenvalue crossing): the path ends at its
+                    # last converged state, recorded, whose wavenumber-0 eigenvalue shows
+                    # whether the maximum was passed
+                    points.append(_record(model, wavenumbers))
+                    break
                 raise
             continue
         prev, w = (x0, v0, _w_of(x0, model)), target
