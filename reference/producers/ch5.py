@@ -458,30 +458,33 @@ def hypothesis_mu_in_mpa(entry: Entry) -> Outcome:
                             "thesis_over_prediction": float(target.value) / predicted})
 
 
-def _w_at_voltage(case: str, v: float) -> float:
-    """Centre deflection / t0 of the imperfect ramp at normalised voltage ``v`` (before the
-    voltage maximum; linear interpolation between ramp steps)."""
+def _rising_branch(case: str) -> tuple[np.ndarray, np.ndarray]:
+    """Voltages and centre deflections / t0 of the imperfect ramp up to its voltage
+    maximum (the finite records)."""
     r = _ramps().sel(case=case)
     vv, ww = r.v.values, r.w_mid.values
     ok = np.isfinite(vv) & np.isfinite(ww)
     vv, ww = vv[ok], ww[ok]
     top = int(np.argmax(vv)) + 1
-    if not vv[0] <= v <= vv[top - 1]:
-        raise ValueError(f"v = {v} outside the ramp of {case} [{vv[0]}, {vv[top - 1]}]")
-    return float(np.interp(v, vv[:top], ww[:top]))
+    return vv[:top], ww[:top]
+
+
+def _w_at_voltage(case: str, v: float) -> float:
+    """Centre deflection / t0 of the imperfect ramp at normalised voltage ``v`` (before the
+    voltage maximum; linear interpolation between ramp steps)."""
+    vv, ww = _rising_branch(case)
+    if not vv[0] <= v <= vv[-1]:
+        raise ValueError(f"v = {v} outside the ramp of {case} [{vv[0]}, {vv[-1]}]")
+    return float(np.interp(v, vv, ww))
 
 
 def _v_at_w(case: str, w: float) -> float:
     """Normalised voltage of the imperfect ramp at centre deflection ``w`` / t0 (before the
     voltage maximum; linear interpolation between ramp steps)."""
-    r = _ramps().sel(case=case)
-    vv, ww = r.v.values, r.w_mid.values
-    ok = np.isfinite(vv) & np.isfinite(ww)
-    vv, ww = vv[ok], ww[ok]
-    top = int(np.argmax(vv)) + 1
-    if not ww[0] <= w <= ww[top - 1]:
-        raise ValueError(f"w = {w} outside the ramp of {case} [{ww[0]}, {ww[top - 1]}]")
-    return float(np.interp(w, ww[:top], vv[:top]))
+    vv, ww = _rising_branch(case)
+    if not ww[0] <= w <= ww[-1]:
+        raise ValueError(f"w = {w} outside the ramp of {case} [{ww[0]}, {ww[-1]}]")
+    return float(np.interp(w, ww, vv))
 
 
 def hypothesis_read_off(entry: Entry) -> Outcome:
