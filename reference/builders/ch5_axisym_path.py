@@ -1,0 +1,310 @@
+"""Chapter 5: pull-in and wrinkling of the clamped film by the axisymmetric FE model.
+
+The imperfect film (the clamped-plate imperfection of 1e-3 t0 of the 3D model, as the
+exact lift map of :class:`~debench.models.buckling.axisym.AxisymModel`) is followed along
+its axisymmetric equilibrium path, by voltage control and then by centre-deflection
+control through the voltage maximum; at every recorded state the lowest eigenvalue at
+fixed voltage of each angular wavenumber n is computed (wavenumber n = 0: the axisymmetric
+one, whose zero is the voltage maximum, i.e. pull-in; n >= 1: wrinkling modes). Per film
+(:data:`~debench.reference.builders._ch5_axisym_tasks.CASES`: neo-Hookean and Ogden at
+R/t0 = 10, t0 = 1 mm; Ogden at R/t0 = 20, t0 = 0.5 mm with R = 10 mm kept) and per
+discretisation (order p, geometric layers L towards the rim and its corners):
+
+* the path (deflection w / t0, voltage v, centre thickness / t0, centre field, the
+  eigenvalues of the recorded wavenumbers);
+* the voltage maximum (pull-in: v_max, w_max, thickness there) and each wavenumber's
+  lowest eigenvalue there;
+* the first zero of each wavenumber's eigenvalue along the path (w_cross, v_cross; NaN
+  where it stays positive).
+
+Converged values and their error estimates: the value on the top discretisation of the
+plan (highest order at the finest grading); the error estimate is Roache's safety factor
+(1.25 with >= 3 orders at the finest grading, else 3) times the larger of the change from
+the order below (at the finest grading) and the change from the coarser grading (at the
+top order) (:func:`converged`). The decision per film (:func:`decide`): the first
+instability is wrinkling when the smallest converged w_cross lies below the converged
+w_max by more than the sum of their error estimates; pull-in when no wavenumber's
+eigenvalue crosses zero before the maximum on any discretisation and the smallest
+converged eigenvalue at the maximum exceeds its error estimate; otherwise undecided.
+
+Plans: ``full`` all three films on (p, L) = (2, 6), (3, 6), (4, 6), (4, 4); the default
+build the neo-Hookean film at R/t0 = 10 on (2, 3), (3, 3), (3, 2) with wavenumbers 1..4
+(a coarse check of the same code path; measured CPU in the dataset's ``cpu_seconds``).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+from debench.reference.builders._ch5_axisym_tasks import (
+    CASES,
+    N_R_PER_ASPECT,
+    V_SWITCH,
+    W_END,
+    path_task,
+)
+from debench.reference.datasets import write_dataset
+
+NAME = "ch5_axisym_path"
+PLANS = {
+    False: {"cases": ("nh_r10",), "discs": ((2, 3), (3, 3), (3, 2)), "n_max": 4},
+    True: {"cases": tuple(CASES), "discs": ((2, 6), (3, 6), (4, 6), (4, 4)), "n_max": None},
+}
+GCI_SAFETY_MANY = 1.25
+GCI_SAFETY_FEW = 3.0
+GCI_MIN_ORDERS = 3
+"""Roache's safety factors: 1.25 when the p-sequence at the finest grading has at least
+GCI_MIN_ORDERS orders, else 3."""
+REGEN_ATOL = {"v": 1e-8, "w": 1e-6, "lam": 1e-8, "thickness": 1e-7}
+"""Regenerations agree to about 1e-9 in the voltage and 1e-8 in the deflection of a
+crossing (the secant on the eigenvalue stops at a deflection step of 1e-9 t0; the Newton
+states carry round-off of 1e-10 of the load next to the singular tangent, which moves the
+eigenvalues near zero by ~1e-10 and the crossing deflection by that over the eigenvalue's
+slope, ~1e-3 per t0: 1e-7); 10x that, in the quantity's units."""
+TIMING_RTOL = 1.0
+"""CPU seconds depend on the machine and its load: within a factor two of the curated."""
+
+
+def plan(full: bool = False) -> list[tuple]:
+    """The FE tasks ``(path_task, case, order, layers)`` of a build."""
+    p = PLANS[full]
+    return [(path_task, c, order, layers, p["n_max"]) for c in p["cases"]
+            for order, layers in p["discs"]]
+
+
+def _top(discs) -> tuple[int, int, int | None]:
+    """Indices of the top discretisation (highest order, then most layers), of the order
+    below it at the same grading, and of the coarser grading at the top order (None if
+    the plan has none)."""
+    discs = list(discs)
+    p_top = max(p for p, _ in discs)
+    l_top = max(L for p, L in discs if p == p_top)
+    i_top = discs.index((p_top, l_top))
+    lower = [p for p, L in discs if L == l_top and p < p_top]
+    if not lower:
+        raise ValueError(f"converged: the plan {discs} has no lower order at {l_top} layers")
+    i_p = discs.index((max(lower), l_top))
+    coarser = [L for p, L in discs if p == p_top and L < l_top]
+    i_l = discs.index((p_top, max(coarser))) if coarser else None
+    return i_top, i_p, i_l
+
+
+def safety_factor(discs) -> float:
+    """Roache's safety factor for the p-sequence at the top grading of ``discs``."""
+    l_top = max(L for p, L in discs if p == max(q for q, _ in discs))
+    n = len({p for p, L in discs if L == l_top})
+    return GCI_SAFETY_MANY if n >= GCI_MIN_ORDERS else GCI_SAFETY_FEW
+
+
+def converged(values, discs) -> dict[str, np.ndarray]:
+    """Converged value and error estimate of ``values[..., disc]`` over the plan ``discs``
+    (see the module docstring); NaN where a value is NaN on one of the discretisations
+    used (a crossing found on some discretisations only has no estimate)."""
+    x = np.asarray(values, float)
+    i_top, i_p, i_l = _top(discs)
+    dp = np.abs(x[..., i_top] - x[..., i_p])
+    dl = np.abs(x[..., i_top] - x[..., i_l]) if i_l is not None else np.zeros_like(dp)
+    return {"value": x[..., i_top], "p_change": dp, "grading_change": dl,
+            "error": safety_factor(discs) * np.maximum(dp, dl)}
+
+
+def decide(w_max, w_max_err, w_cross, w_cross_err, lam_max, lam_max_err, any_cross) -> dict:
+    """The first instability of one film (see the module docstring): ``first`` = 1
+    (wrinkling first), 0 (pull-in first), -1 (undecided); ``n_first`` the wavenumber of the
+    first crossing (0 for pull-in, -1 undecided); ``margin`` (w_max - w_cross of the first
+    crossing, or the smallest eigenvalue at the maximum) and ``margin_error`` (its bound)."""
+    w_cross = np.asarray(w_cross, float)
+    if np.any(np.isfinite(w_cross) & (w_cross < w_max)):
+        j = int(np.nanargmin(w_cross))
+        margin, bound = w_max - w_cross[j], w_max_err + w_cross_err[j]
+        first = 1 if np.isfinite(bound) and margin > bound else -1
+        return {"first": first, "n_index": j, "margin": margin, "margin_error": bound}
+    j = int(np.argmin(lam_max))
+    margin, bound = float(lam_max[j]), float(lam_max_err[j])
+    first = 0 if (not any_cross and margin > bound) else -1
+    return {"first": first, "n_index": j, "margin": margin, "margin_error": bound}
+
+
+def compute(full: bool = False, scheduler=None, progress: bool = True):
+    from debench.reference.builders.ch5 import propagated_accuracy, run_tasks
+
+    p = PLANS[full]
+    cases, discs = p["cases"], p["discs"]
+    tasks = plan(full)
+    res = dict(zip([(t[1], t[2], t[3]) for t in tasks],
+                   run_tasks(tasks, scheduler=scheduler, progress=progress), strict=True))
+    ns = sorted({n for c in cases for n in CASES[c][3] if p["n_max"] is None or n <= p["n_max"]})
+    nrec = max(len(r["w"]) for r in res.values())
+    C, K, N = len(cases), len(discs), len(ns)
+
+    def full_of(shape):
+        return np.full(shape, np.nan)
+
+    path = {k: full_of((C, K, nrec)) for k in ("w", "v", "thickness", "e", "lam0")}
+    path_lam = full_of((C, K, nrec, N))
+    scal = {k: full_of((C, K)) for k in ("w_max", "v_max", "thickness_max", "wtol_max",
+                                         "cpu_s", "cpu_path_s", "newton_residual_rel")}
+    ndof = np.zeros((C, K), dtype=np.int64)
+    per_n = {k: full_of((C, K, N)) for k in ("lam_at_max", "w_cross", "v_cross",
+                                             "thickness_cross")}
+    for ci, c in enumerate(cases):
+        for k, (order, layers) in enumerate(discs):
+            r = res[(c, order, layers)]
+            m = len(r["w"])
+            for key in path:
+                path[key][ci, k, :m] = r[key]
+            cols = [ns.index(n) for n in r["wavenumbers"]]
+            path_lam[ci, k, :m][:, cols] = np.asarray(r["lam"], float)
+            for key in scal:
+                scal[key][ci, k] = r[key]
+            ndof[ci, k] = r["ndof"]
+            for key in per_n:
+                per_n[key][ci, k, cols] = r[key]
+
+    conv, acc = {}, {}
+    for key, src in (("v_max", scal["v_max"]), ("w_max", scal["w_max"]),
+                     ("thickness_max", scal["thickness_max"]),
+                     ("lam_at_max", per_n["lam_at_max"]), ("w_cross", per_n["w_cross"]),
+                     ("v_cross", per_n["v_cross"])):
+        conv[key] = converged(np.moveaxis(src, 1, -1), discs)
+        kind = key.split("_")[0] if key.split("_")[0] in REGEN_ATOL else "v"
+        atol = REGEN_ATOL["lam" if key == "lam_at_max" else kind]
+        flat = np.moveaxis(src, 1, -1).reshape(-1, K)
+        acc[key] = float(np.nanmax([np.nan_to_num(propagated_accuracy(
+            lambda x: converged(x, discs)["error"], row, atol), nan=0.0)
+            for row in flat] + [0.0])) + atol
+    dec = [decide(conv["w_max"]["value"][ci], conv["w_max"]["error"][ci],
+                  conv["w_cross"]["value"][ci], conv["w_cross"]["error"][ci],
+                  conv["lam_at_max"]["value"][ci], conv["lam_at_max"]["error"][ci],
+                  bool(np.any(np.isfinite(per_n["w_cross"][ci]))))
+           for ci in range(C)]
+    first = np.array([d["first"] for d in dec], dtype=np.int8)
+    n_first = np.array([ns[d["n_index"]] if d["first"] == 1 else (0 if d["first"] == 0 else -1)
+                        for d in dec], dtype=np.int64)
+    n_lowest = np.array([ns[d["n_index"]] for d in dec], dtype=np.int64)
+
+    def a(ln, u="1", atol=None, rtol=None, **kw):
+        out = {"long_name": ln, "units": u, **kw}
+        if atol is not None:
+            out["accuracy_atol"] = atol
+        if rtol is not None:
+            out["accuracy_rtol"] = rtol
+        return out
+
+    d3, d4 = ("case", "disc", "record"), ("case", "disc", "record", "n")
+    dk, dn, dkn = ("case", "disc"), ("case", "n"), ("case", "disc", "n")
+    at = REGEN_ATOL
+    variables = {
+        "path_w": (d3, path["w"], a("centre deflection of the top surface / t0", atol=at["w"])),
+        "path_v": (d3, path["v"], a("normalised voltage Phi/t0 sqrt(eps/mu_ref)",
+                                    atol=at["v"])),
+        "path_thickness": (d3, path["thickness"], a("centre thickness / t0",
+                                                    atol=at["thickness"])),
+        "path_e": (d3, path["e"], a("normalised true electric field at the centre",
+                                    atol=at["thickness"])),
+        "path_lam0": (d3, path["lam0"], a(
+            "lowest eigenvalue at fixed voltage of wavenumber 0 (mass: int (U^2 + V^2 + W^2) "
+            "R dR dZ)", atol=at["lam"])),
+        "path_lam": (d4, path_lam, a(
+            "lowest eigenvalue at fixed voltage of wavenumber n (NaN: not recorded there)",
+            atol=at["lam"])),
+        "v_max": (dk, scal["v_max"], a("voltage maximum of the path (pull-in)", atol=at["v"])),
+        "w_max": (dk, scal["w_max"], a("deflection / t0 at the voltage maximum",
+                                       atol=at["w"])),
+        "thickness_max": (dk, scal["thickness_max"], a(
+            "centre thickness / t0 at the voltage maximum", atol=at["thickness"])),
+        "lam_at_max": (dkn, per_n["lam_at_max"], a(
+            "lowest eigenvalue of wavenumber n at the voltage maximum", atol=at["lam"])),
+        "w_cross": (dkn, per_n["w_cross"], a(
+            "deflection / t0 of the first zero of wavenumber n's eigenvalue along the path "
+            "(NaN: none)", atol=at["w"])),
+        "v_cross": (dkn, per_n["v_cross"], a("voltage there", atol=at["v"])),
+        "thickness_cross": (dkn, per_n["thickness_cross"], a("centre thickness / t0 there",
+                                                             atol=at["thickness"])),
+        "ndof": (dk, ndof, a("degrees of freedom of the state (r, z, potential)")),
+        "cpu_seconds": (dk, scal["cpu_s"], a(
+            "process CPU time of the path, its voltage maximum and crossings (one thread)",
+            "s", rtol=TIMING_RTOL)),
+        "newton_residual_rel": (dk, scal["newton_residual_rel"], a(
+            "largest Newton residual of the recorded states relative to its reference",
+            atol=1e-8)),
+        "safety_factor": ((), safety_factor(discs), a(
+            "Roache's GCI safety factor of the plan (1.25 with >= 3 orders, else 3)")),
+    }
+    for key, dims in (("v_max", ("case",)), ("w_max", ("case",)),
+                      ("thickness_max", ("case",)), ("lam_at_max", dn), ("w_cross", dn),
+                      ("v_cross", dn)):
+        unit_of = variables[key][2]["long_name"]
+        variables[f"{key}_converged"] = (dims, conv[key]["value"], a(
+            f"converged: {unit_of}, on the top discretisation", atol=acc[key],
+            accuracy=f"+- {key}_error"))
+        variables[f"{key}_error"] = (dims, conv[key]["error"], a(
+            f"error estimate of {key}_converged: safety_factor x max(p_change, "
+            "grading_change)", atol=acc[key]))
+        variables[f"{key}_p_change"] = (dims, conv[key]["p_change"], a(
+            f"change of {key} from the order below (finest grading)", atol=acc[key]))
+        variables[f"{key}_grading_change"] = (dims, conv[key]["grading_change"], a(
+            f"change of {key} from the coarser grading (top order)", atol=acc[key]))
+    margin_atol = acc["w_max"] + acc["w_cross"] + acc["lam_at_max"]
+    variables.update({
+        "first_instability": (("case",), first, a(
+            "first instability along the path: 1 wrinkling (a wavenumber n >= 1 crosses "
+            "zero before the voltage maximum by more than the error estimates), 0 pull-in "
+            "(none crosses and every n's eigenvalue at the maximum exceeds its error "
+            "estimate), -1 undecided",
+            flag_values=np.array([-1, 0, 1], dtype=np.int8),
+            flag_meanings="undecided pull_in wrinkling")),
+        "n_first": (("case",), n_first, a(
+            "wavenumber of the first instability (0: pull-in, -1: undecided)")),
+        "n_lowest": (("case",), n_lowest, a(
+            "the wavenumber the decision rests on: the first crossing's, or the one with "
+            "the smallest eigenvalue at the maximum when none crosses")),
+        "margin": (("case",), np.array([d["margin"] for d in dec]), a(
+            "w_max - w_cross of the first crossing (wrinkling, / t0), or the smallest "
+            "eigenvalue at the maximum (pull-in)", atol=margin_atol)),
+        "margin_error": (("case",), np.array([d["margin_error"] for d in dec]), a(
+            "the bound the margin is held against: the sum of the two error estimates, or "
+            "the eigenvalue's error estimate", atol=margin_atol)),
+    })
+    ds = xr.Dataset(variables, coords={
+        "case": ("case", list(cases), {"long_name": "film: material and radius/thickness "
+                                       "(nh: neo-Hookean, ogden: Ogden (5.26); r10: R/t0 = "
+                                       "10 at t0 = 1 mm; r20: R/t0 = 20 at t0 = 0.5 mm)"}),
+        "disc": ("disc", np.arange(K), a("discretisation index")),
+        "order": ("disc", np.array([o for o, _ in discs]), a("polynomial order of every "
+                                                             "field")),
+        "layers": ("disc", np.array([L for _, L in discs]), a(
+            "geometric layers towards the rim and towards each face")),
+        "record": ("record", np.arange(nrec), a("recorded state along the path")),
+        "n": ("n", np.array(ns), a("angular wavenumber of the perturbation")),
+    })
+    params = {"full": full, "cases": list(cases), "discs": [list(d) for d in discs],
+              "wavenumbers": list(ns), "n_max": p["n_max"],
+              "record_from_w": {c: CASES[c][4] for c in cases},
+              "record_spacing_w": {c: CASES[c][5] for c in cases},
+              "aspect": {c: CASES[c][2] for c in cases},
+              "thickness_m": {c: CASES[c][1] for c in cases},
+              "n_r_per_aspect": N_R_PER_ASPECT, "v_switch": V_SWITCH, "w_end": W_END,
+              "imperfection": "clamped-plate polynomial, amplitude 1e-3 t0 (the 3D model's)",
+              "materials": "Table 5.1 neo-Hookean (5.15)-(5.17); Ogden (5.26), k of Table 5.1"}
+    return ds, params
+
+
+def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) -> list[Path]:
+    """Write ``ch5_axisym_path.nc`` (see the module docstring). ``scheduler`` as for
+    :func:`debench.reference.builders.ch5.build`."""
+    from debench.reference.builders.ch5 import resolve_scheduler
+
+    ds, params = compute(full, scheduler=resolve_scheduler(scheduler))
+    return [write_dataset(
+        ds, NAME, out_dir=out_dir, overwrite=True,
+        title="Chapter 5: pull-in and wrinkling of the clamped film, axisymmetric FE model",
+        summary=("Axisymmetric equilibrium path of the imperfect clamped film (Table 5.1 "
+                 "neo-Hookean and Ogden at R/t0 = 10, Ogden at R/t0 = 20) through its "
+                 "voltage maximum, with the lowest eigenvalue at fixed voltage of each "
+                 "angular wavenumber along it, on p- and grading-sequences: pull-in voltage "
+                 "and deflection, the first zero of every wavenumber, converged values with "
+                 "error estimates, and which instability comes first."),
+        parameters=params)]
