@@ -110,8 +110,11 @@ def converged(values, discs) -> dict[str, np.ndarray]:
             "error": safety_factor(discs) * np.maximum(dp, dl)}
 
 
-def decide(w_max, w_max_err, w_cross, w_cross_err, lam_max, lam_max_err, any_cross) -> dict:
-    """The first instability of one film (see the module docstring): ``first`` = 1
+def decide(w_max, w_max_err, w_cross, w_cross_err, lam_max, lam_max_err,
+           any_cross_before) -> dict:
+    """The first instability of one film (see the module docstring), from the converged
+    values and error estimates per wavenumber and ``any_cross_before`` (whether any
+    wavenumber crosses zero before the voltage maximum on any discretisation): ``first`` = 1
     (wrinkling first), 0 (pull-in first), -1 (undecided); ``n_first`` the wavenumber of the
     first crossing (0 for pull-in, -1 undecided); ``margin`` (w_max - w_cross of the first
     crossing, or the smallest eigenvalue at the maximum) and ``margin_error`` (its bound)."""
@@ -123,7 +126,7 @@ def decide(w_max, w_max_err, w_cross, w_cross_err, lam_max, lam_max_err, any_cro
         return {"first": first, "n_index": j, "margin": margin, "margin_error": bound}
     j = int(np.argmin(lam_max))
     margin, bound = float(lam_max[j]), float(lam_max_err[j])
-    first = 0 if (not any_cross and margin > bound) else -1
+    first = 0 if (not any_cross_before and margin > bound) else -1
     return {"first": first, "n_index": j, "margin": margin, "margin_error": bound}
 
 
@@ -178,7 +181,7 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
     dec = [decide(conv["w_max"]["value"][ci], conv["w_max"]["error"][ci],
                   conv["w_cross"]["value"][ci], conv["w_cross"]["error"][ci],
                   conv["lam_at_max"]["value"][ci], conv["lam_at_max"]["error"][ci],
-                  bool(np.any(np.isfinite(per_n["w_cross"][ci]))))
+                  bool(np.any(per_n["w_cross"][ci] < scal["w_max"][ci][:, None])))
            for ci in range(C)]
     first = np.array([d["first"] for d in dec], dtype=np.int8)
     n_first = np.array([ns[d["n_index"]] if d["first"] == 1 else (0 if d["first"] == 0 else -1)
