@@ -30,6 +30,11 @@ converged eigenvalue at the maximum exceeds its error estimate; otherwise undeci
 Plans: ``full`` all three films on (p, L) = (2, 6), (3, 6), (4, 6), (4, 4); the default
 build the neo-Hookean film at R/t0 = 10 on (2, 3), (3, 3), (3, 2) with wavenumbers 1..4
 (a coarse check of the same code path; measured CPU in the dataset's ``cpu_seconds``).
+
+The 3D-like resolution study (:func:`three_d_like`, variables ``*_3d_like``): the voltage
+maximum of the R/t0 = 10 films on the 3D ramps' discretisation (quadratic elements, one
+through the thickness, uniform radial elements of the 3D ramps' sizes, no grading), which
+says what those choices cost the 3D pull-in.
 """
 
 from __future__ import annotations
@@ -52,6 +57,10 @@ PLANS = {
     False: {"cases": ("nh_r10",), "discs": ((2, 3), (3, 3), (3, 2)), "n_max": 4},
     True: {"cases": tuple(CASES), "discs": ((2, 6), (3, 6), (4, 6), (4, 4)), "n_max": None},
 }
+COARSE_3D_H = {False: (2.5, 2.0), True: (10.0 / 3.0, 2.5, 2.0, 1.0, 0.5)}
+"""Radial element sizes / t0 of the 3D-like resolution study (:func:`three_d_like`): the 3D
+ramps' in-plane mesh sizes 3, 2.5, 2 t0 (10/3 here, so that the elements tile the radius)
+and two finer ones."""
 GCI_SAFETY_MANY = 1.25
 GCI_SAFETY_FEW = 3.0
 GCI_MIN_ORDERS = 3
@@ -108,6 +117,29 @@ def converged(values, discs) -> dict[str, np.ndarray]:
     dl = np.abs(x[..., i_top] - x[..., i_l]) if i_l is not None else np.zeros_like(dp)
     return {"value": x[..., i_top], "p_change": dp, "grading_change": dl,
             "error": safety_factor(discs) * np.maximum(dp, dl)}
+
+
+def three_d_like(case: str, h: float) -> tuple[float, float]:
+    """Voltage maximum (v, w / t0) of the axisymmetric path of ``case`` at the resolution of
+    the 3D ramps: quadratic elements, one through the thickness, radial elements of size
+    ``h`` t0 up to the rim (no grading). The 3D model's own discretisation choices, in the
+    independent model, isolate what they cost."""
+    from debench.models.buckling import axisym as ax
+    from debench.models.buckling.analytic import critical_voltage_plate
+    from debench.models.buckling.parameters import Plate
+    from debench.reference.builders._ch5_axisym_tasks import _material
+
+    mat_name, t0, aspect, *_ = CASES[case]
+    mat = _material(mat_name)
+    n_r = round((aspect - h) / h)
+    disc = ax.AxisymDiscretisation(order=2, n_z=1, face_layers=0, edge_layers=0, n_r=n_r,
+                                   edge_zone=h)
+    model = ax.AxisymModel(Plate(thickness=t0, aspect=aspect), mat, disc)
+    v_switch = V_SWITCH * critical_voltage_plate(mat, aspect)
+    points = ax.follow_path(model, W_END, v_switch=v_switch, dv=v_switch / 8,
+                            record_every=0.5, wavenumbers=(0,))
+    peak = ax.zero_crossing(model, points, 0)
+    return float(peak.v), float(peak.w)
 
 
 def decide(w_max, w_max_err, w_cross, w_cross_err, lam_max, lam_max_err,
@@ -187,6 +219,11 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
     n_first = np.array([ns[d["n_index"]] if d["first"] == 1 else (0 if d["first"] == 0 else -1)
                         for d in dec], dtype=np.int64)
     n_lowest = np.array([ns[d["n_index"]] for d in dec], dtype=np.int64)
+
+    h3 = COARSE_3D_H[full]
+    like = [c for c in cases if CASES[c][2] == 10.0]
+    coarse = np.array([[three_d_like(c, h) for h in h3] for c in like]).reshape(
+        len(like), len(h3), 2)
 
     def a(ln, u="1", atol=None, rtol=None, **kw):
         out = {"long_name": ln, "units": u, **kw}
@@ -271,7 +308,14 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
             "the bound the margin is held against: the sum of the two error estimates, or "
             "the eigenvalue's error estimate", atol=margin_atol)),
     })
+    variables["v_max_3d_like"] = (("case_r10", "h_3d_like"), coarse[..., 0], a(
+        "voltage maximum at the 3D ramps' resolution (three_d_like)", atol=at["v"]))
+    variables["w_max_3d_like"] = (("case_r10", "h_3d_like"), coarse[..., 1], a(
+        "deflection / t0 at it", atol=at["w"]))
     ds = xr.Dataset(variables, coords={
+        "case_r10": ("case_r10", like, {"long_name": "the R/t0 = 10 films"}),
+        "h_3d_like": ("h_3d_like", np.array(h3), a(
+            "radial element size / t0 (quadratic, one element through the thickness)")),
         "case": ("case", list(cases), {"long_name": "film: material and radius/thickness "
                                        "(nh: neo-Hookean, ogden: Ogden (5.26); r10: R/t0 = "
                                        "10 at t0 = 1 mm; r20: R/t0 = 20 at t0 = 0.5 mm)"}),
@@ -289,7 +333,8 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
               "record_spacing_w": {c: CASES[c][5] for c in cases},
               "aspect": {c: CASES[c][2] for c in cases},
               "thickness_m": {c: CASES[c][1] for c in cases},
-              "n_r_per_aspect": N_R_PER_ASPECT, "v_switch": V_SWITCH, "w_end": W_END,
+              "n_r_per_aspect": N_R_PER_ASPECT, "h_3d_like": list(h3),
+              "v_switch": V_SWITCH, "w_end": W_END,
               "imperfection": "clamped-plate polynomial, amplitude 1e-3 t0 (the 3D model's)",
               "materials": "Table 5.1 neo-Hookean (5.15)-(5.17); Ogden (5.26), k of Table 5.1"}
     return ds, params
