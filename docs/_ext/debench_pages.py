@@ -123,8 +123,9 @@ def verdict_page(results) -> None:
     head = ("The report `debench report` writes (here generated from the catalogue when "
             "the site was built; `debench reproduce` writes the same page to "
             "`results/REPORT.md` next to freshly built figures).\n\n")
-    lines = text.split("\n", 2)
-    _write(OUT / "verdict.md", lines[0] + "\n\n" + head + "\n".join(lines[1:]))
+    title, rest = text.split("\n", 1)
+    title = title.replace("# debench report:", "# The verdict:")  # the report's own title
+    _write(OUT / "verdict.md", title + "\n\n" + head + rest)
 
 
 # --------------------------------------------------------------------------- errata
