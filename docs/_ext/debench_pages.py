@@ -265,16 +265,16 @@ def dataset_pages() -> list[str]:
                 f"- **conventions**: {_md(a.get('Conventions', ''))}",
                 f"- **licence**: {_md(a.get('license', ''))}", "",
                 "## Variables", "",
-                "| variable | dims | meaning | units | role | accuracy |",
+                "| variable | units | meaning | dims | role | accuracy |",
                 "|---|---|---|---|---|---|"]
         for name, var in {**ds.coords, **ds.data_vars}.items():
             va = var.attrs
             acc = "; ".join(f"{k.removeprefix('accuracy_')} {va[k]}" for k in
                             ("accuracy_rtol", "accuracy_atol") if k in va) or "—"
             units = va.get("units", "")
-            page.append(f"| `{name}` | ({', '.join(var.dims) or 'scalar'}) | "
+            page.append(f"| `{name}` | {'`' + _md(units) + '`' if units else '—'} | "
                         f"{_md(va.get('long_name', ''))} | "
-                        f"{'`' + _md(units) + '`' if units else '—'} | "
+                        f"({', '.join(var.dims) or 'scalar'}) | "
                         f"{_md(va.get('coverage_content_type', ''))} | {_md(acc)} |")
         notes = [(n, v.attrs.get("comment") or v.attrs.get("description"))
                  for n, v in {**ds.coords, **ds.data_vars}.items()]
