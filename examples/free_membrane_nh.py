@@ -1,4 +1,8 @@
-"""A user's own solver, checked against debench: the free neo-Hookean dielectric membrane.
+"""
+Check your own solver: the free neo-Hookean dielectric membrane
+===============================================================
+
+A user's own solver, checked against debench (reference problem ``ch3_free_membrane_nh``).
 
 An incompressible neo-Hookean membrane (shear modulus mu, permittivity eps, thickness H),
 free at its edge, is stretched equibiaxially by a voltage Phi. Equilibrium of the

@@ -2,6 +2,8 @@
 
 * ``--full`` opts in to tests marked ``slow`` (converged finite-element meshes, full
   sweeps). Without it they are skipped, and a fast but real version of every check runs.
+* ``--docs`` opts in to tests marked ``docs``: the documentation site is built and opened
+  in headless Chromium (a missing Sphinx or Chromium then fails, with how to install it).
 * Thread counts (BLAS/OpenMP, NGSolve) are set once here by
   :func:`debench.threads.limit_threads` (``DEBENCH_THREADS``, default 1).
 * Hypothesis is deterministic by default (profile ``debench``: derandomized, no example
@@ -51,13 +53,20 @@ def pytest_addoption(parser: pytest.Parser) -> None:
         "--install", action="store_true", default=False,
         help="run tests marked install (wheel built and installed in a fresh venv)",
     )
+    parser.addoption(
+        "--docs", action="store_true", default=False,
+        help="run tests marked docs (build the documentation site, check it in Chromium)",
+    )
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     skip_slow = pytest.mark.skip(reason="slow: opt in with --full")
     skip_install = pytest.mark.skip(reason="install: opt in with --install")
+    skip_docs = pytest.mark.skip(reason="docs: opt in with --docs")
     for item in items:
         if "slow" in item.keywords and not config.getoption("--full"):
             item.add_marker(skip_slow)
         if "install" in item.keywords and not config.getoption("--install"):
             item.add_marker(skip_install)
+        if "docs" in item.keywords and not config.getoption("--docs"):
+            item.add_marker(skip_docs)

@@ -112,6 +112,7 @@ REALCOMPILE_MIN_DOFS = 20000
 """``compile="auto"`` compiles the energy to C++ above this size: compiling takes 15-20 s
 (measured), assembly is 1.2-2.3x faster with identical matrices, so it pays only for
 problems assembled hundreds of times at >= 20k DOFs."""
+#: the sparse direct solvers of NGSolve a model may use (``inverse=``), in order of preference
 INVERSES = ("sparsecholesky", "umfpack", "pardiso", "superlu")
 CHORD_RATE = 0.25
 """Newton with a reused tangent (``chord=True``): a step with the factorised tangent of
@@ -399,7 +400,7 @@ class MembraneModel:
 
     def newton(self, *, tol: float = NEWTON_TOL, maxit: int = NEWTON_MAXIT) -> int:
         """Newton for the saddle point at the current voltage; returns the iterations.
-        (:meth:`_newton`; after a failure no later step reuses this solve's tangent.)"""
+        (``_newton``; after a failure no later step reuses this solve's tangent.)"""
         try:
             return self._newton(tol=tol, maxit=maxit)
         except ConvergenceError:
@@ -626,7 +627,7 @@ class MembraneModel:
         LDL^T of the saddle-point tangent each, which costs more than the eigen-solve on the
         largest meshes): for iterations whose final state is certified by the caller.
         Returns (eigenvalues ascending, modes as full-length columns); the largest
-        eigen-residual (backward error, see :func:`_lobpcg`) is in ``last_eig``.  Raises
+        eigen-residual (backward error, see ``_lobpcg``) is in ``last_eig``.  Raises
         ConvergenceError if the residuals do not reach ``rtol`` in ``iters`` iterations.
         """
         nev = val.integer_at_least("nev", nev, 1)
@@ -973,10 +974,10 @@ def mode_harmonics(model: MembraneModel, mode: np.ndarray, n_theta: int = 24) ->
 
     The mode's cylindrical components (u_r, u_theta, u_z) are sampled at ``n_theta``
     equally spaced points of the mid-plane circle r = a/2 (:func:`ring_displacement`) and
-    Fourier-analysed (discrete Parseval): entry n is sum_c (|c_n|^2 + |c_-n|^2) /
-    mean_theta sum_c |u_c|^2, so the entries sum to 1; entry 0 is 1 for an axisymmetric
-    mode, a wrinkling mode of angular wavenumber n has its weight at n (resolved for
-    n < n_theta/2).
+    Fourier-analysed (discrete Parseval): entry n is
+    ``sum_c (|c_n|^2 + |c_-n|^2) / mean_theta sum_c |u_c|^2``, so the entries sum to 1;
+    entry 0 is 1 for an axisymmetric mode, a wrinkling mode of angular wavenumber n has
+    its weight at n (resolved for n < n_theta/2).
     """
     power = _harmonic_power(ring_displacement(model, mode, n_theta))
     total = float(np.sum(power))

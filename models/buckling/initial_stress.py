@@ -50,6 +50,7 @@ from debench.models.buckling.parameters import Discretisation, NeoHookean, Ogden
 from debench.models.errors import ConvergenceError
 from scipy.sparse.linalg import LinearOperator, eigsh, splu
 
+#: the three linearised buckling eigenproblems (``method=``), described in the module docstring
 METHODS = ("initial_stress", "frozen_potential", "coupled")
 FIXED_POINT_VTOL = 1e-9
 """The fixed point stops when the load-factor update changes v by less than this

@@ -75,12 +75,12 @@ def critical_voltage(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation
     each eigenvalue is converged to a relative eigen-residual below ``fem.EIG_RTOL`` (the
     achieved value is ``eig_residual``) at a Newton state whose residual is reported
     (``newton_residual``).  The secant's eigen-solves are not certified one by one; the
-    final state is (inertia count, :meth:`~debench.models.buckling.fem.MembraneModel.
-    lowest_eigenvalues`): no eigenvalue lies below the one driven to zero, so ``v`` is the
-    first critical voltage, not a higher mode's (ConvergenceError otherwise).  The
-    discretisation error is *not* included: it is measured by
-    the mesh sequence of ``reference/builders/ch5.py`` (about 4 % at h = 3 t0, 0.6 % at
-    h = 1 t0 for one layer of quadratic prisms).
+    final state is (inertia count,
+    :meth:`~debench.models.buckling.fem.MembraneModel.lowest_eigenvalues`): no eigenvalue
+    lies below the one driven to zero, so ``v`` is the first critical voltage, not a higher
+    mode's (ConvergenceError otherwise).  The discretisation error is *not* included: it is
+    measured by the mesh sequence of ``reference/builders/ch5.py`` (about 4 % at h = 3 t0,
+    0.6 % at h = 1 t0 for one layer of quadratic prisms).
 
     ``inverse``, ``reuse``, ``eigensolver``, ``chord``: linear algebra of
     :class:`~debench.models.buckling.fem.MembraneModel` (``"umfpack", reuse=False,

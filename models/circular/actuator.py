@@ -60,6 +60,7 @@ EVENT_XTOL = 1e-14
 CERTIFY_AFTER = 1e-5
 CERTIFY = 0.45
 EVENT_KINDS = ("pullin", "minimum", "loss_of_tension", "breakdown")
+#: the events that end a curve (the film fails there)
 FAILURE_KINDS = ("pullin", "loss_of_tension", "breakdown")
 
 

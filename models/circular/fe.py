@@ -15,7 +15,8 @@ potential energy per unit mu H::
     w = Ws/mu - 1/2 (eps/eps_bar) lambda1^2 lambda2^2 Phibar^2,                   (3.23, 3.27)
 
 with ``Phibar^2 = eps_bar Phi^2/(mu H^2)`` (Sec. 3.5) and ``chi_A`` the indicator of the
-electrode. ``w`` is the library energy :meth:`GentMembrane.free_energy` in units mu = 1,
+electrode. ``w`` is the library energy
+:meth:`~debench.models.materials.membrane.GentMembrane.free_energy` in units mu = 1,
 eps_bar = 1, ``I4 = Phibar^2`` (written once more as an NGSolve CoefficientFunction here,
 and tested equal to the library).
 

@@ -27,12 +27,14 @@ Energy per unit mu (library forms :mod:`debench.models.materials.ngsolve_forms`)
     w_e = -1/2 (eps/eps_bar) J C^-1 : (Grad psi x Grad psi),                   (3.20), (5.13)
     eps/eps_bar = 1 + c (lambda_R + lambda_theta - 2),                         (3.27)
 
-``W_Gent`` = :func:`gent_ideal_dielectric` with D_L = 0, ``w_e`` =
-:func:`ideal_dielectric_enthalpy` with eps = eps/eps_bar, ``Phibar^2 = eps_bar Phi^2/(mu
-H^2)`` (Sec. 3.5); ``lambda_R = sqrt(C_RR)``, ``lambda_theta = 1 + u_R/R``. In a homogeneous
-state (``psi = Z``, J = 1) ``w`` is :meth:`GentMembrane.free_energy` with ``I4 = Phibar^2``
-(tested). The equations are the stationarity of ``int w R dR dZ`` in (u, p) and, at fixed
-u, of ``int w_e R dR dZ`` in psi (the electrostatics, regular at Phibar = 0).
+``W_Gent`` = :func:`~debench.models.materials.ngsolve_forms.gent_ideal_dielectric` with
+D_L = 0, ``w_e`` = :func:`~debench.models.materials.ngsolve_forms.ideal_dielectric_enthalpy`
+with eps = eps/eps_bar, ``Phibar^2 = eps_bar Phi^2/(mu H^2)`` (Sec. 3.5);
+``lambda_R = sqrt(C_RR)``, ``lambda_theta = 1 + u_R/R``. In a homogeneous state
+(``psi = Z``, J = 1) ``w`` is :meth:`~debench.models.materials.membrane.GentMembrane.free_energy`
+with ``I4 = Phibar^2`` (tested). The equations are the stationarity of ``int w R dR dZ``
+in (u, p) and, at fixed u, of ``int w_e R dR dZ`` in psi (the electrostatics, regular at
+Phibar = 0).
 
 Boundary conditions: axis ``u_R = 0``; mid-plane ``u_Z = 0, psi = 0``; frame (3.38)
 ``u_R(R_B, Z) = (lamP - 1) R_B`` (u_Z free); top face traction free.

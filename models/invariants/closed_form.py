@@ -24,6 +24,8 @@ from debench.models.validation import (
     vector,
 )
 
+#: the two numberings of the invariants: isotropic (Ch. 2, I4 = D_L.D_L) and transversely
+#: isotropic (Ch. 4, I4 = A.C A)
 NUMBERINGS = ("iso", "ti")
 _I3 = np.eye(3)
 

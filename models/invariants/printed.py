@@ -265,6 +265,7 @@ _TI = [  # (Ch. 4 label, App. A.1 label, kind, n, func)
     ("4.51", "A.17", "FD", 5, d2I5_dFdD),
 ]
 
+#: equation label -> ``(numbering, kind, n, func)`` of every printed derivative formula
 PRINTED_DERIVATIVES: dict[str, tuple[str, str, int, object]] = {}
 for _numbering, _table in (("iso", _ISO), ("ti", _TI)):
     for _lab1, _lab2, _kind, _n, _f in _table:
@@ -293,7 +294,9 @@ def cauchy_2_42(W, F, D_L, p):
 
 @_checked
 def cauchy_2_42_corrected(W, F, D_L, p):
-    """(2.42) re-derived from (2.33) with (2.78)-(2.79) (Dorfmann & Ogden 2005)::
+    """(2.42) re-derived from (2.33) with (2.78)-(2.79) (Dorfmann & Ogden 2005):
+
+    ::
 
         sigma = 2 W1 B + 2 W2 (I1 B - B^2) - p I + 2 W5 D (x) D + 2 W6 (D (x) BD + BD (x) D)
     """
@@ -314,7 +317,9 @@ def electric_2_43(W, F, D_L):
 
 @_checked
 def pk2_5_18(C10, D1, eps, F, D_L):
-    """(5.18) as printed::
+    """(5.18) as printed:
+
+    ::
 
         S = 2 (C10 J^{-2/3} (I - 1/3 I1bar Cdis^{-1}) + 1/D1 J (J - 1) C^{-1})
             - 1/(2 eps) J^{-1} C^{-1} (D_L . C D_L) + 1/eps J^{-1} D_L (x) D_L
@@ -331,7 +336,9 @@ def pk2_5_18(C10, D1, eps, F, D_L):
 
 @_checked
 def piola_5_19(C10, D1, eps, F, D_L):
-    """(5.19) as printed (``T_L = F S``, first Piola), D = J^{-1} F D_L::
+    """(5.19) as printed (``T_L = F S``, first Piola), D = J^{-1} F D_L:
+
+    ::
 
         T_L = 2 (C10 J^{-2/3} (F - 1/3 (tr C) F^{-T}) + 1/D1 J (J - 1) F^{-T})
               - 1/(2 eps) J (D . D) F^{-T} + 1/eps D (x) D_L
@@ -347,7 +354,9 @@ def piola_5_19(C10, D1, eps, F, D_L):
 @_checked
 def cauchy_5_20(C10, D1, eps, F, D_L):
     """(5.20) as printed (the text shows no identity after ``tr B_dis`` and ``D . D``;
-    a scalar added to a tensor, transcribed with numpy broadcasting)::
+    a scalar added to a tensor, transcribed with numpy broadcasting):
+
+    ::
 
         sigma = 2 C10/J (B_dis - 1/3 (tr B_dis)) + 2/D1 (J - 1) I - 1/(2 eps) (D . D)
                 + 1/eps D (x) D
@@ -412,7 +421,9 @@ def _enthalpy_kinematics(F, E_L):
 
 @_checked
 def tangent_5_22(eps, F, E_L):
-    """(5.22) as printed, ``dT^elec_L,ij/dF_kl`` (E = F^-T E_L)::
+    """(5.22) as printed, ``dT^elec_L,ij/dF_kl`` (E = F^-T E_L):
+
+    ::
 
         eps J (-Finv_li Cinv_jm EL_m E_k - E_i Finv_jk Cinv_lm EL_m - E_i E_k Cinv_jl
                + Finv_ji E_k Cinv_lm EL_m + E_i Cinv_jm EL_m Finv_lk
@@ -454,7 +465,9 @@ def tangent_5_25(eps, F, E_L):
 
 @_checked
 def dtau_db_5_28(alphas, mus, k, lam):
-    """(5.28) as printed, ``dtau_i/db_j`` (b_j = lambda_j^2) of the Ogden model::
+    """(5.28) as printed, ``dtau_i/db_j`` (b_j = lambda_j^2) of the Ogden model:
+
+    ::
 
         sum_p mu_p/(3 l_j^2) J^(-a_p/3) (1/3 sum_k l_k^a_p - l_i^a_p - l_j^a_p
                                          + 3 l_i^a_p d_ij) + k (2J - 1) J/(2 l_j^2)

@@ -11,6 +11,7 @@ moduli or NaN raise ``ValueError`` naming the bound) with
     ``W``, ``P = dW/dF`` (``P[i, a]``; nominal stress T = P^T), ``E_L = dW/dD_L``, and the
     moduli ``AA[i,a,j,b]``, ``AAA[i,a,b]``, ``A[a,b]`` of eqs (2.65)-(2.67) - all by one
     chain rule over the invariants (2.68)-(2.70) (Ogden: spectral formula).
+
 ``mat.incompressible``, ``mat.numbering`` (``"iso"`` or ``"ti"``), ``mat.shear_modulus``.
 
 Functions (:mod:`debench.models.materials.response`): :func:`first_piola`, :func:`cauchy_stress`
@@ -19,19 +20,21 @@ Functions (:mod:`debench.models.materials.response`): :func:`first_piola`, :func
 
 Materials (thesis parameters as defaults; see :data:`MATERIALS`)
 ----------------------------------------------------------------
-=================================  ========================================================
-:class:`GentIdealDielectric`       (3.23) mu = 51 kPa, Jm = 120 + I5/(2 eps); incompressible
-:class:`NeoHookeanIdealDielectric` (5.15)+(5.9), C10 = mu/2, D1 = 2/k; Table 5.1
-                                   mu = 156000 Pa, k = 7748003.92 Pa; compressible
-:class:`OgdenIdealDielectric`      (5.26)+(5.9), 2 mu_p/alpha_p^2 convention (as printed,
-                                   consistent with (5.27)); Table 5.1 alpha = 1.293, 2.3252,
-                                   2.561, mu = 8580, 84300, -23300 Pa; initial shear modulus
-                                   sum mu_p = 69580 Pa; bulk k of the neo-Hookean (assumed)
-:class:`IdealDielectric`           (5.9) W = I5/(2 eps J)
-:class:`DorfmannOgdenElectric`     (4.20) (alpha D_L.D_L + beta D_L.C D_L)/(2 eps)
-:class:`TransverselyIsotropicNeoHookean`  (4.22) mu/2 (I1-3) + mu xi/2 (I4-1)^2 +
-                                   (alpha I6 + beta I5)/(2 eps), ti numbering, A = (0,1,0)
-=================================  ========================================================
+==========================================  ========================================================
+:class:`GentIdealDielectric`                (3.23) mu = 51 kPa, Jm = 120 + I5/(2 eps);
+                                            incompressible
+:class:`NeoHookeanIdealDielectric`          (5.15)+(5.9), C10 = mu/2, D1 = 2/k; Table 5.1
+                                            mu = 156000 Pa, k = 7748003.92 Pa; compressible
+:class:`OgdenIdealDielectric`               (5.26)+(5.9), 2 mu_p/alpha_p^2 convention (as printed,
+                                            consistent with (5.27)); Table 5.1 alpha = 1.293,
+                                            2.3252, 2.561, mu = 8580, 84300, -23300 Pa; initial
+                                            shear modulus sum mu_p = 69580 Pa; bulk k of the
+                                            neo-Hookean (assumed)
+:class:`IdealDielectric`                    (5.9) W = I5/(2 eps J)
+:class:`DorfmannOgdenElectric`              (4.20) (alpha D_L.D_L + beta D_L.C D_L)/(2 eps)
+:class:`TransverselyIsotropicNeoHookean`    (4.22) mu/2 (I1-3) + mu xi/2 (I4-1)^2 +
+                                            (alpha I6 + beta I5)/(2 eps), ti numbering, A = (0,1,0)
+==========================================  ========================================================
 
 Membrane (Ch. 3, :mod:`debench.models.materials.membrane`): :class:`GentMembrane` with
 :class:`ZhaoSuoPermittivity` (3.27) or :class:`JimenezMcMeekingPermittivity` (3.24-3.26):
@@ -79,6 +82,7 @@ from debench.models.materials.response import (
     push_forward,
 )
 
+#: the materials of the thesis with their thesis parameters, by name
 MATERIALS = {
     "gent_ideal_dielectric": GentIdealDielectric(),
     "neo_hookean_ideal_dielectric": NeoHookeanIdealDielectric(),

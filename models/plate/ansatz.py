@@ -262,9 +262,10 @@ def scan_grid(window=LAM_WINDOW, n=N_SCAN, params: PlateParams | None = None):
     """Geometric grid of ``n >= 2`` stretches over ``window = (lo, hi)``, 0 < lo < hi.
 
     With ``params``, the stretches lam_E (1 - 10^-k), k = 2..10, below the loss of strong
-    ellipticity lam_E of the model (:func:`~debench.models.plate.coefficients.
-    ellipticity_limit_stretch`) inside the window are added, so that a root just below
-    lam_E is bracketed although the next regular grid point is not elliptic.
+    ellipticity lam_E of the model
+    (:func:`~debench.models.plate.coefficients.ellipticity_limit_stretch`) inside the window
+    are added, so that a root just below lam_E is bracketed although the next regular grid
+    point is not elliptic.
     """
     lo, hi = v.window("window", window)
     n = v.integer_at_least("n", n, 2)

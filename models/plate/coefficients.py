@@ -33,6 +33,8 @@ from debench.models.errors import require
 from debench.models.plate._generated import base_state as _base_state
 from debench.models.plate._generated import derived_coefficients
 
+#: forms of the equations: derived from (4.22), the printed coefficients (4.54)-(4.60) used
+#: consistently, the literal printed equations (4.64)-(4.66), (4.75)-(4.82) (module docstring)
 VARIANTS = ("derived", "printed", "literal")
 
 
@@ -111,8 +113,8 @@ def coefficients(lam, params: PlateParams):
     """Coefficients (a, 2b, c, d, e, f, g) of (4.52)-(4.53) for the chosen variant.
 
     For ``"literal"`` these are the coefficients the literal rows (4.75)-(4.77) imply
-    with beta = 1 in the rows (see :func:`literal_system`); the interior equations are
-    those of ``"printed"``.
+    with beta = 1 in the rows (see :func:`~debench.models.plate.ansatz._row_coefficients`);
+    the interior equations are those of ``"printed"``.
     """
     return _coefficients(_check_lam(lam), _check_params(params))
 

@@ -29,8 +29,8 @@ electrodes are natural conditions. lam_cr is where an eigenvalue of K crosses ze
 Voltage control (keyword ``Vhat`` of the scans): with compliant electrodes on both faces
 the incremental boundary-value problem is the one of charge control (the fibre does not
 enter the electric part of (4.22)); only the base state changes, Dhat(lam) =
-Vhat lam^2/(alpha lam^4 + beta) along the scan (:func:`debench.models.plate.voltage.
-dhat_at_voltage`, re-derived there from (4.20)).
+Vhat lam^2/(alpha lam^4 + beta) along the scan
+(:func:`debench.models.plate.voltage.dhat_at_voltage`, re-derived there from (4.20)).
 
 Stretches above 1 (equibiaxial tension) are in the range of every function: with a field
 the total lateral stress tau11 of :func:`base_state` is compressive near lam = 1 and the

@@ -22,7 +22,7 @@ volume is
 the last term from the linearised -p F^-1 of the incompressible nominal stress (2.29).
 Incompressibility tr L = 0 is imposed by a mixed u-q form (q the incremental pressure,
 Taylor-Hood: u of order ``order``, q of order ``order - 1``, continuous), and
-div Ddot = 0 exactly by a stream function, Ddot = (phi_,2, -phi_,1). Traction-free faces
+div Ddot = 0 exactly by a stream function, ``Ddot = (phi_,2, -phi_,1)``. Traction-free faces
 and equipotential electrodes (E_L0,1 = 0; charge control fixes only the total charge,
 which periodic phi keeps) are the natural conditions of the energy. The rigid
 translations and the constant phi are removed by zero-mean constraints (Lagrange
@@ -378,7 +378,7 @@ def critical_stretch(kH: float, bracket: tuple[float, float], parity: str, mater
 
     With ``guess`` (an estimate inside ``bracket``, e.g. the determinant root), secant
     steps start there and brentq finishes on the narrowest interval where the eigenvalue
-    changed sign (:func:`debench.models.plate._roots.zero_near`: 4-6 eigen-solves where a
+    changed sign (``debench.models.plate._roots.zero_near``: 4-6 eigen-solves where a
     search of the whole bracket needs ~9); without it, or when they find no sign change,
     the eigenvalue must change sign across ``bracket`` (else :class:`ConvergenceError`).
     Give exactly one of ``Dhat`` (charge control) or ``Vhat`` (voltage control);
