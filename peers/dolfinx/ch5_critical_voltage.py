@@ -62,15 +62,16 @@ BISECT_RTOL = 1e-7
 OGDEN_DELTA = 1e-4
 
 
-def graded_mesh(aspect: float, nr: int, nz: int, beta: float):
-    """Quadrilaterals on [0, aspect] x [0, 1]: in R cells shrink towards the rim, in Z
-    towards both faces (sinh/tanh grading of strength beta)."""
+def graded_mesh(aspect: float, nr: int, nz: int, beta_r: float, beta_z: float):
+    """Quadrilaterals on [0, aspect] x [0, 1], tanh-graded: in R the cells shrink towards
+    the rim (R = aspect tanh(beta_r s)/tanh(beta_r): the rim cell is sech^2(beta_r) of
+    the axis cell), in Z towards both faces (the clamped corners are where both meet)."""
     mesh = dolfinx.mesh.create_rectangle(MPI.COMM_SELF, [[0.0, 0.0], [1.0, 1.0]],
                                          [nr, nz], dolfinx.mesh.CellType.quadrilateral)
     x = mesh.geometry.x
     s, t = x[:, 0].copy(), x[:, 1].copy()
-    x[:, 0] = aspect * (1.0 - np.tanh(beta * (1.0 - s)) / np.tanh(beta))
-    x[:, 1] = 0.5 * (1.0 + np.tanh(beta * (2.0 * t - 1.0)) / np.tanh(beta))
+    x[:, 0] = aspect * np.tanh(beta_r * s) / np.tanh(beta_r)
+    x[:, 1] = 0.5 * (1.0 + np.tanh(beta_z * (2.0 * t - 1.0)) / np.tanh(beta_z))
     return mesh
 
 
@@ -102,15 +103,14 @@ class Film:
     """The axisymmetric clamped film on one mesh."""
 
     def __init__(self, case: dict, aspect: float, nr: int, nz: int, degree: int,
-                 beta: float, quad: int):
-        self.mesh = mesh = graded_mesh(aspect, nr, nz, beta)
-        el_u = ("Lagrange", degree, (2,))
+                 beta: tuple[float, float], quad: int):
         import basix.ufl
+
+        self.mesh = mesh = graded_mesh(aspect, nr, nz, *beta)
 
         cell = mesh.basix_cell()
         me = basix.ufl.mixed_element([basix.ufl.element("Lagrange", cell, degree, shape=(2,)),
                                       basix.ufl.element("Lagrange", cell, degree)])
-        del el_u
         self.W = W = dolfinx.fem.functionspace(mesh, me)
         self.w = w = dolfinx.fem.Function(W)
         u, phi = ufl.split(w)
@@ -256,7 +256,8 @@ def main():
     ap.add_argument("--nr", type=int, default=40, help="cells along R (coarser mesh)")
     ap.add_argument("--nz", type=int, default=4, help="cells through the thickness")
     ap.add_argument("--degree", type=int, default=2)
-    ap.add_argument("--beta", type=float, default=2.0, help="grading strength")
+    ap.add_argument("--beta-r", type=float, default=3.0, help="grading towards the rim")
+    ap.add_argument("--beta-z", type=float, default=2.0, help="grading towards the faces")
     ap.add_argument("--dv", type=float, default=0.02, help="scan step in v")
     ap.add_argument("--cases", nargs="*", help="subset of the cases (default: all)")
     a = ap.parse_args()
@@ -273,7 +274,7 @@ def main():
     for name, case in cases.items():
         vals = []
         for nr, nz in meshes:
-            film = Film(case, aspect, nr, nz, a.degree, a.beta, quad)
+            film = Film(case, aspect, nr, nz, a.degree, (a.beta_r, a.beta_z), quad)
             vcr, info = critical_voltage(film, a.dv, 2.0)
             vals.append(vcr)
             print(f"{name}: {nr}x{nz} cells, {film.ndofs} dofs: v_cr = {vcr:.9f} "
@@ -306,9 +307,9 @@ def main():
                            "S), scan then bisection",
             "discretisation": f"Lagrange P{a.degree} displacement and P{a.degree} "
                               f"potential on quadrilaterals; quadrature degree {quad}",
-            "mesh_or_resolution": f"{n2} x {z2} cells (R x Z), tanh-graded (beta "
-                                  f"{a.beta:g}) towards the rim and both faces; checked "
-                                  f"against {n1} x {z1}",
+            "mesh_or_resolution": f"{n2} x {z2} cells (R x Z), tanh-graded towards the "
+                                  f"rim (beta {a.beta_r:g}) and both faces (beta "
+                                  f"{a.beta_z:g}); checked against {n1} x {z1}",
             "solver": "PETSc SNES newtonls (full Newton steps), MUMPS LU; stability: "
                       "MUMPS Cholesky/LDL^T (symmetric indefinite) with MatGetInertia",
             "tolerances": f"snes_rtol {SNES_RTOL:g}, snes_atol {SNES_ATOL:g}, snes_stol "
