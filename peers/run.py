@@ -229,7 +229,7 @@ def run_adapter(library: str, problem: str, *, label: str, out: Path | None,
                 adapter_args: list[str], command: str, log=sys.stderr) -> Path:
     """Run ``peers/LIBRARY/PROBLEM.py`` in the library's venv and write the submission
     folder; returns its path."""
-    from debench.reference import problems, submissions
+    from debench.reference import problems
 
     adapter = library_dir(library) / f"{problem}.py"
     if not adapter.is_file():
@@ -257,49 +257,66 @@ def run_adapter(library: str, problem: str, *, label: str, out: Path | None,
             raise PeerError(f"adapter {adapter.relative_to(REPO)} failed (exit "
                             f"{proc.returncode}); nothing written to {out}")
         cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-        produced = json.loads((result_dir / "adapter.json").read_text())
-        results = result_dir / "results.csv"
-        if not results.is_file():
-            raise PeerError(f"adapter {adapter.name} wrote no results.csv")
-        meta = {
-            "schema_version": 1, "problem": problem,
-            "quantity": produced.get("quantity", prob.quantities[0].name),
-            "results": "results.csv", "results_sha256": submissions.sha256_of(results),
-            "code": produced["code"],
-            "submitter": {"name": submitter(),
-                          "date": dt.datetime.now(dt.UTC).isoformat(timespec="seconds"),
-                          "affiliation": f"debench peers/run.py (debench commit "
-                                         f"{_git_commit()})"},
-            "method": produced["method"],
-            "environment": {"python": info["python"],
-                            "platform": platform.platform(),
-                            "hardware": hardware(),
-                            "requirements": [r for r in info["freeze"] if "==" in r]},
-            "run": {"command": command, "wall_seconds": round(wall, 2),
-                    "cpu_seconds": round(cpu, 2),
-                    "adapter": str(adapter.relative_to(REPO))},
-        }
-        if produced.get("check"):
-            meta["check"] = dict(produced["check"])
-        stage = work / "submission"
-        stage.mkdir()
-        shutil.copy2(results, stage / "results.csv")
-        for extra in produced.get("extra_files", []):
-            shutil.copy2(result_dir / extra, stage / extra)
-        (stage / submissions.METADATA_NAME).write_text(to_toml(meta), encoding="utf-8")
-        outcome = submissions.check(submissions.load(stage))
-        meta.setdefault("check", {})["claimed"] = "match" if outcome.passed else "mismatch"
-        (stage / submissions.METADATA_NAME).write_text(to_toml(meta), encoding="utf-8")
-        submissions.load(stage)  # the final folder validates
-        print(f"peers: {outcome.verdict.summary()}", file=log)
-        if out.exists():
-            shutil.rmtree(out)
-        out.parent.mkdir(parents=True, exist_ok=True)
-        shutil.move(str(stage), str(out))
-        print(f"peers: wrote {out} (wall {wall:.1f} s, cpu {cpu:.1f} s)", file=log)
-        return out
+        return write_submission(result_dir, problem, info=info, command=command, wall=wall,
+                                cpu=cpu, adapter=str(adapter.relative_to(REPO)), out=out,
+                                log=log)
     finally:
         shutil.rmtree(work, ignore_errors=True)
+
+
+def write_submission(result_dir: Path, problem: str, *, info: dict, command: str,
+                     wall: float, cpu: float, adapter: str, out: Path, log=sys.stderr) -> Path:
+    """The submission folder from an adapter's output (``results.csv`` and
+    ``adapter.json`` in ``result_dir``): metadata completed (``info``: the venv's install
+    record), checksum, claimed outcome; validated in a staging folder, then moved to
+    ``out`` (replacing an older one only once the new one is complete)."""
+    from debench.reference import problems, submissions
+
+    prob = problems.get(problem)
+    result_dir = Path(result_dir)
+    produced = json.loads((result_dir / "adapter.json").read_text())
+    results = result_dir / "results.csv"
+    if not results.is_file():
+        raise PeerError(f"the adapter wrote no results.csv in {result_dir}")
+    meta = {
+        "schema_version": 1, "problem": problem,
+        "quantity": produced.get("quantity", prob.quantities[0].name),
+        "results": "results.csv", "results_sha256": submissions.sha256_of(results),
+        "code": produced["code"],
+        "submitter": {"name": submitter(),
+                      "date": dt.datetime.now(dt.UTC).isoformat(timespec="seconds"),
+                      "affiliation": f"debench peers/run.py (debench commit "
+                                     f"{_git_commit()})"},
+        "method": produced["method"],
+        "environment": {"python": info["python"],
+                        "platform": platform.platform(),
+                        "hardware": hardware(),
+                        "requirements": [r for r in info["freeze"] if "==" in r]},
+        "run": {"command": command, "wall_seconds": round(wall, 2),
+                "cpu_seconds": round(cpu, 2), "adapter": adapter},
+    }
+    if produced.get("check"):
+        meta["check"] = dict(produced["check"])
+    stage = Path(tempfile.mkdtemp(prefix=".submission-", dir=result_dir))
+    shutil.copy2(results, stage / "results.csv")
+    (stage / submissions.METADATA_NAME).write_text(to_toml(meta), encoding="utf-8")
+    try:
+        outcome = submissions.check(submissions.load(stage))
+    except submissions.SubmissionError as exc:
+        raise PeerError(f"the adapter's results cannot be judged: {exc}") from None
+    meta.setdefault("check", {})["claimed"] = "match" if outcome.passed else "mismatch"
+    (stage / submissions.METADATA_NAME).write_text(to_toml(meta), encoding="utf-8")
+    submissions.load(stage)  # the final folder validates
+    print(f"peers: {outcome.verdict.summary()}", file=log)
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    old = out.with_name(f".{out.name}.old")
+    if out.exists():
+        os.replace(out, old)
+    shutil.move(str(stage), str(out))
+    shutil.rmtree(old, ignore_errors=True)
+    print(f"peers: wrote {out} (wall {wall:.1f} s, cpu {cpu:.1f} s)", file=log)
+    return out
 
 
 def run_script(library: str, script: str, args: list[str], log=sys.stderr) -> int:

@@ -191,6 +191,7 @@ def check(sub: Submission) -> Outcome:
     units by meaning, full coverage unless ``[check] partial = true``)."""
     from debench.reference import problems
     from debench.reference.cli import UsageError, read_results
+
     from debench.testing import compare
 
     prob = problems.get(sub.problem)

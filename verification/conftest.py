@@ -2,6 +2,10 @@
 
 * ``--full`` opts in to tests marked ``slow`` (converged finite-element meshes, full
   sweeps). Without it they are skipped, and a fast but real version of every check runs.
+* ``--peers`` opts in to tests marked ``peers``: they build the peer libraries'
+  environments from their pinned requirements (``peers/run.py``) and rerun every curated
+  submission's adapter. Opted in, nothing is skipped: a missing Python or a failed install
+  fails the test.
 * Thread counts (BLAS/OpenMP, NGSolve) are set once here by
   :func:`debench.threads.limit_threads` (``DEBENCH_THREADS``, default 1).
 * Hypothesis is deterministic by default (profile ``debench``: derandomized, no example
@@ -51,13 +55,21 @@ def pytest_addoption(parser: pytest.Parser) -> None:
         "--install", action="store_true", default=False,
         help="run tests marked install (wheel built and installed in a fresh venv)",
     )
+    parser.addoption(
+        "--peers", action="store_true", default=False,
+        help="run tests marked peers (build the peer codes' venvs, rerun their adapters "
+             "and compare with the curated submissions)",
+    )
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     skip_slow = pytest.mark.skip(reason="slow: opt in with --full")
     skip_install = pytest.mark.skip(reason="install: opt in with --install")
+    skip_peers = pytest.mark.skip(reason="peers: opt in with --peers")
     for item in items:
         if "slow" in item.keywords and not config.getoption("--full"):
             item.add_marker(skip_slow)
         if "install" in item.keywords and not config.getoption("--install"):
             item.add_marker(skip_install)
+        if "peers" in item.keywords and not config.getoption("--peers"):
+            item.add_marker(skip_peers)

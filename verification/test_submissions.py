@@ -14,7 +14,6 @@ import tomllib
 
 import numpy as np
 import pytest
-
 from debench.reference import problems, submissions
 from debench.reference.cli import EXIT_FAILED, EXIT_OK, EXIT_USAGE, main
 

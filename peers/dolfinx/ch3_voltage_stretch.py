@@ -30,13 +30,12 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import time
 from pathlib import Path
 
-import dolfinx_solver  # noqa: F401 - must precede dolfinx (orders MPI ahead of PETSc)
 import dolfinx
 import dolfinx.fem.petsc
+import dolfinx_solver  # noqa: F401 - must precede dolfinx (orders MPI ahead of PETSc)
 import numpy as np
 import ufl
 from mpi4py import MPI

@@ -31,10 +31,11 @@ the repeated stretches of the undeformed film, where the square root is not
 differentiable; the energy is even in that root, so the error is O(delta^2)); the hoop
 stretch squared is C_TT.
 
-Resolution: P2 displacement and P2 potential on a quadrilateral mesh graded towards the
-rim and towards both faces (the clamped corners); v_cr on two meshes (the second twice as
-fine in each direction); the finer is written and twice the change is stated as its
-accuracy.
+Resolution: P3 displacement and P3 potential (``--degree``) on a quadrilateral mesh graded
+towards the rim and towards both faces (the clamped corners); v_cr on two meshes (the
+second twice as fine in each direction); the finer is written and twice the change is
+stated as its accuracy. Measured (neo-Hookean): P2 on 20 x 2, 40 x 4 cells: 0.2206167,
+0.2203691; P3 on 40 x 4, 80 x 8: 0.2202962, 0.2202765.
 """
 
 from __future__ import annotations
@@ -44,9 +45,9 @@ import json
 import time
 from pathlib import Path
 
-import dolfinx_solver  # noqa: F401 - must precede dolfinx (orders MPI ahead of PETSc)
 import dolfinx
 import dolfinx.fem.petsc
+import dolfinx_solver  # noqa: F401 - must precede dolfinx (orders MPI ahead of PETSc)
 import numpy as np
 import ufl
 from mpi4py import MPI
@@ -255,7 +256,7 @@ def main():
     ap.add_argument("--label", default="default")
     ap.add_argument("--nr", type=int, default=40, help="cells along R (coarser mesh)")
     ap.add_argument("--nz", type=int, default=4, help="cells through the thickness")
-    ap.add_argument("--degree", type=int, default=2)
+    ap.add_argument("--degree", type=int, default=3)
     ap.add_argument("--beta-r", type=float, default=3.0, help="grading towards the rim")
     ap.add_argument("--beta-z", type=float, default=2.0, help="grading towards the faces")
     ap.add_argument("--dv", type=float, default=0.02, help="scan step in v")

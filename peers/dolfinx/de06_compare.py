@@ -28,9 +28,10 @@ from pathlib import Path
 
 import numpy as np
 
-ORDER = ["published", "bulk1e5", "quad4", "thin", "matched"]
+ORDER = ["published", "bulk1e4", "bulk1e5", "quad4", "thin", "matched"]
 WHAT = {
     "published": "as published (K = 1000 G, quadrature degree 2, T0 = 0.2 mm)",
+    "bulk1e4": "K = 1e4 G, else as published",
     "bulk1e5": "K = 1e5 G (nearly incompressible), else as published",
     "quad4": "full quadrature (degree 4), else as published",
     "thin": "T0 = 0.02 mm (ten times thinner), else as published",
@@ -51,7 +52,7 @@ def membrane_curve(p: dict):
     return br.lam, phib
 
 
-def compare(run: dict) -> dict:
+def compare(run: dict, phibar_common: float) -> dict:
     p = run["parameters"]
     lam_m, phi_m = membrane_curve(p)
     rows = [r for r in run["rows"] if r["actuation"]]
@@ -72,11 +73,17 @@ def compare(run: dict) -> dict:
     area = {k: (v / lam_at) ** 2 - 1 for k, v in
             (("edge", lam_edge), ("mid", lam_mid), ("thickness", lam_thick))}
     worst = {k: float(v[np.argmax(np.abs(v))]) for k, v in area.items()}
+    at_common = {k: float(np.interp(phibar_common, phib, v)) for k, v in area.items()}
     return {"variant": run["variant"], "phibar_end": float(phib[-1]),
+            "phibar_common": float(phibar_common),
             "lam_membrane_end": float(lam_at[-1]), "lam_edge_end": float(lam_edge[-1]),
             "lam_mid_end": float(lam_mid[-1]), "lam_thick_end": float(lam_thick[-1]),
+            # volume ratio in the disc: hoop = radial stretch (homogeneous), thickness at
+            # the axis
+            "J_mid_end": float(lam_mid[-1] ** 2 * rows[-1]["axis_thickness_ratio"]),
             "prestretch_mid": float(pre["mid_radial_stretch"]),
             "area_end": {k: float(v[-1]) for k, v in area.items()}, "area_worst": worst,
+            "area_common": at_common,
             "wall_seconds": run["wall_seconds"], "cpu_seconds": run["cpu_seconds"],
             "increments": run["increments"], "completed": run["completed"],
             "lam_lock": float(lam_m[-1] / 0.999)}
@@ -98,24 +105,26 @@ def markdown(results: list[dict], runs: dict) -> str:
         "The membrane model (debench.models.circular, consistent balance) on the same "
         f"parameters; its circle-A locking stretch is {r0['lam_lock']:.4f}.",
         "",
-        "Electrode area stretch relative to the pre-stretched state, difference from the "
-        "membrane model at the same voltage, (lambda_run/lambda_membrane)^2 - 1, at the "
-        "end of the ramp (largest over the ramp in brackets), by probe:",
+        "Electrode area stretch relative to the pre-stretched state: the difference from "
+        "the membrane model at the same voltage, (lambda_run/lambda_membrane)^2 - 1, by "
+        f"probe, at Phibar = {results[0]['phibar_common']:.4g} (the highest voltage every "
+        "run reached) and at the end of each run's ramp:",
         "",
-        "| run | lambda (membrane) | lambda edge | lambda mid | lambda from thickness | "
-        "area diff, edge probe | area diff, mid probe | area diff, thickness probe | "
-        "wall / cpu s |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "| run | increments converged | Phibar at end | lambda membrane / edge / mid / "
+        "thickness at end | area diff at the common Phibar: edge, mid, thickness probe | "
+        "area diff at end: edge, mid, thickness | J in the disc at end | wall / cpu s |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     for r in results:
-        e, w = r["area_end"], r["area_worst"]
+        e, c = r["area_end"], r["area_common"]
         lines.append(
-            f"| {WHAT[r['variant']]} | {r['lam_membrane_end']:.4f} | {r['lam_edge_end']:.4f} "
-            f"| {r['lam_mid_end']:.4f} | {r['lam_thick_end']:.4f} | "
-            f"{100 * e['edge']:+.2f} % ({100 * w['edge']:+.2f} %) | "
-            f"{100 * e['mid']:+.2f} % ({100 * w['mid']:+.2f} %) | "
-            f"{100 * e['thickness']:+.2f} % ({100 * w['thickness']:+.2f} %) | "
-            f"{r['wall_seconds']:.0f} / {r['cpu_seconds']:.0f} |")
+            f"| {WHAT[r['variant']]} | {r['increments']}"
+            f"{'' if r['completed'] else ' (Newton failed: the notebook stops)'} | "
+            f"{r['phibar_end']:.4g} | {r['lam_membrane_end']:.4f} / {r['lam_edge_end']:.4f}"
+            f" / {r['lam_mid_end']:.4f} / {r['lam_thick_end']:.4f} | "
+            f"{100 * c['edge']:+.2f} %, {100 * c['mid']:+.2f} %, {100 * c['thickness']:+.2f} % | "
+            f"{100 * e['edge']:+.2f} %, {100 * e['mid']:+.2f} %, {100 * e['thickness']:+.2f} % | "
+            f"{r['J_mid_end']:.4f} | {r['wall_seconds']:.0f} / {r['cpu_seconds']:.0f} |")
     lines.append("")
     return "\n".join(lines)
 
@@ -132,7 +141,9 @@ def main():
             runs[v] = json.loads(f.read_text())
     if "published" not in runs:
         raise SystemExit(f"no de06_published.json in {a.folder}")
-    results = [compare(runs[v]) for v in ORDER if v in runs]
+    common = min(max(r["phibar"] for r in run["rows"] if r["actuation"])
+                 for run in runs.values())
+    results = [compare(runs[v], common) for v in ORDER if v in runs]
     text = markdown(results, runs)
     print(text)
     print(json.dumps(results, indent=1))
