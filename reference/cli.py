@@ -813,8 +813,9 @@ def cmd_check(args) -> int:
 
     if args.submission is not None:
         return cmd_check_submission(args)
-    if not args.problem or not args.file:
-        raise UsageError("debench check needs PROBLEM and FILE, or --submission DIR")
+    if not args.problem or not args.file:  # argparse's own usage error (exit 2)
+        args.check_parser.error("the following arguments are required: problem, file "
+                                "(or --submission DIR)")
     try:
         prob = problems.get(args.problem)
     except problems.ProblemError as exc:
@@ -950,7 +951,7 @@ def build_parser() -> argparse.ArgumentParser:
                    "reference curve or value the file addresses must be covered)")
     s.add_argument("--verbose", action="store_true", help="accepted for compatibility: "
                    "the table of the worst points is always printed")
-    s.set_defaults(func=cmd_check)
+    s.set_defaults(func=cmd_check, check_parser=s)
 
     s = sub.add_parser("cite", help="BibTeX and CSL-JSON for a catalogue entry, dataset "
                        "or reference problem")

@@ -242,7 +242,9 @@ def test_submission_excludes_problem_and_file_arguments(valid):
     folder, _ = valid
     assert main(["check", PROBLEM, "x.csv", "--submission", str(folder)]) == EXIT_USAGE
     assert main(["check", "--submission", str(folder), "--rtol", "1e-3"]) == EXIT_USAGE
-    assert main(["check", PROBLEM]) == EXIT_USAGE
+    with pytest.raises(SystemExit) as exc:  # argparse: PROBLEM without FILE
+        main(["check", PROBLEM])
+    assert exc.value.code == EXIT_USAGE
 
 
 def test_schema_file_is_shared_with_the_verification_schemas():

@@ -26,16 +26,16 @@ solved on the mesh and on its uniform refinement (twice the cells); the finer va
 written and the largest change between the two is stated as the accuracy (x 2).
 """
 
-from __future__ import annotations
+from __future__ import annotations  # noqa: I001 - dolfinx_solver must precede dolfinx
 
 import argparse
 import json
 import time
 from pathlib import Path
 
+import dolfinx_solver  # the wheel's package first: it loads MPI ahead of dolfinx and PETSc
 import dolfinx
 import dolfinx.fem.petsc
-import dolfinx_solver  # noqa: F401 - must precede dolfinx (orders MPI ahead of PETSc)
 import numpy as np
 import ufl
 from mpi4py import MPI

@@ -38,16 +38,16 @@ stated as its accuracy. Measured (neo-Hookean): P2 on 20 x 2, 40 x 4 cells: 0.22
 0.2203691; P3 on 40 x 4, 80 x 8: 0.2202962, 0.2202765.
 """
 
-from __future__ import annotations
+from __future__ import annotations  # noqa: I001 - dolfinx_solver must precede dolfinx
 
 import argparse
 import json
 import time
 from pathlib import Path
 
+import dolfinx_solver  # the wheel's package first: it loads MPI ahead of dolfinx and PETSc
 import dolfinx
 import dolfinx.fem.petsc
-import dolfinx_solver  # noqa: F401 - must precede dolfinx (orders MPI ahead of PETSc)
 import numpy as np
 import ufl
 from mpi4py import MPI

@@ -78,6 +78,10 @@ VARIANTS = {
                 ("thickness  = 0.2 # undeformed thickness, mm",
                  "thickness  = 0.02 # undeformed thickness, mm")],
 }
+# the matched physics with four times finer voltage increments (1200 instead of 300):
+# whether the notebook's fixed-increment Newton failure is a matter of step size
+VARIANTS["matched_fine"] = VARIANTS["matched"] + [
+    ("num_steps2  = 300", "num_steps2  = 1200")]
 
 #: the extra probe, recorded beside the notebook's own time histories (inserted after
 #: each "timeHist4[ii] = ..." line of the two load steps)
