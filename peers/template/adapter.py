@@ -84,7 +84,7 @@ def main():
         "quantity": q["name"],
         "code": {"name": "debench adapter template", "version": "1",
                  "commit_or_release": "the template as shipped",
-                 "url": "https://example.org/your-code (replace)"},
+                 "url": "https://example.org/your-code"},  # replace with yours
         "method": {"description": "closed form of the free membrane (the template's worked "
                                   "example)",
                    "discretisation": "none (closed form)",
