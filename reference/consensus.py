@@ -56,16 +56,17 @@ class Table:
     refused: list[str] = field(default_factory=list)
 
     def spread(self) -> dict[str, float]:
-        """Per selection: the spread across codes, max - min of the values (a scalar
-        quantity), or the largest |error| from the reference over every point of every
-        code (a curve: all codes lie within +- that of the reference)."""
+        """Per selection: the spread across codes, max - min of the values of every code
+        and of the reference (debench's own model counts as a code; a scalar quantity),
+        or the largest |error| from the reference over every point of every code (a
+        curve: all codes lie within +- that of the reference)."""
         out = {}
         for sel in dict.fromkeys(r.selection for r in self.rows):
             rs = [r for r in self.rows if r.selection == sel]
             if self.curve:
                 out[sel] = max(abs(r.error) for r in rs)
             else:
-                vals = [r.value for r in rs]
+                vals = [r.value for r in rs] + [rs[0].reference]
                 out[sel] = max(vals) - min(vals)
         return out
 
@@ -159,7 +160,7 @@ def markdown(table: Table) -> str:
     spread = table.spread()
     if spread:
         what = ("largest |difference| from the reference over every point of every code"
-                if table.curve else "spread across codes (max - min)")
+                if table.curve else "spread across codes and the reference (max - min)")
         n = len({r.code for r in table.rows})
         lines += ["", f"{what.capitalize()}, {n} code(s): " + "; ".join(
             f"{k}: {v:.3g}" for k, v in spread.items())]

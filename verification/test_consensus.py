@@ -72,8 +72,9 @@ def test_a_broken_submission_is_shown_as_refused(tmp_path):
 
 
 def test_spread_of_values_across_codes(tmp_path):
-    """Two copies of a scalar submission, one with its values shifted by d: the spread is d
-    per selection."""
+    """Two copies of a scalar submission, one with its values shifted by d: the spread
+    (codes and reference) is max - min of the two values and the reference, per
+    selection."""
     import hashlib
     import shutil
 
@@ -97,7 +98,12 @@ def test_spread_of_values_across_codes(tmp_path):
     [table] = consensus.tables(tmp_path)
     assert len(table.rows) == 2 * (len(lines) - 1)
     for sel, spread in table.spread().items():
-        assert spread == pytest.approx(d, rel=1e-9), sel
+        rows = [r for r in table.rows if r.selection == sel]
+        vals = sorted(r.value for r in rows)
+        assert vals[1] - vals[0] == pytest.approx(d, rel=1e-9)
+        ref = rows[0].reference
+        assert spread == pytest.approx(max(vals[1], ref) - min(vals[0], ref), rel=1e-12)
+        assert spread >= d
 
 
 # --------------------------------------------------------------------------- peers/run.py
