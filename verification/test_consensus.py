@@ -15,8 +15,8 @@ from pathlib import Path
 import pytest
 from debench.reference import consensus, problems, submissions
 
-CURATED = submissions.discover(submissions.curated_root())
 REPO = Path(__file__).resolve().parent.parent
+CURATED = submissions.discover(REPO / "submissions")
 
 
 def _run_module():
@@ -27,7 +27,9 @@ def _run_module():
 
 
 def test_there_are_curated_submissions():
-    assert len(CURATED) >= 2, f"expected curated submissions under {submissions.curated_root()}"
+    assert len(CURATED) >= 2, f"expected curated submissions under {REPO / 'submissions'}"
+    assert submissions.curated_root().resolve() == (REPO / "submissions").resolve(), (
+        "debench reads the curated submissions of this checkout (an editable install)")
 
 
 @pytest.mark.parametrize("folder", CURATED, ids=lambda p: f"{p.parent.name}/{p.name}")

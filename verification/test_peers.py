@@ -22,7 +22,7 @@ import pytest
 from debench.reference import submissions
 
 REPO = Path(__file__).resolve().parent.parent
-RERUNNABLE = [f for f in submissions.discover(submissions.curated_root())
+RERUNNABLE = [f for f in submissions.discover(REPO / "submissions")
               if submissions.load(f).meta["run"].get("adapter", "").startswith("peers/")]
 
 pytestmark = pytest.mark.peers
