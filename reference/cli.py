@@ -15,6 +15,7 @@ Examples
     debench report --readme        # regenerate the README results table
     debench problems ch3_free_membrane_nh --json
     debench check ch3_free_membrane_nh results.csv
+    debench check --submission submissions/ch5_critical_voltage/dolfinx-axisym
     debench cite ch3.pullin.voltage_lamP_1p25
 """
 
@@ -765,11 +766,57 @@ def _quantity_of(prob, name: str):
         raise UsageError(str(exc)) from None
 
 
+def cmd_check_submission(args) -> int:
+    """``debench check --submission DIR``: the metadata against the schema (refused, each
+    missing or invalid field named, exit 2), the results checksum, then the ordinary check
+    at the submitter's stated tolerance (if any) and at the reference's stated accuracy;
+    the exit code follows the former (0 match, 1 mismatch)."""
+    from debench.reference import submissions
+
+    if args.problem or args.file or args.rtol is not None or args.partial or args.quantity:
+        raise UsageError("--submission DIR takes neither PROBLEM, FILE, --quantity, --rtol "
+                         "nor --partial (the metadata states them)")
+    try:
+        sub = submissions.load(args.submission)
+        out = submissions.check(sub)
+    except submissions.SubmissionError as exc:
+        raise UsageError(str(exc)) from None
+    m = sub.meta
+    print(f"submission {sub.folder}: {m['code']['name']} {m['code']['version']} "
+          f"({m['code']['commit_or_release']}), run by {m['submitter']['name']} on "
+          f"{m['submitter']['date']}; results {m['results']} sha256 verified")
+    q = out.stated
+    if out.declared is not None:
+        print(f"at the submitter's stated tolerance ({sub.claims.get('reason')}):")
+        print("  " + out.declared.summary())
+    print("at the reference's stated accuracy alone:")
+    print("  " + q.summary())
+    prob_q = _problem_quantity(sub.problem, sub.quantity)
+    if prob_q.along and len(prob_q.select):
+        print(out.verdict.by_curve(prob_q.along))
+    print(out.verdict.table())
+    if out.claim_holds is False:
+        print(f"note: the submission claims '{sub.claims['claimed']}', the check says "
+              f"{'match' if out.passed else 'mismatch'}")
+    return EXIT_OK if out.passed else EXIT_FAILED
+
+
+def _problem_quantity(problem: str, quantity: str):
+    from debench.reference import problems
+
+    return problems.get(problem).quantity(quantity)
+
+
 def cmd_check(args) -> int:
     from debench.reference import problems
 
     from debench.testing import compare
 
+    if args.submission is not None:
+        return cmd_check_submission(args)
+    if not args.problem or not args.file:  # argparse's own usage error (exit 2)
+        args.check_parser.error("the following arguments are required: problem, file "
+                                "(or --submission DIR)")
     try:
         prob = problems.get(args.problem)
     except problems.ProblemError as exc:
@@ -889,8 +936,14 @@ def build_parser() -> argparse.ArgumentParser:
 
     s = sub.add_parser("check", help="check your results (CSV or netCDF) against a "
                        "reference problem; exit 0 match, 1 mismatch")
-    s.add_argument("problem", help="problem id (debench problems)")
-    s.add_argument("file", help="CSV with header 'name [units]' per column, or netCDF")
+    s.add_argument("problem", nargs="?", help="problem id (debench problems)")
+    s.add_argument("file", nargs="?",
+                   help="CSV with header 'name [units]' per column, or netCDF")
+    s.add_argument("--submission", metavar="DIR", help="check a submission folder instead: "
+                   "submission.toml (validated: code, version, commit, URL, submitter, date, "
+                   "method, mesh, tolerances, hardware, command) and the results file it "
+                   "names (checksum verified); refused, naming each missing field, when "
+                   "the metadata is incomplete")
     s.add_argument("--quantity", help="quantity to check (default: the one in FILE)")
     s.add_argument("--rtol", type=float, help="your relative tolerance (default: the "
                    "stated accuracy of the reference, which is also the floor)")
@@ -899,7 +952,7 @@ def build_parser() -> argparse.ArgumentParser:
                    "reference curve or value the file addresses must be covered)")
     s.add_argument("--verbose", action="store_true", help="accepted for compatibility: "
                    "the table of the worst points is always printed")
-    s.set_defaults(func=cmd_check)
+    s.set_defaults(func=cmd_check, check_parser=s)
 
     s = sub.add_parser("cite", help="BibTeX and CSL-JSON for a catalogue entry, dataset "
                        "or reference problem")

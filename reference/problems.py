@@ -686,6 +686,9 @@ def render_markdown(problem: Problem) -> str:
                              "whole range (any points; the stored ones are exact)"
                              if q.along else "") + "; or pass `--partial` and the report "
                 "says what was covered.", ""]
+    from debench.reference import consensus
+
+    out += consensus.problem_section(p.id)
     prov = provenance(p)
     if prov["datasets"]:
         out += ["## Provenance", ""]

@@ -363,6 +363,13 @@ def crosscheck_section(data_dir: Path | None = None) -> list[str]:
             "test uses.", "", crosschecks.table(rows), ""]
 
 
+def consensus_section() -> list[str]:
+    """The consensus of codes (``debench.reference.consensus``) as report lines."""
+    from debench.reference import consensus
+
+    return consensus.report_section()
+
+
 def _figure_lines(fig: Path, out_dir: Path) -> list[str]:
     """A figure (PNG, relative link) with a link to its SVG when there is one."""
     rel = os.path.relpath(fig.resolve(), Path(out_dir).resolve())
@@ -405,6 +412,7 @@ def write_report(out_dir: Path, results: list[Result], *, data_problems: list[st
         lines += [chapter_verdict(prefix, [r for r in results
                                            if r.entry.id.split(".")[0] == prefix]), ""]
     lines += crosscheck_section()
+    lines += consensus_section()
     shown: set[Path] = set()
     for prefix in prefixes:
         chunk = [r for r in results if r.entry.id.split(".")[0] == prefix]

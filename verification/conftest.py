@@ -4,6 +4,10 @@
   sweeps). Without it they are skipped, and a fast but real version of every check runs.
 * ``--docs`` opts in to tests marked ``docs``: the documentation site is built and opened
   in headless Chromium (a missing Sphinx or Chromium then fails, with how to install it).
+* ``--peers`` opts in to tests marked ``peers``: they build the peer libraries'
+  environments from their pinned requirements (``peers/run.py``) and rerun every curated
+  submission's adapter. Opted in, nothing is skipped: a missing Python or a failed install
+  fails the test.
 * Thread counts (BLAS/OpenMP, NGSolve) are set once here by
   :func:`debench.threads.limit_threads` (``DEBENCH_THREADS``, default 1).
 * Hypothesis is deterministic by default (profile ``debench``: derandomized, no example
@@ -57,12 +61,18 @@ def pytest_addoption(parser: pytest.Parser) -> None:
         "--docs", action="store_true", default=False,
         help="run tests marked docs (build the documentation site, check it in Chromium)",
     )
+    parser.addoption(
+        "--peers", action="store_true", default=False,
+        help="run tests marked peers (build the peer codes' venvs, rerun their adapters "
+             "and compare with the curated submissions)",
+    )
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     skip_slow = pytest.mark.skip(reason="slow: opt in with --full")
     skip_install = pytest.mark.skip(reason="install: opt in with --install")
     skip_docs = pytest.mark.skip(reason="docs: opt in with --docs")
+    skip_peers = pytest.mark.skip(reason="peers: opt in with --peers")
     for item in items:
         if "slow" in item.keywords and not config.getoption("--full"):
             item.add_marker(skip_slow)
@@ -70,3 +80,5 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
             item.add_marker(skip_install)
         if "docs" in item.keywords and not config.getoption("--docs"):
             item.add_marker(skip_docs)
+        if "peers" in item.keywords and not config.getoption("--peers"):
+            item.add_marker(skip_peers)
