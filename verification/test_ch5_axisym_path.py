@@ -69,3 +69,78 @@ def test_decide_pull_in_is_undecided_when_an_eigenvalue_at_the_maximum_is_within
     got = path.decide(5.0, 0.01, np.full(3, np.nan), np.full(3, np.nan),
                       np.array([1e-4, 0.2, 0.3]), np.array([2e-4, 1e-3, 1e-3]), False)
     assert got["first"] == -1 and got["n_index"] == 0
+
+
+# ------------------------------------------------------------------ the curated dataset
+PULLIN_ENTRIES = {"ch5.pullin_voltage.t1_nh": ("nh_r10", "v_max")}
+#: the converged value and error recomputed from the stored sequences: the same arithmetic
+#: on the same float64 numbers
+EXACT = 0.0
+
+
+@pytest.fixture(scope="module")
+def ds():
+    from debench.reference.datasets import read_dataset
+    return read_dataset("ch5_axisym_path")
+
+
+def test_curated_converged_values_and_decisions_follow_from_the_stored_sequences(ds):
+    """Every *_converged / *_error is :func:`converged` of the stored per-discretisation
+    values, and first_instability is :func:`decide` of them."""
+    discs = [tuple(int(x) for x in d) for d in zip(ds.order.values, ds.layers.values,
+                                                   strict=True)]
+    for key in ("v_max", "w_max", "thickness_max", "lam_at_max", "w_cross", "v_cross"):
+        got = path.converged(np.moveaxis(ds[key].values, 1, -1), discs)
+        for suffix, k in (("converged", "value"), ("error", "error")):
+            np.testing.assert_array_equal(ds[f"{key}_{suffix}"].values, got[k], err_msg=key)
+    for case in ds.case.values:
+        c = ds.sel(case=case)
+        before = bool(np.any(c.w_cross.values < c.w_max.values[:, None]))
+        d = path.decide(float(c.w_max_converged), float(c.w_max_error),
+                        c.w_cross_converged.values, c.w_cross_error.values,
+                        c.lam_at_max_converged.values, c.lam_at_max_error.values, before)
+        assert d["first"] == int(c.first_instability), case
+        assert abs(d["margin"] - float(c.margin)) <= EXACT, case
+
+
+def test_curated_first_instability_is_decided(ds):
+    """The neo-Hookean film at R/t0 = 10: pull-in first; no wavenumber 1..8 crosses zero
+    before the voltage maximum on any discretisation, and every eigenvalue at the maximum is
+    positive beyond its error estimate, on each discretisation too (the check function of
+    the catalogue entries, :func:`~debench.reference.producers.ch5.axisym_path_summary`)."""
+    from debench.reference.producers import ch5 as prod
+
+    got = prod.axisym_path_summary(ds, "nh_r10")
+    assert got["first"] == 0 and got["margin"] > got["margin_error"] > 0, got
+    c = ds.sel(case="nh_r10")
+    assert not np.any(np.isfinite(c.w_cross.values))
+    assert np.all(c.lam_at_max.values > 0)
+
+
+def test_catalogue_pullin_values_are_the_converged_path_values(ds):
+    """The catalogue's pull-in voltages are the converged voltage maxima of the path."""
+    from debench.reference import catalogue
+
+    for eid, (film, var) in PULLIN_ENTRIES.items():
+        out = catalogue.evaluate(catalogue.by_id()[eid])
+        assert out.value == float(ds[f"{var}_converged"].sel(case=film)), eid
+
+
+def test_3d_pullin_against_the_converged_path(ds):
+    """The 3D ramps' pull-in (mesh limit of h = 3, 2.5, 2 t0) lies below the converged
+    voltage maximum by more than the two error bars (the crosscheck entry's status, computed
+    by its check function); the independent model at the 3D ramps' resolution (quadratic,
+    one layer, uniform radial elements of size h) lies within a third of the 3D bias of the
+    3D level at h = 2 t0, moves between h = 2.5 and 2 t0 by more than the 3D error bar (so
+    that error bar cannot bound the error at these sizes), and refined to h = 0.5 t0 closes
+    90 % of its gap to the converged value."""
+    from debench.reference import catalogue
+
+    out = catalogue.evaluate(catalogue.by_id()["ch5.crosscheck.axisym_vs_3d_pullin_voltage_nh"])
+    d = out.details
+    assert out.status == "not_reproduced", d
+    assert abs(d["bias"]) > d["v_3d_error"] + d["v_axisym_error"]
+    assert d["like_minus_3d_at_h2"] < abs(d["finest_3d_minus_axisym"]) / 3
+    assert d["like_change_2p5_to_2"] > d["v_3d_error"]
+    gap_h2 = abs(d["v_axisym"] - d["v_3d_like"][d["h_3d_like"].index(2.0)])
+    assert d["like_gap_at_h0p5"] < 0.1 * gap_h2
