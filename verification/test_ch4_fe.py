@@ -20,7 +20,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from debench.models.errors import ConvergenceError
-from debench.models.plate import PlateParams, _roots, base_state, energy_matrix
+from debench.models.numerics import roots
+from debench.models.plate import PlateParams, base_state, energy_matrix
 from debench.models.plate import strip_fe as sfe
 from debench.reference.producers import ch4_fe as P
 
@@ -212,18 +213,18 @@ def test_secant_steps_bracket_a_zero_within_xtol():
     find no sign change (a zero outside the bracket, a flat function) the whole bracket is
     searched, and a bracket without a sign change raises."""
     root, xtol = 0.7310585786300049, 1e-11
-    fm = _roots.Memo(lambda x: np.tanh(3 * (x - root)))
-    _roots.secant_steps(fm, 0.73, 0.7, 0.8, xtol)
+    fm = roots.Memo(lambda x: np.tanh(3 * (x - root)))
+    roots.secant_steps(fm, 0.73, 0.7, 0.8, xtol)
     a, b = fm.narrowest_sign_change()
     assert 0 < b - a < xtol and a <= root <= b and len(fm.values) <= 6
-    r, fm = _roots.zero_near(lambda x: np.tanh(3 * (x - root)), 0.73, 0.7, 0.8, xtol)
+    r, fm = roots.zero_near(lambda x: np.tanh(3 * (x - root)), 0.73, 0.7, 0.8, xtol)
     assert abs(r - root) <= xtol and r in fm.values
-    r, _ = _roots.zero_near(lambda x: x - 0.79, 0.701, 0.7, 0.8, xtol)
+    r, _ = roots.zero_near(lambda x: x - 0.79, 0.701, 0.7, 0.8, xtol)
     assert abs(r - 0.79) <= xtol
     with pytest.raises(ConvergenceError, match="does not change sign"):
-        _roots.zero_near(lambda x: x - 0.95, 0.75, 0.7, 0.8, xtol)
+        roots.zero_near(lambda x: x - 0.95, 0.75, 0.7, 0.8, xtol)
     with pytest.raises(ConvergenceError, match="does not change sign"):
-        _roots.zero_near(lambda x: 1.0, 0.75, 0.7, 0.8, xtol)
+        roots.zero_near(lambda x: 1.0, 0.75, 0.7, 0.8, xtol)
 
 
 def test_strip_root_from_the_determinant_root_is_the_bracketed_one():

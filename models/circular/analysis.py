@@ -16,7 +16,8 @@ import math
 
 import numpy as np
 from debench.models import validation as v
-from debench.models.errors import ConvergenceError, checked_brentq
+from debench.models.errors import ConvergenceError
+from debench.models.numerics.roots import checked_brentq
 from scipy.interpolate import CubicHermiteSpline
 
 from . import circle_a

@@ -155,14 +155,14 @@ def build(out_dir: Path, *, full: bool = False, progress: bool = True,
           scheduler: str | None = None) -> list[Path]:
     """Compute and write the three datasets into ``out_dir``.
 
-    The independent FE tasks (:func:`plan`) run as :func:`debench.reference.builders.ch5.
+    The independent FE tasks (:func:`plan`) run as :func:`debench.reference.tasks.
     run_tasks` runs them: ``scheduler`` None or ``"serial"`` in this process, ``"local"``
     on a Dask LocalCluster sized to the machine (``debench reproduce ch4_fe --scheduler
     local``), an address: an existing scheduler (same results: each task is a pure
     function of its arguments). Serial by default: the build is about 50 s of CPU, and a
     LocalCluster's start costs seconds and can time out on a heavily loaded machine.
     """
-    from debench.reference.builders.ch5 import resolve_scheduler, run_tasks
+    from debench.reference.tasks import resolve_scheduler, run_tasks
 
     out_dir = Path(out_dir)
     p = plan(full)

@@ -1,5 +1,7 @@
-"""Producers and checks for the finite-element circular actuator (entries ``ch3.fe.*`` and
-the interface erratum ``ch3.erratum.eq_3_32`` in ``reference/catalogue/ch3.toml``).
+"""The Chapter 3 finite-element study: the meshes, cases and checks that compare the
+finite-element circular actuator with the analytic model (the ``ch3_fe*`` datasets and the
+entries ``ch3.fe.*`` and ``ch3.erratum.eq_3_32`` of ``reference/catalogue/ch3.toml``, whose
+producers are :mod:`debench.reference.producers.ch3_fe`).
 
 The finite-element model (:mod:`debench.models.circular.fe`) minimises the membrane energy
 (3.20) of the whole film; it shares no equation with the annulus ODE (3.33)/(3.34) or
@@ -25,27 +27,20 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-from debench.models.circular import circle_a
+from debench.models.circular import circle_a, params
 from debench.models.circular._chapter_pass import current_constants
 from debench.models.circular.actuator import branch, branches, curves_many
 from debench.models.circular.params import Annulus
 from debench.models.circular.shooting import integrate_inward, interface_state, q_for_stretch
-from debench.reference.catalogue import Accuracy, Entry, Outcome
+from debench.reference.studies.ch3 import RADIUS_RATIO
 
 VARIANTS = ("printed", "membrane")
-EV = "verification/test_ch3_fe.py"
 #: RK4 steps of the analytic reference: its error (order 4, 8e-6 in T1 at 200 steps) is
 #: ~3e-8 in T1 at 800 steps, 30x below the coarse-mesh tolerances below; the converged
 #: comparison (``--full``) uses ANALYTIC_STEPS_FINE (~1e-10, below the fine FE error 2e-9)
 ANALYTIC_STEPS = 800
 ANALYTIC_STEPS_FINE = 3200
 
-#: Accuracy of a recomputed FE value on a fixed mesh: Newton stops at a relative update of
-#: 1e-10 (quadratic: the state is then exact to round-off, ~1e-13 relative) and roots are
-#: located to 1e-11 in lam, so a recomputation on any CPU/BLAS moves a value by < 1e-11;
-#: rtol 1e-8 is a 1000x margin and still far below the coarse mesh's discretisation error.
-ACCURACY = Accuracy(rtol=1e-8, atol=1e-9, reason="ch3 FE on a fixed mesh: Newton to 1e-10 "
-                    "relative update (quadratic), roots to 1e-11 in lam; 1000x margin")
 
 #: The coarse mesh of the default run and the producers; the converged one of ``--full``.
 MESH_COARSE = dict(n_a=2, n_b=20, order=2)
@@ -86,7 +81,8 @@ def _fe_event(quantity: str, lamP: float, c: float, mesh: dict) -> float:
 
 
 @lru_cache(maxsize=32)
-def _branch(lamP: float, equilibrium: str, steps: int = ANALYTIC_STEPS):
+def analytic_branch(lamP: float, equilibrium: str, steps: int = ANALYTIC_STEPS):
+    """The analytic annulus branch at ``lamP`` in one equilibrium variant (memoised)."""
     return branch(Annulus(lamP, equilibrium=equilibrium), steps=steps)
 
 
@@ -131,7 +127,7 @@ def _interface_states(lamP: float, equilibrium: str, lams: tuple, steps: int):
     """The annulus interface states (lam, T1 at R_A) at the circle-A stretches ``lams``
     (Newton on the shooting parameter): independent of c (c enters circle A only), so
     that the curves of every c share them."""
-    br = _branch(lamP, equilibrium, steps)
+    br = analytic_branch(lamP, equilibrium, steps)
     lam = np.array(lams)
     q = q_for_stretch(br.annulus, lam, np.interp(lam, br.lam, br.q), steps=steps)
     st = interface_state(br.annulus, q, steps=steps)
@@ -206,31 +202,6 @@ HOMOGENEITY_TOL = 1e-8
 INTERFACE_MESHES = tuple(dict(n_a=2, n_b=n, order=2) for n in (10, 20, 40))
 
 
-def erratum_eq_3_32(entry: Entry) -> Outcome:
-    """(3.32) holds in the FE limit (refuted as an erratum) when the FE stress jump at R_A
-    vanishes under refinement at the order of the P2 stress; confirmed otherwise."""
-    lamP = float(entry.parameters.get("lamP", 3.0))
-    lam = float(entry.parameters.get("lam", 4.0))
-    d = interface_balance(lamP, lam, INTERFACE_MESHES)
-    holds = d["order"] >= JUMP_ORDER_MIN
-    details = {"order": d["order"], "jump_finest": d["jump"][-1], "T1B": d["T1B"][-1],
-               "circle_a_inhomogeneity": d["circle_a_inhomogeneity"]}
-    return Outcome(value=not holds, status="refuted" if holds else "confirmed",
-                   evidence=entry.evidence, details=details)
-
-
-def fe_event(entry: Entry) -> Outcome:
-    """``ch3.fe.*`` event entries: true when the FE agrees with exactly the variant named
-    in the entry's ``parameters.variant`` (the consistent membrane balance)."""
-    p = entry.parameters
-    q = p["quantity"]
-    d = event_support(q, float(p["lamP"]), float(p["c"]), MESH_COARSE, TOL_COARSE[q])
-    ok = d["supports"] == p["variant"]
-    details = {k: d[k] for k in ("fe", "printed", "membrane", "diff_printed",
-                                 "diff_membrane")}
-    return Outcome(value=bool(ok), details=details, evidence=entry.evidence)
-
-
 #: the Figs 3.4, 3.5, 3.8 cases compared point by point (tests and dataset; too slow for a
 #: producer)
 CURVE_LAMP = (1.25, 2.0, 3.0, 4.0)
@@ -257,7 +228,7 @@ def profile_comparison(lamP: float, lam: float, mesh: dict,
     s = fe.solve(lam)
     out = {}
     for v in VARIANTS:
-        br = _branch(float(lamP), v, steps)
+        br = analytic_branch(float(lamP), v, steps)
         q = q_for_stretch(br.annulus, np.array([lam]), np.interp(lam, br.lam, br.q),
                           steps=steps)
         _, _, t, P1, P2 = integrate_inward(br.annulus, q, steps=steps, profile=True)
@@ -312,17 +283,6 @@ def suppression_support(c: float, mesh: dict, tol: float, n: int = SUPPRESSION_N
     return out
 
 
-def fe_suppression_prestretch(entry: Entry) -> Outcome:
-    """``ch3.fe.suppression_prestretch``: true when the FE suppression pre-stretch agrees
-    with exactly the variant named in ``parameters.variant`` on :data:`MESH_COARSE`."""
-    p = entry.parameters
-    d = suppression_support(float(p["c"]), MESH_COARSE, TOL_SUPPRESSION_COARSE)
-    details = {k: d[k] for k in ("fe", "lam_cusp_fe", "printed", "membrane",
-                                 "diff_printed", "diff_membrane")}
-    return Outcome(value=d["supports"] == p["variant"], details=details,
-                   evidence=entry.evidence)
-
-
 # ------------------------------------------------------------------ film thickness
 #: The thin-solid model (:mod:`debench.models.circular.fe_solid`) at lamP = 3 compared at
 #: equal centre stretch (lambda_theta at the axis, the homogeneous stretch of circle A in
@@ -353,7 +313,7 @@ EXTRAPOLATION_FLOOR = 1e-6
 PENALTIES = (1e4, 1e5, 1e6)
 
 
-def _solid(lamP, H, mesh, penalty=None, c=0.0):
+def solid_model(lamP, H, mesh, penalty=None, c=0.0):
     from debench.models.circular.fe_solid import PENALTY, CircularSolidFE, SolidMesh
 
     return CircularSolidFE(lamP, H, c, mesh=SolidMesh(**mesh),
@@ -363,7 +323,7 @@ def _solid(lamP, H, mesh, penalty=None, c=0.0):
 def solid_phibar(lamP: float, H: float, lam_centre: float, mesh: dict,
                  penalty: float | None = None) -> float:
     """Phibar of the thin solid of thickness H/R_A at centre stretch ``lam_centre``."""
-    return _solid(lamP, H, mesh, penalty).at_centre_stretch(lam_centre).phibar
+    return solid_model(lamP, H, mesh, penalty).at_centre_stretch(lam_centre).phibar
 
 
 def penalty_spread(lamP: float, H: float, lam_centre: float, mesh: dict,
@@ -430,7 +390,7 @@ def solid_value(quantity: str, lamP: float, c: float, H: float, lam_centre: floa
                 mesh: dict) -> float:
     """One film of a thickness sequence: the thin solid's ``quantity`` (see
     :func:`thickness_study`) at film thickness H/R_A on the solid mesh ``mesh``."""
-    model = _solid(lamP, H, mesh, c=c)
+    model = solid_model(lamP, H, mesh, c=c)
     if quantity == "phibar":
         return model.at_centre_stretch(lam_centre).phibar
     if quantity == "pullin_phibar":
@@ -438,7 +398,7 @@ def solid_value(quantity: str, lamP: float, c: float, H: float, lam_centre: floa
     return model.loss_of_tension(LOT_LAM_HI).lam_centre
 
 
-def _analytic_value(quantity: str, lamP: float, c: float, lam_centre: float, variant: str,
+def analytic_value(quantity: str, lamP: float, c: float, lam_centre: float, variant: str,
                     steps: int) -> float:
     if quantity == "phibar":
         return float(analytic_phibar(lamP, c, variant, [lam_centre], steps)[0])
@@ -463,7 +423,7 @@ def thickness_limit(quantity: str, lamP: float, c: float, lam_centre: float, Hs,
         raise ValueError(f"quantity must be one of {THICKNESS_QUANTITIES}, got {quantity!r}")
     f = np.asarray(f, dtype=float)
     if variants is None:
-        variants = {v: _analytic_value(quantity, lamP, c, lam_centre, v, steps)
+        variants = {v: analytic_value(quantity, lamP, c, lam_centre, v, steps)
                     for v in VARIANTS}
     out = h_limit(Hs, f, variants, mesh_error=mesh_error)
     diffs = f - membrane_fe
@@ -568,13 +528,6 @@ def thickness_sequences(full: bool) -> tuple[FilmSequence, ...]:
     return THICKNESS_SEQUENCES_FULL if full else THICKNESS_SEQUENCES
 
 
-@lru_cache(maxsize=2)
-def _thickness_data():
-    from debench.reference.datasets import read_dataset
-
-    return read_dataset("ch3_fe_thickness")
-
-
 def stored_sequence(ds, quantity: str, lamP: float, c: float,
                     lam_centre: float = math.nan, nz: int = 1) -> dict:
     """The films, solid values, membrane FE, in-plane mesh error and analytic variants of
@@ -599,58 +552,22 @@ def stored_sequence(ds, quantity: str, lamP: float, c: float,
             "variants": {v: float(ds[f"value_{v}"].values[k]) for v in VARIANTS}}
 
 
-#: the sequence whose thickest film :func:`thickness_guards` recomputes: the lamP = 3,
-#: c = 0 Phibar sequence, the cheapest kind (~2 s CPU for the thickest film)
-GUARD_SEQUENCE = THICKNESS_SEQUENCES[0]
+def build_settings(full: bool) -> dict:
+    """Meshes, RK4 steps and mesh levels of the ``ch3_fe`` datasets (``full``: converged)."""
+    return {"curve_mesh": MESH_FINE if full else MESH_CURVE,
+            "steps": ANALYTIC_STEPS_FINE if full else ANALYTIC_STEPS,
+            "levels": (5, 10, 20, 40, 80) if full else (5, 10, 20),
+            "profile_mesh": MESH_FINE if full else dict(n_a=2, n_b=40, order=2)}
 
 
-def thickness_guards() -> list:
-    """The thin-solid model guard of ``debench verify`` (the ``ch3_fe_thickness`` dataset is
-    not rebuilt by it: minutes of CPU): the thickest film of :data:`GUARD_SEQUENCE`
-    recomputed on SOLID_MESH_COARSE, guarded as ``ch3.guard.thickness.thickest`` and as its
-    difference from the stored film (``..._minus_curated``, stored ~0), so that a change of
-    the solid model (material, electrode, penalty, solver) fails verify although the
-    producers only read stored films."""
-    from debench.reference.values import Guarded
-
-    g = GUARD_SEQUENCE
-    s = stored_sequence(_thickness_data(), g.quantity, g.lamP, g.c, g.lam_centre, g.nz)
-    got = solid_value(g.quantity, g.lamP, g.c, s["H"][0], g.lam_centre,
-                      dict(SOLID_MESH_COARSE, nz=g.nz))
-    tol = ACCURACY.tolerance(got)
-    return [Guarded("ch3.guard.thickness.thickest", float(got), tol, ACCURACY.reason),
-            Guarded("ch3.guard.thickness.thickest_minus_curated", float(got) - s["values"][0],
-                    tol, ACCURACY.reason)]
+def dataset_parameters(full: bool, **extra) -> dict:
+    """The parameters every ``ch3_fe*`` dataset records."""
+    return {"Jm": params.JM_VHB, "radius_ratio": RADIUS_RATIO, "element_order": 2, "full": full,
+            "model": "axisymmetric membrane FE (models/circular/fe.py)", **extra}
 
 
-def fe_thickness(entry: Entry) -> Outcome:
-    """``ch3.fe.thickness_*``: true when the thin solid's ``parameters.quantity`` on the
-    film sequence stored in the ``ch3_fe_thickness`` dataset (SOLID_MESH_COARSE, nz = 1,
-    at ``parameters.c``), extrapolated to H -> 0, meets exactly the variant named in
-    ``parameters.variant`` and the sequence converges in H (observed order >=
-    THICKNESS_ORDER_MIN). Nothing is solved here: the films, the membrane FE and both
-    analytic variants are the stored ones; the evidence tests recompute the films and the
-    analytic values."""
-    p = entry.parameters
-    q, lamP, c = p["quantity"], float(p["lamP"]), float(p["c"])
-    lc = float(p.get("lam_centre", math.nan))
-    s = stored_sequence(_thickness_data(), q, lamP, c, lc)
-    d = thickness_limit(q, lamP, c, lc, s["H"], s["values"], s["membrane_fe"],
-                        s["mesh_error"], variants=s["variants"])
-    details = {k: d[k] for k in ("extrapolated", "extrapolation_error", "mesh_error",
-                                 "order", "membrane_fe", "printed", "membrane",
-                                 "diff_printed", "diff_membrane")}
-    details["films"] = s["H"]
-    details["thickest"] = d["values"][0]
-    details["diff_thickest"] = d["diff_membrane_fe"][0]
-    return Outcome(value=bool(d["supports"] == p["variant"] and d["convergent"]),
-                   details=details, evidence=entry.evidence)
-
-
-__all__ = ["ACCURACY", "GUARD_SEQUENCE", "FilmSequence", "analytic_events", "analytic_phibar",
-           "erratum_eq_3_32", "event_support", "fe_event", "fe_suppression_prestretch",
-           "fe_thickness", "film_value", "h_limit", "interface_balance", "penalty_spread",
-           "solid_phibar",
-           "solid_value", "stored_sequence", "thickness_limit", "thickness_sequences",
-           "thickness_study",
-           "profile_comparison", "suppression_support", "voltage_stretch"]
+__all__ = ["FilmSequence", "build_settings", "dataset_parameters", "analytic_events", "analytic_phibar", "event_support",
+           "film_value", "h_limit", "interface_balance", "penalty_spread",
+           "profile_comparison", "solid_phibar", "solid_value", "stored_sequence",
+           "suppression_support", "thickness_limit", "thickness_sequences",
+           "thickness_study", "voltage_stretch"]
