@@ -31,7 +31,7 @@ from debench.reference.studies import ch3_fe as P
 from benchmarks import baseline
 
 #: the code before this work
-BEFORE = "cd28790"
+BEFORE = "bench/ch3-fe-before-rework"
 FILES = {"fe": "models/circular/fe.py", "fe_solid": "models/circular/fe_solid.py",
          "ch3_fe": "reference/producers/ch3_fe.py"}
 EVENT_IDS = ("ch3.fe.loss_of_tension_lamP_3", "ch3.fe.pullin_voltage_lamP_1p25",

@@ -40,7 +40,7 @@ from benchmarks import baseline
 from benchmarks.test_bench_ch4_roots import fem_crossing_root
 
 #: the code before these rewrites
-BEFORE = "bac179c"
+BEFORE = "bench/ch4-verify-before-rewrites"
 FILES = {"ansatz": "models/plate/ansatz.py", "inplane": "models/plate/inplane.py",
          "fem": "models/plate/fem.py"}
 #: the two determinant forms differ by round-off relative to the largest |det| of the

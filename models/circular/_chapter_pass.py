@@ -149,6 +149,12 @@ def _chapter(spec: ChapterSpec) -> Chapter:
     return _compute(spec)
 
 
+def clear_memo() -> None:
+    """Forget every memoised chapter pass (the next :func:`chapter` call computes: what a
+    cold-start benchmark times)."""
+    _chapter.cache_clear()
+
+
 def _annulus(spec: ChapterSpec, lamP: float, eq: str) -> Annulus:
     return Annulus(float(lamP), float(spec.radius_ratio), float(spec.Jm), eq)
 
