@@ -253,13 +253,6 @@ def voltage_agreement(fe_source: str = "live"):
     return err, same, rows
 
 
-def tension_roots(theta: float, Dhat: float, kH: float, xi: float = XI, fe: bool = True):
-    """(determinant roots, FE roots or ()) in the tension window :data:`T_WINDOW`
-    (memoised on the values of the parameters)."""
-    case = tension_case(theta, Dhat, kH, xi)
-    return det_roots(case), (fe_roots(case) if fe else ())
-
-
 def tension_check(fe_source: str = "live"):
     """(ok, rows, none_without_field) of the tension claim: with Dhat = D_TENSION a root
     above 1 at every theta and kH of KH_TENSION (both methods, within TOL_AGREE, the FE
