@@ -292,10 +292,10 @@ def critical_stretches(kH: float, params: PlateParams, *, window=LAM_WINDOW,
     """All lam in ``window`` at which a parity determinant vanishes, at fixed kH.
 
     Sign changes of the determinant on a geometric lam grid bracket the roots; all are
-    refined together (vectorised Illinois iteration, :func:`~debench.models.numerics.roots.regula_falsi_many`) to
-    ``xtol = 1e-13``. Points where the model is not strongly elliptic are skipped (no
-    bracket crosses them). Raises :class:`ConvergenceError` if the refinement fails on a
-    bracket. ``n_scan >= MIN_SCAN``.
+    refined together (vectorised Illinois iteration,
+    :func:`~debench.models.numerics.roots.regula_falsi_many`) to ``xtol = 1e-13``. Points
+    where the model is not strongly elliptic are skipped (no bracket crosses them). Raises
+    :class:`ConvergenceError` if the refinement fails on a bracket. ``n_scan >= MIN_SCAN``.
     """
     kH = v.finite("kH", kH)
     require(kH > 0, f"kH must be finite and > 0, got {kH}")

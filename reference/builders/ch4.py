@@ -299,8 +299,9 @@ def figures(out: Path, c42: xr.Dataset, c45: xr.Dataset, lim: xr.Dataset, ar: xr
     ax.set_xlabel(r"case, $\hat D$")
     ax.set_ylabel(r"area of $\{\det < 0\}$ in the $(kH, \lambda)$ plane")
     ax.legend(fontsize=8)
+    lam_lo, lam_hi = study.AREA_LAM[0], study.AREA_LAM[1]
     ax.set_title("Fig. 4.3: unstable-region areas, assumed window "
-                 rf"$kH \in$ [0.01, 10], $\lambda \in$ [{study.AREA_LAM[0]:g}, {study.AREA_LAM[1]:g}]"
+                 rf"$kH \in$ [0.01, 10], $\lambda \in$ [{lam_lo:g}, {lam_hi:g}]"
                  "\n(the thesis' areas are in its figure image only)")
     paths += save(fig, out / "fig4_3_areas")
     # Fig 4.4

@@ -566,7 +566,8 @@ def dataset_parameters(full: bool, **extra) -> dict:
             "model": "axisymmetric membrane FE (models/circular/fe.py)", **extra}
 
 
-__all__ = ["FilmSequence", "build_settings", "dataset_parameters", "analytic_events", "analytic_phibar", "event_support",
+__all__ = ["FilmSequence", "analytic_events", "analytic_phibar", "build_settings",
+           "dataset_parameters", "event_support",
            "film_value", "h_limit", "interface_balance", "penalty_spread",
            "profile_comparison", "solid_phibar", "solid_value", "stored_sequence",
            "suppression_support", "thickness_limit", "thickness_sequences",
