@@ -73,7 +73,7 @@ def test_regeneration_tolerance_rejects_a_void_accuracy():
     assert regeneration_tolerance({}) == (REGEN_RTOL, REGEN_ATOL)
 
 
-def _write_store(directory, value, tolerance, residual):
+def _write_store(directory, value, tolerance, residual, name="our_values"):
     ds = xr.Dataset(
         {"value": ("key", value, {"long_name": "value", "units": "1"}),
          "tolerance": ("key", tolerance, {"long_name": "absolute tolerance", "units": "1",
@@ -81,7 +81,7 @@ def _write_store(directory, value, tolerance, residual):
          "eig_residual": ("key", residual, {"long_name": "backward error", "units": "1",
                                             "coverage_content_type": "qualityInformation"})},
         coords={"key": ("key", np.arange(len(value)), {"long_name": "key", "units": "1"})})
-    return write_dataset(ds, "ch5_store_test", title="t", summary="s", parameters={"a": 1},
+    return write_dataset(ds, name, title="t", summary="s", parameters={"a": 1},
                          out_dir=directory, overwrite=True)
 
 
@@ -101,3 +101,11 @@ def test_values_are_judged_by_their_stored_tolerance_and_residuals_by_size(tmp_p
     assert compare_with_curated(new, tmp_path / "curated").endswith("DIFFERS in value")
     new = _write_store(tmp_path / "new", value, tol, 2 * RESIDUAL_GROWTH * res)
     assert compare_with_curated(new, tmp_path / "curated").endswith("DIFFERS in eig_residual")
+    # another dataset with a "tolerance" beside its values (the thesis values: literals
+    # beside printed-digit tolerances, some NaN) is compared by the default
+    _write_store(tmp_path / "curated", value, np.array([np.nan, 0.05]), res, "thesis_like")
+    new = _write_store(tmp_path / "new", value, np.array([np.nan, 0.05]), res, "thesis_like")
+    assert compare_with_curated(new, tmp_path / "curated").endswith("matches curated")
+    new = _write_store(tmp_path / "new", value + np.array([1e-9, 0.0]),
+                       np.array([np.nan, 0.05]), res, "thesis_like")
+    assert compare_with_curated(new, tmp_path / "curated").endswith("DIFFERS in value")
