@@ -1,11 +1,17 @@
 """Earlier code paths loaded from git history, so that a benchmark times them against the
 current code in the same run (no frozen copies in the tree).
 
-:func:`load` reads the files of a commit with ``git show <commit>:<path>``, writes them
+:func:`load` reads the files of a named ref with ``git show <ref>:<path>``, writes them
 into a temporary package and imports them. Relative and absolute imports between the
 loaded files are redirected to the temporary package; every other import resolves to the
 installed ``debench``. Raises :class:`BaselineUnavailable` when git, the checkout or the
-commit is missing (an installed wheel, a shallow clone); benchmarks skip with its message.
+ref is missing (an installed wheel, a shallow clone, a clone without the tags);
+benchmarks skip with its message.
+
+Baselines are named by tag, never by a commit written here: each benchmark names the tag
+``bench/<what changed>`` of the last commit before the change it times (``git tag -l
+'bench/*'`` lists them; a maintainer creates one with ``git tag bench/<name> <commit>``
+when the change lands).
 """
 
 from __future__ import annotations
@@ -21,7 +27,7 @@ from pathlib import Path
 
 #: the Chapter 3 code before the batched pass (one trace and one event location per
 #: equilibrium variant, the term-by-term RK4, loss of tension located per c)
-CH3_BEFORE_BATCHED_PASS = "c9fb6ae"
+CH3_BEFORE_BATCHED_PASS = "bench/ch3-before-batched-pass"
 #: module name in the temporary package -> path in the repository at that commit
 CH3_FILES = {
     "actuator": "models/circular/actuator.py",
@@ -85,16 +91,23 @@ def _rewrite(source: str, path: str, files: dict[str, str], pkg: str) -> str:
 
 def load(commit: str = CH3_BEFORE_BATCHED_PASS, files: dict[str, str] | None = None,
          *, root: Path | None = None) -> dict[str, object]:
-    """Import ``files`` (module name -> repository path) as they were at ``commit``.
+    """Import ``files`` (module name -> repository path) as they were at the ref ``commit``
+    (a tag ``bench/...``, or any ref git resolves).
 
-    Returns the modules by name. Raises :class:`BaselineUnavailable` (with the reason)
-    when they cannot be read from git.
+    Returns the modules by name. Raises :class:`BaselineUnavailable` (with the reason and,
+    for a missing ref, how to create it) when they cannot be read from git.
     """
     files = dict(CH3_FILES if files is None else files)
     root = Path(__file__).resolve().parents[1] if root is None else Path(root)
     if not (root / ".git").exists():
         raise BaselineUnavailable(f"{root} is not a git checkout (installed package?)")
-    full = _git(root, "rev-parse", "--verify", "--quiet", f"{commit}^{{commit}}").strip()
+    try:
+        full = _git(root, "rev-parse", "--verify", "--quiet", f"{commit}^{{commit}}").strip()
+    except BaselineUnavailable as exc:
+        raise BaselineUnavailable(
+            f"the baseline ref {commit!r} is not in this clone ({exc}); fetch the tags "
+            f"(git fetch --tags) or create it: git tag {commit} <last commit before the "
+            "change the benchmark times>") from exc
     pkg = f"_debench_baseline_{full[:12]}"
     if pkg not in sys.modules:
         tmp = Path(tempfile.mkdtemp(prefix="debench-baseline-"))

@@ -29,7 +29,7 @@ from debench.reference.producers import ch3 as producers
 
 #: the Chapter 3 analytic code before the one memoised chapter pass shared by the builder
 #: and the producers (each computed its own branches, curves and roots)
-PREVIOUS_COMMIT = "bac179c"
+PREVIOUS_COMMIT = "bench/ch3-before-shared-chapter-pass"
 PREVIOUS_FILES = {
     "actuator": "models/circular/actuator.py",
     "analysis": "models/circular/analysis.py",
@@ -53,7 +53,7 @@ def _clear(mod):
         if hasattr(mod, name):
             getattr(mod, name).clear()
     mod._interface_changes_cached.cache_clear()
-    chapter._chapter.cache_clear()
+    chapter.clear_memo()
 
 
 def _chapter(build, prod, entries):

@@ -25,12 +25,13 @@ import time
 
 import pytest
 from debench.reference import catalogue
-from debench.reference.producers import ch3_fe as P
+from debench.reference.producers import ch3_fe as producers
+from debench.reference.studies import ch3_fe as P
 
 from benchmarks import baseline
 
 #: the code before this work
-BEFORE = "cd28790"
+BEFORE = "bench/ch3-fe-before-rework"
 FILES = {"fe": "models/circular/fe.py", "fe_solid": "models/circular/fe_solid.py",
          "ch3_fe": "reference/producers/ch3_fe.py"}
 EVENT_IDS = ("ch3.fe.loss_of_tension_lamP_3", "ch3.fe.pullin_voltage_lamP_1p25",
@@ -53,7 +54,7 @@ def _fresh(module):
 
 
 def _close(a: float, b: float) -> bool:
-    return abs(a - b) <= P.ACCURACY.tolerance(b)
+    return abs(a - b) <= producers.ACCURACY.tolerance(b)
 
 
 def _suppression(module):
@@ -94,7 +95,7 @@ def test_bench_fe_events(benchmark):
 
 
 def _film(module):
-    g = P.GUARD_SEQUENCE
+    g = producers.GUARD_SEQUENCE
     return module.solid_value(g.quantity, g.lamP, g.c, P.THICKNESS_H[0], g.lam_centre,
                               dict(P.SOLID_MESH_COARSE, nz=g.nz))
 

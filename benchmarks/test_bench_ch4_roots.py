@@ -27,7 +27,7 @@ from debench.models.plate.ansatz import critical_stretches
 from benchmarks import baseline
 
 #: the code before the roots were located from the determinant root
-BEFORE = "47f83b1"
+BEFORE = "bench/ch4-before-seeded-roots"
 FILES = {"strip_fe": "models/plate/strip_fe.py", "fem": "models/plate/fem.py"}
 XI, DHAT, KH = 0.0, 2.0, 0.3
 #: the producers' bracket half-width (reference/producers/ch4_fe.py: BRACKET) and the

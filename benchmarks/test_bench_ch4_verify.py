@@ -33,14 +33,14 @@ import numpy as np
 import pytest
 from debench.models.plate import PlateParams, ansatz, fem
 from debench.models.plate import inplane as ip
-from debench.reference.producers import ch4 as prod
-from debench.reference.producers import ch4_inplane as ipprod
+from debench.reference.studies import ch4 as prod_study
+from debench.reference.studies import ch4_inplane as ipprod_study
 
 from benchmarks import baseline
 from benchmarks.test_bench_ch4_roots import fem_crossing_root
 
 #: the code before these rewrites
-BEFORE = "bac179c"
+BEFORE = "bench/ch4-verify-before-rewrites"
 FILES = {"ansatz": "models/plate/ansatz.py", "inplane": "models/plate/inplane.py",
          "fem": "models/plate/fem.py"}
 #: the two determinant forms differ by round-off relative to the largest |det| of the
@@ -64,8 +64,8 @@ def _previous():
 
 # ------------------------------------------------------------------ region
 def _region(module):
-    p = PlateParams(xi=prod.XI_TI, Dhat=2.0, variant="printed")
-    return module._determinants(prod._lam()[None, :], prod._kH()[:, None], p)
+    p = PlateParams(xi=prod_study.XI_TI, Dhat=2.0, variant="printed")
+    return module._determinants(prod_study.lam_grid()[None, :], prod_study.kH_grid()[:, None], p)
 
 
 @pytest.mark.benchmark(group="ch4-region-81x241-1thread", timer=time.process_time)
@@ -84,7 +84,7 @@ def test_bench_region_determinants_minors(benchmark):
 
 # ------------------------------------------------------------------ in-plane determinant
 def _inplane_case():
-    return ipprod.compression_case(30.0)._args()
+    return ipprod_study.compression_case(30.0)._args()
 
 
 def _inplane_det(module):
@@ -106,7 +106,7 @@ def test_bench_inplane_det_roots_stacked(benchmark):
 
 
 def _windows():
-    return [(*args, kw) for args, kw in (c._args() for c in ipprod.producer_cases())]
+    return [(*args, kw) for args, kw in (c._args() for c in ipprod_study.producer_cases())]
 
 
 def _windows_one_by_one(module):

@@ -22,7 +22,7 @@ from debench.reference.builders import ch4
 from debench.reference.datasets import read_dataset
 
 #: the figure code before one layout pass per figure and the merged root lines
-PREVIOUS_COMMIT = "cd28790"
+PREVIOUS_COMMIT = "bench/figures-before-one-layout-pass"
 PREVIOUS_FILES = {"figures": "reference/figures.py", "ch4_builder": "reference/builders/ch4.py"}
 ROUNDS = 1
 DATASETS = ("ch4_fig4_2_curves", "ch4_fig4_5_curves", "ch4_limits", "ch4_areas",

@@ -38,7 +38,7 @@ from benchmarks import baseline
 from benchmarks.conftest import THREADS
 
 #: the producers before this rework
-PRODUCERS_BEFORE = "df22cad"
+PRODUCERS_BEFORE = "bench/producers-before-rework"
 FILES_BEFORE = {
     "inplane": "models/plate/inplane.py",
     "ch4_inplane": "reference/producers/ch4_inplane.py",

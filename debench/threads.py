@@ -62,11 +62,6 @@ def limit_threads(n: int | None = None) -> int:
     return n
 
 
-def apply_to_ngsolve(ngsolve_module) -> None:
-    """Give a freshly imported NGSolve the configured thread count."""
-    ngsolve_module.SetNumThreads(configured_threads())
-
-
 def thread_report() -> list[dict]:
     """The thread pools of numpy's BLAS (loaded here if needed) and of every other loaded
     library, with their sizes and kernels (threadpoolctl), for logs and benchmarks."""

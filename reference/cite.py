@@ -13,9 +13,7 @@ import json
 import re
 from typing import Any
 
-#: Public repository URL (also ``repository-code`` in CITATION.cff). ``None`` until the
-#: project has a public address: a citation never carries a made-up one.
-REPOSITORY: str | None = None
+from debench.reference.provenance import REPOSITORY
 
 THESIS = {
     "id": "zeng_2020", "type": "thesis", "genre": "PhD dissertation",

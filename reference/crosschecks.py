@@ -107,8 +107,8 @@ def _method_gap(ds, a: str, b: str, level: int = -1) -> float:
     return abs(v(a) - (float(ds[b]) if b in ds.data_vars else v(b)))
 
 
-_CH3_FE = "reference/producers/ch3_fe.py"
-_CH4_FE = "reference/producers/ch4_fe.py"
+_CH3_FE = "reference/studies/ch3_fe.py"
+_CH4_FE = "reference/studies/ch4_fe.py"
 _CH4_FE_CLASSES = (0.3, 2.0, 10.0)
 
 CROSSCHECKS: tuple[CrossCheck, ...] = (

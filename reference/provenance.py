@@ -25,6 +25,11 @@ def _source_root() -> Path | None:
     return root if (root / "pyproject.toml").is_file() and (root / ".git").exists() else None
 
 
+#: Public repository URL (also ``repository-code`` in CITATION.cff). ``None`` until the
+#: project has a public address: a citation never carries a made-up one.
+REPOSITORY: str | None = None
+
+
 #: The git checkout of an editable install; ``None`` for an installed wheel.
 REPO_ROOT = _source_root()
 

@@ -8,7 +8,7 @@ attributes are absent on purpose and which carry a stand-in value. :func:`check_
 the IOOS ``compliance-checker`` (CF-1.10 and ACDD-1.3) on one file and returns what fails.
 
 Nothing here invents a person, an address or a URL: the repository has no public address
-yet (:data:`debench.reference.cite.REPOSITORY` is ``None``); when it gets one the writer
+yet (:data:`debench.reference.provenance.REPOSITORY` is ``None``); when it gets one the writer
 adds ``creator_url``, ``publisher_url`` and ``metadata_link`` from it.
 """
 
@@ -87,7 +87,7 @@ def coverage_content_type(name: str, *, is_coordinate: bool) -> str:
 def acdd_attributes(name: str, now: str) -> dict[str, str]:
     """Global ACDD-1.3 attributes of dataset ``name`` written at ``now`` (ISO 8601)."""
     from debench.reference import __version__
-    from debench.reference.cite import REPOSITORY
+    from debench.reference.provenance import REPOSITORY
 
     attrs = {
         "id": name, "naming_authority": "debench", "institution": GROUP,

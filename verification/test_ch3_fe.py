@@ -4,7 +4,7 @@ The FE (:mod:`debench.models.circular.fe`) minimises the membrane energy (3.20) 
 whole film and shares no equation with the annulus ODE (3.33)/(3.34) or the interface
 conditions (3.31)-(3.32). It decides between the two equilibrium variants of the analytic
 model (erratum ch3.erratum.eq_3_33) and gives (3.32) a status (ch3.erratum.eq_3_32).
-Tolerances come from the convergence study in ``reference/producers/ch3_fe.py``; the
+Tolerances come from the convergence study in ``reference/studies/ch3_fe.py``; the
 default run uses coarse meshes, ``--full`` the converged ones.
 """
 
@@ -17,7 +17,8 @@ from debench.models.circular.fe import CircularFE, FEMesh, energy_cf
 from debench.models.errors import ConvergenceError
 from debench.models.materials.membrane import GentMembrane, ZhaoSuoPermittivity
 from debench.reference import catalogue
-from debench.reference.producers import ch3_fe as P
+from debench.reference.producers import ch3_fe as producers
+from debench.reference.studies import ch3_fe as P
 
 #: the energy CF and the library's numpy energy evaluate the same expression in double
 #: precision: agreement to ~1e-15 relative; 1e-12 is a 1000x margin
@@ -54,7 +55,7 @@ def test_fe_circle_a_stays_homogeneous_and_interface_force_balance_holds():
     one-sided stresses T1^(A), T1^(B) at R_A (3.32), not imposed by the FE, agree in the
     limit: their jump falls at order 2 under refinement (ch3.erratum.eq_3_32 refuted)."""
     entry = catalogue.by_id()["ch3.erratum.eq_3_32"]
-    out = P.erratum_eq_3_32(entry)
+    out = producers.erratum_eq_3_32(entry)
     assert out.status == "refuted" == entry.expected_status
     assert out.details["order"] >= P.JUMP_ORDER_MIN
     assert out.details["circle_a_inhomogeneity"] <= P.HOMOGENEITY_TOL
@@ -161,7 +162,7 @@ def test_fe_profiles_dataset_round_trips(tmp_path):
 
     make, title, summary = B.DATASETS["ch3_fe_profiles"]
     ds = make(False)
-    prm = B._params(False, **ds.attrs)
+    prm = P.dataset_parameters(False, **ds.attrs)
     ds.attrs = {}
     path = write_dataset(ds, "ch3_fe_profiles", title=title, summary=summary,
                          parameters=prm, out_dir=tmp_path, overwrite=True)
@@ -191,7 +192,7 @@ def test_fe_suppression_prestretch_supports_membrane_balance():
     FE alone agrees with the membrane variant (2.463) within the coarse-mesh tolerance and
     not with the printed (3.33) (2.534; the thesis prints 2.53)."""
     entry = catalogue.by_id()["ch3.fe.suppression_prestretch"]
-    out = P.fe_suppression_prestretch(entry)
+    out = producers.fe_suppression_prestretch(entry)
     assert out.value is True, out.details
     assert abs(out.details["diff_membrane"]) <= P.TOL_SUPPRESSION_COARSE
     assert abs(out.details["diff_printed"]) > P.TOL_SUPPRESSION_COARSE

@@ -20,7 +20,8 @@ import scipy.sparse as sp
 from debench.models.circular import fe as FE
 from debench.models.circular.fe_solid import CircularSolidFE, SolidMesh
 from debench.models.errors import ConvergenceError
-from debench.reference.producers import ch3_fe as P
+from debench.reference.producers import ch3_fe as producers
+from debench.reference.studies import ch3_fe as P
 
 SMALL_MESH = SolidMesh(n_a=2, n_b=5, nz=1)
 #: relative perturbation of the matrix values (a few hundred ulps: what another BLAS,
@@ -115,7 +116,7 @@ def test_solid_event_value_does_not_depend_on_round_off(monkeypatch, how):
     else:
         _explicit_zeros(monkeypatch)
     got = CircularSolidFE(3.0, 0.2, mesh=SMALL_MESH).at_centre_stretch(4.0).phibar
-    assert abs(got - ref) <= P.ACCURACY.tolerance(ref), (got, ref)
+    assert abs(got - ref) <= producers.ACCURACY.tolerance(ref), (got, ref)
 
 
 def test_unsolvable_film_raises_naming_it(monkeypatch):
@@ -139,7 +140,7 @@ def test_solid_continuation_does_not_jump_a_fold():
     like sqrt(lam* - lam)), before loss of tension; the continuation raises
     ConvergenceError there, with or without perturbed round-off, instead of landing on
     another state after a wandering Newton (~20 s CPU each)."""
-    model = P._solid(3.0, 0.05, P.SOLID_MESH_COARSE)
+    model = P.solid_model(3.0, 0.05, P.SOLID_MESH_COARSE)
 
     def smallest(lam):
         s = model.solve(lam)

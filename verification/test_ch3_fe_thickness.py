@@ -9,7 +9,7 @@ do Phibar at pull-in (lamP = 1.25), the loss-of-tension stretch (lamP = 3) and P
 centre stretch 4 with c = -0.053 (entries ``ch3.fe.thickness_*``). The entries read the
 film sequences of the ``ch3_fe_thickness`` dataset; the tests here recompute the thickest
 film (default run) and every film (``--full``). Numbers and orders: the thickness section of
-``reference/producers/ch3_fe.py``.
+``reference/studies/ch3_fe.py``.
 """
 
 from __future__ import annotations
@@ -19,7 +19,8 @@ from pathlib import Path
 
 import pytest
 from debench.reference import catalogue
-from debench.reference.producers import ch3_fe as P
+from debench.reference.producers import ch3_fe as producers
+from debench.reference.studies import ch3_fe as P
 
 #: bound on the spread of Phibar over kappa = 1e4, 1e5, 1e6 at H = 0.1, lam_centre = 4.
 #: What it protects: the variant decision (printed and membrane differ by 6.7e-3 there)
@@ -69,7 +70,7 @@ def test_solid_phibar_does_not_depend_on_the_penalty():
 #: the producer module's ACCURACY (rtol 1e-8, atol 1e-9) is a 100x margin on that and
 #: 1e3x below the smallest thickness effect it guards (the film H = 0.05 differs from the
 #: membrane by >= 2e-5)
-RECOMPUTE = P.ACCURACY
+RECOMPUTE = producers.ACCURACY
 
 
 def _thickness_entries():
@@ -83,7 +84,7 @@ def _sequence_of(entry):
     p = entry.parameters
     q, lamP, c = p["quantity"], float(p["lamP"]), float(p["c"])
     lc = float(p.get("lam_centre", math.nan))
-    return q, lamP, c, lc, P.stored_sequence(P._thickness_data(), q, lamP, c, lc)
+    return q, lamP, c, lc, P.stored_sequence(producers.thickness_data(), q, lamP, c, lc)
 
 
 def _close(new, stored):
@@ -125,19 +126,19 @@ def test_thin_solid_film_sequence_meets_the_membrane_balance(entry_id):
     Phibar at pull-in for lamP = 1.25, the loss-of-tension stretch for lamP = 3;
     c = -0.053: Phibar at centre stretch 4, lamP = 3)."""
     entry = catalogue.by_id()[entry_id]
-    _status_follows_the_limit(entry, P.fe_thickness(entry))
+    _status_follows_the_limit(entry, producers.fe_thickness(entry))
 
 
 def test_stored_analytic_variants_are_the_analytic_model():
     """The printed (3.33) and membrane values stored beside each film sequence (which the
     producer reads) are what the analytic model gives now (RK4, ANALYTIC_STEPS)."""
-    ds = P._thickness_data()
+    ds = producers.thickness_data()
     for k in range(ds.sizes["sequence"]):
         q, lamP, c, lc = (str(ds.quantity.values[k]), float(ds.lamP.values[k]),
                           float(ds.c.values[k]), float(ds.lam_centre.values[k]))
         for v in P.VARIANTS:
             stored = float(ds[f"value_{v}"].values[k])
-            got = P._analytic_value(q, lamP, c, lc, v, P.ANALYTIC_STEPS)
+            got = P.analytic_value(q, lamP, c, lc, v, P.ANALYTIC_STEPS)
             assert _close(got, stored), (str(ds.sequence.values[k]), v, got, stored)
 
 
@@ -156,8 +157,8 @@ def test_film_task_is_the_stored_film_and_is_keyed_on_the_code(monkeypatch):
     solid model's source, so that a cached task result is never served for other code."""
     from debench.reference.builders import ch3_fe_thickness as B
 
-    g = P.GUARD_SEQUENCE
-    s = P.stored_sequence(P._thickness_data(), g.quantity, g.lamP, g.c, g.lam_centre, g.nz)
+    g = producers.GUARD_SEQUENCE
+    s = P.stored_sequence(producers.thickness_data(), g.quantity, g.lamP, g.c, g.lam_centre, g.nz)
     got = B.film_task(s["H"][0], g.quantity, g.lamP, g.c, g.lam_centre, g.nz,
                       B.film_sources())
     assert _close(got, s["values"][0]), (got, s["values"][0])
@@ -181,7 +182,7 @@ def test_thin_solid_film_sequence_recomputed(entry_id):
     assert _close(d["membrane_fe"], s["membrane_fe"]), (d, s)
     assert abs(d["mesh_error"] - s["mesh_error"]) <= 2 * RECOMPUTE.atol + RECOMPUTE.rtol \
         * abs(s["membrane_fe"]), (d, s)
-    out = P.fe_thickness(entry)
+    out = producers.fe_thickness(entry)
     assert out.details["extrapolated"] == pytest.approx(d["extrapolated"], rel=RECOMPUTE.rtol,
                                                        abs=10 * RECOMPUTE.atol)
 

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from debench.reference import catalogue
 from debench.reference.producers import ch4 as prod
+from debench.reference.studies import ch4 as prod_study
 
 ENTRIES = [e for e in catalogue.load() if e.file == "ch4.toml"]
 ALL_IDS = catalogue.by_id()
@@ -37,21 +38,21 @@ def test_claims_robust_to_area_window(kH_max, lam_min):
     """ch4.assumption.area_window: the area orderings behind ch4.fig4_2.* hold for
     kH_max = 5, 20 and lam_min = 0.3, 0.5 as well as (10, 0.4) (printed variant)."""
     def a(xi, D):
-        return prod.area(xi, D, "printed", "thesis", kH_max, lam_min)
+        return prod_study.area(xi, D, "printed", "thesis", kH_max, lam_min)
 
-    Ds = prod.FIG42_D
+    Ds = prod_study.FIG42_D
     assert all(a(5.0, D) > a(0.0, D) for D in Ds)                       # TI larger
     assert all(np.diff([a(xi, D) for D in (0.0, 1.0, 2.0)]).min() > 0 for xi in (0.0, 5.0))
     assert np.all(np.diff([a(0.0, D) for D in Ds[3:]]) < 0)            # iso (d)-(i)
     assert Ds[int(np.argmax([a(5.0, D) for D in Ds]))] == 2.6          # TI peak at (f)
-    assert np.all(np.diff([a(xi, 2.0) for xi in prod.FIG45_XI]) > 0)    # Fig 4.5
+    assert np.all(np.diff([a(xi, 2.0) for xi in prod_study.FIG45_XI]) > 0)    # Fig 4.5
 
 
 def test_thesis_region_differs_from_physical_instability():
     """The thesis' 'determinant < 0' region omits points where both parities are unstable
     (det_E det_O > 0 but the incremental energy has two negative eigenvalues): its area is
     smaller than the physical unstable area (isotropic, Dhat = 0)."""
-    assert prod.area(0.0, 0.0, "printed", "thesis") < prod.area(0.0, 0.0, "printed", "physical")
+    assert prod_study.area(0.0, 0.0, "printed", "thesis") < prod_study.area(0.0, 0.0, "printed", "physical")
 
 
 def test_thin_plate_influence_holds_for_xi_3_and_5_and_fails_marginally_for_10():
@@ -90,9 +91,9 @@ def test_area_peaks_match_the_text_only_with_beta_in_the_rows():
     from debench.models.plate.analysis import region
 
     for xi, D in ((0.0, 1.0), (5.0, 2.0)):
-        a1 = region(PlateParams(xi=xi, Dhat=D, variant="printed", beta=1.0), prod._kH(),
-                    prod._lam()).area("thesis")
-        assert a1 == pytest.approx(prod.area(xi, float(np.sqrt(2) * D)), rel=1e-12)
+        a1 = region(PlateParams(xi=xi, Dhat=D, variant="printed", beta=1.0), prod_study.kH_grid(),
+                    prod_study.lam_grid()).area("thesis")
+        assert a1 == pytest.approx(prod_study.area(xi, float(np.sqrt(2) * D)), rel=1e-12)
     e = ALL_IDS["ch4.hypothesis.beta_in_rows.area_peaks"]
     r = catalogue.evaluate(e)
     assert r.status == "explained" and r.value == 2.6

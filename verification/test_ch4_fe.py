@@ -20,13 +20,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from debench.models.errors import ConvergenceError
-from debench.models.plate import PlateParams, _roots, base_state, energy_matrix
+from debench.models.numerics import roots
+from debench.models.plate import PlateParams, base_state, energy_matrix
 from debench.models.plate import strip_fe as sfe
-from debench.reference.producers import ch4_fe as P
+from debench.reference.studies import ch4_fe as S
 
 #: coarse-mesh agreement by kH class (the producers' check uses the same constants; their
 #: derivation from the convergence study is stated there and in the module docstring)
-TOL_COARSE = P.TOL_COARSE
+TOL_COARSE = S.TOL_COARSE
 #: finer mesh (level 2, 2x the coarse resolution): errors fall by 2^6 ~ 64 at order 6;
 #: a factor 10 below the coarse tolerance keeps a ~6x margin
 TOL_FINE = {k: v / 10 for k, v in TOL_COARSE.items()}
@@ -45,7 +46,7 @@ FORM_RTOL = 1e-10
 
 
 def _tol(table, kH):
-    return P.tolerance(kH, table)
+    return S.tolerance(kH, table)
 
 
 @pytest.mark.parametrize("xi,D,lam", [(0.0, 0.0, 0.7), (5.0, 2.0, 0.9), (10.0, 1.0, 1.2),
@@ -80,7 +81,7 @@ def test_strip_fe_agrees_with_determinant_charge_control():
     """Figs 4.2(a) (xi = 5), 4.2(c) thin, 4.2(i), 4.5 (xi = 10, thick), charge
     control: every determinant root has an FE root of the same parity within the
     coarse-mesh tolerance of the convergence study."""
-    _, rows = P.max_disagreement(P.CASES_FAST)
+    _, rows = S.max_disagreement(S.CASES_FAST)
     assert rows
     bad = [(c.xi, c.load, c.kH, c.parity, c.lam_det, c.diff) for c in rows
            if abs(c.diff) > _tol(TOL_COARSE, c.kH)]
@@ -90,7 +91,7 @@ def test_strip_fe_agrees_with_determinant_charge_control():
 def test_strip_fe_agrees_with_determinant_voltage_control():
     """Voltage control (Dhat = Vhat lam^2/beta from the library's E = F^-T dW/dD_L):
     the FE roots agree with the determinant at the same voltage."""
-    _, rows = P.max_disagreement(P.VOLTAGE_CASES[:1], control="voltage")
+    _, rows = S.max_disagreement(S.VOLTAGE_CASES[:1], control="voltage")
     assert len(rows) >= 2
     bad = [(c.parity, c.lam_det, c.diff) for c in rows
            if abs(c.diff) > _tol(TOL_COARSE, c.kH)]
@@ -108,7 +109,7 @@ def test_voltage_control_dhat_from_library_field():
 def test_strip_fe_thin_limit_is_euler():
     """kH -> 0 (kH = 0.05, xi = Dhat = 0): (1 - lam_cr)/kH^2 -> 1/18, Euler buckling of a
     plate at vanishing membrane stress (literature entry lit.plate.euler_thin_limit)."""
-    fe, det = P.euler_slope()
+    fe, det = S.euler_slope()
     assert fe == pytest.approx(1 / 18, rel=EULER_RTOL)
     assert fe == pytest.approx(det, rel=EULER_RTOL)
 
@@ -117,23 +118,23 @@ def test_curated_euler_limit_is_the_live_one():
     """The producer's FE root at kH = KH_EULER (ch4_fe_limits.nc) is the one solved now on
     the same mesh, within the accuracy of a recomputed FE root (ACCURACY), beside the same
     determinant root."""
-    live, curated = P.limit_comparison("euler"), P.curated_limit("euler")
+    live, curated = S.limit_comparison("euler"), S.curated_limit("euler")
     assert curated.lam_det == live.lam_det and curated.level == live.level == 0
-    assert abs(curated.lam_fe - live.lam_fe) <= P.ACCURACY.tolerance(live.lam_fe)
+    assert abs(curated.lam_fe - live.lam_fe) <= S.ACCURACY.tolerance(live.lam_fe)
 
 
 def test_a_stale_limit_row_raises(monkeypatch):
     """A curated limit row whose determinant root is not the live one (here: moved by
     1e-6), or a missing limit, is a LookupError naming the regeneration."""
-    ds = P._limits_data()
+    ds = S._limits_data()
     moved = ds.copy(deep=True)
     moved["lam_det"].values[:] += 1e-6
-    monkeypatch.setattr(P, "_limits_data", lambda: moved)
+    monkeypatch.setattr(S, "_limits_data", lambda: moved)
     with pytest.raises(LookupError, match="regenerate"):
-        P.curated_limit("euler")
-    monkeypatch.setattr(P, "_limits_data", lambda: ds.isel(limit=[0]))
+        S.curated_limit("euler")
+    monkeypatch.setattr(S, "_limits_data", lambda: ds.isel(limit=[0]))
     with pytest.raises(LookupError, match="regenerate"):
-        P.curated_limit("euler")
+        S.curated_limit("euler")
 
 
 @pytest.mark.slow
@@ -142,9 +143,9 @@ def test_strip_fe_thick_limit_is_biot():
     (lit.plate.biot_thick_limit). The determinant at kH = 20 differs from Biot by ~1e-6;
     the coarse FE by ~1e-4 (measured). Slow (~20-40 s): the default run's kH = 10 case of
     Fig. 4.5 checks the same boundary-layer regime."""
-    assert P.biot_root() == pytest.approx(P.BIOT, abs=TOL_COARSE[10.0])
-    curated = P.curated_limit("biot")
-    assert abs(curated.lam_fe - P.biot_root()) <= P.ACCURACY.tolerance(curated.lam_fe)
+    assert S.biot_root() == pytest.approx(S.BIOT, abs=TOL_COARSE[10.0])
+    curated = S.curated_limit("biot")
+    assert abs(curated.lam_fe - S.biot_root()) <= S.ACCURACY.tolerance(curated.lam_fe)
 
 
 def _slope(errors, kH):
@@ -156,7 +157,7 @@ def _slope(errors, kH):
 def test_strip_fe_converges_at_order_2p_thin():
     """Root error against the determinant on four meshes (sqrt 2 refinement), thin plate
     (Fig. 4.2(a), kH = 0.3): fitted slope ~ 6 = 2 x order."""
-    err = [P.compare(0.0, 0.0, 0.3, level=lv)[0].diff for lv in range(4)]
+    err = [S.compare(0.0, 0.0, 0.3, level=lv)[0].diff for lv in range(4)]
     assert abs(_slope(err, 0.3) - ORDER) < ORDER_TOL, err
 
 
@@ -164,23 +165,23 @@ def test_strip_fe_converges_at_order_2p_thin():
 def test_strip_fe_converges_at_order_2p_thick():
     """As above for the extensional mode at kH = 2 (k h ~ 8) and kH = 10, xi = 5."""
     for case, par in (((0.0, 0.0, 2.0), "O"), ((5.0, 0.0, 10.0), "O")):
-        err = [next(c.diff for c in P.compare(*case, level=lv) if c.parity == par)
+        err = [next(c.diff for c in S.compare(*case, level=lv) if c.parity == par)
                for lv in range(4)]
         assert abs(_slope(err, case[2]) - ORDER) < ORDER_TOL, (case, err)
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("case", P.CASES_FULL)
+@pytest.mark.parametrize("case", S.CASES_FULL)
 def test_strip_fe_agrees_with_determinant_all_cases_fine(case):
     """Every case of Figs 4.2 and 4.5 at kH = 0.3, 2, 10 on the level-2 mesh."""
-    rows = P.compare(*case, level=2)
+    rows = S.compare(*case, level=2)
     bad = [(c.parity, c.lam_det, c.diff) for c in rows if abs(c.diff) > _tol(TOL_FINE, c.kH)]
     assert not bad, bad
 
 
 @pytest.mark.slow
 def test_strip_fe_agrees_with_determinant_voltage_control_all():
-    _, rows = P.max_disagreement(P.VOLTAGE_CASES, control="voltage", level=1)
+    _, rows = S.max_disagreement(S.VOLTAGE_CASES, control="voltage", level=1)
     bad = [(c.xi, c.parity, c.lam_det, c.diff) for c in rows
            if abs(c.diff) > _tol(TOL_COARSE, c.kH)]
     assert not bad, bad
@@ -212,18 +213,18 @@ def test_secant_steps_bracket_a_zero_within_xtol():
     find no sign change (a zero outside the bracket, a flat function) the whole bracket is
     searched, and a bracket without a sign change raises."""
     root, xtol = 0.7310585786300049, 1e-11
-    fm = _roots.Memo(lambda x: np.tanh(3 * (x - root)))
-    _roots.secant_steps(fm, 0.73, 0.7, 0.8, xtol)
+    fm = roots.Memo(lambda x: np.tanh(3 * (x - root)))
+    roots.secant_steps(fm, 0.73, 0.7, 0.8, xtol)
     a, b = fm.narrowest_sign_change()
     assert 0 < b - a < xtol and a <= root <= b and len(fm.values) <= 6
-    r, fm = _roots.zero_near(lambda x: np.tanh(3 * (x - root)), 0.73, 0.7, 0.8, xtol)
+    r, fm = roots.zero_near(lambda x: np.tanh(3 * (x - root)), 0.73, 0.7, 0.8, xtol)
     assert abs(r - root) <= xtol and r in fm.values
-    r, _ = _roots.zero_near(lambda x: x - 0.79, 0.701, 0.7, 0.8, xtol)
+    r, _ = roots.zero_near(lambda x: x - 0.79, 0.701, 0.7, 0.8, xtol)
     assert abs(r - 0.79) <= xtol
     with pytest.raises(ConvergenceError, match="does not change sign"):
-        _roots.zero_near(lambda x: x - 0.95, 0.75, 0.7, 0.8, xtol)
+        roots.zero_near(lambda x: x - 0.95, 0.75, 0.7, 0.8, xtol)
     with pytest.raises(ConvergenceError, match="does not change sign"):
-        _roots.zero_near(lambda x: 1.0, 0.75, 0.7, 0.8, xtol)
+        roots.zero_near(lambda x: 1.0, 0.75, 0.7, 0.8, xtol)
 
 
 def test_strip_root_from_the_determinant_root_is_the_bracketed_one():
@@ -231,8 +232,8 @@ def test_strip_root_from_the_determinant_root_is_the_bracketed_one():
     zero a search of the whole bracket finds, to the root tolerance, in fewer eigen-solves
     (thin isotropic case of Fig. 4.2(c), coarse mesh)."""
     xi, D, kH = 0.0, 2.0, 0.3
-    lam, par = next(zip(*P._determinant_roots(xi, D, kH, "charge"), strict=True))
-    br = (lam * (1 - P.BRACKET), lam * (1 + P.BRACKET))
+    lam, par = next(zip(*S._determinant_roots(xi, D, kH, "charge"), strict=True))
+    br = (lam * (1 - S.BRACKET), lam * (1 + S.BRACKET))
     kw = dict(Dhat=D, mesh=sfe.default_mesh(kH))
     mat = sfe.material_for(xi)
     plain = sfe.critical_stretch(kH, br, par, mat, **kw)

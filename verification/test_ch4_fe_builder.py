@@ -9,17 +9,17 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from debench.reference.builders import ch4_fe as builder
-from debench.reference.producers import ch4_fe as prod
+from debench.reference.studies import ch4_fe as prod_study
 
 
 @pytest.mark.parametrize("full", [False, True])
 def test_plan_lists_every_comparison_of_the_datasets_once(full):
     p = builder.plan(full)
-    cases = prod.CASES_FULL if full else prod.CASES_FAST
-    assert len(p["agreement"]) == len(cases) + len(prod.VOLTAGE_CASES)
+    cases = prod_study.CASES_FULL if full else prod_study.CASES_FAST
+    assert len(p["agreement"]) == len(cases) + len(prod_study.VOLTAGE_CASES)
     assert len(p["convergence"]) == len(builder.CONVERGENCE_CASES) * len(
         builder.CONVERGENCE_LEVELS)
-    assert [t[1] for t in p["limits"]] == list(prod.LIMITS)
+    assert [t[1] for t in p["limits"]] == list(prod_study.LIMITS)
     tasks = [t for ts in p.values() for t in ts]
     assert len(set(tasks)) == len(tasks)
     assert {t[4] for t in p["agreement"]} == {2 if full else 0}
@@ -31,14 +31,14 @@ def test_datasets_are_built_from_the_task_results(monkeypatch):
     def refuse(*a, **k):
         raise AssertionError("a comparison was computed again")
 
-    monkeypatch.setattr(prod, "compare", refuse)
-    monkeypatch.setattr(prod, "limit_comparison", refuse)
+    monkeypatch.setattr(prod_study, "compare", refuse)
+    monkeypatch.setattr(prod_study, "limit_comparison", refuse)
     p = builder.plan(False)
     done, k = {}, 0
     for t in (t for ts in p.values() for t in ts):
         k += 1
         xi, load, kH = (0.0, 0.0, 20.0) if t[0] is builder.limit_task else t[1:4]
-        done[t] = (prod.Comparison(xi, load, kH, "E", "charge", 1.0, 1.0 + k * 1e-3, 10 * k,
+        done[t] = (prod_study.Comparison(xi, load, kH, "E", "charge", 1.0, 1.0 + k * 1e-3, 10 * k,
                                    0),)
         if t[0] is builder.limit_task:
             done[t] = done[t][0]

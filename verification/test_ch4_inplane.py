@@ -14,6 +14,7 @@ from debench.models.plate import _generated_inplane as gen
 from debench.models.plate import inplane as ip
 from debench.reference.catalogue import by_id, evaluate
 from debench.reference.producers import ch4_inplane as prod
+from debench.reference.studies import ch4_inplane as prod_study
 
 ROOT = Path(__file__).resolve().parents[1]
 #: generated vs re-derived entries: both evaluate the same rational functions in double
@@ -61,16 +62,16 @@ def test_characteristic_roots_come_in_pairs():
 
 
 def test_methods_agree_on_every_root():
-    err, same, rows = prod.max_disagreement()
-    assert same and len(rows) >= len(prod.THETAS)
-    assert err <= prod.TOL_AGREE
+    err, same, rows = prod_study.max_disagreement()
+    assert same and len(rows) >= len(prod_study.THETAS)
+    assert err <= prod_study.TOL_AGREE
 
 
 @pytest.mark.slow
 def test_methods_agree_with_field_and_weaker_fibre():
     for xi, D in ((1.0, 0.0), (1.0, 2.0)):
-        err, same, _ = prod.max_disagreement(thetas=(0.0, 45.0, 60.0), xi=xi, Dhat=D)
-        assert same and err <= prod.TOL_AGREE
+        err, same, _ = prod_study.max_disagreement(thetas=(0.0, 45.0, 60.0), xi=xi, Dhat=D)
+        assert same and err <= prod_study.TOL_AGREE
 
 
 def test_theta90_is_isotropic():
@@ -95,9 +96,9 @@ def test_wrinkling_before_ellipticity_loss():
 
 
 def test_every_root_is_strongly_elliptic():
-    p = PlateParams(xi=prod.XI)
-    for th in prod.THETAS:
-        for lam in prod.roots(th)[0]:
+    p = PlateParams(xi=prod_study.XI)
+    for th in prod_study.THETAS:
+        for lam in prod_study.roots(th)[0]:
             assert ip.strongly_elliptic(lam, th, p)
 
 
@@ -114,19 +115,19 @@ def test_bad_input_raises():
 def test_voltage_methods_agree_on_every_root():
     """Voltage control: both methods, every root on the window, theta = 0 ... 90 deg
     (the FE solved now, and the producer's curated FE roots)."""
-    err, same, rows = prod.voltage_agreement("live")
-    assert same and len(rows) >= len(prod.THETAS) and err <= prod.TOL_AGREE, rows
+    err, same, rows = prod_study.voltage_agreement("live")
+    assert same and len(rows) >= len(prod_study.THETAS) and err <= prod_study.TOL_AGREE, rows
     r = evaluate(by_id()["ch4.beyond.inplane.voltage_methods_agree"])
     assert r.status == "reproduced", r.details
-    assert r.details["max_abs_diff"] <= prod.TOL_AGREE
+    assert r.details["max_abs_diff"] <= prod_study.TOL_AGREE
 
 
 def test_voltage_root_lies_on_the_charge_curve_of_its_own_field():
     """A root at fixed Vhat is a charge-control root at Dhat = Vhat lam^2/beta."""
-    det, _ = prod.voltage_roots(45.0)
+    det, _ = prod_study.voltage_roots(45.0)
     lam = det[-1]
-    p = PlateParams(xi=prod.XI, Dhat=prod.VHAT * lam**2 / 0.5)
-    r = ip.critical_stretches_det(prod.KH, 45.0, p, window=(lam - 1e-3, lam + 1e-3),
+    p = PlateParams(xi=prod_study.XI, Dhat=prod_study.VHAT * lam**2 / 0.5)
+    r = ip.critical_stretches_det(prod_study.KH, 45.0, p, window=(lam - 1e-3, lam + 1e-3),
                                   n_scan=8)
     # both brentq to 1e-14 on the same determinant: 1e-10 is > 1e3 x their round-off
     assert r.size == 1 and abs(r[0] - lam) < 1e-10
@@ -135,7 +136,7 @@ def test_voltage_root_lies_on_the_charge_curve_of_its_own_field():
 def test_tension_wrinkling_with_field():
     """Tension with a field: the claim holds with the FE solved now and with the
     producer's curated FE roots."""
-    ok, rows, none_without_field = prod.tension_check("live")
+    ok, rows, none_without_field = prod_study.tension_check("live")
     assert ok and none_without_field, rows
     r = evaluate(by_id()["ch4.beyond.inplane.tension_wrinkling"])
     assert r.status == "reproduced", r.details
@@ -145,24 +146,24 @@ def test_curated_fe_roots_are_the_live_ones():
     """Every FE root the producers read from ch4_inplane_roots.nc is the FE root solved now
     for the same window, within the accuracy of an FE root (ACCURACY: round-off of the
     eigen-solver on another BLAS), and the counts agree."""
-    for case in prod.producer_cases():
-        live, curated = prod.fe_roots(case), prod.curated_fe_roots(case)
+    for case in prod_study.producer_cases():
+        live, curated = prod_study.fe_roots(case), prod_study.curated_fe_roots(case)
         assert len(live) == len(curated), case
         for a, b in zip(live, curated, strict=True):
-            assert abs(a - b) <= prod.ACCURACY.tolerance(a), (case, a, b)
+            assert abs(a - b) <= prod_study.ACCURACY.tolerance(a), (case, a, b)
 
 
 def test_a_case_missing_from_the_curated_roots_raises(monkeypatch):
     """A window the curated dataset lacks (here: the dataset without its first case) is a
     LookupError naming the regeneration, never a silent pass."""
-    ds = prod._roots_data()
-    monkeypatch.setattr(prod, "_roots_data", lambda: ds.isel(case=slice(1, None)))
+    ds = prod_study._roots_data()
+    monkeypatch.setattr(prod_study, "_roots_data", lambda: ds.isel(case=slice(1, None)))
     with pytest.raises(LookupError, match="regenerate"):
-        prod.curated_fe_roots(prod.producer_cases()[0])
-    assert prod.curated_fe_roots(prod.producer_cases()[1]) == prod.curated_fe_roots(
-        prod.producer_cases()[1])
+        prod_study.curated_fe_roots(prod_study.producer_cases()[0])
+    assert prod_study.curated_fe_roots(prod_study.producer_cases()[1]) == prod_study.curated_fe_roots(
+        prod_study.producer_cases()[1])
     with pytest.raises(ValueError, match="fe_source"):
-        prod.max_disagreement(fe_source="cache")
+        prod_study.max_disagreement(fe_source="cache")
 
 
 def test_tension_membrane_limit():
@@ -193,7 +194,7 @@ def test_close_root_pair_is_not_hidden():
     kh = float(np.geomspace(0.2, 8.0, 9)[3])
     det = ip.critical_stretches_det(kh, 30.0, p, window=(0.935, 0.999), n_scan=40)
     fe = ip.critical_stretches_fe(kh, 30.0, p, window=(0.935, 0.999), n_scan=40)
-    assert det.size == fe.size == 1 and abs(det[0] - fe[0]) <= prod.TOL_AGREE
+    assert det.size == fe.size == 1 and abs(det[0] - fe[0]) <= prod_study.TOL_AGREE
 
 
 def test_fe_refuses_crossings_within_round_off():
@@ -216,7 +217,7 @@ def test_fe_accepts_a_grid_point_on_a_resolved_root():
     assert np.min(np.abs(e)) < ip.ROUNDOFF_FACTOR * np.finfo(float).eps * np.linalg.norm(K, 1)
     fe = ip.critical_stretches_fe(0.25, 60.0, p, window=w, n_scan=40, Vhat=0.1)
     det = ip.critical_stretches_det(0.25, 60.0, p, window=w, n_scan=40, Vhat=0.1)
-    assert det.size == fe.size == 1 and abs(det[0] - fe[0]) <= prod.TOL_AGREE
+    assert det.size == fe.size == 1 and abs(det[0] - fe[0]) <= prod_study.TOL_AGREE
     with pytest.raises(ConvergenceError, match="round-off"):
         ip.critical_stretches_fe(0.5, 80.0, PlateParams(xi=5.0, Dhat=3.0),
                                  window=(1.0005, 2.0), n_scan=40)
@@ -257,7 +258,7 @@ def test_compression_window_clears_the_fe_round_off_at_lam_E():
     _, lo = builder._lo(0.0, p)
     det = ip.critical_stretches_det(kh, 0.0, p, window=(lo, 0.999), n_scan=builder.N_SCAN)
     fe = ip.critical_stretches_fe(kh, 0.0, p, window=(lo, 0.999), n_scan=builder.N_SCAN)
-    assert det.size == fe.size >= 1 and np.max(np.abs(det - fe)) <= prod.TOL_AGREE
+    assert det.size == fe.size >= 1 and np.max(np.abs(det - fe)) <= prod_study.TOL_AGREE
 
 
 def test_voltage_control_needs_zero_dhat():
@@ -277,7 +278,7 @@ def _check_builder(paths, full):
         det, fe = ds["lam_cr_det"].values, ds["lam_cr_fe"].values
         assert np.array_equal(np.isnan(det), np.isnan(fe)), name
         # the FE root error grows with kH (boundary layers), measured <= 2.2e-6
-        assert np.nanmax(np.abs(det - fe)) <= prod.TOL_AGREE, name
+        assert np.nanmax(np.abs(det - fe)) <= prod_study.TOL_AGREE, name
     lc = xr.open_dataset(by_name["ch4_inplane_lam_cr.nc"])
     det = lc["lam_cr_det"].values
     lam_e = np.broadcast_to(lc["lam_E"].values[..., None], det.shape)
@@ -314,8 +315,8 @@ TOL_BATCH = 1e-11
 def test_windows_solved_together_have_the_roots_of_each_alone():
     """critical_stretches_det_many: the same roots as one scan per window (charge and
     voltage control, compression and tension, the isotropic shortcut included)."""
-    cases = [prod.compression_case(30.0), prod.compression_case(90.0),
-             prod.voltage_case(45.0), prod.tension_case(60.0, 2.0, 0.5)]
+    cases = [prod_study.compression_case(30.0), prod_study.compression_case(90.0),
+             prod_study.voltage_case(45.0), prod_study.tension_case(60.0, 2.0, 0.5)]
     scans = [(*args, kw) for args, kw in (c._args() for c in cases)]
     together = ip.critical_stretches_det_many(scans)
     for (kH, th, p, kw), roots in zip(scans, together, strict=True):
@@ -335,9 +336,9 @@ def test_collision_of_characteristic_roots_is_not_a_bifurcation():
     sep = np.min(np.abs(s[:, None] - s[None, :])[np.triu_indices(8, 1)]) / np.max(np.abs(s))
     assert sep < ip.COLLISION_TOL
     # the producers' window, whose scan brackets the touch point with a sign change
-    args, kw = prod.voltage_case(60.0, kH=0.5)._args()
+    args, kw = prod_study.voltage_case(60.0, kH=0.5)._args()
     det = ip.critical_stretches_det(*args, **kw)
     fe = ip.critical_stretches_fe(*args, **kw)
     assert np.all(np.abs(det - 1.0) > 1e-3)
     assert det.size == fe.size
-    np.testing.assert_allclose(det, fe, rtol=0, atol=prod.TOL_AGREE)
+    np.testing.assert_allclose(det, fe, rtol=0, atol=prod_study.TOL_AGREE)

@@ -127,7 +127,7 @@ def test_eigen_critical_voltage_converges_to_clamped_plate_theory():
     """Critical voltage of the perfect film (zero eigenvalue of the condensed tangent)
     decreases monotonically under in-plane refinement at a measured rate p >= 1, and its
     Richardson limit is within PLATE_THEORY_RTOL of 14.68 D/a^2 (Timoshenko & Gere §9.1)."""
-    from debench.reference.builders.ch5 import richardson
+    from debench.models.numerics import richardson
     v = [critical_voltage(Plate(), NeoHookean(), Discretisation(h_rel=h, layers=1)).v
          for h in LEVELS]
     assert v[0] > v[1] > v[2]
@@ -142,7 +142,7 @@ def test_eigen_critical_voltage_converges_to_clamped_plate_theory():
 @pytest.mark.slow
 def test_eigen_critical_voltage_convergence_rate_full():
     """--full: the same on finer meshes; the rate stays >= 1 and the limit within 3 %."""
-    from debench.reference.builders.ch5 import richardson
+    from debench.models.numerics import richardson
     v = [critical_voltage(Plate(), NeoHookean(), Discretisation(h_rel=h, layers=1)).v
          for h in LEVELS_FULL]
     assert all(a > b for a, b in zip(v, v[1:], strict=False))
@@ -221,7 +221,7 @@ def test_no_wrinkling_before_pullin_on_coarse_mesh(nh_pullin_ramp):
     """§5.3.1 claims wrinkling (non-axisymmetric) for 0.5 mm: our eigen-analysis along the
     path finds no unstable non-axisymmetric mode before pull-in (by scale invariance the
     same holds for both thicknesses)."""
-    from debench.reference.builders.ch5 import first_instability
+    from debench.reference.studies.ch5 import first_instability
     r = nh_pullin_ramp
     first = first_instability(r.eig_w, r.eig_v, r.eig_lam, r.eig_axisym, r.eig_wavenumber)
     assert first["kind"] == "axisymmetric"           # pull-in is the first instability

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from debench.models.buckling import analytic
 from debench.models.buckling.parameters import Ogden
+from debench.models.numerics import asymptotic_fit, convergence_fit
 from debench.reference import catalogue
-from debench.reference.builders.ch5 import asymptotic_fit, convergence_fit
 from debench.reference.builders.ch5_thickness import ratio_limit
 from debench.reference.datasets import read_dataset
 
@@ -39,9 +39,9 @@ def test_convergence_fit_recovers_a_known_limit_and_bounds_its_error():
     higher-order term the error estimate covers the true error of the limit."""
     h = np.array([3.0, 2.0, 1.4, 1.0])
     v = 0.5 + 0.2 * h**1.7
-    assert convergence_fit(h[:3], v[:3])["v_inf"] == pytest.approx(0.5, abs=1e-10)
+    assert convergence_fit(h[:3], v[:3]).v_inf == pytest.approx(0.5, abs=1e-10)
     fit = convergence_fit(h, v)
-    assert fit["v_inf"] == pytest.approx(0.5, abs=1e-8) and fit["p"] == pytest.approx(1.7)
+    assert fit.v_inf == pytest.approx(0.5, abs=1e-8) and fit.p == pytest.approx(1.7)
     lim, err = ratio_limit(h, v)
     assert lim == pytest.approx(0.5, abs=1e-8) and err < 1e-6
     lim2, err2 = ratio_limit(h[:2], v[:2])
@@ -49,7 +49,7 @@ def test_convergence_fit_recovers_a_known_limit_and_bounds_its_error():
     hh = np.array([3.0, 2.0, 1.4, 1.0, 0.7])
     for d in (0.002, 0.005, 0.01):   # h^3 term 1-4 % of the leading one at h = 3
         fit = convergence_fit(hh, 0.5 + 0.2 * hh**1.7 + d * hh**3)
-        assert abs(fit["v_inf"] - 0.5) <= fit["error"], (d, fit)
+        assert abs(fit.v_inf - 0.5) <= fit.error, (d, fit)
 
 
 def test_asymptotic_fit_recovers_the_limit_and_bounds_its_error():
@@ -60,14 +60,14 @@ def test_asymptotic_fit_recovers_the_limit_and_bounds_its_error():
     h = np.array([3.0, 2.0, 1.4, 1.0, 0.7, 0.45])
     q = 1.2
     fit = asymptotic_fit(h, 0.22 + 0.004 * h**q, q)
-    assert fit["v_inf"] == pytest.approx(0.22, abs=1e-12) and fit["p"] == pytest.approx(q)
-    assert fit["error"] < 1e-10                       # round-off of the exact data only
+    assert fit.v_inf == pytest.approx(0.22, abs=1e-12) and fit.p == pytest.approx(q)
+    assert fit.error < 1e-10                       # round-off of the exact data only
     for d in (0.00005, 0.0002, 0.0004):
         fit = asymptotic_fit(h, 0.22 + 0.004 * h**q + d * h ** (2 * q), q)
-        assert abs(fit["v_inf"] - 0.22) <= fit["error"], (d, fit)
+        assert abs(fit.v_inf - 0.22) <= fit.error, (d, fit)
     coarse = h[:3]
     fit = asymptotic_fit(coarse, 0.22 + 0.0035 * coarse**q + 1e-4 * coarse**5, q)
-    assert abs(fit["v_inf"] - 0.22) <= fit["error"], fit
+    assert abs(fit.v_inf - 0.22) <= fit.error, fit
     with pytest.raises(ValueError, match="order"):
         asymptotic_fit(h, h, 0.0)
 
@@ -82,10 +82,10 @@ def test_convergence_fit_with_the_expected_order_covers_a_pre_asymptotic_sequenc
                      (np.array([3.0, 2.0, 1.4, 1.0, 0.7]), 1e-3, 3.4)):
         v = 0.22 + 0.0035 * hh**1.2 + b * hh**q
         blind = convergence_fit(hh, v)
-        assert abs(blind["v_inf"] - 0.22) > blind["error"], blind   # the failure mode
+        assert abs(blind.v_inf - 0.22) > blind.error, blind   # the failure mode
         fit = convergence_fit(hh, v, expected_order=1.2)
-        assert abs(fit["v_inf"] - 0.22) <= fit["error"], fit
-        assert fit["error"] >= blind["error"]
+        assert abs(fit.v_inf - 0.22) <= fit.error, fit
+        assert fit.error >= blind.error
     with pytest.raises(ValueError, match="expected_order"):
         convergence_fit(hh, v, expected_order=0.0)
 

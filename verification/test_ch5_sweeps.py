@@ -2,7 +2,7 @@
 
 Claims:
 
-* the independent finite-element cases of ``reference/builders/ch5.py`` give the same
+* the independent finite-element cases of ``reference/studies/ch5.py`` give the same
   results as tasks on a 2-worker ``LocalCluster`` (one thread per worker, reached by its
   scheduler address as an existing cluster would be) as in the serial run: each task is
   deterministic and single-threaded, so the values are bit-identical;
@@ -22,7 +22,8 @@ import os
 import dask
 import pytest
 from debench.models.errors import ConvergenceError
-from debench.reference.builders import ch5
+from debench.reference import tasks as runner
+from debench.reference.studies import ch5
 
 CALLS: list = []
 
@@ -39,11 +40,11 @@ def test_two_worker_dask_sweep_equals_serial_run():
     from distributed import LocalCluster
 
     tasks = [(ch5.critical_task, "nh_t1", 3.0), (ch5.critical_task, "nh_t1", 2.5)]
-    serial = ch5.run_tasks(tasks, scheduler=None, progress=False)
-    with dask.config.set(ch5.WORKER_CONFIG), \
+    serial = runner.run_tasks(tasks, scheduler=None, progress=False)
+    with dask.config.set(runner.WORKER_CONFIG), \
             LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                          dashboard_address=":0") as cluster:
-        parallel = ch5.run_tasks(tasks, scheduler=cluster.scheduler_address)
+        parallel = runner.run_tasks(tasks, scheduler=cluster.scheduler_address)
     def values(results):  # everything but the wall time
         return [{k: v for k, v in r.items() if k != "seconds"} for r in results]
 
@@ -58,7 +59,7 @@ def test_local_cluster_workers_keep_the_adaptive_malloc_threshold(monkeypatch):
     (which fixes glibc's mmap threshold and made an FE case 3-7x slower in a worker)."""
     monkeypatch.setenv("DEBENCH_WORKERS", "2")
     tasks = [(os.getenv, "MALLOC_TRIM_THRESHOLD_", "unset")] * 2
-    assert ch5.run_tasks(tasks, scheduler="local", progress=False) == ["unset", "unset"]
+    assert runner.run_tasks(tasks, scheduler="local", progress=False) == ["unset", "unset"]
 
 
 def test_scale_copies_are_the_cases_scale_invariance_makes_identical():
@@ -86,14 +87,14 @@ def test_coarse_values_keys_and_values():
 
 def test_task_cache_resumes_without_recomputing(tmp_path, monkeypatch):
     """A cached result is returned without calling the task; other model code misses."""
-    cache = ch5._TaskCache(tmp_path, "a" * 64)
-    monkeypatch.setattr(ch5._TaskCache, "from_env", classmethod(lambda cls: cache))
+    cache = runner.TaskCache(tmp_path, "a" * 64)
+    monkeypatch.setattr(runner.TaskCache, "from_env", classmethod(lambda cls: cache))
     CALLS.clear()
-    first = ch5.run_tasks([(_square, 3), (_square, 4)], progress=False)
-    second = ch5.run_tasks([(_square, 4), (_square, 5)], progress=False)
+    first = runner.run_tasks([(_square, 3), (_square, 4)], progress=False)
+    second = runner.run_tasks([(_square, 4), (_square, 5)], progress=False)
     assert first == [{"x2": 9}, {"x2": 16}] and second == [{"x2": 16}, {"x2": 25}]
     assert CALLS == [3, 4, 5]
-    other = ch5._TaskCache(tmp_path, "b" * 64)
+    other = runner.TaskCache(tmp_path, "b" * 64)
     assert other.get((_square, 3)) is None and cache.get((_square, 3)) == {"x2": 9}
 
 
@@ -104,11 +105,11 @@ def _fails(x):
 def test_a_failed_task_does_not_lose_the_others(tmp_path, monkeypatch):
     """A sweep with a failing task still runs and caches every other task, then raises
     naming the failed one (so that a rerun computes only what failed)."""
-    cache = ch5._TaskCache(tmp_path, "c" * 64)
-    monkeypatch.setattr(ch5._TaskCache, "from_env", classmethod(lambda cls: cache))
+    cache = runner.TaskCache(tmp_path, "c" * 64)
+    monkeypatch.setattr(runner.TaskCache, "from_env", classmethod(lambda cls: cache))
     CALLS.clear()
     with pytest.raises(ConvergenceError, match=r"1 of 3 FE tasks failed \(_fails\(7,\)\)"):
-        ch5.run_tasks([(_fails, 7), (_square, 3), (_square, 4)], progress=False)
+        runner.run_tasks([(_fails, 7), (_square, 3), (_square, 4)], progress=False)
     assert CALLS == [3, 4]
     assert cache.get((_square, 3)) == {"x2": 9} and cache.get((_square, 4)) == {"x2": 16}
 
@@ -117,10 +118,10 @@ def test_task_cache_key_follows_the_model_source(tmp_path, monkeypatch):
     """The cache key includes the source of debench.models: a different digest misses;
     from_env reads DEBENCH_FE_CACHE and digests the installed models package."""
     monkeypatch.setenv("DEBENCH_FE_CACHE", str(tmp_path))
-    cache = ch5._TaskCache.from_env()
-    assert cache.code_digest == ch5.models_digest() and len(cache.code_digest) == 64
+    cache = runner.TaskCache.from_env()
+    assert cache.code_digest == runner.models_digest() and len(cache.code_digest) == 64
     cache.put((_square, 2), {"x2": 4})
-    assert ch5._TaskCache(tmp_path, "0" * 64).get((_square, 2)) is None
+    assert runner.TaskCache(tmp_path, "0" * 64).get((_square, 2)) is None
     assert cache.get((_square, 2)) == {"x2": 4}
 
 
@@ -139,10 +140,10 @@ def test_task_cache_key_follows_the_settings_a_task_module_imports(tmp_path, mon
         "def scaled(x):\n    from cachekeypkg.settings import SCALE\n    return x * SCALE\n")
     monkeypatch.syspath_prepend(str(tmp_path))
     tasks = importlib.import_module("cachekeypkg.tasks")
-    cache = ch5._TaskCache(tmp_path / "cache", "e" * 64)
+    cache = runner.TaskCache(tmp_path / "cache", "e" * 64)
     before = cache._path((tasks.scaled, 3))
-    assert "SCALE = 2" in ch5.task_source("cachekeypkg.tasks")
-    assert ch5.task_source("cachekeypkg.settings") == "SCALE = 2\n"
+    assert "SCALE = 2" in runner.task_source("cachekeypkg.tasks")
+    assert runner.task_source("cachekeypkg.settings") == "SCALE = 2\n"
     (pkg / "settings.py").write_text("SCALE = 3\n")
     for name in ("cachekeypkg.settings", "cachekeypkg.tasks", "cachekeypkg"):
         sys.modules.pop(name, None)
@@ -178,7 +179,7 @@ def test_task_cache_key_follows_the_task_module_settings(tmp_path, monkeypatch):
     mod = tmp_path / "cache_probe_task.py"
     mod.write_text("SETTING = 1\n\ndef task(x):\n    return {'y': x * SETTING}\n")
     probe = importlib.import_module("cache_probe_task")
-    cache = ch5._TaskCache(tmp_path / "cache", "d" * 64)
+    cache = runner.TaskCache(tmp_path / "cache", "d" * 64)
     cache.put((probe.task, 2), probe.task(2))
     assert cache.get((probe.task, 2)) == {"y": 2}
     mod.write_text("SETTING = 3\n\ndef task(x):\n    return {'y': x * SETTING}\n")
@@ -193,13 +194,13 @@ def test_longest_tasks_rank_first():
     a short one: finer critical-voltage meshes and Ogden cases before coarser and
     neo-Hookean ones, ramps before critical voltages on the same mesh, and the radius /
     thickness 20 paths (first argument the mesh size) finest first."""
-    from debench.reference.builders import _ch5_imperfection_tasks as imperfect
     from debench.reference.builders import ch5_wrinkling
+    from debench.reference.studies import ch5_imperfection_tasks as imperfect
 
-    assert ch5._cost((ch5.critical_task, "ogden_t1", 2.0)) > ch5._cost(
-        (ch5.critical_task, "ogden_t1", 3.0)) > ch5._cost((ch5.critical_task, "nh_t1", 3.0))
-    assert ch5._cost((ch5.ramp_task, "nh_t1", 3.0)) > ch5._cost((ch5.critical_task, "nh_t1", 3.0))
+    assert ch5.task_cost((ch5.critical_task, "ogden_t1", 2.0)) > ch5.task_cost(
+        (ch5.critical_task, "ogden_t1", 3.0)) > ch5.task_cost((ch5.critical_task, "nh_t1", 3.0))
+    assert ch5.task_cost((ch5.ramp_task, "nh_t1", 3.0)) > ch5.task_cost((ch5.critical_task, "nh_t1", 3.0))
     paths = [(ch5_wrinkling.wrinkling_task, h, 1) for h in ch5_wrinkling.LEVELS[True]]
-    assert max(paths, key=ch5._cost)[1] == min(ch5_wrinkling.LEVELS[True])
-    assert ch5._cost((imperfect.imperfect_path_task, 2.0, 0.002)) > ch5._cost(
+    assert max(paths, key=ch5.task_cost)[1] == min(ch5_wrinkling.LEVELS[True])
+    assert ch5.task_cost((imperfect.imperfect_path_task, 2.0, 0.002)) > ch5.task_cost(
         (imperfect.imperfect_path_task, 2.5, 0.032))

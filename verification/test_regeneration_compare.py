@@ -71,3 +71,41 @@ def test_regeneration_tolerance_rejects_a_void_accuracy():
         regeneration_tolerance({"accuracy_rtol": 0.0, "accuracy_atol": 0.0})
     assert regeneration_tolerance({"accuracy_atol": ATOL}) == (0.0, ATOL)
     assert regeneration_tolerance({}) == (REGEN_RTOL, REGEN_ATOL)
+
+
+def _write_store(directory, value, tolerance, residual, name="our_values"):
+    ds = xr.Dataset(
+        {"value": ("key", value, {"long_name": "value", "units": "1"}),
+         "tolerance": ("key", tolerance, {"long_name": "absolute tolerance", "units": "1",
+                                          "coverage_content_type": "qualityInformation"}),
+         "eig_residual": ("key", residual, {"long_name": "backward error", "units": "1",
+                                            "coverage_content_type": "qualityInformation"})},
+        coords={"key": ("key", np.arange(len(value)), {"long_name": "key", "units": "1"})})
+    return write_dataset(ds, name, title="t", summary="s", parameters={"a": 1},
+                         out_dir=directory, overwrite=True)
+
+
+def test_values_are_judged_by_their_stored_tolerance_and_residuals_by_size(tmp_path):
+    """A value of order 1e-16 (zero to round-off) with the absolute tolerance 1e-7 of its
+    method matches when regenerated 1e-9 away (the default 1e-12 floor would call it
+    different); beyond its tolerance it differs. A residual of round-off size matches when
+    it changes within RESIDUAL_GROWTH of its size, and differs when it grows past it."""
+    from debench.reference.cli import RESIDUAL_GROWTH
+
+    value, tol = np.array([1e-16, 2.0]), np.array([1e-7, 1e-7])
+    res = np.array([3e-12, 6e-12])
+    _write_store(tmp_path / "curated", value, tol, res)
+    new = _write_store(tmp_path / "new", value + np.array([1e-9, 5e-8]), tol, 2 * res)
+    assert compare_with_curated(new, tmp_path / "curated").endswith("matches curated")
+    new = _write_store(tmp_path / "new", value + np.array([2e-7, 0.0]), tol, res)
+    assert compare_with_curated(new, tmp_path / "curated").endswith("DIFFERS in value")
+    new = _write_store(tmp_path / "new", value, tol, 2 * RESIDUAL_GROWTH * res)
+    assert compare_with_curated(new, tmp_path / "curated").endswith("DIFFERS in eig_residual")
+    # another dataset with a "tolerance" beside its values (the thesis values: literals
+    # beside printed-digit tolerances, some NaN) is compared by the default
+    _write_store(tmp_path / "curated", value, np.array([np.nan, 0.05]), res, "thesis_like")
+    new = _write_store(tmp_path / "new", value, np.array([np.nan, 0.05]), res, "thesis_like")
+    assert compare_with_curated(new, tmp_path / "curated").endswith("matches curated")
+    new = _write_store(tmp_path / "new", value + np.array([1e-9, 0.0]),
+                       np.array([np.nan, 0.05]), res, "thesis_like")
+    assert compare_with_curated(new, tmp_path / "curated").endswith("DIFFERS in value")

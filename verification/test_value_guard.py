@@ -151,8 +151,8 @@ def test_ch5_model_guard_sees_a_1_percent_change_of_an_ogden_modulus():
     stays inside (the stored value was made by this code)."""
     from dataclasses import replace as dc_replace
 
-    from debench.reference.builders.ch5 import _material
     from debench.reference.producers.ch5 import coarse_guards
+    from debench.reference.studies.ch5 import material as _material
 
     stored = values.read_store()
 

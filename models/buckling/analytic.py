@@ -65,12 +65,6 @@ def kirchhoff_principal(stretches, mat: NeoHookean | Ogden) -> np.ndarray:
     return tau
 
 
-def ideal_dielectric_energy(F, DL, eps) -> float:
-    """W_ele = I5/(2 eps J) = D_L . C D_L / (2 eps J), Eq. (5.9) with (5.6)."""
-    J = _check_F(F)
-    return float(DL @ (F.T @ F) @ DL) / (2 * eps * J)
-
-
 def enthalpy_numpy(F, EL, mat, eps) -> float:
     """Omega(F, E_L) = W_mech - eps/2 J C^-1 : (E_L x E_L), the Legendre transform of (5.9)."""
     J = _check_F(F)

@@ -28,7 +28,7 @@ from functools import lru_cache
 import numpy as np
 
 from . import analysis, circle_a, params
-from .actuator import Branch, Curve, _curves_many_solver, branches, curves_many
+from .actuator import _curves_many_solver, branches, curves_many
 from .params import Annulus
 from .shooting import _integrate_inward, _lockstep
 
@@ -149,6 +149,12 @@ def _chapter(spec: ChapterSpec) -> Chapter:
     return _compute(spec)
 
 
+def clear_memo() -> None:
+    """Forget every memoised chapter pass (the next :func:`chapter` call computes: what a
+    cold-start benchmark times)."""
+    _chapter.cache_clear()
+
+
 def _annulus(spec: ChapterSpec, lamP: float, eq: str) -> Annulus:
     return Annulus(float(lamP), float(spec.radius_ratio), float(spec.Jm), eq)
 
@@ -266,13 +272,3 @@ def _c_thresholds(spec, ct_branches, curves, family) -> dict:
     return out
 
 
-def branch_of(ch: Chapter, lamP: float, equilibrium: str = "printed") -> Branch:
-    """The chapter's branch at ``lamP`` (KeyError if the pass did not trace it)."""
-    return ch.branches[(float(lamP), equilibrium)]
-
-
-def curve_of(ch: Chapter, lamP: float, c: float, eps_r: float | None = None,
-             equilibrium: str = "printed") -> Curve:
-    """The chapter's curve (KeyError if the pass did not compute it)."""
-    e = float(ch.spec.eps_r if eps_r is None else eps_r)
-    return ch.curves[(float(lamP), float(c), e, equilibrium)]

@@ -16,10 +16,11 @@ import math
 
 import numpy as np
 from debench.models import validation as v
-from debench.models.errors import ConvergenceError, checked_brentq
+from debench.models.errors import ConvergenceError
+from debench.models.numerics.roots import checked_brentq
 from scipy.interpolate import CubicHermiteSpline
 
-from . import circle_a
+from . import circle_a, params
 from .actuator import Branch, _branches_gen, branch, curves
 from .params import Annulus, CircularActuator
 from .shooting import (
@@ -328,11 +329,14 @@ def pullin_c_threshold_closed_form(annulus: Annulus) -> float:
 
 
 def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
-                                  Jm: float = 120.0, equilibrium: str = "printed",
+                                  Jm: float | None = None, equilibrium: str = "printed",
                                   definition: str = "before_loss_of_tension",
                                   bracket=(2.0, 3.2), n: int = 800,
                                   xtol: float = 1e-8) -> float:
     """The pre-stretch above which pull-in is suppressed (Sec. 3.5.2: 2.53 for c = 0).
+
+    ``Jm``: the Gent parameter (None: :data:`debench.models.circular.params.JM_VHB`, read
+    at the call).
 
     ``bracket`` a window of pre-stretches >= 1 (each builds an :class:`Annulus`, so the
     geometry and material arguments are validated there), ``n >= 4``, ``xtol`` a finite
@@ -343,6 +347,7 @@ def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
     lo, hi = v.window("bracket", bracket, lo=-math.inf)
     v.integer_at_least("n", n, 4)
     v.tolerance("xtol", xtol)
+    Jm = params.JM_VHB if Jm is None else Jm
     CircularActuator(Annulus(lo, radius_ratio, Jm, equilibrium), c=c)
     CircularActuator(Annulus(hi, radius_ratio, Jm, equilibrium), c=c)
 
@@ -372,7 +377,7 @@ def _suppression_prestretches(c: float, equilibria, **kw) -> list[float]:
 
 
 def _suppression_solver(c: float, equilibria, *, radius_ratio: float = 15.0,
-                        Jm: float = 120.0, definition: str = "before_loss_of_tension",
+                        Jm: float | None = None, definition: str = "before_loss_of_tension",
                         bracket=(2.0, 3.2), n: int = 800,
                         xtol: float = 1e-6, bracket_branches=None):
     """:func:`pullin_suppression_prestretch` for several equilibrium variants at once, as a
@@ -393,6 +398,7 @@ def _suppression_solver(c: float, equilibria, *, radius_ratio: float = 15.0,
     lo, hi = v.window("bracket", bracket, lo=-math.inf)
     v.integer_at_least("n", n, 4)
     v.tolerance("xtol", xtol)
+    Jm = params.JM_VHB if Jm is None else Jm
     eqs = list(equilibria)
     for eq in eqs:
         CircularActuator(Annulus(lo, radius_ratio, Jm, eq), c=c)

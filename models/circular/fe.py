@@ -57,8 +57,9 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from debench.models import validation as v
-from debench.models.errors import ConvergenceError, checked_brentq
+from debench.models.errors import ConvergenceError
 from debench.models.materials.membrane import GentMembrane, ZhaoSuoPermittivity
+from debench.models.numerics.roots import checked_brentq
 from netgen.meshing import Element0D, Element1D, MeshPoint, Pnt
 from netgen.meshing import Mesh as NetgenMesh
 from scipy.optimize import brentq, minimize_scalar

@@ -15,13 +15,19 @@ from dataclasses import dataclass
 
 from debench.models import validation as v
 from debench.models.errors import require
+from debench.models.materials import constants
+from debench.models.materials.constants import (
+    VACUUM_PERMITTIVITY,
+    VHB_GENT_JM,
+    VHB_SHEAR_MODULUS,
+)
 
-MU_VHB = 51e3            # Pa, shear modulus, Sec. 3.3.3
-JM_VHB = 120.0           # Gent locking parameter, Sec. 3.3.3
-EPS0 = 8.85e-12          # F/m, vacuum permittivity as printed below (3.27)
+MU_VHB = VHB_SHEAR_MODULUS  # Pa, shear modulus, Sec. 3.3.3
+JM_VHB = VHB_GENT_JM        # Gent locking parameter, Sec. 3.3.3
+EPS0 = VACUUM_PERMITTIVITY  # F/m, vacuum permittivity as printed below (3.27)
 EB_COEFF = 51e6          # V/m, E_B = 51 lam^1.13 MV/m (Huang et al. [63], Sec. 3.5.5)
 EB_EXPONENT = 1.13
-EPS_R_ASSUMED = 4.7      # NOT stated in the thesis: catalogued assumption ch3.assumption.eps_r
+EPS_R_ASSUMED = constants.EPS_R_ASSUMED  # NOT stated in the thesis: assumption ch3.assumption.eps_r
 C_WISSLER_MAZZA = -0.053  # Sec. 3.5, Wissler & Mazza [56]
 
 #: Table 3.1: (experimental-data reference number, c)

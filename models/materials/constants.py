@@ -6,6 +6,8 @@ Every chapter and every finite-element model takes these from here (through
 * :data:`VACUUM_PERMITTIVITY` -- the value printed with eq. (3.27) (thesis p. 34),
   8.85e-12 F/m; the CODATA value 8.8541878128e-12 differs by 4.7e-4 relative, far below
   every printed digit it enters.
+* :data:`VHB_SHEAR_MODULUS`, :data:`VHB_GENT_JM` -- the Gent parameters of VHB 4910 of
+  Chapter 3 (Sec. 3.3.3): mu = 51 kPa, Jm = 120.
 * :data:`EPS_R_ASSUMED` -- relative permittivity of VHB 4910, not printed in the thesis
   (assumption ``ch2.assumption.eps_r``).
 * Table 5.1 (thesis p. 88): the neo-Hookean shear and bulk moduli (5.15)-(5.17) and the
@@ -20,6 +22,12 @@ VACUUM_PERMITTIVITY = 8.85e-12
 
 EPS_R_ASSUMED = 4.7
 """Relative permittivity of VHB 4910 (assumption: the thesis does not print it)."""
+
+VHB_SHEAR_MODULUS = 51e3
+"""Pa, shear modulus mu of VHB 4910 in the Gent model (3.23), Sec. 3.3.3."""
+
+VHB_GENT_JM = 120.0
+"""Gent locking parameter Jm of VHB 4910 (3.23), Sec. 3.3.3."""
 
 TABLE_5_1_NH_SHEAR_MODULUS = 156000.0
 """Pa, Table 5.1 neo-Hookean mu (C10 = mu/2, eq. (5.16))."""

@@ -20,11 +20,14 @@ import numpy as np
 from debench.models import validation as v
 from debench.models.invariants import invariants, validate_state
 from debench.models.materials.constants import (  # defined once; VACUUM_PERMITTIVITY re-exported
+    EPS_R_ASSUMED,
     TABLE_5_1_BULK_MODULUS,
     TABLE_5_1_NH_SHEAR_MODULUS,
     TABLE_5_1_OGDEN_ALPHAS,
     TABLE_5_1_OGDEN_MUS,
     VACUUM_PERMITTIVITY,
+    VHB_GENT_JM,
+    VHB_SHEAR_MODULUS,
 )
 from debench.models.materials.kernel import (
     Response,
@@ -89,9 +92,10 @@ class GentIdealDielectric(_InvariantMaterial):
     Raises ``ValueError`` when ``I1 - 3 >= Jm`` (past the locking stretch).
     """
 
-    mu: float = 51e3
-    Jm: float = 120.0
-    eps: float = field(default=4.7 * VACUUM_PERMITTIVITY)  # assumption ch2.assumption.eps_r
+    mu: float = VHB_SHEAR_MODULUS
+    Jm: float = VHB_GENT_JM
+    # assumption ch2.assumption.eps_r
+    eps: float = field(default=EPS_R_ASSUMED * VACUUM_PERMITTIVITY)
     numbering: ClassVar[str] = "iso"
     incompressible: ClassVar[bool] = True
 

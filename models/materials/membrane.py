@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from debench.models import validation as v
+from debench.models.materials.constants import VHB_GENT_JM, VHB_SHEAR_MODULUS
 from debench.models.materials.library import VACUUM_PERMITTIVITY
 
 _H = 1e-30  # complex step: no subtractive cancellation, any tiny step is exact to rounding
@@ -130,8 +131,8 @@ class GentMembrane:
     Thesis Ch. 3: mu = 51 kPa, Jm = 120, Zhao-Suo permittivity with c from Table 3.1.
     """
 
-    mu: float = 51e3
-    Jm: float = 120.0
+    mu: float = VHB_SHEAR_MODULUS
+    Jm: float = VHB_GENT_JM
     permittivity: ZhaoSuoPermittivity | JimenezMcMeekingPermittivity = ZhaoSuoPermittivity()
 
     def __post_init__(self):

@@ -14,12 +14,12 @@ from types import SimpleNamespace
 import numpy as np
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError
+from debench.models.numerics.roots import regula_falsi_many
 from debench.models.plate.ansatz import (
     _column,
     _determinant,
     _determinants,
     _quartic_roots,
-    _refine,
     _row_coefficients,
     critical_stretches,
 )
@@ -70,7 +70,7 @@ def thin_limit(params: PlateParams, window=(0.3, 10.0), n: int = 2000) -> np.nda
     if not idx.size:
         return np.array([])
     # all sign changes refined together to xtol = 1e-14 (vectorised Illinois iteration)
-    return _refine(lambda x, _: f(x), grid[idx], grid[idx + 1], ms[idx], ms[idx + 1],
+    return regula_falsi_many(lambda x, _: f(x), grid[idx], grid[idx + 1], ms[idx], ms[idx + 1],
                    xtol=1e-14)
 
 

@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError, require
+from debench.models.numerics.roots import regula_falsi_many
 from debench.models.plate.coefficients import (
     PlateParams,
     _coefficients,
@@ -278,48 +279,6 @@ def scan_grid(window=LAM_WINDOW, n=N_SCAN, params: PlateParams | None = None):
     return np.unique(np.concatenate([grid, extra])) if extra.size else grid
 
 
-def _refine(f, a, b, fa, fb, xtol=XTOL, maxiter=200):
-    """Zeros of ``f`` in the brackets [a, b] (arrays, sign change fa fb < 0), all at once.
-
-    ``f(x, active)`` evaluates the function at the points ``x`` of the brackets selected
-    by the boolean mask ``active``. Illinois variant of regula falsi (bisection where
-    rounding puts the secant point outside the bracket); converged when
-    ``|b - a| <= xtol + 4 eps |b|`` (the stopping rule of :func:`scipy.optimize.brentq`
-    with the same ``xtol``) or ``f`` vanishes exactly. Returns the end with the smaller
-    ``|f|``. ConvergenceError when ``f`` is not finite inside a bracket or ``maxiter``
-    iterations do not suffice.
-    """
-    a, b = np.array(a, float), np.array(b, float)
-    fa, fb = np.array(fa, float), np.array(fb, float)
-    side = np.zeros(a.shape, int)
-    eps = np.finfo(float).eps
-    for _ in range(maxiter):
-        active = (np.abs(b - a) > xtol + 4 * eps * np.abs(b)) & (fa != 0) & (fb != 0)
-        if not active.any():
-            break
-        x = b - fb * (b - a) / (fb - fa)
-        lo, hi = np.minimum(a, b), np.maximum(a, b)
-        x = np.where((x > lo) & (x < hi), x, 0.5 * (a + b))   # rounding: bisect
-        fx = np.zeros_like(x)
-        fx[active] = f(x[active], active)
-        if not np.all(np.isfinite(fx[active])):
-            raise ConvergenceError("root refinement: the function is not finite inside a "
-                                   "bracket (the model is not strongly elliptic there)")
-        same = np.sign(fx) == np.sign(fb)
-        # Illinois: keep the bracket, halve the stale end's value when it is kept twice
-        new_a = np.where(same, a, b)
-        new_fa = np.where(same, np.where(side == 1, 0.5 * fa, fa), fb)
-        a = np.where(active, new_a, a)
-        fa = np.where(active, new_fa, fa)
-        b = np.where(active, x, b)
-        fb = np.where(active, fx, fb)
-        side = np.where(active, np.where(same, 1, 0), side)
-    else:
-        raise ConvergenceError(f"root refinement did not reach xtol = {xtol} in {maxiter} "
-                               f"iterations (widest bracket {np.max(np.abs(b - a)):.3g})")
-    return np.where(np.abs(fa) < np.abs(fb), a, b)
-
-
 def _check_scan(kH, params, window, n_scan):
     v.positive("kH", kH)
     if not isinstance(kH, float):
@@ -334,10 +293,10 @@ def critical_stretches(kH: float, params: PlateParams, *, window=LAM_WINDOW,
     """All lam in ``window`` at which a parity determinant vanishes, at fixed kH.
 
     Sign changes of the determinant on a geometric lam grid bracket the roots; all are
-    refined together (vectorised Illinois iteration, :func:`_refine`) to
-    ``xtol = 1e-13``. Points where the model is not strongly elliptic are skipped (no
-    bracket crosses them). Raises :class:`ConvergenceError` if the refinement fails on a
-    bracket. ``n_scan >= MIN_SCAN``.
+    refined together (vectorised Illinois iteration,
+    :func:`~debench.models.numerics.roots.regula_falsi_many`) to ``xtol = 1e-13``. Points
+    where the model is not strongly elliptic are skipped (no bracket crosses them). Raises
+    :class:`ConvergenceError` if the refinement fails on a bracket. ``n_scan >= MIN_SCAN``.
     """
     kH = v.finite("kH", kH)
     require(kH > 0, f"kH must be finite and > 0, got {kH}")
@@ -355,8 +314,9 @@ def critical_stretches(kH: float, params: PlateParams, *, window=LAM_WINDOW,
         exact = np.nonzero(vals == 0)[0]
         if idx.size:
             try:
-                r = _refine(lambda x, _, par=par: _determinant(x, kH, params, par),
-                            grid[idx], grid[idx + 1], vals[idx], vals[idx + 1])
+                r = regula_falsi_many(lambda x, _, par=par: _determinant(x, kH, params, par),
+                                      grid[idx], grid[idx + 1], vals[idx], vals[idx + 1],
+                                      XTOL)
             except ConvergenceError as exc:
                 raise ConvergenceError(f"root refinement failed at kH={kH}, {params}: "
                                        f"{exc}") from exc

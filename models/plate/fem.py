@@ -35,7 +35,7 @@ import numpy as np
 import scipy.linalg as sla
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError
-from debench.models.plate._roots import SECANT_STEP, Memo, zero_near
+from debench.models.numerics.roots import SECANT_STEP, Memo, zero_near
 from debench.models.plate.coefficients import PlateParams, _strongly_elliptic, energy_matrix
 from scipy.optimize import brentq
 
@@ -314,7 +314,7 @@ def refine_root(lam0: float, kH: float, params: PlateParams, n: int, *, index: i
 
     Secant steps start at ``lam0`` (an estimate, e.g. the determinant root) and brentq
     finishes on the narrowest interval where the eigenvalue changed sign
-    (:func:`debench.models.plate._roots.zero_near`). The root's round-off is the
+    (:func:`debench.models.numerics.roots.zero_near`). The root's round-off is the
     eigenvalue's, eps ||K||_1, over its slope (the first secant: lam0 and
     lam0 (1 + SECANT_STEP)): within it the computed eigenvalue's sign is round-off (thin
     plates: K ~ t^-3, measured +-2e-11 at k h = 0.14), so a narrower bracket would only

@@ -47,8 +47,9 @@ import numpy as np
 import scipy.linalg as sla
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError
+from debench.models.numerics.roots import regula_falsi_many
 from debench.models.plate import _generated_inplane as gen
-from debench.models.plate.ansatz import _refine, critical_stretches
+from debench.models.plate.ansatz import critical_stretches
 from debench.models.plate.coefficients import PlateParams
 from debench.models.plate.fem import _gram, grading
 from debench.models.plate.voltage import critical_stretches_at_voltage, dhat_at_voltage
@@ -407,7 +408,7 @@ def critical_stretches_det_many(scans) -> list[np.ndarray]:
 
         # every bracket of every scan refined at once (vectorised Illinois iteration,
         # the stopping rule of brentq with xtol = XTOL_ROOT)
-        roots = _refine(f, *(np.array([br[i] for br in brackets]) for i in (2, 3, 4, 5)),
+        roots = regula_falsi_many(f, *(np.array([br[i] for br in brackets]) for i in (2, 3, 4, 5)),
                         xtol=XTOL_ROOT)
         for k, r in zip(job_of, roots, strict=True):
             io, kH, theta, path = jobs[k][:4]

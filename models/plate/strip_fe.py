@@ -68,7 +68,7 @@ from debench.models.materials import (
     pressure_from_traction_free_face,
     push_forward,
 )
-from debench.models.plate._roots import zero_near
+from debench.models.numerics.roots import zero_near
 from scipy.sparse.linalg import norm as spnorm
 
 PARITIES = ("E", "O")
@@ -378,7 +378,7 @@ def critical_stretch(kH: float, bracket: tuple[float, float], parity: str, mater
 
     With ``guess`` (an estimate inside ``bracket``, e.g. the determinant root), secant
     steps start there and brentq finishes on the narrowest interval where the eigenvalue
-    changed sign (``debench.models.plate._roots.zero_near``: 4-6 eigen-solves where a
+    changed sign (:func:`debench.models.numerics.roots.zero_near`: 4-6 eigen-solves where a
     search of the whole bracket needs ~9); without it, or when they find no sign change,
     the eigenvalue must change sign across ``bracket`` (else :class:`ConvergenceError`).
     Give exactly one of ``Dhat`` (charge control) or ``Vhat`` (voltage control);

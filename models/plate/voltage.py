@@ -25,12 +25,12 @@ from types import SimpleNamespace
 import numpy as np
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError, require
+from debench.models.numerics.roots import regula_falsi_many
 from debench.models.plate.ansatz import (
     LAM_WINDOW,
     MIN_SCAN,
     PARITIES,
     _determinant,
-    _refine,
     scan_grid,
 )
 from debench.models.plate.coefficients import PlateParams
@@ -106,7 +106,7 @@ def critical_stretches_at_voltage(kH: float, Vhat: float, params: PlateParams, *
         if not idx.size:
             continue
         try:
-            r = _refine(lambda x, _, par=par: _determinant_at_voltage(x, kH, Vhat, params,
+            r = regula_falsi_many(lambda x, _, par=par: _determinant_at_voltage(x, kH, Vhat, params,
                                                                       par),
                         grid[idx], grid[idx + 1], dv[idx], dv[idx + 1], xtol=1e-13)
         except ConvergenceError as exc:
@@ -151,7 +151,7 @@ def curves_at_voltage(kH_values, Vhat: float, params: PlateParams, *, window=LAM
             continue
         kk = kH_values[i]
         try:
-            r = _refine(lambda x, act, par=par, kk=kk: _determinant_at_voltage(
+            r = regula_falsi_many(lambda x, act, par=par, kk=kk: _determinant_at_voltage(
                 x, kk[act], Vhat, params, par), grid[j], grid[j + 1], dv[i, j],
                 dv[i, j + 1], xtol=1e-13)
         except ConvergenceError as exc:

@@ -23,6 +23,11 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from debench.models.materials.constants import (
+    EPS_R_ASSUMED,
+    VACUUM_PERMITTIVITY,
+    VHB_SHEAR_MODULUS,
+)
 from debench.reference.datasets import write_dataset
 
 STATES = {
@@ -33,9 +38,10 @@ STATES = {
     "simple_shear_0p5_poled": ((1.0, 1.0), 0.5, (0.0, 0.3, 0.4)),
     "general": ((1.3, 0.9), 0.2, (0.2, -0.1, 0.6)),
 }
-TI_SI = dict(mu=51e3, xi=5.0, alpha=0.0, beta=0.5, eps=4.7 * 8.85e-12)
+TI_SI = dict(mu=VHB_SHEAR_MODULUS, xi=5.0, alpha=0.0, beta=0.5,
+             eps=EPS_R_ASSUMED * VACUUM_PERMITTIVITY)
 """SI instance of (4.22) for the dataset (the registry one is non-dimensional)."""
-DO_SI = dict(alpha=0.3, beta=0.5, eps=4.7 * 8.85e-12)
+DO_SI = dict(alpha=0.3, beta=0.5, eps=EPS_R_ASSUMED * VACUUM_PERMITTIVITY)
 """SI instance of (4.20) for the dataset."""
 
 

@@ -25,40 +25,25 @@ from types import SimpleNamespace
 import numpy as np
 import xarray as xr
 from debench.models.circular import circle_a, params
-from debench.models.circular._chapter_pass import Chapter, ChapterSpec, chapter
+from debench.models.circular._chapter_pass import Chapter
 from debench.models.circular.actuator import EVENT_KINDS, Event
-from debench.models.circular.shooting import DEFAULT_STEPS
 from debench.reference.datasets import write_dataset
 from debench.reference.figures import written
+from debench.reference.studies.ch3 import (
+    C_CURVES,
+    EPS_R,
+    LAMP_CURVES,
+    LAMP_SWEEP,
+    PROFILE_STATE,
+    RADIUS_RATIO,
+    c_grid,
+    chapter_pass,
+    settings,
+)
 
-LAMP_CURVES = (1.1, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0)
-C_CURVES = (0.0, -0.02, -0.04, -0.053, -0.06, -0.08, -0.1)
-LAMP_SWEEP = (1.25, 2.0, 3.0)
-EPS_R = (3.5, 4.05, 4.2, 4.7, 5.5)
 #: failure kinds, flag values 1..6; "permittivity": the factor K = 1 + c(5 lam/2 - 2) of
 #: (3.30) reaches 0 (at the pre-stretch itself: no admissible curve at all)
 MODES = ("pullin", "loss_of_tension", "breakdown", "locking", "end", "permittivity")
-RADIUS_RATIO = 15.0
-#: the state of Figs 3.2-3.3: (lamP, Phibar, c), profiles for c and c = 0
-PROFILE_STATE = (3.0, 0.2, params.C_WISSLER_MAZZA)
-#: what the Chapter 3 catalogue entries compute besides the datasets' curves
-#: (``reference/catalogue/ch3.toml``), in the same pass: the c values of Table 3.1's
-#: extremes (loss of tension independent of c), the stretches of the voltage-increase
-#: claims (lamP, stretch), the pre-stretches of the pull-in c thresholds and the c of the
-#: suppression pre-stretch, with the branch points and the bracket the entries use. An
-#: entry outside this plan is computed on demand by its producer.
-CATALOGUE_C = (-0.0073, -0.0892)
-CATALOGUE_STRETCHES = ((3.0, 4.5), (4.0, 5.0))
-CATALOGUE_C_THRESHOLD_LAMP = (1.25,)
-C_THRESHOLD_POINTS = 800
-CATALOGUE_SUPPRESSION_C = (0.0,)
-SUPPRESSION_POINTS = 200
-SUPPRESSION_XTOL = 1e-6
-
-
-def _settings(full: bool) -> dict:
-    return {"n": 800 if full else 300, "n_c": 201 if full else 41,
-            "steps": 4 * DEFAULT_STEPS if full else DEFAULT_STEPS}
 
 
 def _mode_code(failure) -> int:
@@ -71,29 +56,6 @@ def _mode_attrs() -> dict:
             "flag_meanings": ("none pull_in loss_of_tension dielectric_breakdown "
                               "gent_locking end_of_admissible_branch "
                               "nonpositive_permittivity_factor")}
-
-
-def chapter_spec(full: bool = False) -> ChapterSpec:
-    """The Chapter 3 computation of a command: every curve of the datasets and, at the
-    default resolution, every value of the catalogue (:data:`CATALOGUE_C` ...), so that
-    the builder and the producers share one memoised :func:`chapter` pass."""
-    s = _settings(full)
-    extra = not full
-    return ChapterSpec(
-        lamPs=LAMP_CURVES,
-        cs=tuple(sorted(set(C_CURVES) | (set(CATALOGUE_C) if extra else set()), reverse=True)),
-        sweep_lamPs=LAMP_SWEEP, sweep_cs=tuple(float(c) for c in _c_grid(full)),
-        eps_rs=EPS_R, eps_cs=(0.0, params.C_WISSLER_MAZZA), states=(PROFILE_STATE,),
-        stretches=CATALOGUE_STRETCHES if extra else (),
-        c_threshold_lamPs=CATALOGUE_C_THRESHOLD_LAMP if extra else (),
-        c_threshold_n=C_THRESHOLD_POINTS,
-        suppression_cs=CATALOGUE_SUPPRESSION_C if extra else (),
-        suppression_n=SUPPRESSION_POINTS, suppression_xtol=SUPPRESSION_XTOL,
-        n=s["n"], steps=s["steps"], radius_ratio=RADIUS_RATIO)
-
-
-def _chapter(full: bool) -> Chapter:
-    return chapter(chapter_spec(full))
 
 
 def _curve(ch: Chapter, lamP: float, c: float, eps_r=None, equilibrium="printed"):
@@ -121,7 +83,7 @@ def _inadmissible_curve(br, c: float, phibar_breakdown: np.ndarray) -> SimpleNam
 
 
 def _common_params(full: bool) -> dict:
-    s = _settings(full)
+    s = settings(full)
     return {"mu": params.MU_VHB, "Jm": params.JM_VHB, "radius_ratio": RADIUS_RATIO,
             "eps_r": params.EPS_R_ASSUMED, "eps0": params.EPS0,
             "breakdown_field": "51e6 * lam**1.13 V/m", "rk4_steps": s["steps"],
@@ -132,7 +94,7 @@ def _common_params(full: bool) -> dict:
 def annulus_profiles(full: bool = False, ch: Chapter | None = None) -> xr.Dataset:
     """Figs 3.2-3.3: the states at :data:`PROFILE_STATE` for c = 0 and c (equilibrium as
     printed) and their annulus profiles, from the chapter pass."""
-    ch = ch if ch is not None else _chapter(full)
+    ch = ch if ch is not None else chapter_pass(full)
     lamP, phibar, c1 = PROFILE_STATE
     cs = (0.0, c1)
     rows = [(float(lamP), float(phibar), float(c), "printed") for c in cs]
@@ -201,7 +163,7 @@ def _family(ch: Chapter, equilibrium: str = "printed") -> dict:
 
 def failure_points(full: bool = False, ch: Chapter | None = None) -> xr.Dataset:
     """Events and failure modes of the C_CURVES curves, both equilibrium variants."""
-    ch = ch if ch is not None else _chapter(full)
+    ch = ch if ch is not None else chapter_pass(full)
     variants = ("printed", "membrane")
     data = {k: np.full((2, len(LAMP_CURVES), len(C_CURVES)), np.nan) for k in
             [f"{e}_{q}" for e in EVENT_KINDS for q in ("lambda", "phibar")]}
@@ -235,8 +197,8 @@ def failure_points(full: bool = False, ch: Chapter | None = None) -> xr.Dataset:
 
 def c_sweep(full: bool = False, lamPs=LAMP_SWEEP, ch: Chapter | None = None) -> xr.Dataset:
     """Fig. 3.9: the first failure over the c grid at ``lamPs`` (among LAMP_SWEEP)."""
-    ch = ch if ch is not None else _chapter(full)
-    cs = _c_grid(full)
+    ch = ch if ch is not None else chapter_pass(full)
+    cs = c_grid(full)
     lam = np.full((len(lamPs), cs.size), np.nan)
     phi = np.full_like(lam, np.nan)
     mode = np.zeros(lam.shape, np.int8)
@@ -254,13 +216,9 @@ def c_sweep(full: bool = False, lamPs=LAMP_SWEEP, ch: Chapter | None = None) -> 
                 "c": ("c", cs, {**one, "long_name": "Zhao-Suo electrostrictive factor c"})})
 
 
-def _c_grid(full: bool) -> np.ndarray:
-    return np.linspace(0.0, -0.1, _settings(full)["n_c"])
-
-
 def eps_r_sensitivity(full: bool = False, ch: Chapter | None = None) -> xr.Dataset:
     """lam_max and the failure mode per eps_r (assumption), c = 0 and -0.053."""
-    ch = ch if ch is not None else _chapter(full)
+    ch = ch if ch is not None else chapter_pass(full)
     cs2 = (0.0, params.C_WISSLER_MAZZA)
     lam = np.full((len(EPS_R), len(LAMP_CURVES), 2), np.nan)
     mode = np.zeros(lam.shape, np.int8)
@@ -281,9 +239,9 @@ def eps_r_sensitivity(full: bool = False, ch: Chapter | None = None) -> xr.Datas
 
 def compute(full: bool = False) -> dict[str, xr.Dataset]:
     """All Chapter 3 datasets (no I/O), from the one memoised chapter pass
-    (:func:`chapter_spec`: the branches of both equilibrium variants in one scan and one
+    (:func:`debench.reference.studies.ch3.chapter_spec`: the branches of both equilibrium variants in one scan and one
     grid integration, every event of every curve located together)."""
-    ch = _chapter(full)
+    ch = chapter_pass(full)
     return {
         "ch3_annulus_profiles": annulus_profiles(full, ch),
         "ch3_voltage_stretch": voltage_stretch(_family(ch)),

@@ -22,31 +22,19 @@ import xarray as xr
 from debench.models.circular.fe import CircularFE, FEMesh
 from debench.models.circular.shooting import integrate_inward, q_for_stretch
 from debench.reference.datasets import write_dataset
-from debench.reference.producers import ch3_fe as P
-
-
-def _settings(full: bool) -> dict:
-    return {"curve_mesh": P.MESH_FINE if full else P.MESH_CURVE,
-            "steps": P.ANALYTIC_STEPS_FINE if full else P.ANALYTIC_STEPS,
-            "levels": (5, 10, 20, 40, 80) if full else (5, 10, 20),
-            "profile_mesh": P.MESH_FINE if full else dict(n_a=2, n_b=40, order=2)}
-
-
-def _params(full: bool, **extra) -> dict:
-    return {"Jm": 120.0, "radius_ratio": 15.0, "element_order": 2, "full": full,
-            "model": "axisymmetric membrane FE (models/circular/fe.py)", **extra}
+from debench.reference.studies import ch3_fe as study
 
 
 def voltage_stretch(full: bool) -> xr.Dataset:
-    s = _settings(full)
+    s = study.build_settings(full)
     k = np.arange(8)
-    shape = (len(P.CURVE_LAMP), len(P.CURVE_C), len(k))
+    shape = (len(study.CURVE_LAMP), len(study.CURVE_C), len(k))
     data = {n: np.empty(shape) for n in ("fe", "printed", "membrane")}
-    lam = np.empty((len(P.CURVE_LAMP), len(k)))
-    for i, lamP in enumerate(P.CURVE_LAMP):
-        lam[i] = P.curve_grid(lamP)
-        for j, c in enumerate(P.CURVE_C):
-            d = P.voltage_stretch(lamP, c, s["curve_mesh"], lam[i], steps=s["steps"])
+    lam = np.empty((len(study.CURVE_LAMP), len(k)))
+    for i, lamP in enumerate(study.CURVE_LAMP):
+        lam[i] = study.curve_grid(lamP)
+        for j, c in enumerate(study.CURVE_C):
+            d = study.voltage_stretch(lamP, c, s["curve_mesh"], lam[i], steps=s["steps"])
             for n in data:
                 data[n][i, j] = d[n]
     dims = ("lamP", "c", "point")
@@ -55,8 +43,8 @@ def voltage_stretch(full: bool) -> xr.Dataset:
          for n, v, what in [("fe", data["fe"], "finite elements"),
                             ("printed", data["printed"], "analytic, Eq. (3.33) as printed"),
                             ("membrane", data["membrane"], "analytic, thin-membrane balance")]},
-        coords={"lamP": ("lamP", np.array(P.CURVE_LAMP), {"long_name": "equibiaxial pre-stretch", "units": "1"}),
-                "c": ("c", np.array(P.CURVE_C), {"long_name": "Zhao-Suo electrostrictive factor (3.27)", "units": "1"}),
+        coords={"lamP": ("lamP", np.array(study.CURVE_LAMP), {"long_name": "equibiaxial pre-stretch", "units": "1"}),
+                "c": ("c", np.array(study.CURVE_C), {"long_name": "Zhao-Suo electrostrictive factor (3.27)", "units": "1"}),
                 "point": ("point", k, {"long_name": "index of the stretch on the curve", "units": "1"}),
                 "lam": (("lamP", "point"), lam, {"long_name": "stretch of circle A r(R_A)/R_A", "units": "1"})})
     ds.attrs = {"mesh_n_b": s["curve_mesh"]["n_b"], "rk4_steps": s["steps"]}
@@ -64,7 +52,7 @@ def voltage_stretch(full: bool) -> xr.Dataset:
 
 
 def convergence(full: bool) -> xr.Dataset:
-    s = _settings(full)
+    s = study.build_settings(full)
     nb = np.array(s["levels"])
     lot, pil, pip, jump = [], [], [], []
     for n in nb:
@@ -75,15 +63,15 @@ def convergence(full: bool) -> xr.Dataset:
         pip.append(st.phibar)
         sj = CircularFE(3.0, 0.0, mesh=FEMesh(**m)).solve(4.0)
         jump.append(sj.T1A - sj.T1B)
-    ref = {v: {**P.analytic_events(3.0, 0.0, v, s["steps"]),
-               **{k: x for k, x in P.analytic_events(1.25, 0.0, v, s["steps"]).items() if k.startswith("pullin")}}
-           for v in P.VARIANTS}
+    ref = {v: {**study.analytic_events(3.0, 0.0, v, s["steps"]),
+               **{k: x for k, x in study.analytic_events(1.25, 0.0, v, s["steps"]).items() if k.startswith("pullin")}}
+           for v in study.VARIANTS}
     a = lambda what: {"long_name": what, "units": "1"}  # noqa: E731
     vars_ = {"lam_loss_of_tension_fe": ("n_b", np.array(lot), a("FE loss-of-tension stretch, lamP = 3")),
              "lam_pullin_fe": ("n_b", np.array(pil), a("FE stretch at pull-in, lamP = 1.25, c = 0")),
              "phibar_pullin_fe": ("n_b", np.array(pip), a("FE Phibar at pull-in, lamP = 1.25, c = 0")),
              "T1_jump_fe": ("n_b", np.array(jump), a("FE T1^(A) - T1^(B) at R_A per mu, lamP = 3, lam = 4"))}
-    for v in P.VARIANTS:
+    for v in study.VARIANTS:
         vars_[f"lam_loss_of_tension_{v}"] = ((), ref[v]["loss_of_tension"], a(f"analytic ({v}) loss-of-tension stretch, lamP = 3"))
         vars_[f"lam_pullin_{v}"] = ((), ref[v]["pullin_lam"], a(f"analytic ({v}) stretch at pull-in, lamP = 1.25"))
         vars_[f"phibar_pullin_{v}"] = ((), ref[v]["pullin_phibar"], a(f"analytic ({v}) Phibar at pull-in, lamP = 1.25"))
@@ -93,13 +81,13 @@ def convergence(full: bool) -> xr.Dataset:
 
 
 def profiles(full: bool) -> xr.Dataset:
-    s = _settings(full)
+    s = study.build_settings(full)
     lamP, lam = 3.0, 4.0
     fe = CircularFE(lamP, 0.0, mesh=FEMesh(**s["profile_mesh"]))
     st = fe.solve(lam)
     out = {}
-    for v in P.VARIANTS:
-        br = P._branch(lamP, v, s["steps"])
+    for v in study.VARIANTS:
+        br = study.analytic_branch(lamP, v, s["steps"])
         q = q_for_stretch(br.annulus, np.array([lam]), np.interp(lam, br.lam, br.q), steps=s["steps"])
         _, _, t, P1, P2 = integrate_inward(br.annulus, q, steps=s["steps"], profile=True)
         R = np.exp(t)[::-1][1:-1]
@@ -107,7 +95,7 @@ def profiles(full: bool) -> xr.Dataset:
     p = fe.profile(st, R)
     a = lambda what: {"long_name": what, "units": "1"}  # noqa: E731
     vars_ = {f"lam{i}_fe": ("R", p[f"lam{i}"], a(f"lambda{i}, finite elements")) for i in (1, 2, 3)}
-    for v in P.VARIANTS:
+    for v in study.VARIANTS:
         l1, l2 = out[v]
         vars_[f"lam1_{v}"] = ("R", l1, a(f"lambda1, analytic ({v})"))
         vars_[f"lam2_{v}"] = ("R", l2, a(f"lambda2, analytic ({v})"))
@@ -133,7 +121,7 @@ def build(out_dir: Path, *, full: bool = False) -> list[Path]:
     paths = []
     for name, (make, title, summary) in DATASETS.items():
         ds = make(full)
-        prm = _params(full, **ds.attrs)
+        prm = study.dataset_parameters(full, **ds.attrs)
         ds.attrs = {}
         paths.append(write_dataset(ds, name, title=title, summary=summary, parameters=prm,
                                    out_dir=out_dir, overwrite=True))

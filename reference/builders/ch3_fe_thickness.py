@@ -10,7 +10,7 @@ A chapter of its own because it costs minutes of CPU (the loss-of-tension sequen
 (:func:`debench.reference.producers.ch3_fe.thickness_guards`) recomputes the thickest film
 of one sequence and compares it with the stored value. The films are independent solves:
 they run as tasks (:func:`film_task`) on the Chapter 5 task runner
-(:func:`debench.reference.builders.ch5.run_tasks`: serial, a Dask LocalCluster or an
+(:func:`debench.reference.tasks.run_tasks`: serial, a Dask LocalCluster or an
 existing scheduler), thinnest first (the longest); the sequences' membrane references and
 analytic variants are computed here.
 """
@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 from debench.reference.datasets import write_dataset
-from debench.reference.producers import ch3_fe as P
+from debench.reference.studies import ch3_fe as study
 
 NAME = "ch3_fe_thickness"
 TITLE = "Chapter 3 film thickness: the thin axisymmetric solid on film sequences H -> 0"
@@ -34,13 +34,13 @@ SUMMARY = ("Film sequences of the thin solid FE (Phibar at a fixed centre stretc
 
 def film_sources() -> str:
     """sha256 of the source a film runs beyond what the task runner's cache key holds
-    (:func:`debench.reference.builders.ch5.models_digest` covers the materials and the
-    top-level model modules): the Chapter 3 models and the producer module."""
+    (:func:`debench.reference.tasks.models_digest` covers the materials and the
+    top-level model modules): the Chapter 3 models and the study module."""
     import debench.models.circular as circular
-    import debench.reference.producers.ch3_fe as producer
+    import debench.reference.studies.ch3_fe as study_module
 
     h = hashlib.sha256()
-    for f in [*sorted(Path(circular.__file__).parent.glob("*.py")), Path(producer.__file__)]:
+    for f in [*sorted(Path(circular.__file__).parent.glob("*.py")), Path(study_module.__file__)]:
         h.update(f.name.encode())
         h.update(f.read_bytes())
     return h.hexdigest()
@@ -54,22 +54,22 @@ def film_task(H: float, quantity: str, lamP: float, c: float, lam_centre: float,
     build naming the task: no NaN reaches the dataset). One thread for BLAS and NGSolve. ``sources``
     (:func:`film_sources`) is not used here: it is part of the task, so that a result
     kept by the runner's cache (``DEBENCH_FE_CACHE``) is never served for other code."""
-    from debench.reference.builders._ch5_tasks import _limit_threads
+    from debench.reference.tasks import limit_threads
 
-    _limit_threads()
-    return P.film_value(quantity, lamP, c, H, lam_centre, dict(P.SOLID_MESH_COARSE, nz=nz))
+    limit_threads()
+    return study.film_value(quantity, lamP, c, H, lam_centre, dict(study.SOLID_MESH_COARSE, nz=nz))
 
 
 def thickness(full: bool, scheduler: str | None = None) -> xr.Dataset:
     """Every film sequence of the thin solid the ``ch3.fe.thickness_*`` entries read
-    (:data:`~debench.reference.producers.ch3_fe.THICKNESS_SEQUENCES`; ``full`` adds films
+    (:data:`~debench.reference.studies.ch3_fe.THICKNESS_SEQUENCES`; ``full`` adds films
     and the edge layer resolved twice as finely): per film H the solid value, with the
     membrane FE (reference mesh), the in-plane mesh error of the limit, both analytic
     variants and the H -> 0 extrapolation with its uncertainty and observed order.
     ``scheduler``: where the films run (:func:`debench.reference.builders.ch5.build`)."""
-    from debench.reference.builders.ch5 import resolve_scheduler, run_tasks
+    from debench.reference.tasks import resolve_scheduler, run_tasks
 
-    seqs = P.thickness_sequences(full)
+    seqs = study.thickness_sequences(full)
     code = film_sources()
     tasks = [(film_task, float(h), s.quantity, float(s.lamP), float(s.c),
               float(s.lam_centre), int(s.nz), code) for s in seqs for h in s.films]
@@ -86,7 +86,7 @@ def thickness(full: bool, scheduler: str | None = None) -> xr.Dataset:
                                             "extrapolation_error", "order")}
     for i, s in enumerate(seqs):
         vals = [next(films) for _ in s.films]
-        d = P.thickness_study(s.quantity, s.lamP, s.films, dict(P.SOLID_MESH_COARSE, nz=s.nz),
+        d = study.thickness_study(s.quantity, s.lamP, s.films, dict(study.SOLID_MESH_COARSE, nz=s.nz),
                               s.lam_centre, c=s.c, values=vals)
         n = len(s.films)
         H[i, :n], val[i, :n], diff[i, :n] = s.films, d["values"], d["diff_membrane_fe"]
@@ -119,8 +119,8 @@ def thickness(full: bool, scheduler: str | None = None) -> xr.Dataset:
         "sequence": ("sequence", np.array([s.name for s in seqs]), {"long_name": "film sequence: quantity, pre-stretch, c, centre stretch, nz"}),
         "film": ("film", np.arange(nf), a("index of the film in its sequence (thickest first)"))})
     ds.attrs = {"model": "thin axisymmetric solid FE (models/circular/fe_solid.py) beside the membrane FE (models/circular/fe.py)",
-                "solid_n_a": P.SOLID_MESH_COARSE["n_a"], "solid_n_b": P.SOLID_MESH_COARSE["n_b"],
-                "membrane_n_b": P.MEMBRANE_REFERENCE_MESH["n_b"], "rk4_steps": P.ANALYTIC_STEPS}
+                "solid_n_a": study.SOLID_MESH_COARSE["n_a"], "solid_n_b": study.SOLID_MESH_COARSE["n_b"],
+                "membrane_n_b": study.MEMBRANE_REFERENCE_MESH["n_b"], "rk4_steps": study.ANALYTIC_STEPS}
     return ds
 
 
@@ -129,9 +129,8 @@ def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) ->
     """Write ``ch3_fe_thickness.nc`` to ``out_dir`` (``full``: more films and the edge layer
     resolved twice as finely; ``scheduler`` as :func:`debench.reference.builders.ch5.build`:
     None runs the films on a LocalCluster on a machine with more than one core)."""
-    from debench.reference.builders.ch3_fe import _params
     ds = thickness(full, scheduler)
-    prm = _params(full, **ds.attrs)
+    prm = study.dataset_parameters(full, **ds.attrs)
     ds.attrs = {}
     return [write_dataset(ds, NAME, title=TITLE, summary=SUMMARY, parameters=prm,
                           out_dir=Path(out_dir), overwrite=True)]

@@ -27,12 +27,12 @@ from debench.models.plate.ansatz import LAM_WINDOW, critical_stretches, curves_v
 from debench.models.plate.fem import eigenvalues, elements_for, refine_root
 from debench.reference.datasets import write_dataset
 from debench.reference.figures import written
-from debench.reference.producers import ch4 as prod
+from debench.reference.studies import ch4 as study
 from tqdm import tqdm
 
 VARIANTS = ("derived", "printed", "literal")
-FIG42_D = prod.FIG42_D
-FIG45_XI = prod.FIG45_XI
+FIG42_D = study.FIG42_D
+FIG45_XI = study.FIG45_XI
 MAX_ROOTS = 8
 COMMON = {"alpha": 0.0, "beta": 0.5, "mu": 1.0, "eps": 1.0,
           "lam_window": list(LAM_WINDOW), "units": "mu = eps = 1, Dhat = D2/sqrt(mu eps)"}
@@ -103,13 +103,13 @@ def limits_dataset() -> xr.Dataset:
 
 
 def _area(xi: float, D: float, variant: str, which: str, kH_max: float) -> float:
-    """:func:`debench.reference.producers.ch4.area`, NaN where the unstable region is
+    """:func:`debench.reference.studies.ch4.area`, NaN where the unstable region is
     undefined: the top of the lam window is not strongly elliptic (no stable reference;
     the derived model for xi > 1/2), where :meth:`Region.area` raises."""
     p = PlateParams(xi, D, variant=variant)
-    if variant != "literal" and not bool(strongly_elliptic(np.array(prod.AREA_LAM[1]), p)):
+    if variant != "literal" and not bool(strongly_elliptic(np.array(study.AREA_LAM[1]), p)):
         return np.nan
-    return prod.area(xi, D, variant, which, kH_max)
+    return study.area(xi, D, variant, which, kH_max)
 
 
 def areas_dataset(progress=True) -> xr.Dataset:
@@ -145,7 +145,7 @@ def critical_D_dataset() -> xr.Dataset:
         for ic, c in enumerate(cands):
             for ix, x in enumerate(FIG45_XI):
                 try:
-                    C[iv, ic, ix] = prod.critical_D(float(x), c, v)
+                    C[iv, ic, ix] = study.critical_D(float(x), c, v)
                 except Exception:  # noqa: BLE001 - recorded as NaN (no onset in range)
                     C[iv, ic, ix] = np.nan
     return xr.Dataset(
@@ -247,7 +247,7 @@ def _shade_unstable(ax, ds, v, xi, D, **style):
     from debench.models.plate.analysis import region
 
     kH = np.geomspace(float(ds.kH.min()), float(ds.kH.max()), 121)
-    lam = np.geomspace(prod.AREA_LAM[0], prod.AREA_LAM[1], 241)
+    lam = np.geomspace(study.AREA_LAM[0], study.AREA_LAM[1], 241)
     r = region(PlateParams(xi=xi, Dhat=D, variant=v), kH, lam)
     mask = np.asarray(r.thesis, float)
     if not np.isfinite(mask).all() or not mask.any():
@@ -299,8 +299,9 @@ def figures(out: Path, c42: xr.Dataset, c45: xr.Dataset, lim: xr.Dataset, ar: xr
     ax.set_xlabel(r"case, $\hat D$")
     ax.set_ylabel(r"area of $\{\det < 0\}$ in the $(kH, \lambda)$ plane")
     ax.legend(fontsize=8)
+    lam_lo, lam_hi = study.AREA_LAM[0], study.AREA_LAM[1]
     ax.set_title("Fig. 4.3: unstable-region areas, assumed window "
-                 rf"$kH \in$ [0.01, 10], $\lambda \in$ [{prod.AREA_LAM[0]:g}, {prod.AREA_LAM[1]:g}]"
+                 rf"$kH \in$ [0.01, 10], $\lambda \in$ [{lam_lo:g}, {lam_hi:g}]"
                  "\n(the thesis' areas are in its figure image only)")
     paths += save(fig, out / "fig4_3_areas")
     # Fig 4.4
@@ -380,8 +381,8 @@ def build(out_dir: Path, *, full: bool = False, progress: bool = True) -> list[P
         ar, "ch4_areas", title="Chapter 4, Fig. 4.3: unstable-region areas",
         summary="Areas of the unstable region in the (kH, lam) plane, thesis definition "
         "(det < 0) and physical definition, three kH windows.",
-        parameters={**COMMON, "lam_min": 0.4, "lam_max": 8.0, "n_kH": prod.AREA_KH_N,
-                    "n_lam": prod.AREA_LAM[2]}, out_dir=out_dir, overwrite=True))
+        parameters={**COMMON, "lam_min": 0.4, "lam_max": 8.0, "n_kH": study.AREA_KH_N,
+                    "n_lam": study.AREA_LAM[2]}, out_dir=out_dir, overwrite=True))
     crit = critical_D_dataset()
     paths.append(write_dataset(
         crit, "ch4_critical_dhat", title="Chapter 4, Fig. 4.6: critical Dhat vs xi",

@@ -20,7 +20,7 @@ import numpy as np
 import xarray as xr
 from debench.models.plate import strip_fe
 from debench.reference.datasets import write_dataset
-from debench.reference.producers import ch4_fe as prod
+from debench.reference.studies import ch4_fe as study
 
 COMMON = {"alpha": 0.0, "beta": 0.5, "mu": 1.0, "eps": 1.0, "order": 3,
           "variant_compared": "derived", "units": "mu = eps = 1, Dhat = D2/sqrt(mu eps)"}
@@ -40,22 +40,22 @@ def _attrs(long_name, units="1", **kw):
 
 def _accuracy(acc=None) -> dict:
     """The accuracy attributes by which a regenerated variable is compared."""
-    acc = prod.ACCURACY if acc is None else acc
+    acc = study.ACCURACY if acc is None else acc
     return {"accuracy_rtol": acc.rtol, "accuracy_atol": acc.atol,
             "accuracy_reason": acc.reason}
 
 
 def compare_task(xi: float, load: float, kH: float, level: int, control: str,
                  parity: str | None) -> tuple:
-    """:func:`debench.reference.producers.ch4_fe.compare` with positional arguments: one
+    """:func:`debench.reference.studies.ch4_fe.compare` with positional arguments: one
     independent FE task of :func:`plan` (a Dask task)."""
-    return prod.compare(xi, load, kH, level=level, control=control, parity=parity)
+    return study.compare(xi, load, kH, level=level, control=control, parity=parity)
 
 
 def limit_task(name: str):
-    """:func:`debench.reference.producers.ch4_fe.limit_comparison` as a task of
+    """:func:`debench.reference.studies.ch4_fe.limit_comparison` as a task of
     :func:`plan`."""
-    return prod.limit_comparison(name)
+    return study.limit_comparison(name)
 
 
 def plan(full: bool) -> dict[str, list[tuple]]:
@@ -63,13 +63,13 @@ def plan(full: bool) -> dict[str, list[tuple]]:
     comparison of :func:`agreement_dataset`, :func:`convergence_dataset` and
     :func:`limits_dataset` (each assembles and solves its own strip model)."""
     level = 2 if full else 0
-    cases = prod.CASES_FULL if full else prod.CASES_FAST
+    cases = study.CASES_FULL if full else study.CASES_FAST
     return {
         "agreement": [(compare_task, *case, level, "charge", None) for case in cases]
-        + [(compare_task, *case, level, "voltage", None) for case in prod.VOLTAGE_CASES],
+        + [(compare_task, *case, level, "voltage", None) for case in study.VOLTAGE_CASES],
         "convergence": [(compare_task, *case, int(lv), "charge", par)
                         for case, par in CONVERGENCE_CASES for lv in CONVERGENCE_LEVELS],
-        "limits": [(limit_task, name) for name in prod.LIMITS],
+        "limits": [(limit_task, name) for name in study.LIMITS],
     }
 
 
@@ -126,11 +126,11 @@ def convergence_dataset(done: dict | None = None) -> tuple[xr.Dataset, dict]:
 
 
 def limits_dataset(done: dict | None = None) -> xr.Dataset:
-    """The Biot and Euler limit roots (:func:`debench.reference.producers.ch4_fe.
+    """The Biot and Euler limit roots (:func:`debench.reference.studies.ch4_fe.
     limit_comparison`) on the producers' mesh level (``done``: as
     :func:`agreement_dataset`)."""
     rows = _results(plan(False)["limits"], done)
-    acc = prod.ACCURACY
+    acc = study.ACCURACY
 
     def col(k):
         return np.array([getattr(c, k) for c in rows])
@@ -145,7 +145,7 @@ def limits_dataset(done: dict | None = None) -> xr.Dataset:
          "kH": ("limit", col("kH"), _attrs("wavenumber times thickness")),
          "ndof": ("limit", col("ndof"), _attrs("free degrees of freedom")),
          "level": ("limit", col("level"), _attrs("mesh level (sqrt 2 refinement)"))},
-        coords={"limit": ("limit", np.array(prod.LIMITS),
+        coords={"limit": ("limit", np.array(study.LIMITS),
                           {"long_name": "biot: thick plate kH -> inf (lit.plate."
                                         "biot_thick_limit); euler: thin plate kH -> 0 "
                                         "(lit.plate.euler_thin_limit)"})})
@@ -155,14 +155,14 @@ def build(out_dir: Path, *, full: bool = False, progress: bool = True,
           scheduler: str | None = None) -> list[Path]:
     """Compute and write the three datasets into ``out_dir``.
 
-    The independent FE tasks (:func:`plan`) run as :func:`debench.reference.builders.ch5.
+    The independent FE tasks (:func:`plan`) run as :func:`debench.reference.tasks.
     run_tasks` runs them: ``scheduler`` None or ``"serial"`` in this process, ``"local"``
     on a Dask LocalCluster sized to the machine (``debench reproduce ch4_fe --scheduler
     local``), an address: an existing scheduler (same results: each task is a pure
     function of its arguments). Serial by default: the build is about 50 s of CPU, and a
     LocalCluster's start costs seconds and can time out on a heavily loaded machine.
     """
-    from debench.reference.builders.ch5 import resolve_scheduler, run_tasks
+    from debench.reference.tasks import resolve_scheduler, run_tasks
 
     out_dir = Path(out_dir)
     p = plan(full)
@@ -195,8 +195,8 @@ def build(out_dir: Path, *, full: bool = False, progress: bool = True,
         limits_dataset(done), "ch4_fe_limits", out_dir=out_dir, overwrite=True,
         title="Plate strip FE: the thick (Biot) and thin (Euler) limits",
         summary="Flexural critical stretch of the plane-strain strip FE at kH = "
-                f"{prod.KH_BIOT:g} (Biot's surface instability 0.66614 as kH -> inf) and "
-                f"kH = {prod.KH_EULER:g} ((1 - lam_cr)/kH^2 -> 1/18, Euler buckling of a "
+                f"{study.KH_BIOT:g} (Biot's surface instability 0.66614 as kH -> inf) and "
+                f"kH = {study.KH_EULER:g} ((1 - lam_cr)/kH^2 -> 1/18, Euler buckling of a "
                 "plate) beside the determinant root, xi = Dhat = 0, coarse mesh.",
-        parameters={**COMMON, "xi": 0.0, "Dhat": 0.0, "level": prod.LIMITS_LEVEL}))
+        parameters={**COMMON, "xi": 0.0, "Dhat": 0.0, "level": study.LIMITS_LEVEL}))
     return paths

@@ -39,8 +39,8 @@ from debench.models.plate import PlateParams
 from debench.models.plate import inplane as ip
 from debench.reference.datasets import write_dataset
 from debench.reference.figures import written
-from debench.reference.producers import ch4_inplane as prod
-from debench.reference.producers.ch4_inplane import Case
+from debench.reference.studies import ch4_inplane as study
+from debench.reference.studies.ch4_inplane import Case
 
 THETA_FAST = (0.0, 30.0, 45.0, 60.0, 90.0)
 THETA_FULL = tuple(float(t) for t in range(0, 91, 10)) + (45.0,)
@@ -71,7 +71,7 @@ V_HI = 1.5
 LAM_LO = 0.6
 #: grid points of the scan (each method): the producers' grid, whose memo solves each
 #: window (:class:`Case`)
-N_SCAN = prod.N_SCAN
+N_SCAN = study.N_SCAN
 COMMON = {"alpha": 0.0, "beta": 0.5, "mu": 1.0, "eps": 1.0,
           "fibre": "A = (cos theta, 0, sin theta), in the plane of the plate",
           "units": "mu = eps = 1, Dhat = D2/sqrt(mu eps), Vhat = V sqrt(eps/mu)/H",
@@ -113,10 +113,10 @@ def lam_cr_dataset(full: bool) -> xr.Dataset:
                 lam_e[a, b, c], lo = _lo(th, p)
                 for d, kh in enumerate(khs):
                     cases[a, b, c, d] = Case("charge", th, xi, D, 0.0, kh, lo, 0.999)
-    prod.det_roots_many(list(cases.values()))   # every window's determinant roots at once
+    study.det_roots_many(list(cases.values()))   # every window's determinant roots at once
     for idx, case in cases.items():
-        det[idx] = _largest(prod.det_roots(case))
-        fe[idx] = _largest(prod.fe_roots(case))
+        det[idx] = _largest(study.det_roots(case))
+        fe[idx] = _largest(study.fe_roots(case))
     dims = ("xi", "Dhat", "theta", "kH")
     return xr.Dataset(
         {"lam_cr_det": (dims, det, _attrs(
@@ -143,7 +143,7 @@ def curves_dataset(full: bool) -> xr.Dataset:
             _, lo = _lo(th, p)
             for d, kh in enumerate(khs):
                 cases[a, c, d] = Case("charge", th, xi, 0.0, 0.0, kh, lo, 0.999)
-    for idx, r in zip(cases, prod.det_roots_many(list(cases.values())), strict=True):
+    for idx, r in zip(cases, study.det_roots_many(list(cases.values())), strict=True):
         lam[idx] = _largest(r)
     return xr.Dataset(
         {"lam_cr_det": (("xi", "theta", "kH"), lam, _attrs(
@@ -169,10 +169,10 @@ def tension_dataset(full: bool) -> xr.Dataset:
             memb[b, c] = np.nan if m is None else m
             for d, kh in enumerate(khs):
                 cases[b, c, d] = Case("charge", th, xi, D, 0.0, kh, *TENSION_WINDOW)
-    prod.det_roots_many(list(cases.values()))   # every window's determinant roots at once
+    study.det_roots_many(list(cases.values()))   # every window's determinant roots at once
     for idx, case in cases.items():
-        det[idx] = _largest(prod.det_roots(case))
-        fe[idx] = _largest(prod.fe_roots(case))
+        det[idx] = _largest(study.det_roots(case))
+        fe[idx] = _largest(study.fe_roots(case))
     dims = ("Dhat", "theta", "kH")
     return xr.Dataset(
         {"lam_cr_det": (dims, det, _attrs(
@@ -201,10 +201,10 @@ def voltage_dataset(full: bool) -> xr.Dataset:
             _, lo = _lo(th, p, Vhat=V)
             for d, kh in enumerate(khs):
                 cases[b, c, d] = Case("voltage", th, xi, 0.0, V, kh, lo, V_HI)
-    prod.det_roots_many(list(cases.values()))   # every window's determinant roots at once
+    study.det_roots_many(list(cases.values()))   # every window's determinant roots at once
     for idx, case in cases.items():
-        det[idx] = _largest(prod.det_roots(case))
-        fe[idx] = _largest(prod.fe_roots(case))
+        det[idx] = _largest(study.det_roots(case))
+        fe[idx] = _largest(study.fe_roots(case))
     dims = ("Vhat", "theta", "kH")
     return xr.Dataset(
         {"lam_cr_det": (dims, det, _attrs(
@@ -220,9 +220,9 @@ def voltage_dataset(full: bool) -> xr.Dataset:
 def roots_dataset() -> xr.Dataset:
     """Every root, both methods, of the producers' windows (NaN-padded along ``root``),
     with the accuracy of the FE roots and the agreement tolerance as attributes."""
-    cases = prod.producer_cases()
-    det = prod.det_roots_many(cases)
-    fe = [prod.fe_roots(c) for c in cases]
+    cases = study.producer_cases()
+    det = study.det_roots_many(cases)
+    fe = [study.fe_roots(c) for c in cases]
     width = max([1, *(len(r) for r in det + fe)])
 
     def padded(rows):
@@ -234,10 +234,10 @@ def roots_dataset() -> xr.Dataset:
     def col(name):
         return np.array([getattr(c, name) for c in cases], dtype=float)
 
-    acc = prod.ACCURACY
+    acc = study.ACCURACY
     tol = {"accuracy_rtol": acc.rtol, "accuracy_atol": acc.atol,
            "accuracy_reason": acc.reason, "fe_root_roundoff": ip.FE_ROOT_ROUNDOFF,
-           "agreement_tolerance": prod.TOL_AGREE}
+           "agreement_tolerance": study.TOL_AGREE}
     return xr.Dataset(
         {"lam_det": (("case", "root"), padded(det), _attrs(
             "critical stretches in the window, exponential-ansatz determinant (method 1), "

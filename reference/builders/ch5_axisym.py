@@ -102,7 +102,7 @@ def solve_plan(full: bool = False, progress=None) -> dict:
 
 def compute(full: bool = False, solved: dict | None = None) -> tuple[xr.Dataset, dict]:
     from debench.models.buckling.axisym import AxisymDiscretisation
-    from debench.reference.builders.ch5 import propagated_accuracy
+    from debench.models.numerics import propagated_accuracy
     from debench.reference.datasets import read_dataset
 
     orders, layers = ORDERS[full], LAYERS[full]

@@ -16,7 +16,7 @@ the wrinkled film.
 ``build(out_dir, full=True)`` follows the film with seeds of peak amplitude
 :data:`AMPLITUDES` (fractions of t0, the wavenumber-1 term of
 :meth:`~debench.models.buckling.parameters.Plate.imperfection_lift`) on the meshes
-:data:`LEVELS` (:mod:`debench.reference.builders._ch5_imperfection_tasks`) and writes
+:data:`LEVELS` (:mod:`debench.reference.studies.ch5_imperfection`) and writes
 ``ch5_imperfection.nc``: the paths (voltage, centre deflection, amplitude of the
 non-axisymmetric deflection), the eigen-records, and per path its voltage maximum (vertex
 of the parabola through three path points) and where it lies. The default build writes
@@ -30,35 +30,27 @@ on every mesh the smallest seed's maximum lies beyond :data:`W_SPLIT`.
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from debench.reference.builders import _ch5_imperfection_tasks as tasks
 from debench.reference.datasets import write_dataset
+from debench.reference.studies import ch5_imperfection_tasks as tasks
+from debench.reference.studies.ch5_imperfection import (
+    AMPLITUDES,
+    LEVELS,
+    W_SPLIT,
+)
 
 NAME = "ch5_imperfection"
-LEVELS = {False: (), True: (2.5, 2.0)}
-"""In-plane mesh sizes / t0 (50 and 63 quadratic elements around the rim): the two finest
-meshes of the wrinkling search that reach its bifurcation at a cost of minutes per path;
-on h = 2.5 t0 the perfect path passes it (the lowest n = 1 eigenvalue dips to 3e-5 of its
-maximum and recovers), on h = 2 t0 it turns there: the seed decides the branch on both."""
-AMPLITUDES = (2e-3, 8e-3, 3.2e-2)
-"""Peak amplitudes / t0 of the wavenumber-1 seed: 2 to 32 times the thesis' axisymmetric
-imperfection, in ratios of 4 (a power law of the voltage drop is fitted over them)."""
-W_SPLIT = 9.0
-"""Centre deflection / t0 that separates failure at the wrinkling bifurcation (its zero
-lies at 7.6-7.95 t0 on the meshes h <= 3 t0) from failure at a later limit point (the
-axisymmetric limit points of the meshes that pass the bifurcation lie at 10.2-11.7 t0)."""
 W_ZOOM = 0.6
 """The voltage panel of the figure starts at W_ZOOM x W_SPLIT: the paths agree before."""
 
 
 def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dataset:
     from debench.models.buckling.solver import RampResult
-    from debench.reference.builders.ch5 import run_tasks
     from debench.reference.builders.ch5_wrinkling import _pad
+    from debench.reference.tasks import run_tasks
 
     levels = LEVELS[full]
     todo = [(tasks.imperfect_path_task, h, amp) for h in levels for amp in AMPLITUDES]
@@ -133,35 +125,6 @@ def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dat
         "mode": ("mode", np.arange(3), a("mode index (ascending eigenvalue)"))})
 
 
-def drop_exponent(v_max) -> float:
-    """Exponent p of the voltage drop v_c - v_max ~ C amplitude^p from three maxima at
-    amplitudes in the constant ratio q of :data:`AMPLITUDES`: successive drops grow by
-    q^p, so p = log(d2 / d1) / log q whatever v_c (2/3 for a symmetric unstable
-    bifurcation, 1/2 for an asymmetric one); NaN unless both drops are positive."""
-    v = np.asarray(v_max, float)
-    q = AMPLITUDES[1] / AMPLITUDES[0]
-    d1, d2 = v[0] - v[1], v[1] - v[2]
-    if not (np.isfinite(d1) and np.isfinite(d2) and d1 > 0 and d2 > 0):
-        return math.nan
-    return float(np.log(d2 / d1) / np.log(q))
-
-
-def wrinkling_governs(ds: xr.Dataset) -> str:
-    """The pre-registered reading of the study: ``"governs"`` when on every mesh every seeded
-    path has its voltage maximum before :data:`W_SPLIT` and the maxima fall as the seed
-    grows; ``"passed"`` when on every mesh the smallest seed's path has no maximum before
-    :data:`W_SPLIT`; ``"undecided"`` otherwise."""
-    w = ds.w_at_v_max.values
-    v = ds.v_max.values
-    early = np.isfinite(w) & (w < W_SPLIT)
-    falling = np.all(np.diff(v, axis=1) < 0, axis=1)
-    if np.all(early) and np.all(falling):
-        return "governs"
-    if not np.any(early[:, 0]):
-        return "passed"
-    return "undecided"
-
-
 def figure(ds: xr.Dataset, fig_dir: Path, perfect: xr.Dataset | None = None) -> list[Path]:
     """Fig. 5.4 counterpart at radius/thickness 20: voltage against centre deflection of the
     seeded films (and the perfect film of ``ch5_wrinkling.nc`` when given), and the growth
@@ -207,8 +170,10 @@ def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) ->
     """Compute and write ``ch5_imperfection.nc`` and its figure into ``out_dir``
     (``scheduler``: as :func:`debench.reference.builders.ch5.build`)."""
     from debench.models.buckling.parameters import Plate
-    from debench.reference.builders.ch5 import CASES, converged_only, resolve_scheduler
+    from debench.reference.builders.ch5 import converged_only
     from debench.reference.datasets import DatasetError, read_dataset
+    from debench.reference.studies.ch5 import CASES
+    from debench.reference.tasks import resolve_scheduler
     out_dir = Path(out_dir)
     if converged_only(NAME, LEVELS[full]):
         return []

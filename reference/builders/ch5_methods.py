@@ -86,7 +86,7 @@ def compute(full: bool = False) -> tuple[xr.Dataset, dict]:
     from debench.models.buckling.analytic import critical_voltage_plate
     from debench.models.buckling.initial_stress import linearised_critical_voltage
     from debench.models.buckling.parameters import Discretisation, Plate
-    from debench.reference.builders.ch5 import convergence_fit, propagated_accuracy
+    from debench.models.numerics import convergence_fit, propagated_accuracy
 
     levels = LEVELS[full]
     plate = Plate(aspect=ASPECT)
@@ -104,7 +104,7 @@ def compute(full: bool = False) -> tuple[xr.Dataset, dict]:
     if len(levels) >= 3:
         for i in range(len(METHODS)):
             fit = convergence_fit(np.array(levels), v[i])
-            lim[i], err[i] = fit["v_inf"], fit["error"]
+            lim[i], err[i] = fit.v_inf, fit.error
 
     k_levels = K_LEVELS[full]
     kr = np.array([mat.k / mat.mu if k is None else k for k in K_RATIOS])

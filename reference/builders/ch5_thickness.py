@@ -30,22 +30,20 @@ THICKNESS = 0.5e-3
 
 
 def ratio_limit(h, ratio) -> tuple[float, float]:
-    """Mesh limit of the ratio and its error estimate: the convergence fit of the ch5
-    builder (:func:`debench.reference.builders.ch5.convergence_fit`) for three or more
-    levels; with two, the finest ratio and its change between the two levels."""
-    from debench.reference.builders.ch5 import convergence_fit
+    """Mesh limit of the ratio and its error estimate: the convergence fit
+    (:func:`debench.models.numerics.convergence_fit`) for three or more levels, which
+    must converge monotonically; with two, the finest ratio and its change between the
+    two levels (:func:`debench.models.numerics.level_fit`)."""
+    from debench.models.numerics import level_fit
 
-    h, ratio = np.asarray(h, float), np.asarray(ratio, float)
-    if h.size >= 3:
-        fit = convergence_fit(h, ratio)
-        return fit["v_inf"], fit["error"]
-    return float(ratio[-1]), float(abs(ratio[-1] - ratio[-2]))
+    fit = level_fit(h, ratio, spread_if_not_monotone=False)
+    return fit.v_inf, fit.error
 
 
 def compute(full: bool = False) -> xr.Dataset:
     from debench.models.buckling.parameters import Discretisation, Ogden, Plate
     from debench.models.buckling.solver import CRITICAL_VTOL, critical_voltage
-    from debench.reference.builders.ch5 import propagated_accuracy
+    from debench.models.numerics import propagated_accuracy
 
     levels = LEVELS[full]
     v = np.zeros((len(ASPECTS), len(levels)))

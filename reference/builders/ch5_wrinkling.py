@@ -34,16 +34,16 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from debench.reference.builders._ch5_tasks import (
+from debench.reference.datasets import write_dataset
+from debench.reference.studies.ch5_tasks import (
     ORDER,  # noqa: F401 - the setting of the paths
     wrinkling_task,
 )
-from debench.reference.builders._ch5_tasks import WRINKLING_ASPECT as ASPECT
-from debench.reference.builders._ch5_tasks import WRINKLING_CASE as CASE
-from debench.reference.builders._ch5_tasks import WRINKLING_DV_MAX as DV_MAX  # noqa: F401
-from debench.reference.builders._ch5_tasks import WRINKLING_EIG_EVERY as EIG_EVERY
-from debench.reference.builders._ch5_tasks import WRINKLING_LAYERS as LAYERS
-from debench.reference.datasets import write_dataset
+from debench.reference.studies.ch5_tasks import WRINKLING_ASPECT as ASPECT
+from debench.reference.studies.ch5_tasks import WRINKLING_CASE as CASE
+from debench.reference.studies.ch5_tasks import WRINKLING_DV_MAX as DV_MAX  # noqa: F401
+from debench.reference.studies.ch5_tasks import WRINKLING_EIG_EVERY as EIG_EVERY
+from debench.reference.studies.ch5_tasks import WRINKLING_LAYERS as LAYERS
 
 NAME = "ch5_wrinkling"
 LEVELS = {False: (), True: (4.0, 3.0, 2.5, 2.0, 1.5)}
@@ -55,10 +55,10 @@ default build writes nothing."""
 
 def path_instability(r) -> dict:
     """The first instability recorded along one path
-    (:func:`debench.reference.builders.ch5.first_instability`: its kind, voltage,
+    (:func:`debench.reference.studies.ch5.first_instability`: its kind, voltage,
     deflection / t0 and wavenumber) and the smallest eigenvalue of a non-axisymmetric mode
     recorded up to it (the whole path when nothing became unstable) with its wavenumber."""
-    from debench.reference.builders.ch5 import axisymmetric, first_instability
+    from debench.reference.studies.ch5 import axisymmetric, first_instability
     lam, ax = np.asarray(r.eig_lam, float), np.asarray(r.eig_axisym, float)
     w, n = np.asarray(r.eig_w, float), np.asarray(r.eig_wavenumber, float)
     out = first_instability(w, r.eig_v, lam, ax, n)
@@ -80,7 +80,7 @@ def _pad(rows, width, fill=np.nan):
 
 def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dataset:
     from debench.models.buckling.solver import RampResult
-    from debench.reference.builders.ch5 import run_tasks
+    from debench.reference.tasks import run_tasks
 
     levels = LEVELS[full]
     tasks = [(wrinkling_task, h, EIG_EVERY) for h in levels]
@@ -158,8 +158,8 @@ def figure(ds: xr.Dataset, fig_dir: Path) -> list[Path]:
     """Fig. 5.5 counterpart at radius/thickness 20: the lowest non-axisymmetric eigenvalue
     along the path per mesh (wrinkling where it crosses zero first; dotted: the first
     instability of each mesh)."""
-    from debench.reference.builders.ch5 import lowest_nonaxisymmetric
     from debench.reference.figures import pyplot, save
+    from debench.reference.studies.ch5 import lowest_nonaxisymmetric
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(5.8, 4.2))
     for lev, style in zip(ds.level.values, ("-o", "--s", ":^", "-.v", "-D"), strict=False):
@@ -181,7 +181,9 @@ def figure(ds: xr.Dataset, fig_dir: Path) -> list[Path]:
 def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) -> list[Path]:
     """Compute and write ``ch5_wrinkling.nc`` and its figure into ``out_dir``
     (``scheduler``: as :func:`debench.reference.builders.ch5.build`)."""
-    from debench.reference.builders.ch5 import CASES, converged_only, resolve_scheduler
+    from debench.reference.builders.ch5 import converged_only
+    from debench.reference.studies.ch5 import CASES
+    from debench.reference.tasks import resolve_scheduler
     out_dir = Path(out_dir)
     if converged_only(NAME, LEVELS[full]):
         return []

@@ -7,7 +7,7 @@ thin-membrane balance (``"membrane"``) and, where the relative permittivity ente
 (breakdown), the value for each eps_r of :data:`EPS_R_SENSITIVITY`. The producers read
 the one memoised chapter pass the dataset builder reads too
 (:func:`debench.models.circular._chapter_pass.chapter` for
-:func:`debench.reference.builders.ch3.chapter_spec`, keyed on its parameters and the model
+:func:`debench.reference.studies.ch3.chapter_spec`, keyed on its parameters and the model
 constants): every branch, curve, state and root of the catalogue's plan computed once per
 command. Entries outside the plan are computed on demand (cached, keyed on the
 parameters and :func:`_model_key`).
@@ -20,19 +20,18 @@ from functools import lru_cache
 
 import numpy as np
 from debench.models.circular import analysis, circle_a, params
-from debench.models.circular._chapter_pass import chapter
 from debench.models.circular.actuator import branches, curves_many
 from debench.models.circular.params import Annulus
-from debench.reference.builders import ch3 as builder
 from debench.reference.catalogue import Accuracy, Entry, Outcome
+from debench.reference.studies import ch3 as study
 
 #: relative permittivities for the sensitivity study (ch3.assumption.eps_r): VHB 4910
 #: reported 4.05-4.7 (Di Lillo et al. 4.2 unstretched to 4.05 at 5x5; Pelrine et al. /
 #: Wissler & Mazza ~4.7); 3.5 and 5.5 bracket them
-EPS_R_SENSITIVITY = (3.5, 4.05, 4.2, 4.7, 5.5)
+EPS_R_SENSITIVITY = study.EPS_R
 VARIANTS = ("printed", "membrane")
-#: c grid for the Fig. 3.9 sweeps (the thesis' Table 3.1 range 0 .. -0.1): the builder's
-C_SWEEP = tuple(float(c) for c in builder._c_grid(False))
+#: c grid for the Fig. 3.9 sweeps (the thesis' Table 3.1 range 0 .. -0.1): the study's
+C_SWEEP = tuple(float(c) for c in study.c_grid(False))
 EV = "verification/test_ch3_claims.py"
 #: Accuracy of every Chapter 3 value (overridden where an outer solver is coarser): the
 #: shooting method integrates on a fixed RK4 grid and locates events and roots to 1e-14
@@ -44,10 +43,10 @@ ACCURACY = Accuracy(rtol=1e-7, atol=1e-10, reason="ch3 shooting: events to 1e-14
                     "RK4 grid; cross-CPU spread < 1e-10 relative, 1000x margin")
 #: the suppression pre-stretch is bracketed to SUPPRESSION_XTOL on branches of
 #: SUPPRESSION_POINTS points (the chapter pass's)
-SUPPRESSION_XTOL = builder.SUPPRESSION_XTOL
-SUPPRESSION_POINTS = builder.SUPPRESSION_POINTS
+SUPPRESSION_XTOL = study.SUPPRESSION_XTOL
+SUPPRESSION_POINTS = study.SUPPRESSION_POINTS
 #: branch points of the c-threshold search (as the evidence test)
-C_THRESHOLD_POINTS = builder.C_THRESHOLD_POINTS
+C_THRESHOLD_POINTS = study.C_THRESHOLD_POINTS
 
 
 def _model_key() -> tuple:
@@ -57,9 +56,10 @@ def _model_key() -> tuple:
 
 
 def _chapter():
-    """The chapter pass the builder uses too (:func:`builders.ch3.chapter_spec`, memoised
-    on its parameters and the model constants): every value of the catalogue's plan."""
-    return chapter(builder.chapter_spec())
+    """The chapter pass the builder uses too (:func:`debench.reference.studies.ch3.chapter_spec`,
+    memoised on its parameters and the model constants): every value of the catalogue's
+    plan."""
+    return study.chapter_pass()
 
 
 def _branch(lamP: float, equilibrium: str = "printed", radius_ratio: float = 15.0):
@@ -514,10 +514,9 @@ def table_3_1(entry: Entry) -> Outcome:
 def figure_parameters(entry: Entry) -> Outcome:
     """The builder uses the stated figure parameters (RB/RA = 15, c = 0 and -0.053, the
     Fig. 3.7 pre-stretches)."""
-    from debench.reference.builders import ch3 as builder
-    ok = (builder.RADIUS_RATIO == _p(entry, "radius_ratio_figures")
-          and set(_p(entry, "prestretches_fig3_7")) <= set(builder.LAMP_CURVES)
-          and set(_p(entry, "c_values")) <= set(builder.C_CURVES))
+    ok = (study.RADIUS_RATIO == _p(entry, "radius_ratio_figures")
+          and set(_p(entry, "prestretches_fig3_7")) <= set(study.LAMP_CURVES)
+          and set(_p(entry, "c_values")) <= set(study.C_CURVES))
     return Outcome(value=entry.value if ok else "differs", status="input")
 
 

@@ -12,30 +12,28 @@ cached so the whole chapter evaluates in a few seconds.
 from __future__ import annotations
 
 from dataclasses import replace
-from functools import lru_cache
 
 import numpy as np
 from debench.models.plate import PlateParams, ellipticity_limit_stretch
 from debench.models.plate.analysis import (
-    _max_area_D,
     biot_equibiaxial_closed_form,
-    critical_D_thin_extensional,
     half_space_limit,
     region,
-    thin_limit,
 )
 from debench.models.plate.ansatz import critical_stretches
 from debench.reference.catalogue import Accuracy, Entry, Outcome
+from debench.reference.studies.ch4 import (
+    FIG42_D,
+    FIG45_XI,
+    KH_MAX,
+    XI_TI,
+    area,
+    critical_D,
+    kH_grid,
+    lam_grid,
+    thin,
+)
 
-#: thesis Fig. 4.2 cases and Fig. 4.5 anisotropy levels (Sec. 4.4)
-FIG42_D = (0.0, 1.0, 2.0, 2.2, 2.4, 2.6, 3.0, 4.0, 5.0)
-FIG45_XI = (0.0, 3.0, 5.0, 10.0)
-XI_TI = 5.0
-#: area window (assumption ch4.assumption.area_window): kH linear in [0.01, 10],
-#: lam in [0.4, 8]; the sensitivity study uses kH_max = 5 and 20
-KH_MAX = 10.0
-AREA_KH_N = 81
-AREA_LAM = (0.4, 8.0, 241)
 EV = "verification/test_ch4_claims.py"
 EV_ERR = "verification/test_ch4_derivation.py"
 #: Accuracy of every Chapter 4 value: roots of the ansatz determinant are refined by
@@ -44,33 +42,6 @@ EV_ERR = "verification/test_ch4_derivation.py"
 #: between two OpenBLAS kernels); rtol 1e-7 keeps a 100x margin.
 ACCURACY = Accuracy(rtol=1e-7, atol=1e-9, reason="ch4 determinant roots to 1e-13 on fixed "
                     "grids; cross-CPU spread < 1e-9 relative, 100x margin")
-
-
-def _kH(kH_max=KH_MAX):
-    return np.linspace(0.01, kH_max, AREA_KH_N)
-
-
-def _lam(lam_min=AREA_LAM[0]):
-    return np.geomspace(lam_min, AREA_LAM[1], AREA_LAM[2])
-
-
-@lru_cache(maxsize=512)
-def area(xi: float, D: float, variant: str = "printed", which: str = "thesis",
-         kH_max: float = KH_MAX, lam_min: float = AREA_LAM[0]) -> float:
-    return _region(xi, D, variant, kH_max, lam_min).area(which)
-
-
-@lru_cache(maxsize=256)
-def _region(xi: float, D: float, variant: str, kH_max: float, lam_min: float):
-    """The unstable region on the area window (shared by both area definitions)."""
-    return region(PlateParams(xi=xi, Dhat=D, variant=variant), _kH(kH_max), _lam(lam_min))
-
-
-@lru_cache(maxsize=256)
-def thin(xi: float, D: float, variant: str = "printed") -> float:
-    """Largest kH -> 0 critical stretch of the flexural mode (upper curve start)."""
-    r = thin_limit(PlateParams(xi=xi, Dhat=D, variant=variant))
-    return float(r.max()) if r.size else float("nan")
 
 
 def _variant(entry: Entry) -> str:
@@ -157,7 +128,7 @@ def thick_more_stable(entry: Entry) -> Outcome:
     """Figs 4.2(a)-(c): 'as kH increased, the unstable range of lam_cr reduced for both
     materials'. The lam-extent of the thesis region at kH = 0.1, 1, 5, 10 decreases."""
     v = _variant(entry)
-    lam = _lam()
+    lam = lam_grid()
     kHs = np.array([0.1, 1.0, 5.0, 10.0])
     res = {}
     for xi in (0.0, XI_TI):
@@ -249,17 +220,6 @@ def thin_plates_more_affected(entry: Entry) -> Outcome:
                    details={"gaps": out, "holds": holds, "larger_field_gaps_xi5": larger,
                             "larger_field_holds": larger_holds,
                             "failing": [k for k, h in holds.items() if not h]})
-
-
-@lru_cache(maxsize=16)
-def critical_D(xi: float, candidate: str, variant: str = "printed") -> float:
-    p = PlateParams(xi=xi, variant=variant)
-    if candidate == "max_area":
-        # critical_D_max_area(p, Ds, _kH(), _lam()) on the memoised areas (the Fig. 4.2
-        # producers use the same regions)
-        Ds = np.round(np.arange(1.0, 4.01, 0.2), 6)
-        return _max_area_D(Ds, [area(float(xi), float(D), variant) for D in Ds])
-    return critical_D_thin_extensional(p)
 
 
 def critical_D_increases(entry: Entry) -> Outcome:
@@ -390,8 +350,8 @@ def area_peaks(beta: float, kH_max: float = KH_MAX, variant: str = "printed") ->
     Fig. 4.2 cases, isotropic and TI, computed with ``beta`` in the boundary rows."""
     out = {}
     for name, xi in (("iso", 0.0), ("ti", XI_TI)):
-        a = [region(PlateParams(xi=xi, Dhat=D, variant=variant, beta=beta), _kH(kH_max),
-                    _lam()).area("thesis") for D in FIG42_D]
+        a = [region(PlateParams(xi=xi, Dhat=D, variant=variant, beta=beta), kH_grid(kH_max),
+                    lam_grid()).area("thesis") for D in FIG42_D]
         out[name] = FIG42_D[int(np.argmax(a))]
     return out
 

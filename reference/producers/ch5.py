@@ -269,7 +269,7 @@ def fe_critical_voltage_nh(entry: Entry) -> Outcome:
 def model_input(entry: Entry) -> Outcome:
     """A stated parameter: return the value the Chapter 5 models actually use."""
     from debench.models.buckling.parameters import NeoHookean, Ogden, Plate
-    from debench.reference.builders.ch5 import CASES
+    from debench.reference.studies.ch5 import CASES
     key = entry.id.split(".", 1)[1]
     used = {
         "table5_1.nh_shear_modulus": NeoHookean().mu,
@@ -380,8 +380,9 @@ def coarse_guards(material=None, cases=None) -> list:
     """
     from debench.models.buckling.parameters import Discretisation, Plate
     from debench.models.buckling.solver import critical_voltage
-    from debench.reference.builders.ch5 import CASES, SCALE_COPIES, _material
     from debench.reference.datasets import dataset_parameters
+    from debench.reference.studies.ch5 import CASES, SCALE_COPIES
+    from debench.reference.studies.ch5 import material as _material
     from debench.reference.values import Guarded
 
     crit = _crit()
@@ -596,7 +597,7 @@ def _wrinkling():
 def wrinkling_search(ds) -> dict:
     """What the radius/thickness 20 ramps (``ch5_wrinkling.nc``) found, per mesh level (lists,
     coarse to fine): the first instability along the path
-    (:func:`debench.reference.builders.ch5.first_instability`: ``first_kind``, its
+    (:func:`debench.reference.studies.ch5.first_instability`: ``first_kind``, its
     deflection / t0 ``w_first_over_t0``, its voltage over the largest voltage of the path
     ``v_first_over_v_max``, wavenumber ``n_first``, the recorded eigenvalues there
     ``lam_ratio_first``, their n = 0 fractions ``axisym_first`` and dominant wavenumbers
@@ -608,7 +609,7 @@ def wrinkling_search(ds) -> dict:
     first instability (``w_min_lambda_over_t0``), that eigenvalue and its largest value on
     the path (``min_nonaxisymmetric_lambda``, ``max_nonaxisymmetric_lambda``); the path's
     voltage maximum (``w_pullin_over_t0``: the dataset's ``w_pullin``) and why it ended."""
-    from debench.reference.builders.ch5 import first_instability, lowest_nonaxisymmetric
+    from debench.reference.studies.ch5 import first_instability, lowest_nonaxisymmetric
     firsts, w_min, lam_min, lam_max = [], [], [], []
     for lev in ds.level.values:
         r = ds.sel(level=lev)
@@ -656,7 +657,7 @@ def hypothesis_wrinkling(entry: Entry) -> Outcome:
     between the two meshes (their discretisation error estimate); ``unexplained`` when
     either finds pull-in first or nothing, or the deflection lies elsewhere."""
     from debench.reference import catalogue
-    from debench.reference.builders.ch5 import lowest_nonaxisymmetric
+    from debench.reference.studies.ch5 import lowest_nonaxisymmetric
 
     ds = _wrinkling()
     found = wrinkling_search(ds)
@@ -695,13 +696,13 @@ def hypothesis_wrinkling_failure(entry: Entry) -> Outcome:
     its model kept R = 10 mm (R/t0 = 20), judged by the imperfection-sensitivity study
     ``ch5_imperfection.nc`` (films with wavenumber-1 seeds on two meshes): ``explained``
     when the reading fixed before the data
-    (:func:`debench.reference.builders.ch5_imperfection.wrinkling_governs`) is that the
+    (:func:`debench.reference.studies.ch5_imperfection.wrinkling_governs`) is that the
     wrinkling bifurcation governs the failure (every seeded film reaches its voltage maximum
     near the bifurcation, falling as the seed grows); ``unexplained`` when the films pass
     the bifurcation or the meshes disagree. The value: the centre deflection (mm) at the
     voltage maximum of the smallest seed on the finest mesh."""
-    from debench.reference.builders.ch5 import first_instability
-    from debench.reference.builders.ch5_imperfection import drop_exponent, wrinkling_governs
+    from debench.reference.studies.ch5 import first_instability
+    from debench.reference.studies.ch5_imperfection import drop_exponent, wrinkling_governs
 
     ds = _imperfection()
     t0_mm = float(entry.parameters["thickness_mm"])

@@ -1,12 +1,13 @@
 """The finite-element task of the Chapter 5 imperfection-sensitivity study
-(:mod:`debench.reference.builders.ch5_imperfection`).
+(:mod:`debench.reference.studies.ch5_imperfection`, built by
+:mod:`debench.reference.builders.ch5_imperfection`).
 
 One task follows the Ogden film of Table 5.1 (t0 = 0.5 mm) at radius/thickness 20 with the
 thesis' axisymmetric imperfection (1e-3 t0) plus a seed of the angular wavenumber-1 mode
 (:class:`~debench.models.buckling.parameters.Plate`, ``wrinkle_imperfection``) to and past
-its voltage maximum. The task cache of :func:`debench.reference.builders.ch5.run_tasks`
+its voltage maximum. The task cache of :func:`debench.reference.tasks.run_tasks`
 keys on this module's source: the settings below are the inputs of the paths, the
-analysis and figures live in the builder, whose edits leave finished paths valid.
+analysis and figures live in the study and the builder, whose edits leave finished paths valid.
 """
 
 from __future__ import annotations
@@ -35,12 +36,13 @@ def imperfect_path_task(h_rel: float, amplitude: float) -> dict:
 
     from debench.models.buckling.parameters import Discretisation, Plate
     from debench.models.buckling.solver import voltage_ramp
-    from debench.reference.builders._ch5_tasks import CASES, _limit_threads, _material
-    _limit_threads()
+    from debench.reference.studies.ch5_tasks import CASES, material
+    from debench.reference.tasks import limit_threads
+    limit_threads()
     mat_name, t0 = CASES[CASE]
     plate = Plate(thickness=t0, aspect=ASPECT, wrinkle_imperfection=amplitude,
                   wrinkle_wavenumber=WAVENUMBER)
-    r = voltage_ramp(plate, _material(mat_name),
+    r = voltage_ramp(plate, material(mat_name),
                      Discretisation(h_rel=h_rel, layers=LAYERS, order=ORDER),
                      dv_max=DV_MAX, eig_every=EIG_EVERY, c_max=C_MAX, stop_on_stall=True)
     return {f.name: getattr(r, f.name) for f in dataclasses.fields(r)}

@@ -1,7 +1,8 @@
-"""The finite-element tasks of the Chapter 5 builders (:mod:`debench.reference.builders.ch5`
-and the radius/thickness 20 studies) and the settings they depend on.
+"""The finite-element tasks of the Chapter 5 study (:mod:`debench.reference.studies.ch5`,
+built by :mod:`debench.reference.builders.ch5` and the radius/thickness 20 studies) and the
+settings they depend on.
 
-The task cache of :func:`debench.reference.builders.ch5.run_tasks` keys on the source of
+The task cache of :func:`debench.reference.tasks.run_tasks` keys on the source of
 the module that defines a task: the cases, the material choice and the discretisation
 settings below are the inputs of the FE results, while the analysis, fits and figures live
 in the builders, whose edits leave finished tasks valid.
@@ -10,6 +11,8 @@ in the builders, whose edits leave finished tasks valid.
 from __future__ import annotations
 
 import time
+
+from debench.reference.tasks import limit_threads
 
 CASES = {  # name: (material, thickness [m])
     "nh_t1": ("nh", 1e-3),
@@ -24,29 +27,20 @@ RAMP_DV_MAX = 0.02  # largest voltage step of the ramps (normalised): >= 3 point
                     # Southwell window 0.4-0.9 v_cr of the Ogden case (v_cr ~ 0.17)
 
 
-def _material(name):
+def material(name):
+    """The Table 5.1 material of a case's material name (``"nh"`` or ``"ogden"``)."""
     from debench.models.buckling.parameters import NeoHookean, Ogden
     return NeoHookean() if name == "nh" else Ogden()
-
-
-def _limit_threads():
-    """One thread for BLAS and NGSolve's TaskManager in this process (a Dask worker runs
-    one task per process; nothing oversubscribes): :func:`debench.threads.limit_threads`."""
-    import ngsolve  # noqa: F401 - loaded first so that its TaskManager is limited too
-
-    from debench.threads import limit_threads
-
-    limit_threads(1)
 
 
 def critical_task(case: str, h_rel: float, layers: int = 1, aspect: float = 10.0) -> dict:
     """One critical-voltage computation as plain data (a Dask task)."""
     from debench.models.buckling.parameters import Discretisation, Plate
     from debench.models.buckling.solver import critical_voltage
-    _limit_threads()
+    limit_threads()
     mat_name, t0 = CASES[case]
     start = time.perf_counter()
-    r = critical_voltage(Plate(thickness=t0, aspect=aspect), _material(mat_name),
+    r = critical_voltage(Plate(thickness=t0, aspect=aspect), material(mat_name),
                          Discretisation(h_rel=h_rel, layers=layers, order=ORDER))
     return {"v": r.v, "ndof": r.ndof, "nelements": r.nelements, "eig_residual": r.eig_residual,
             "newton_residual": r.newton_residual, "seconds": time.perf_counter() - start}
@@ -59,9 +53,9 @@ def ramp_task(case: str, h_rel: float, eig_every: int = EIG_EVERY,
 
     from debench.models.buckling.parameters import Discretisation, Plate
     from debench.models.buckling.solver import voltage_ramp
-    _limit_threads()
+    limit_threads()
     mat_name, t0 = CASES[case]
-    r = voltage_ramp(Plate(thickness=t0, aspect=aspect), _material(mat_name),
+    r = voltage_ramp(Plate(thickness=t0, aspect=aspect), material(mat_name),
                      Discretisation(h_rel=h_rel, layers=layers, order=ORDER),
                      dv_max=dv_max, eig_every=eig_every)
     return {f.name: getattr(r, f.name) for f in dataclasses.fields(r)}
@@ -87,9 +81,9 @@ def wrinkling_task(h_rel: float, eig_every: int) -> dict:
 
     from debench.models.buckling.parameters import Discretisation, Plate
     from debench.models.buckling.solver import voltage_ramp
-    _limit_threads()
+    limit_threads()
     mat_name, t0 = CASES[WRINKLING_CASE]
-    r = voltage_ramp(Plate(thickness=t0, aspect=WRINKLING_ASPECT), _material(mat_name),
+    r = voltage_ramp(Plate(thickness=t0, aspect=WRINKLING_ASPECT), material(mat_name),
                      Discretisation(h_rel=h_rel, layers=WRINKLING_LAYERS, order=ORDER),
                      dv_max=WRINKLING_DV_MAX, eig_every=eig_every, stop_on_stall=True)
     return {f.name: getattr(r, f.name) for f in dataclasses.fields(r)}

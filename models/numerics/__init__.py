@@ -1,0 +1,38 @@
+"""Shared numerics of every chapter: bracketed roots (:mod:`.roots`) and mesh-convergence
+and limit fits with Roache's grid convergence index (:mod:`.convergence`).
+
+Each routine is tested once on synthetic problems with known answers, through every method
+(``verification/test_numerics.py``), the way SciPy's ``test_zeros`` runs one collection of
+functions with known roots through every root finder.
+"""
+
+from debench.models.numerics.convergence import (
+    GCI,
+    LimitFit,
+    ThreePointFit,
+    asymptotic_fit,
+    convergence_fit,
+    gci,
+    level_fit,
+    propagated_accuracy,
+    reference_fit,
+    richardson,
+)
+from debench.models.numerics.roots import Memo, checked_brentq, regula_falsi_many, zero_near
+
+__all__ = [
+    "GCI",
+    "LimitFit",
+    "Memo",
+    "ThreePointFit",
+    "asymptotic_fit",
+    "checked_brentq",
+    "convergence_fit",
+    "gci",
+    "level_fit",
+    "propagated_accuracy",
+    "reference_fit",
+    "regula_falsi_many",
+    "richardson",
+    "zero_near",
+]

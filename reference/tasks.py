@@ -1,0 +1,244 @@
+"""The task runner of the finite-element sweeps: independent ``(function, *args)`` tasks
+run serially or on Dask ``distributed``, with a resumable on-disk cache of finished
+results.
+
+* :func:`run_tasks` -- run tasks (serial, a LocalCluster, or an existing scheduler);
+* :func:`resolve_scheduler` -- a builder's ``scheduler`` option as :func:`run_tasks` takes it;
+* :class:`TaskCache` -- finished results on disk (``DEBENCH_FE_CACHE``), keyed on the task
+  and on the source that computes it (:func:`task_source`, :func:`models_digest`);
+* :func:`limit_threads` -- one thread for BLAS and NGSolve in a task's process.
+"""
+
+from __future__ import annotations
+
+import ast
+import hashlib
+import importlib
+import inspect
+import os
+import pickle
+import sys
+from collections.abc import Callable
+from pathlib import Path
+
+from debench.models.errors import ConvergenceError
+
+WORKER_CONFIG = {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}
+"""Dask configuration of the LocalCluster's worker processes.  Dask's default sets
+``MALLOC_TRIM_THRESHOLD_=65536`` in every worker, which turns off glibc's adaptive mmap
+threshold: NGSolve's large assembly and factorisation buffers are then mapped and unmapped
+at every Newton step, and the page faults made an Ogden critical voltage at h = 2 t0 take
+84 s in a worker against 13 s in a plain process (65 s of it system time).  Unset, the
+worker is as fast as the plain process.  An existing cluster (``--scheduler ADDRESS``)
+wants the same setting in its Dask configuration."""
+
+#: the parts of :mod:`debench.models` the FE tasks run: the buckling model, the
+#: constitutive library, the shared numerics and the package's top-level modules
+#: (validation, errors)
+FE_SOURCES = ("buckling/**/*.py", "materials/**/*.py", "numerics/**/*.py", "*.py")
+
+
+def limit_threads() -> None:
+    """One thread for BLAS and NGSolve's TaskManager in this process (a Dask worker runs
+    one task per process; nothing oversubscribes): :func:`debench.threads.limit_threads`."""
+    import ngsolve  # noqa: F401 - loaded first so that its TaskManager is limited too
+
+    from debench.threads import limit_threads as limit
+
+    limit(1)
+
+
+def default_cost(task: tuple) -> float:
+    """Rough relative cost of a task whose first argument is a mesh size ``h`` (~ 1/h^2;
+    1 for any other task): the longest tasks are submitted first."""
+    h = task[1] if len(task) > 1 else None
+    return 1.0 / h**2 if isinstance(h, float) and h > 0 else 1.0
+
+
+def resolve_scheduler(scheduler: str | None):
+    """The ``scheduler`` of :func:`run_tasks` for a builder's ``scheduler`` option: None
+    means ``"local"`` on a machine with more than one core, else serial; ``"serial"``
+    means None (this process)."""
+    if scheduler is None:
+        scheduler = "local" if (os.cpu_count() or 1) > 1 else "serial"
+    return None if scheduler == "serial" else scheduler
+
+
+def run_tasks(tasks: list[tuple], scheduler=None, progress: bool = True, *,
+              cost: Callable[[tuple], float] = default_cost, label: str = "ch5 FE") -> list:
+    """Run ``(function, *args)`` tasks serially (``scheduler=None``) or on Dask
+    ``distributed``: ``"local"`` starts a LocalCluster sized to the machine (one process per
+    core, one thread each; ``DEBENCH_WORKERS`` overrides the number), any other string is
+    the address of an existing scheduler (e.g. one started by dask-jobqueue on SLURM/PBS or
+    by dask-kubernetes).  Results come back in task order; on Dask the tasks are submitted
+    in decreasing ``cost``.  With ``DEBENCH_FE_CACHE`` set to a directory, each finished
+    task's result is kept there as it finishes (keyed on the task and the source of the code
+    that computes it) so that a long sweep resumes after an interruption
+    (:class:`TaskCache`).  A failed task does not stop the others; after all have run, the
+    first failure is raised (ConvergenceError when it was one, else RuntimeError) naming
+    every failed task.  ``label`` names the sweep in the progress bar and log lines."""
+    cache = TaskCache.from_env()
+    out = [cache.get(t) if cache is not None else None for t in tasks]
+    todo = [i for i, r in enumerate(out) if r is None]
+    failed: list[tuple[int, BaseException]] = []
+    log = progress and not sys.stderr.isatty()     # a line per task in logs (no bar)
+
+    def finished(i, result, error=None):
+        if error is not None:
+            failed.append((i, error))
+        else:
+            out[i] = result
+            if cache is not None:
+                cache.put(tasks[i], result)
+        if log:
+            fn, *args = tasks[i]
+            print(f"{label}: {fn.__name__}{tuple(args)} "
+                  f"{'FAILED: ' + repr(error) if error is not None else 'done'} "
+                  f"[{len(todo) - sum(r is None for r in out) + len(failed)}/{len(todo)}]",
+                  file=sys.stderr, flush=True)
+
+    if not todo:
+        return out
+    if scheduler is None:
+        try:
+            from tqdm import tqdm
+        except ImportError:  # pragma: no cover
+            tqdm = None
+        it = tqdm(todo, desc=label, disable=(not progress) or None) if tqdm else todo
+        for i in it:
+            fn, *args = tasks[i]
+            try:
+                result = fn(*args)
+            except Exception as exc:  # noqa: BLE001 - the others still run (and are cached)
+                finished(i, None, exc)
+            else:
+                finished(i, result)
+    else:
+        _run_distributed(scheduler, tasks, todo, finished, progress, cost, label)
+    if failed:
+        i, exc = failed[0]
+        names = ", ".join(f"{tasks[j][0].__name__}{tuple(tasks[j][1:])}" for j, _ in failed)
+        msg = f"{len(failed)} of {len(todo)} FE tasks failed ({names}); the first: {exc}"
+        raise (ConvergenceError(msg) if isinstance(exc, ConvergenceError)
+               else RuntimeError(msg)) from exc
+    return out
+
+
+def _run_distributed(scheduler, tasks, todo, finished, progress, cost, label) -> None:
+    """Run ``todo`` on Dask (see :func:`run_tasks`)."""
+    import dask
+    from distributed import Client, LocalCluster
+    if scheduler == "local":
+        n = int(os.environ.get("DEBENCH_WORKERS", os.cpu_count() or 1))
+        # the dashboard on a free port: None still starts it on 8787 and warns when a
+        # second sweep runs
+        with dask.config.set(WORKER_CONFIG), \
+                LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                             dashboard_address=":0") as cluster, Client(cluster) as client:
+            _gather(client, tasks, todo, finished, progress, cost, label)
+    else:
+        with Client(scheduler) as client:
+            _gather(client, tasks, todo, finished, progress, cost, label)
+
+
+def _gather(client, tasks, todo, finished, progress, cost, label) -> None:
+    """Submit the tasks ``todo`` longest first (``cost``), hand each result to
+    ``finished(index, result, error)`` as it arrives; a failed task does not stop the
+    others (their results are kept; :func:`run_tasks` raises after all have finished)."""
+    from distributed import as_completed
+    order = sorted(todo, key=lambda i: -cost(tasks[i]))
+    futures = {client.submit(tasks[i][0], *tasks[i][1:], pure=False): i for i in order}
+    try:
+        from tqdm import tqdm
+        bar = tqdm(total=len(todo), desc=f"{label} (dask)", disable=(not progress) or None)
+    except ImportError:  # pragma: no cover
+        bar = None
+    for fut in as_completed(futures):
+        try:
+            result = fut.result()
+        except Exception as exc:  # noqa: BLE001 - reported by run_tasks after the others
+            finished(futures[fut], None, exc)
+        else:
+            finished(futures[fut], result)
+        if bar is not None:
+            bar.update()
+    if bar is not None:
+        bar.close()
+
+
+class TaskCache:
+    """Finished FE task results on disk, so that an interrupted sweep resumes.
+
+    A result is keyed on the task (function, arguments, the source of the whole module that
+    defines the function, so that its module-level settings count too) and on the source
+    of the modules of :mod:`debench.models` that it runs (:func:`models_digest`): a change of
+    the code that computes a result is a miss, never a stale hit.  Written atomically
+    (temporary file + rename)."""
+
+    def __init__(self, root: Path, code_digest: str):
+        self.root, self.code_digest = Path(root), code_digest
+        self.root.mkdir(parents=True, exist_ok=True)
+
+    @classmethod
+    def from_env(cls):
+        """The cache in ``DEBENCH_FE_CACHE`` (None when unset)."""
+        root = os.environ.get("DEBENCH_FE_CACHE")
+        return cls(Path(root), models_digest()) if root else None
+
+    def _path(self, task: tuple) -> Path:
+        fn, *args = task
+        key = repr((fn.__module__, fn.__qualname__, tuple(args), task_source(fn.__module__),
+                    self.code_digest)).encode()
+        return self.root / f"{hashlib.sha256(key).hexdigest()[:32]}.pkl"
+
+    def get(self, task: tuple):
+        """The stored result of ``task`` (None when absent)."""
+        p = self._path(task)
+        if not p.exists():
+            return None
+        with p.open("rb") as fh:
+            return pickle.load(fh)
+
+    def put(self, task: tuple, result) -> None:
+        """Store the result of ``task`` (atomically)."""
+        p = self._path(task)
+        tmp = p.with_suffix(f".tmp{os.getpid()}")
+        with tmp.open("wb") as fh:
+            pickle.dump(result, fh)
+        os.replace(tmp, p)
+
+
+def task_source(module: str) -> str:
+    """The source a task defined in ``module`` depends on outside :mod:`debench.models`:
+    the module's own source, followed by that of every module of the same package it
+    imports (at any depth of the file, recursively; e.g. a task module that takes its cases
+    and material choice from another), in import order. A module that imports no sibling
+    contributes its own source alone."""
+    package = module.rpartition(".")[0]
+    sources: dict[str, str] = {}
+    todo = [module]
+    while todo:
+        name = todo.pop(0)
+        if name in sources:
+            continue
+        src = sources[name] = inspect.getsource(importlib.import_module(name))
+        for node in ast.walk(ast.parse(src)):
+            if not isinstance(node, ast.ImportFrom) or not node.module:
+                continue
+            target = (node.module if node.level == 0
+                      else f"{package}.{node.module}" if node.level == 1 else None)
+            if target is not None and package and target.rpartition(".")[0] == package:
+                todo.append(target)
+    return "\n".join(sources.values())
+
+
+def models_digest() -> str:
+    """sha256 of the source (path and content) of the modules of :mod:`debench.models` that
+    the FE tasks run (:data:`FE_SOURCES`)."""
+    import debench.models as models
+    root = Path(models.__file__).parent
+    h = hashlib.sha256()
+    for f in sorted({f for pattern in FE_SOURCES for f in root.glob(pattern)}):
+        h.update(str(f.relative_to(root)).encode())
+        h.update(f.read_bytes())
+    return h.hexdigest()

@@ -1,0 +1,165 @@
+"""The import graph of the package holds its layers (DESIGN.md, "Where a computation
+lives"): the physics (``models``) never imports the verdict (``reference``); the chapters'
+models never import each other, nor do different chapters' studies, builders and
+producers; builders (datasets, figures) and producers (catalogue outcomes) never import
+each other, both read the chapter's study; and the modules of ``reference`` import each
+other without a cycle.
+
+Imports are read with :mod:`ast` from the source folders (at any depth of a file: a
+function-level import is an edge too) and resolved through the folder-to-namespace
+mapping of ``pyproject.toml`` (``models/`` -> ``debench.models`` ...)."""
+
+from __future__ import annotations
+
+import ast
+import re
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+#: source folder -> installed package (pyproject.toml [tool.setuptools.package-dir])
+FOLDERS = {"debench": "debench", "models": "debench.models", "reference": "debench.reference"}
+#: the chapter of each model package
+MODEL_CHAPTERS = {"circular": "3", "plate": "4", "buckling": "5"}
+
+
+def _modules() -> dict[str, Path]:
+    out = {}
+    for folder, package in FOLDERS.items():
+        for path in sorted((ROOT / folder).rglob("*.py")):
+            rel = path.relative_to(ROOT / folder).with_suffix("")
+            parts = [p for p in rel.parts if p != "__init__"]
+            out[".".join([package, *parts])] = path
+    return out
+
+
+MODULES = _modules()
+
+
+def _resolve(name: str) -> str | None:
+    """The module ``name`` names, or the nearest enclosing module of ours (an attribute)."""
+    while name:
+        if name in MODULES:
+            return name
+        name = name.rpartition(".")[0]
+    return None
+
+
+def _imports(module: str, path: Path) -> set[str]:
+    is_package = path.name == "__init__.py"
+    package = module if is_package else module.rpartition(".")[0]
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            names = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                anchor = package.split(".")
+                anchor = anchor[: len(anchor) - (node.level - 1)]
+                base = ".".join([*anchor, base] if base else anchor)
+            names = [f"{base}.{a.name}" for a in node.names] + [base]
+        else:
+            continue
+        for name in names:
+            target = _resolve(name)
+            if target is not None and target != module:
+                out.add(target)
+    return out
+
+
+GRAPH = {m: _imports(m, p) for m, p in MODULES.items()}
+
+
+def _edges(src, dst):
+    return sorted(f"{a} -> {b}" for a, targets in GRAPH.items() if src(a)
+                  for b in targets if dst(b))
+
+
+def _under(prefix: str):
+    return lambda m: m == prefix or m.startswith(prefix + ".")
+
+
+def _chapter(module: str) -> str | None:
+    parts = module.split(".")
+    if parts[:2] == ["debench", "models"] and len(parts) > 2:
+        return MODEL_CHAPTERS.get(parts[2])
+    if parts[:2] == ["debench", "reference"] and len(parts) > 3 and parts[2] in (
+            "builders", "producers", "studies"):
+        match = re.match(r"_?ch(\d)", parts[3])
+        return match.group(1) if match else None
+    return None
+
+
+def test_the_graph_sees_every_layer():
+    """The parse finds the package's modules and their imports (a guard against a graph
+    that is empty and therefore passes everything)."""
+    assert len(MODULES) > 80
+    assert "debench.reference.catalogue" in GRAPH["debench.reference.producers.ch3"]
+    assert "debench.models.circular.actuator" in GRAPH["debench.reference.producers.ch3"]
+
+
+def test_models_never_import_reference():
+    assert _edges(_under("debench.models"), _under("debench.reference")) == []
+
+
+def test_chapters_never_import_each_other():
+    """Models of one chapter import no model of another; the studies, builders and
+    producers of one chapter import none of another chapter's."""
+    bad = [f"{a} -> {b}" for a, targets in GRAPH.items() for b in targets
+           if _chapter(a) and _chapter(b) and _chapter(a) != _chapter(b)]
+    assert bad == []
+
+
+def test_builders_and_producers_never_import_each_other():
+    builders, producers = (_under("debench.reference.builders"),
+                           _under("debench.reference.producers"))
+    assert _edges(builders, producers) == []
+    assert _edges(producers, builders) == []
+
+
+def test_studies_import_neither_builders_nor_producers():
+    studies = _under("debench.reference.studies")
+    assert _edges(studies, _under("debench.reference.builders")) == []
+    assert _edges(studies, _under("debench.reference.producers")) == []
+
+
+def _cycles(nodes: set[str]) -> list[list[str]]:
+    """Strongly connected components of more than one module (Tarjan)."""
+    index, low, stack, on, out = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in sorted(GRAPH[v] & nodes):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    for v in sorted(nodes):
+        if v not in index:
+            visit(v)
+    return out
+
+
+@pytest.mark.parametrize("layer", ["debench.reference", "debench.models"])
+def test_no_import_cycles(layer):
+    """No cycle among the modules of a layer (package ``__init__`` re-exports excluded: an
+    ``__init__`` that imports its own submodules is how a package presents them)."""
+    nodes = {m for m in GRAPH if _under(layer)(m)
+             and MODULES[m].name != "__init__.py"}
+    assert _cycles(nodes) == []

@@ -1,0 +1,243 @@
+"""The shared numerics (:mod:`debench.models.numerics`) on synthetic problems with known
+answers, each collection run through every method (SciPy's ``test_zeros`` runs one list of
+functions with known roots through every root finder the same way)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from debench.models.errors import ConvergenceError
+from debench.models.numerics import (
+    asymptotic_fit,
+    checked_brentq,
+    convergence_fit,
+    gci,
+    level_fit,
+    reference_fit,
+    regula_falsi_many,
+    richardson,
+    zero_near,
+)
+from debench.models.numerics.convergence import GCI_SAFETY_OBSERVED, GCI_SAFETY_THEORETICAL
+
+EPS = np.finfo(float).eps
+#: the absolute tolerance every root method is asked for
+XTOL = 1e-12
+
+#: (name, f, bracket, root): smooth, steep, flat (triple root) and rational functions; the
+#: roots are closed forms (or, for x^3 - 2x - 5, Wallis's cubic, its 17-digit value)
+ROOT_PROBLEMS = [
+    ("x^2 - 2", lambda x: x * x - 2.0, (0.0, 2.0), math.sqrt(2.0)),
+    ("x^3 - 2x - 5", lambda x: x**3 - 2.0 * x - 5.0, (2.0, 3.0), 2.0945514815423265),
+    ("exp(x) - 2", lambda x: np.exp(x) - 2.0, (0.0, 1.0), math.log(2.0)),
+    ("sin(x) - 1/2", lambda x: np.sin(x) - 0.5, (0.0, 1.5), math.pi / 6),
+    ("1/x - 1/2", lambda x: 1.0 / x - 0.5, (1.0, 3.0), 2.0),
+    ("atan(20 (x - 0.3))", lambda x: np.arctan(20.0 * (x - 0.3)), (-1.0, 4.0), 0.3),
+    ("x exp(-x) - 0.1", lambda x: x * np.exp(-x) - 0.1, (0.0, 1.0), 0.11183255915896297),
+]
+
+
+def _brentq(f, a, b, root):
+    return checked_brentq(f, a, b, XTOL, "synthetic")
+
+
+def _zero_near_bracket(f, a, b, root):
+    return zero_near(f, None, a, b, XTOL, "synthetic")[0]
+
+
+def _zero_near_guess(f, a, b, root):
+    # an estimate 1e-4 relative off, as a cheaper method supplies it
+    return zero_near(f, root * (1 + 1e-4), a, b, XTOL, "synthetic")[0]
+
+
+def _regula_falsi(f, a, b, root):
+    x = regula_falsi_many(lambda x, active: f(x), [a], [b], [f(a)], [f(b)], XTOL)
+    return float(x[0])
+
+
+ROOT_METHODS = {"checked_brentq": _brentq, "zero_near (bracket)": _zero_near_bracket,
+                "zero_near (guess)": _zero_near_guess, "regula_falsi_many": _regula_falsi}
+
+
+@pytest.mark.parametrize("method", ROOT_METHODS)
+@pytest.mark.parametrize(("name", "f", "bracket", "root"), ROOT_PROBLEMS,
+                         ids=[p[0] for p in ROOT_PROBLEMS])
+def test_every_root_method_finds_every_known_root(method, name, f, bracket, root):
+    """Each method returns a point within its contract of the known root: a sign change
+    across an interval of width <= xtol + 4 eps |x| (brentq's stopping rule), so the
+    returned end lies within twice that of the root."""
+    x = ROOT_METHODS[method](f, *bracket, root)
+    assert abs(x - root) <= 2 * (XTOL + 4 * EPS * abs(root)), (method, name, x, root)
+
+
+@pytest.mark.parametrize("method", ROOT_METHODS)
+def test_every_root_method_finds_a_triple_root_or_raises(method):
+    """(x - 1)^3 on [0, 3]: flat at its root, brentq's 100 iterations do not suffice
+    there. A method returns a point within its contract or raises ConvergenceError; it
+    never returns a number outside it."""
+    def f(x):
+        return (x - 1.0) ** 3
+
+    try:
+        x = ROOT_METHODS[method](f, 0.0, 3.0, 1.0)
+    except ConvergenceError:
+        return
+    assert abs(x - 1.0) <= 2 * (XTOL + 4 * EPS), (method, x)
+
+
+def test_regula_falsi_refines_every_bracket_at_once():
+    """All the problems refined in one call (the vectorised use of the Chapter 4 scans):
+    the same roots as one at a time, with ``f`` called only on the active brackets."""
+    fs = [p[1] for p in ROOT_PROBLEMS]
+    a = np.array([p[2][0] for p in ROOT_PROBLEMS])
+    b = np.array([p[2][1] for p in ROOT_PROBLEMS])
+    calls = []
+
+    def f(x, active):
+        idx = np.flatnonzero(active)
+        calls.append(idx.size)
+        return np.array([fs[i](xi) for i, xi in zip(idx, x, strict=True)])
+
+    fa = np.array([g(x) for g, x in zip(fs, a, strict=True)])
+    fb = np.array([g(x) for g, x in zip(fs, b, strict=True)])
+    x = regula_falsi_many(f, a, b, fa, fb, XTOL)
+    roots = np.array([p[3] for p in ROOT_PROBLEMS])
+    assert np.all(np.abs(x - roots) <= 2 * (XTOL + 4 * EPS * np.abs(roots)))
+    assert calls[-1] < len(fs)            # converged brackets are no longer evaluated
+
+
+@pytest.mark.parametrize("method", ROOT_METHODS)
+def test_every_root_method_refuses_a_bracket_without_sign_change(method):
+    """x^2 + 1 has no real root: every method raises ConvergenceError, none returns a
+    number."""
+    def f(x):
+        return x * x + 1.0
+
+    with pytest.raises(ConvergenceError):
+        if method == "regula_falsi_many":
+            regula_falsi_many(lambda x, active: f(x), [0.0], [1.0], [f(0.0)], [f(1.0)],
+                              XTOL)
+        else:
+            ROOT_METHODS[method](f, 0.0, 1.0, 0.5)
+
+
+def test_regula_falsi_refuses_a_function_not_finite_in_its_bracket():
+    with pytest.raises(ConvergenceError, match="not finite"):
+        regula_falsi_many(lambda x, active: np.full_like(x, np.nan), [0.0], [1.0], [-1.0],
+                          [1.0], XTOL)
+
+
+# ------------------------------------------------------------------ convergence fits
+H5 = np.array([3.0, 2.0, 1.4, 1.0, 0.7])
+#: (name, levels, values, limit, order): exact power laws at several rates and signs, and
+#: sequences with a higher-order term (1-4 % of the leading one at the coarsest level)
+FIT_PROBLEMS = [
+    ("h^2", H5, 1.0 + 0.1 * H5**2, 1.0, 2.0),
+    ("h^1.2 decreasing", H5, 0.22 - 0.004 * H5**1.2, 0.22, 1.2),
+    ("h^1.7 + 1 % h^3", H5, 0.5 + 0.2 * H5**1.7 + 0.002 * H5**3, 0.5, 1.7),
+    ("h^1.7 + 4 % h^3", H5, 0.5 + 0.2 * H5**1.7 + 0.008 * H5**3, 0.5, 1.7),
+    ("h^4", H5, -3.0 + 1e-3 * H5**4, -3.0, 4.0),
+]
+
+
+def _fit_richardson(h, v, order):
+    v_inf, _ = richardson(h, v)
+    return v_inf, abs(v_inf - v[-1])          # the three-point fit: no redundancy
+
+
+def _fit(fn):
+    def run(h, v, order):
+        out = fn(h, v, order)
+        return out.v_inf, out.error
+    return run
+
+
+def _fit_gci(h, v, order):
+    out = gci(h, v, order)
+    return out.v_inf, out.gci
+
+
+FIT_METHODS = {
+    "richardson": _fit_richardson,
+    "convergence_fit": _fit(lambda h, v, q: convergence_fit(h, v)),
+    "convergence_fit (expected order)": _fit(lambda h, v, q: convergence_fit(h, v, q)),
+    "asymptotic_fit": _fit(asymptotic_fit),
+    "reference_fit": _fit(reference_fit),
+    "level_fit": _fit(lambda h, v, q: level_fit(h, v)),
+    "gci": _fit_gci,
+}
+
+
+@pytest.mark.parametrize("method", FIT_METHODS)
+@pytest.mark.parametrize(("name", "h", "v", "limit", "order"), FIT_PROBLEMS,
+                         ids=[p[0] for p in FIT_PROBLEMS])
+def test_every_fit_bounds_the_error_of_its_limit(method, name, h, v, limit, order):
+    """Each fit's limit lies within its own error estimate of the known limit (the GCI:
+    within its band of the finest value's error), and on exact power laws the limit is
+    recovered to well below the level differences (1e-6 of them)."""
+    v_inf, err = FIT_METHODS[method](h, v, order)
+    if method == "gci":
+        assert abs(v[-1] - limit) <= err, (name, v_inf, err)
+    else:
+        assert abs(v_inf - limit) <= err + 1e-12, (name, v_inf, err)
+    if "%" not in name:
+        assert abs(v_inf - limit) <= 1e-6 * abs(v[-2] - v[-1]), (name, v_inf)
+
+
+def test_richardson_recovers_the_rate_of_non_uniform_levels():
+    h = np.array([3.0, 1.9, 1.1])
+    v_inf, p = richardson(h, 2.0 + 0.3 * h**1.45)
+    assert v_inf == pytest.approx(2.0, abs=1e-10) and p == pytest.approx(1.45, rel=1e-8)
+
+
+@pytest.mark.parametrize("fit", [richardson, convergence_fit])
+def test_free_rate_fits_refuse_a_non_monotone_sequence(fit):
+    with pytest.raises(ConvergenceError):
+        fit(np.array([3.0, 2.0, 1.4]), np.array([1.0, 1.2, 1.1]))
+
+
+def test_level_fit_falls_back_to_the_finest_level_and_its_last_change():
+    """Fewer than three levels: the finest value, its change from the previous level as
+    the error (two levels) or NaN (one level); a non-monotone triple: the spread, or the
+    fit's error when asked to raise."""
+    two = level_fit([2.0, 1.0], [1.3, 1.1])
+    assert (two.v_inf, two.error) == (1.1, pytest.approx(0.2)) and math.isnan(two.p)
+    one = level_fit([1.0], [1.1])
+    assert one.v_inf == 1.1 and math.isnan(one.error)
+    bumpy = level_fit([3.0, 2.0, 1.4], [1.0, 1.2, 1.1])
+    assert bumpy.v_inf == 1.1 and bumpy.error == pytest.approx(0.1)
+    with pytest.raises(ConvergenceError):
+        level_fit([3.0, 2.0, 1.4], [1.0, 1.2, 1.1], spread_if_not_monotone=False)
+
+
+def test_gci_takes_the_observed_order_with_safety_1_25_when_it_matches_the_theory():
+    """Roache: three levels whose observed order is the theoretical one (or no theory
+    given): Fs = 1.25 with the observed order; GCI = Fs |v1 - v2| / (r^p - 1)."""
+    h = np.array([4.0, 2.0, 1.0])
+    v = 1.0 + 0.1 * h**2
+    for theory in (None, 2.0, 2.2):
+        out = gci(h, v, theory)
+        assert out.safety == GCI_SAFETY_OBSERVED == 1.25
+        assert out.p == pytest.approx(2.0) and out.p_observed == pytest.approx(2.0)
+        assert out.gci == pytest.approx(1.25 * 0.3 / 3.0)
+        assert out.v_inf == pytest.approx(1.0) and out.gci_relative == pytest.approx(
+            out.gci / 1.1)
+
+
+def test_gci_uses_the_theoretical_order_with_safety_3_otherwise():
+    """An observed order off the theoretical one, a non-monotone triple and two levels:
+    Fs = 3 with the theoretical order; without a theoretical order no GCI (raises)."""
+    h = np.array([4.0, 2.0, 1.0])
+    off = gci(h, 1.0 + 0.1 * h**2, 1.0)
+    assert off.safety == GCI_SAFETY_THEORETICAL == 3.0 and off.p == 1.0
+    assert off.gci == pytest.approx(3.0 * 0.3 / 1.0) and "off" in off.reason
+    bumpy = gci(h, np.array([1.0, 1.2, 1.1]), 2.0)
+    assert bumpy.safety == 3.0 and math.isnan(bumpy.p_observed)
+    two = gci(h[1:], np.array([1.4, 1.1]), 2.0)
+    assert two.safety == 3.0 and two.gci == pytest.approx(3.0 * 0.3 / 3.0)
+    with pytest.raises(ConvergenceError, match="no order"):
+        gci(h[1:], np.array([1.4, 1.1]))
+    with pytest.raises(ValueError, match="decreasing"):
+        gci(h[::-1], np.array([1.0, 1.1, 1.2]), 2.0)
