@@ -169,6 +169,15 @@ def markdown(table: Table) -> str:
     return "\n".join(lines)
 
 
+def problem_page(problem) -> str:
+    """The page of a reference problem (:func:`debench.reference.problems.render_markdown`)
+    with its consensus of codes (:func:`problem_section`), as ``debench problems ID
+    --markdown`` prints it."""
+    from debench.reference import problems
+
+    return problems.render_markdown(problem, extra=problem_section(problem.id))
+
+
 def problem_section(problem_id: str, root=None) -> list[str]:
     """The consensus lines of one problem's page (empty when no submission exists)."""
     found = [t for t in tables(root) if t.problem == problem_id]

@@ -611,9 +611,12 @@ def _md_parameters(pars: Mapping[str, Mapping[str, Any]]) -> list[str]:
     return out
 
 
-def render_markdown(problem: Problem) -> str:
+def render_markdown(problem: Problem, extra=()) -> str:
     """The page ``debench problems ID --markdown`` prints: everything needed to implement
-    the problem and check it, from the spec alone."""
+    the problem and check it, from the spec alone.
+
+    ``extra``: markdown lines placed before the provenance section (the consensus of codes:
+    :func:`debench.reference.consensus.problem_page`)."""
     p = problem
     out = [f"# {p.id}: {p.title}", "", f"Chapter {p.chapter}. {p.summary}", ""]
     if p.variant:
@@ -686,9 +689,7 @@ def render_markdown(problem: Problem) -> str:
                              "whole range (any points; the stored ones are exact)"
                              if q.along else "") + "; or pass `--partial` and the report "
                 "says what was covered.", ""]
-    from debench.reference import consensus
-
-    out += consensus.problem_section(p.id)
+    out += list(extra)
     prov = provenance(p)
     if prov["datasets"]:
         out += ["## Provenance", ""]

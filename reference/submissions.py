@@ -190,7 +190,7 @@ def check(sub: Submission) -> Outcome:
     """Compare the results of ``sub`` with its problem's reference (like ``debench check``:
     units by meaning, full coverage unless ``[check] partial = true``)."""
     from debench.reference import problems
-    from debench.reference.cli import UsageError, read_results
+    from debench.reference.results_files import UsageError, read_results
 
     from debench.testing import compare
 

@@ -53,7 +53,7 @@ def test_consensus_table_lists_every_curated_submission():
 
 def test_problem_page_and_report_show_the_consensus():
     for prob in {submissions.load(f).problem for f in CURATED}:
-        page = problems.render_markdown(problems.get(prob))
+        page = consensus.problem_page(problems.get(prob))
         assert "## Other codes (curated submissions)" in page
     text = "\n".join(consensus.report_section())
     assert "Consensus of codes" in text and "DOLFINx" in text

@@ -54,7 +54,9 @@ def test_markdown_page_states_every_part_of_the_spec(problem, capsys):
     every exclusion with its reason."""
     assert cli.main(["problems", problem.id, "--markdown"]) == 0
     page = capsys.readouterr().out
-    assert page == problems.render_markdown(problem)
+    from debench.reference import consensus
+
+    assert page == consensus.problem_page(problem)
     for name, par in problem.parameters.items():
         assert f"| `{name}` |" in page and (par["units"] == "" or f"`{par['units']}`" in page)
     for b in problem.boundary_conditions:

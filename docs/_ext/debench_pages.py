@@ -166,7 +166,7 @@ def errata_page(results) -> None:
 
 # --------------------------------------------------------------------------- problems
 def problem_pages(figures: list[Path]) -> list[str]:
-    from debench.reference import problems
+    from debench.reference import consensus, problems
 
     items = problems.load_all()
     variants_of: dict[str, list] = {}
@@ -186,7 +186,7 @@ def problem_pages(figures: list[Path]) -> list[str]:
         qs = ", ".join(f"`{q.name}`" for q in p.quantities)
         index.append(f"| [`{p.id}`]({p.id}.md) | {p.chapter} | {p.title} | {qs} |")
         names.append(p.id)
-        page = problems.render_markdown(p).rstrip("\n").split("\n")
+        page = consensus.problem_page(p).rstrip("\n").split("\n")
         extra = ["", "## Reference figures", ""]
         figs = problem_figures(p, figures)
         if figs:

@@ -32,6 +32,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 from debench.reference.datasets import write_dataset
+from debench.reference.studies.ch5_axisym_tasks import material
 
 NAME = "ch5_axisym"
 CASES = ("nh_t1", "ogden_t1")
@@ -56,11 +57,6 @@ singular tangent); 10x that."""
 TIMING_RTOL = 1.0
 """CPU seconds depend on the machine and its load: a regeneration is only asked to lie
 within a factor two of the curated timing."""
-
-
-def _material(case: str):
-    from debench.models.buckling.parameters import NeoHookean, Ogden
-    return {"nh": NeoHookean, "ogden": Ogden}[case.split("_")[0]]()
 
 
 def safety_factor(n_orders: int) -> float:
@@ -93,7 +89,7 @@ def solve_plan(full: bool = False, progress=None) -> dict:
     jobs = [(c, p, L) for c in CASES for p in ORDERS[full] for L in LAYERS[full]]
     for case, p, L in (progress(jobs) if progress else jobs):
         disc = AxisymDiscretisation(order=p, edge_layers=L, face_layers=L)
-        mat = _material(case)
+        mat = material(case)
         r0 = critical_voltage(plate, mat, disc, n=0)
         out[(case, 0, p, L)] = r0
         out[(case, 1, p, L)] = critical_voltage(plate, mat, disc, n=1, v_start=N1_START * r0.v)

@@ -6,7 +6,7 @@ its axisymmetric equilibrium path, by voltage control and then by centre-deflect
 control through the voltage maximum; at every recorded state the lowest eigenvalue at
 fixed voltage of each angular wavenumber n is computed (wavenumber n = 0: the axisymmetric
 one, whose zero is the voltage maximum, i.e. pull-in; n >= 1: wrinkling modes). Per film
-(:data:`~debench.reference.builders._ch5_axisym_tasks.CASES`: neo-Hookean and Ogden at
+(:data:`~debench.reference.studies.ch5_axisym_tasks.CASES`: neo-Hookean and Ogden at
 R/t0 = 10, t0 = 1 mm; Ogden at R/t0 = 20, t0 = 0.5 mm with R = 10 mm kept) and per
 discretisation (order p, geometric layers L towards the rim and its corners):
 
@@ -47,14 +47,14 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from debench.reference.builders._ch5_axisym_tasks import (
+from debench.reference.datasets import write_dataset
+from debench.reference.studies.ch5_axisym_tasks import (
     CASES,
     N_R_PER_ASPECT,
     V_SWITCH,
     W_END,
     path_task,
 )
-from debench.reference.datasets import write_dataset
 
 NAME = "ch5_axisym_path"
 PLANS = {
@@ -132,10 +132,10 @@ def three_d_like(case: str, h: float) -> tuple[float, float]:
     from debench.models.buckling import axisym as ax
     from debench.models.buckling.analytic import critical_voltage_plate
     from debench.models.buckling.parameters import Plate
-    from debench.reference.builders._ch5_axisym_tasks import _material
+    from debench.reference.studies.ch5_axisym_tasks import material
 
     mat_name, t0, aspect, *_ = CASES[case]
-    mat = _material(mat_name)
+    mat = material(mat_name)
     n_r = round((aspect - h) / h)
     disc = ax.AxisymDiscretisation(order=2, n_z=1, face_layers=0, edge_layers=0, n_r=n_r,
                                    edge_zone=h)
@@ -168,7 +168,8 @@ def decide(w_max, w_max_err, w_cross, w_cross_err, lam_max, lam_max_err,
 
 
 def compute(full: bool = False, scheduler=None, progress: bool = True):
-    from debench.reference.builders.ch5 import propagated_accuracy, run_tasks
+    from debench.models.numerics import propagated_accuracy
+    from debench.reference.tasks import run_tasks
 
     p = PLANS[full]
     cases, discs = p["cases"], p["discs"]
@@ -348,7 +349,7 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
 def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) -> list[Path]:
     """Write ``ch5_axisym_path.nc`` (see the module docstring). ``scheduler`` as for
     :func:`debench.reference.builders.ch5.build`."""
-    from debench.reference.builders.ch5 import resolve_scheduler
+    from debench.reference.tasks import resolve_scheduler
 
     ds, params = compute(full, scheduler=resolve_scheduler(scheduler))
     return [write_dataset(

@@ -825,8 +825,8 @@ def axisym_coarse_guards() -> list:
     from debench.models.buckling.axisym import AxisymDiscretisation
     from debench.models.buckling.axisym import critical_voltage as axisym_critical_voltage_of
     from debench.models.buckling.parameters import Plate
-    from debench.reference.builders.ch5_axisym import _material
     from debench.reference.datasets import dataset_parameters
+    from debench.reference.studies import ch5_axisym_tasks
     from debench.reference.values import Guarded
 
     ds = _axisym()
@@ -840,7 +840,7 @@ def axisym_coarse_guards() -> list:
     out = []
     for case in ds.case.values:
         case = str(case)
-        r = axisym_critical_voltage_of(plate, _material(case), disc, n=0)
+        r = axisym_critical_voltage_of(plate, ch5_axisym_tasks.material(case), disc, n=0)
         c = ds.sel(case=case, n=0)
         stored = float(c.v_cr.sel(order=p, layers=L))
         tol = float(c.v_cr.attrs["accuracy_atol"])

@@ -1,7 +1,8 @@
 """The finite-element task of the Chapter 5 axisymmetric path study
-(:mod:`debench.reference.builders.ch5_axisym_path`) and the settings it depends on.
+(:mod:`debench.reference.builders.ch5_axisym_path`), the settings it depends on, and the
+material of each axisymmetric case.
 
-The task cache of :func:`debench.reference.builders.ch5.run_tasks` keys on the source of
+The task cache of :func:`debench.reference.tasks.run_tasks` keys on the source of
 the module that defines a task: the cases and the path settings below are the inputs of the
 FE results, while the convergence analysis lives in the builder.
 """
@@ -37,9 +38,11 @@ W_END = 30.0
 the paths end one record past their maximum)."""
 
 
-def _material(name: str):
+def material(case: str):
+    """The Table 5.1 material of a case or material name (``nh``, ``nh_t1``, ``nh_r10``:
+    neo-Hookean; ``ogden...``: Ogden)."""
     from debench.models.buckling.parameters import NeoHookean, Ogden
-    return NeoHookean() if name == "nh" else Ogden()
+    return {"nh": NeoHookean, "ogden": Ogden}[case.split("_")[0]]()
 
 
 def path_task(case: str, order: int, layers: int, n_max: int | None = None) -> dict:
@@ -55,12 +58,12 @@ def path_task(case: str, order: int, layers: int, n_max: int | None = None) -> d
     from debench.models.buckling.analytic import critical_voltage_plate
     from debench.models.buckling.parameters import Plate
     from debench.models.errors import ConvergenceError
-    from debench.reference.builders._ch5_tasks import _limit_threads
+    from debench.reference.tasks import limit_threads
 
-    _limit_threads()
+    limit_threads()
     mat_name, t0, aspect, ns, w_from, spacing = CASES[case]
     ns = tuple(n for n in ns if n_max is None or n <= n_max)
-    mat = _material(mat_name)
+    mat = material(mat_name)
     cpu = time.process_time()
     disc = ax.AxisymDiscretisation(order=order, edge_layers=layers, face_layers=layers,
                                    n_r=max(1, round(N_R_PER_ASPECT * aspect)))
