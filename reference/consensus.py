@@ -208,3 +208,9 @@ def report_section(root=None) -> list[str]:
     for t in found:
         out += [f"### {t.problem}: `{t.quantity}`", "", markdown(t), ""]
     return out
+
+
+def consensus_markdown() -> str:
+    """The consensus of codes of every problem as one markdown section (the documentation
+    site's peers page; :func:`report_section` joined)."""
+    return "\n".join(report_section())

@@ -616,7 +616,7 @@ def render_markdown(problem: Problem, extra=()) -> str:
     the problem and check it, from the spec alone.
 
     ``extra``: markdown lines placed before the provenance section (the consensus of codes:
-    :func:`debench.reference.consensus.problem_page`)."""
+    ``debench.reference.consensus.problem_page``)."""
     p = problem
     out = [f"# {p.id}: {p.title}", "", f"Chapter {p.chapter}. {p.summary}", ""]
     if p.variant:

@@ -445,8 +445,14 @@ def cite_example(item_id: str = "ch3_free_membrane_nh") -> None:
 
 # --------------------------------------------------------------------------- sphinx
 def generate(app=None) -> None:
+    import locale
+
     from debench.reference import catalogue
 
+    # Sphinx sets the user's locale (LC_ALL = ""): with C.UTF-8, locale.getlocale() reports
+    # ("en_US", "UTF-8"), which cf_units (the units of the consensus checks) cannot restore
+    # after its own switch to "C"; numbers are formatted in the C locale anyway
+    locale.setlocale(locale.LC_NUMERIC, "C")
     t0 = time.perf_counter()
     OUT.mkdir(parents=True, exist_ok=True)
     figures = _copy_figures()

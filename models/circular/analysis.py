@@ -335,7 +335,7 @@ def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
                                   xtol: float = 1e-8) -> float:
     """The pre-stretch above which pull-in is suppressed (Sec. 3.5.2: 2.53 for c = 0).
 
-    ``Jm``: the Gent parameter (None: :data:`debench.models.circular.params.JM_VHB`, read
+    ``Jm``: the Gent parameter (None: ``params.JM_VHB``, read
     at the call).
 
     ``bracket`` a window of pre-stretches >= 1 (each builds an :class:`Annulus`, so the

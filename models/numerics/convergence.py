@@ -300,7 +300,7 @@ def gci(h, v, theoretical_order: float | None = None, *,
     safety factor :data:`GCI_SAFETY_OBSERVED` (1.25) when no ``theoretical_order`` is given
     or when it lies within ``order_tol`` of it; otherwise (observed order off, the triple
     not monotone, or two levels) the ``theoretical_order`` is used with
-    :data:`GCI_SAFETY_THEORETICAL` (3). ConvergenceError when neither order is available
+    ``GCI_SAFETY_THEORETICAL`` (3). ConvergenceError when neither order is available
     (two levels or a non-monotone triple without a theoretical order).
     """
     h, v = np.asarray(h, float), np.asarray(v, float)
