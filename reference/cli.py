@@ -253,7 +253,7 @@ def report_figures(figures: Path) -> Path:
 #: longest first, so that no long chapter starts last. Only the order depends on these
 #: numbers; a chapter not listed counts as :data:`UNLISTED_BUILD_CPU_S`.
 BUILD_CPU_S = {
-    "ch3_fe_thickness": 96.3, "ch5_axisym": 118.5, "ch5_axisym_path": 60.0, "ch5": 70.7,
+    "ch3_fe_thickness": 96.3, "ch5_axisym": 118.5, "ch5_axisym_path": 71.0, "ch5": 70.7,
     "ch4_fe": 32.8, "ch4": 28.3,
     "ch5_thickness": 26.7, "ch5_methods": 23.3, "ch4_inplane": 16.9, "ch3": 9.0,
     "ch3_fe": 7.2, "ch2_appendix": 0.7, "ch5_imperfection": 0.0, "ch5_wrinkling": 0.0,

@@ -55,6 +55,16 @@ ORDER_TOL = 0.25
 #: observed order off the theoretical one)
 GCI_SAFETY_OBSERVED = 1.25
 GCI_SAFETY_THEORETICAL = 3.0
+GCI_MIN_LEVELS = 3
+"""Levels a sequence needs for its convergence to count as observed (:func:`gci_safety`)."""
+
+
+def gci_safety(n_levels: int) -> float:
+    """Roache's safety factor for a refinement sequence of ``n_levels`` levels whose
+    changes are taken as the error estimate: :data:`GCI_SAFETY_OBSERVED` with at least
+    :data:`GCI_MIN_LEVELS` levels (the convergence is observed), else
+    :data:`GCI_SAFETY_THEORETICAL`."""
+    return GCI_SAFETY_OBSERVED if n_levels >= GCI_MIN_LEVELS else GCI_SAFETY_THEORETICAL
 
 
 class ThreePointFit(NamedTuple):

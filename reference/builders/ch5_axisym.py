@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from debench.reference.datasets import write_dataset
+from debench.reference.datasets import variable_attrs, write_dataset
 from debench.reference.studies.ch5_axisym_tasks import material
 
 NAME = "ch5_axisym"
@@ -44,11 +44,6 @@ ASPECT = 10.0
 N1_START = 1.35
 """The n = 1 secant starts at this multiple of the same discretisation's n = 0 critical
 voltage (the measured ratio is 1.36; the secant needs a start within its basin)."""
-GCI_SAFETY_MANY = 1.25
-GCI_SAFETY_FEW = 3.0
-GCI_MIN_LEVELS = 3
-"""Roache's safety factors of the grid convergence index: 1.25 when the p-sequence has at
-least GCI_MIN_LEVELS orders (its convergence is observed), 3 with fewer."""
 REGEN_ATOL = 1e-8
 """Regenerations of a critical voltage agree to ~1e-9 (measured: the same solve in two
 processes, NH p = 4, L = 6, differed by 1.0e-9; the secant stops at a relative step of 1e-6
@@ -60,8 +55,10 @@ within a factor two of the curated timing."""
 
 
 def safety_factor(n_orders: int) -> float:
-    """Roache's GCI safety factor for a p-sequence of ``n_orders`` orders."""
-    return GCI_SAFETY_MANY if n_orders >= GCI_MIN_LEVELS else GCI_SAFETY_FEW
+    """Roache's GCI safety factor for a p-sequence of ``n_orders`` orders
+    (:func:`~debench.models.numerics.gci_safety`: 1.25 with >= 3 orders, else 3)."""
+    from debench.models.numerics import gci_safety
+    return gci_safety(n_orders)
 
 
 def converged(v) -> dict[str, float]:
@@ -137,14 +134,7 @@ def compute(full: bool = False, solved: dict | None = None) -> tuple[xr.Dataset,
     within_ref = (np.abs(bias_ref) <= e3_ref).astype(np.int8)
     within_ext = (np.abs(bias_ext) <= e3_ext).astype(np.int8)
 
-    def a(ln, u="1", atol=None, rtol=None, **kw):
-        out = {"long_name": ln, "units": u, **kw}
-        if atol is not None:
-            out["accuracy_atol"] = atol
-        if rtol is not None:
-            out["accuracy_rtol"] = rtol
-        return out
-
+    a = variable_attrs
     dims4 = ("case", "n", "order", "layers")
     flag = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "outside inside"}
     ds = xr.Dataset(

@@ -47,7 +47,7 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from debench.reference.datasets import write_dataset
+from debench.reference.datasets import variable_attrs, write_dataset
 from debench.reference.studies.ch5_axisym_tasks import (
     CASES,
     N_R_PER_ASPECT,
@@ -65,11 +65,6 @@ COARSE_3D_H = {False: (2.5, 2.0), True: (10.0 / 3.0, 2.5, 2.0, 1.0, 0.5)}
 """Radial element sizes / t0 of the 3D-like resolution study (:func:`three_d_like`): the 3D
 ramps' in-plane mesh sizes 3, 2.5, 2 t0 (10/3 here, so that the elements tile the radius)
 and two finer ones."""
-GCI_SAFETY_MANY = 1.25
-GCI_SAFETY_FEW = 3.0
-GCI_MIN_ORDERS = 3
-"""Roache's safety factors: 1.25 when the p-sequence at the finest grading has at least
-GCI_MIN_ORDERS orders, else 3."""
 REGEN_ATOL = {"v": 1e-8, "w": 1e-6, "lam": 1e-8, "thickness": 1e-7}
 """Regenerations agree to about 1e-9 in the voltage and 1e-8 in the deflection of a
 crossing (the secant on the eigenvalue stops at a deflection step of 1e-9 t0; the Newton
@@ -106,10 +101,12 @@ def _top(discs) -> tuple[int, int, int | None]:
 
 
 def safety_factor(discs) -> float:
-    """Roache's safety factor for the p-sequence at the top grading of ``discs``."""
+    """Roache's safety factor for the p-sequence at the top grading of ``discs``
+    (:func:`~debench.models.numerics.gci_safety`: 1.25 with >= 3 orders, else 3)."""
+    from debench.models.numerics import gci_safety
+
     l_top = max(L for p, L in discs if p == max(q for q, _ in discs))
-    n = len({p for p, L in discs if L == l_top})
-    return GCI_SAFETY_MANY if n >= GCI_MIN_ORDERS else GCI_SAFETY_FEW
+    return gci_safety(len({p for p, L in discs if L == l_top}))
 
 
 def converged(values, discs) -> dict[str, np.ndarray]:
@@ -231,14 +228,7 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
     coarse = np.array([[three_d_like(c, h) for h in h3] for c in like]).reshape(
         len(like), len(h3), 2)
 
-    def a(ln, u="1", atol=None, rtol=None, **kw):
-        out = {"long_name": ln, "units": u, **kw}
-        if atol is not None:
-            out["accuracy_atol"] = atol
-        if rtol is not None:
-            out["accuracy_rtol"] = rtol
-        return out
-
+    a = variable_attrs
     d3, d4 = ("case", "disc", "record"), ("case", "disc", "record", "n")
     dk, dn, dkn = ("case", "disc"), ("case", "n"), ("case", "disc", "n")
     at = REGEN_ATOL
