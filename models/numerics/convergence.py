@@ -61,9 +61,9 @@ GCI_MIN_LEVELS = 3
 
 def gci_safety(n_levels: int) -> float:
     """Roache's safety factor for a refinement sequence of ``n_levels`` levels whose
-    changes are taken as the error estimate: :data:`GCI_SAFETY_OBSERVED` with at least
-    :data:`GCI_MIN_LEVELS` levels (the convergence is observed), else
-    :data:`GCI_SAFETY_THEORETICAL`."""
+    changes are taken as the error estimate: ``GCI_SAFETY_OBSERVED`` (1.25) with at least
+    ``GCI_MIN_LEVELS`` (3) levels (the convergence is observed), else
+    ``GCI_SAFETY_THEORETICAL`` (3)."""
     return GCI_SAFETY_OBSERVED if n_levels >= GCI_MIN_LEVELS else GCI_SAFETY_THEORETICAL
 
 
