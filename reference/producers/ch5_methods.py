@@ -2,9 +2,14 @@
 buckling models and the incompressible limit (``ch5.hypothesis.coupling.*``,
 ``ch5.hypothesis.incompressible.*`` in ``reference/catalogue/ch5.toml``).
 
-They read ``ch5_methods.nc`` (:mod:`debench.reference.builders.ch5_methods`) and never run
-the finite-element model.  The checks are module functions (:func:`gap_decomposition`,
-:func:`incompressible_effect`) that the evidence tests call on the same data.
+They read ``ch5_methods.nc`` (the 3D model's coarse meshes,
+:mod:`debench.reference.builders.ch5_methods`) and ``ch5_axisym_methods.nc`` (the
+axisymmetric model, converged: :mod:`debench.reference.builders.ch5_axisym_methods`) and
+never run the finite-element model except in the model guard
+(:func:`axisym_methods_guards`).  The checks are module functions
+(:func:`axisym_gap_decomposition`, :func:`axisym_coupling_explains_gap`,
+:func:`gap_decomposition`, :func:`incompressible_effect`) that the evidence tests call on
+the same data.
 """
 
 from __future__ import annotations
@@ -87,14 +92,6 @@ def gap_decomposition(ds) -> dict:
             "h_rel": ds.h_rel.values.tolist()}
 
 
-def coupling_explains_gap(d: dict) -> bool:
-    """The 3D mechanics is Mindlin's (within PLATE_3D_RTOL plus the mesh-limit error of
-    the initial-stress value) and the coupling is at least COUPLING_SHARE_MIN of the gap."""
-    tol = PLATE_3D_RTOL + d["v_initial_stress_error"] / d["v_mindlin"]
-    return (abs(d["mechanics_3d_vs_mindlin"]) <= tol
-            and d["coupling_share"] >= COUPLING_SHARE_MIN)
-
-
 def incompressible_effect(ds) -> dict:
     """Relative change of the coupled critical voltage from Table 5.1's k to k/mu ->
     infinity, per element order on the finest mesh of the study, and the locking
@@ -113,16 +110,6 @@ def incompressible_effect(ds) -> dict:
     out["k_h_rel"] = float(ds.k_h_rel.values[-1])
     out["k_ratios"] = ds.k_ratio.values.tolist()
     return out
-
-
-def coupling_gap(entry: Entry) -> Outcome:
-    """Share of the coupled-minus-Mindlin gap due to the electromechanical coupling;
-    ``explained`` per :func:`coupling_explains_gap`."""
-    d = gap_decomposition(_methods())
-    ok = coupling_explains_gap(d)
-    return Outcome(d["coupling_share"], status="explained" if ok else "unexplained",
-                   evidence=EVIDENCE, details=d | {"compared_with": COUPLING_SHARE_MIN,
-                                "compared_as": "explains the gap at least"})
 
 
 def incompressible_critical_voltage(entry: Entry) -> Outcome:
@@ -146,3 +133,108 @@ def incompressible_critical_voltage(entry: Entry) -> Outcome:
                    thesis_over_prediction=float(target.value) / predicted)
     return Outcome(predicted, status="explained" if ok else "unexplained", evidence=EVIDENCE,
                    details=details)
+
+
+# ------------------------------------------- the three operators on the axisymmetric model
+#: evidence of the converged decomposition (``ch5_axisym_methods.nc``)
+EVIDENCE_AXISYM = "verification/test_ch5_axisym_methods.py"
+
+
+@lru_cache(maxsize=2)
+def _axisym_methods():
+    return read_dataset("ch5_axisym_methods")
+
+
+def axisym_gap_decomposition(ds, case: str = "nh_t1") -> dict:
+    """The gap between the coupled critical voltage and the Mindlin plate estimate, split
+    by the converged critical voltages of the three operators on the axisymmetric model
+    (``ch5_axisym_methods.nc``: the same discretisations, each converged by order and
+    grading):
+
+    * ``gap`` = v_coupled / v_mindlin - 1;
+    * ``mechanics_3d_vs_mindlin`` = v_initial_stress / v_mindlin - 1 (the 3D purely
+      mechanical buckling beyond Mindlin's plate);
+    * ``coupling`` = v_coupled / v_initial_stress - 1 (the electromechanical coupling of
+      the mode: the field redistributes with it);
+    * ``field_tangent`` = v_frozen_potential / v_initial_stress - 1 (the field's
+      contribution to the tangent at frozen potential and the pre-buckling nonlinearity);
+    * ``coupling_share`` = log(1 + coupling) / log(1 + gap) (the logarithms add:
+      coupled / Mindlin = (coupled / initial stress) (initial stress / Mindlin));
+    * each relative quantity's error bound ``*_error`` from the converged values' error
+      estimates (first order in the relative errors), and ``v_*`` with ``v_*_error``.
+    """
+    c = ds.sel(case=case)
+    v = {str(t): float(c.v_cr_converged.sel(tangent=t)) for t in ds.tangent.values}
+    e = {str(t): float(c.v_cr_error.sel(tangent=t)) for t in ds.tangent.values}
+    rel = {t: e[t] / v[t] for t in v}
+    vm, vk = float(c.v_cr_mindlin), float(c.v_cr_kirchhoff)
+    gap = v["coupled"] / vm - 1
+    coupling = v["coupled"] / v["initial_stress"] - 1
+    mech = v["initial_stress"] / vm - 1
+    return {
+        "case": case, "v_coupled": v["coupled"], "v_coupled_error": e["coupled"],
+        "v_frozen_potential": v["frozen_potential"],
+        "v_frozen_potential_error": e["frozen_potential"],
+        "v_initial_stress": v["initial_stress"], "v_initial_stress_error": e["initial_stress"],
+        "v_mindlin": vm, "v_kirchhoff": vk, "kirchhoff_vs_mindlin": vk / vm - 1,
+        "gap": gap, "gap_error": (1 + gap) * rel["coupled"],
+        "mechanics_3d_vs_mindlin": mech,
+        "mechanics_3d_vs_mindlin_error": (1 + mech) * rel["initial_stress"],
+        "coupling": coupling,
+        "coupling_error": (1 + coupling) * (rel["coupled"] + rel["initial_stress"]),
+        "field_tangent": v["frozen_potential"] / v["initial_stress"] - 1,
+        "coupling_share": math.log1p(coupling) / math.log1p(gap),
+        "orders": ds.order.values.tolist(), "layers": ds.layers.values.tolist(),
+        "safety_factor": float(ds.safety_factor)}
+
+
+def axisym_coupling_explains_gap(d: dict) -> bool:
+    """The 3D mechanics is Mindlin's (|initial stress / Mindlin - 1| within PLATE_3D_RTOL
+    plus its error bound) and the coupling is at least COUPLING_SHARE_MIN of the gap."""
+    return (abs(d["mechanics_3d_vs_mindlin"])
+            <= PLATE_3D_RTOL + d["mechanics_3d_vs_mindlin_error"]
+            and d["coupling_share"] >= COUPLING_SHARE_MIN)
+
+
+def axisym_coupling_gap(entry: Entry) -> Outcome:
+    """Share of the coupled-minus-Mindlin gap due to the electromechanical coupling, from
+    the converged axisymmetric operators (:func:`axisym_gap_decomposition`); ``explained``
+    per :func:`axisym_coupling_explains_gap`. The 3D model's coarse-mesh decomposition
+    (:func:`gap_decomposition` of ``ch5_methods.nc``) beside it in details (``3d_*``)."""
+    d = axisym_gap_decomposition(_axisym_methods(), f"{entry.parameters['material']}_t1")
+    ok = axisym_coupling_explains_gap(d)
+    d3 = {f"3d_{k}": x for k, x in gap_decomposition(_methods()).items()}
+    return Outcome(d["coupling_share"], status="explained" if ok else "unexplained",
+                   evidence=f"{EVIDENCE_AXISYM}::test_the_converged_operators_explain_the_gap",
+                   details=d | d3 | {"compared_with": COUPLING_SHARE_MIN,
+                                     "plate_3d_rtol": PLATE_3D_RTOL})
+
+
+def axisym_methods_guards() -> list:
+    """Recompute the frozen-potential and initial-stress critical voltages of the
+    neo-Hookean film on the coarsest discretisation of ``ch5_axisym_methods.nc`` and from
+    them the reported converged values (the recomputed coarse value plus the dataset's
+    correction, converged minus coarse), guarded as
+    ``ch5.guard.axisym_methods.nh_t1.<tangent>.v_cr_coarse`` and ``.v_cr_reported`` within
+    the dataset's regeneration accuracy of v_cr (the coupled operator is guarded by
+    :func:`debench.reference.producers.ch5.axisym_coarse_guards`)."""
+    from debench.reference.studies.ch5_axisym_methods import critical_task
+    from debench.reference.values import Guarded
+
+    ds = _axisym_methods()
+    p, L = int(ds.order.values[0]), int(ds.layers.values[0])
+    out = []
+    for tangent in ("frozen_potential", "initial_stress"):
+        r = critical_task("nh_t1", tangent, p, L)
+        c = ds.sel(case="nh_t1", tangent=tangent)
+        stored = float(c.v_cr.isel(disc=0))
+        tol = float(c.v_cr.attrs["accuracy_atol"])
+        reason = (f"regeneration accuracy of ch5_axisym_methods v_cr (order {p}, {L} "
+                  "layers): secant root of the lowest eigenvalue, 10x the measured spread")
+        key = f"ch5.guard.axisym_methods.nh_t1.{tangent}"
+        out += [Guarded(f"{key}.v_cr_coarse", float(r["v"]), tol, reason),
+                Guarded(f"{key}.v_cr_reported",
+                        float(r["v"]) + float(c.v_cr_converged) - stored, tol,
+                        reason + "; the correction converged - coarse is read from the "
+                        "dataset")]
+    return out
