@@ -25,6 +25,7 @@ from debench.models.plate import PlateParams, ellipticity_limit_stretch, strongl
 from debench.models.plate.analysis import biot_equibiaxial_closed_form, half_space_limit, thin_limit
 from debench.models.plate.ansatz import LAM_WINDOW, critical_stretches, curves_vectorised
 from debench.models.plate.fem import eigenvalues, elements_for, refine_root
+from debench.reference.datasets import variable_attrs as _attrs
 from debench.reference.datasets import write_dataset
 from debench.reference.figures import written
 from debench.reference.studies import ch4 as study
@@ -40,10 +41,6 @@ COMMON = {"alpha": 0.0, "beta": 0.5, "mu": 1.0, "eps": 1.0,
 
 def kH_grid(full: bool) -> np.ndarray:
     return np.geomspace(0.01, 20.0, 801 if full else 401)
-
-
-def _attrs(long_name, units="1", **kw):
-    return {"long_name": long_name, "units": units, **kw}
 
 
 def curves_dataset(xis, Ds, kH, variants=VARIANTS, progress=True) -> xr.Dataset:

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 from debench.models.plate import strip_fe
+from debench.reference.datasets import variable_attrs as _attrs
 from debench.reference.datasets import write_dataset
 from debench.reference.studies import ch4_fe as study
 
@@ -32,10 +33,6 @@ CONVERGENCE_LEVELS = (0, 1, 2, 3)
 #: ~1e-13, and round-off moves a root by ~1e-12; 1e-10 is 100x that round-off and still
 #: 6x below the smallest stored error (6.5e-10, finest mesh)
 ERROR_ATOL = 1e-10
-
-
-def _attrs(long_name, units="1", **kw):
-    return {"long_name": long_name, "units": units, **kw}
 
 
 def _accuracy(acc=None) -> dict:

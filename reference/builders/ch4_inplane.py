@@ -37,6 +37,7 @@ import numpy as np
 import xarray as xr
 from debench.models.plate import PlateParams
 from debench.models.plate import inplane as ip
+from debench.reference.datasets import variable_attrs as _attrs
 from debench.reference.datasets import write_dataset
 from debench.reference.figures import written
 from debench.reference.studies import ch4_inplane as study
@@ -76,10 +77,6 @@ COMMON = {"alpha": 0.0, "beta": 0.5, "mu": 1.0, "eps": 1.0,
           "fibre": "A = (cos theta, 0, sin theta), in the plane of the plate",
           "units": "mu = eps = 1, Dhat = D2/sqrt(mu eps), Vhat = V sqrt(eps/mu)/H",
           "n_elements": ip.N_ELEMENTS}
-
-
-def _attrs(long_name, units="1"):
-    return {"long_name": long_name, "units": units}
 
 
 def _coord(name, values, long_name, units="1"):

@@ -30,7 +30,7 @@ from debench.models.errors import ConvergenceError
 from debench.models.materials.constants import OGDEN_DELTA
 from debench.models.numerics import convergence_fit, level_fit, reference_fit
 from debench.models.numerics.convergence import FIT_SAFETY, NO_FIT
-from debench.reference.datasets import write_dataset
+from debench.reference.datasets import variable_attrs, write_dataset
 from debench.reference.studies.ch5 import (
     CASES,
     EIG_EVERY,
@@ -137,11 +137,7 @@ def compute(full: bool = False, progress: bool = True, scheduler=None):
     v_ref = np.array(v_inf) + np.array(lay_corr)
     v_ref_err = np.array(err) + np.abs(np.array(lay_err))
 
-    def attrs1(ln, u="1", accuracy=None):
-        out = {"long_name": ln, "units": u}
-        if accuracy:
-            out["accuracy"] = accuracy
-        return out
+    attrs1 = variable_attrs
 
     this_mesh = ("of this mesh: secant on the lowest eigenvalue to |dv| < 1e-6; the "
                  "discretisation error is what the sequence measures")

@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from debench.reference.datasets import write_dataset
+from debench.reference.datasets import variable_attrs, write_dataset
 from debench.reference.studies import ch5_imperfection_tasks as tasks
 from debench.reference.studies.ch5_imperfection import (
     AMPLITUDES,
@@ -65,8 +65,7 @@ def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dat
     def scalar(values):
         return np.array([np.nan if x is None else x for x in values], float).reshape(nl, na)
 
-    def a(ln, u="1", **kw):
-        return {"long_name": ln, "units": u, **kw}
+    a = variable_attrs
 
     asym_at_max = []
     for r in ramps:
