@@ -104,55 +104,6 @@ def critical_ratio_ogden_nh(entry: Entry) -> Outcome:
                    evidence=f"{EV_FEM}::test_ogden_buckles_lower_than_neo_hookean")
 
 
-def pullin_voltage(entry: Entry) -> Outcome:
-    """Pull-in voltage: mesh limit over the ramp levels (the finest level when there are
-    fewer than three); the levels, the error estimate and the finest mesh in details."""
-    r = _ramps().sel(case=_case(entry))
-    v = float(r.v_pullin_extrapolated)
-    return Outcome(value=v, evidence=entry.evidence,
-                   details={"v_max_computed": float(r.v_max_computed),
-                            "v_pullin_finest_mesh": float(r.v_pullin),
-                            "v_pullin_levels": r.v_pullin_levels.values.tolist(),
-                            "ramp_h_rel": r.ramp_level.values.tolist(),
-                            "v_pullin_error": float(r.v_pullin_error),
-                            "thesis_over_ours": entry.value / v,
-                            "w_pullin_over_t0": float(r.w_pullin_extrapolated)})
-
-
-def pullin_ratio_ogden_nh(entry: Entry) -> Outcome:
-    r = _ramps()
-    ratio = float(r.sel(case="ogden_t1").v_pullin_extrapolated
-                  / r.sel(case="nh_t1").v_pullin_extrapolated)
-    return Outcome(value=ratio, evidence=f"{EV_DATA}::test_curated_pullin_ratio")
-
-
-def pullin_displacement(entry: Entry) -> Outcome:
-    r = _ramps()
-    w_og = float(r.sel(case="ogden_t1").w_pullin_extrapolated) * 1.0   # t0 = 1 mm -> mm
-    w_nh = float(r.sel(case="nh_t1").w_pullin_extrapolated) * 1.0
-    return Outcome(value=w_og, details={"w_nh_mm": w_nh, "w_ogden_mm": w_og},
-                   evidence=entry.evidence)
-
-
-def same_pullin_displacement(entry: Entry) -> Outcome:
-    r = _ramps()
-    w_og = float(r.sel(case="ogden_t1").w_pullin_extrapolated)
-    w_nh = float(r.sel(case="nh_t1").w_pullin_extrapolated)
-    return Outcome(value=bool(abs(w_nh - w_og) / w_nh < entry.tolerance),
-                   details={"w_nh_mm": w_nh, "w_ogden_mm": w_og})
-
-
-def wrinkling_displacement(entry: Entry) -> Outcome:
-    r = _ramps().sel(case=_case(entry))
-    w = float(r.w_wrinkling)
-    if math.isnan(w):
-        return Outcome(value=None, status="not_reproduced",
-                       diagnosis=entry.diagnosis + " (ours: none before pull-in at "
-                       f"w = {float(r.w_pullin) * 0.5:.3g} mm)",
-                       evidence=f"{EV_FEM}::test_no_wrinkling_before_pullin_on_coarse_mesh")
-    return Outcome(value=w * float(r.thickness_m) * 1e3)
-
-
 def field_at_instability(entry: Entry) -> Outcome:
     r = _ramps().sel(case=_case(entry))
     e = float(r.e_centre_pullin)
@@ -184,26 +135,6 @@ def thinner_buckles_lower_volts(entry: Entry) -> Outcome:
         volts[case] = float(cc.v_cr_reference) * float(cc.thickness_m) * math.sqrt(
             MU_REF / (EPS_R * EPS0))
     return Outcome(value=volts["ogden_t0p5"] < volts["ogden_t1"], details={"volts": volts})
-
-
-def _wrinkles_first(case: str) -> bool:
-    r = _ramps().sel(case=case)
-    return not math.isnan(float(r.v_wrinkling)) and float(r.v_wrinkling) < float(r.v_pullin)
-
-
-def thin_plate_wrinkles_first(entry: Entry) -> Outcome:
-    return Outcome(value=_wrinkles_first("ogden_t0p5"),
-                   evidence=f"{EV_FEM}::test_no_wrinkling_before_pullin_on_coarse_mesh")
-
-
-def _fails_by_pullin(case: str) -> bool:
-    r = _ramps().sel(case=case)
-    return (not math.isnan(float(r.v_pullin))) and not _wrinkles_first(case)
-
-
-def thick_plate_fails_by_pullin(entry: Entry) -> Outcome:
-    return Outcome(value=_fails_by_pullin("ogden_t1"),
-                   evidence=f"{EV_FEM}::test_thick_plate_fails_by_pullin_at_a_voltage_limit_point")
 
 
 def ogden_buckles_lower_than_nh(entry: Entry) -> Outcome:
@@ -238,8 +169,11 @@ def erratum_scale_invariance(entry: Entry) -> Outcome:
 
 
 def erratum_pullin_thickness(entry: Entry) -> Outcome:
-    ok = _fails_by_pullin("ogden_t1")
-    return Outcome(value=ok, status="confirmed" if ok else "refuted", evidence=entry.evidence)
+    """Confirmed when the 1 mm film fails by pull-in (the decided first instability of the
+    converged Ogden path at R/t0 = 10 is its voltage maximum)."""
+    ok = _first_of("ogden_r10")["first"] == 0
+    return Outcome(value=ok, status="confirmed" if ok else "refuted",
+                   evidence=f"{EV_AXISYM_PATH}::test_curated_first_instability_is_decided")
 
 
 def erratum_compressibility(entry: Entry) -> Outcome:
@@ -962,3 +896,135 @@ def axisym_vs_3d_pullin_voltage(entry: Entry) -> Outcome:
         evidence=f"{EV_AXISYM_PATH}::test_3d_pullin_against_the_converged_path")
 
 
+
+
+def _films(entry: Entry) -> dict:
+    """The converged path summaries of the neo-Hookean and Ogden films at R/t0 = 10."""
+    ds = _axisym_path()
+    return {m: axisym_path_summary(ds, f"{m}_r10") for m in ("nh", "ogden")}
+
+
+def axisym_pullin_ratio_ogden_nh(entry: Entry) -> Outcome:
+    """Ratio of the converged pull-in voltages Ogden / neo-Hookean (R/t0 = 10), with its
+    error bound from the two error estimates (first order in the relative errors)."""
+    f = _films(entry)
+    ratio = f["ogden"]["v_max"] / f["nh"]["v_max"]
+    err = ratio * (f["ogden"]["v_max_error"] / f["ogden"]["v_max"]
+                   + f["nh"]["v_max_error"] / f["nh"]["v_max"])
+    return Outcome(value=ratio, details={"ratio_error": err, "v_nh": f["nh"]["v_max"],
+                                         "v_ogden": f["ogden"]["v_max"]},
+                   evidence=f"{EV_AXISYM_PATH}::test_catalogue_pullin_values_are_the_"
+                            "converged_path_values")
+
+
+def axisym_pullin_displacement(entry: Entry) -> Outcome:
+    """Centre deflection at pull-in (mm at t0 = ``thickness_mm``) of the Ogden film, the
+    neo-Hookean one and both error estimates in details (converged path)."""
+    f = _films(entry)
+    t0 = float(entry.parameters["thickness_mm"])
+    return Outcome(value=f["ogden"]["w_max"] * t0, details={
+        "w_nh_mm": f["nh"]["w_max"] * t0, "w_ogden_mm": f["ogden"]["w_max"] * t0,
+        "w_nh_error_mm": f["nh"]["w_max_error"] * t0,
+        "w_ogden_error_mm": f["ogden"]["w_max_error"] * t0},
+        evidence=f"{EV_AXISYM_PATH}::test_catalogue_pullin_values_are_the_converged_path_values")
+
+
+def axisym_same_pullin_displacement(entry: Entry) -> Outcome:
+    """Both films reach pull-in at about the same deflection: |w_nh - w_ogden| / w_nh
+    below the entry's tolerance (converged path)."""
+    f = _films(entry)
+    w_nh, w_og = f["nh"]["w_max"], f["ogden"]["w_max"]
+    return Outcome(value=bool(abs(w_nh - w_og) / w_nh < entry.tolerance),
+                   details={"w_nh_over_t0": w_nh, "w_ogden_over_t0": w_og,
+                            "relative_difference": abs(w_nh - w_og) / w_nh},
+                   evidence=f"{EV_AXISYM_PATH}::test_curated_first_instability_is_decided")
+
+
+def _first_of(film: str) -> dict:
+    return axisym_path_summary(_axisym_path(), film)
+
+
+def thick_plate_fails_by_pullin(entry: Entry) -> Outcome:
+    """The 1 mm film (R/t0 = 10) fails by pull-in: the decided first instability of both
+    films' converged paths is the voltage maximum (``first`` = 0,
+    :func:`~debench.reference.builders.ch5_axisym_path.decide`), so no wrinkling mode
+    n = 1..8 becomes unstable before it."""
+    got = {m: _first_of(f"{m}_r10") for m in ("nh", "ogden")}
+    return Outcome(value=all(g["first"] == 0 for g in got.values()), details={
+        f"{m}_{k}": g[k] for m, g in got.items() for k in ("kind", "n_lowest", "margin",
+                                                             "margin_error")},
+        evidence=f"{EV_AXISYM_PATH}::test_curated_first_instability_is_decided")
+
+
+def thin_plate_wrinkles_first(entry: Entry) -> Outcome:
+    """The 0.5 mm film at the stated R/t0 = 10 (in normalised variables the same film as the
+    1 mm one: scale invariance) wrinkles before pull-in: ``first`` = 1 of the converged
+    Ogden path at R/t0 = 10."""
+    got = _first_of("ogden_r10")
+    return Outcome(value=got["first"] == 1, details={
+        k: got[k] for k in ("kind", "n_lowest", "margin", "margin_error")},
+        evidence=f"{EV_AXISYM_PATH}::test_curated_first_instability_is_decided")
+
+
+def wrinkling_displacement(entry: Entry) -> Outcome:
+    """Centre deflection (mm) at the onset of wrinkling of the film of the entry's thickness
+    at the stated R/t0 = 10 (converged path); no value when pull-in comes first."""
+    got = _first_of(PATH_CASES[_case(entry)])
+    t0 = float(entry.parameters["thickness_mm"])
+    if got["first"] != 1:
+        return Outcome(value=None, status="not_reproduced", details=got | {
+            "w_max_mm": got["w_max"] * t0},
+            evidence=f"{EV_AXISYM_PATH}::test_curated_first_instability_is_decided")
+    return Outcome(value=got["w_first"] * t0, details=got,
+                   evidence=f"{EV_AXISYM_PATH}::test_curated_first_instability_is_decided")
+
+
+def radius_kept_wrinkling(entry: Entry) -> Outcome:
+    """Section 5.3.1: the 0.5 mm film wrinkles before pull-in, at a centre deflection of
+    3.64 mm, under the hypothesis that its model kept R = 10 mm (R/t0 = 20): the converged
+    Ogden path at R/t0 = 20 (``ogden_r20``). ``explained`` when its first instability is
+    decided as wrinkling and the deflection there (the value, mm) meets the printed interval
+    of the target within the converged error estimate; ``unexplained`` otherwise."""
+    from debench.reference import catalogue
+
+    got = _first_of("ogden_r20")
+    t0 = float(entry.parameters["thickness_mm"])
+    target = catalogue.by_id()[entry.parameters["target"]]
+    t, dt = float(target.value), target.implied_tolerance()
+    r10 = _first_of("ogden_r10")
+    details = got | {"thesis_interval": [t - dt, t + dt], "thickness_mm": t0,
+                     "w_max_mm": got["w_max"] * t0, "r10_kind": r10["kind"],
+                     "r10_margin": r10["margin"], "r10_n_lowest": r10["n_lowest"]}
+    if got["first"] != 1:
+        return Outcome(value=None, status="unexplained", details=details,
+                       evidence=f"{EV_AXISYM_PATH}::test_r20_wrinkling_is_decided")
+    w, err = got["w_first"] * t0, got["w_first_error"] * t0
+    details |= {"w_first_mm": w, "w_first_error_mm": err, "w_over_printed": w / t - 1,
+                "crossing_order": sorted((x, n) for n, x in got["w_cross"].items()
+                                         if math.isfinite(x))}
+    ok = abs(w - t) <= err + dt
+    return Outcome(value=w, status="explained" if ok else "unexplained", details=details,
+                   evidence=f"{EV_AXISYM_PATH}::test_r20_wrinkling_is_decided")
+
+
+def axisym_vs_3d_wrinkling(entry: Entry) -> Outcome:
+    """Does the 3D wrinkling search at R/t0 = 20 (``ch5_wrinkling.nc``, its two finest
+    meshes: :func:`wrinkling_search`) find the converged axisymmetric model's first
+    instability: the same wavenumber, at a deflection within the 3D meshes' difference plus
+    the converged error estimate?"""
+    got = _first_of("ogden_r20")
+    found = wrinkling_search(_wrinkling())
+    w3, w3b = found["w_over_t0"], found["w_over_t0_second"]
+    same_n = got["first"] == 1 and found["n"] == got["n_first"]
+    agree = bool(same_n and abs(w3 - got["w_first"]) <= abs(w3 - w3b) + got["w_first_error"])
+    lam = {n: got["lam_at_max"][n] for n in got["lam_at_max"]}
+    return Outcome(agree, status="reproduced" if agree else "not_reproduced", details={
+        "n_axisym": got["n_first"], "w_axisym": got.get("w_first", math.nan),
+        "w_axisym_error": got.get("w_first_error", math.nan),
+        "v_axisym": got.get("v_first", math.nan),
+        "n_3d": found["n"], "w_3d": w3, "w_3d_second": w3b,
+        "w_cross_n1": got["w_cross"].get(1, math.nan), "w_max_axisym": got["w_max"],
+        "lam_at_max": lam, "h_rel_3d": found["h_rel"],
+        "crossing_order": sorted((x, n) for n, x in got["w_cross"].items()
+                                 if math.isfinite(x))},
+        evidence=f"{EV_AXISYM_PATH}::test_3d_wrinkling_against_the_converged_path")
