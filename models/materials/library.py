@@ -137,7 +137,8 @@ class NeoHookeanIdealDielectric(_InvariantMaterial):
 
     mu: float = TABLE_5_1_NH_SHEAR_MODULUS
     k: float = TABLE_5_1_BULK_MODULUS
-    eps: float = field(default=4.7 * VACUUM_PERMITTIVITY)  # assumption ch2.assumption.eps_r
+    # assumption ch2.assumption.eps_r
+    eps: float = field(default=EPS_R_ASSUMED * VACUUM_PERMITTIVITY)
     numbering: ClassVar[str] = "iso"
     incompressible: ClassVar[bool] = False
 
@@ -185,7 +186,7 @@ class IdealDielectric(_InvariantMaterial):
     Not a solid on its own (zero shear modulus); included so the battery checks (5.9).
     """
 
-    eps: float = field(default=4.7 * VACUUM_PERMITTIVITY)
+    eps: float = field(default=EPS_R_ASSUMED * VACUUM_PERMITTIVITY)
     numbering: ClassVar[str] = "iso"
     incompressible: ClassVar[bool] = False
 
@@ -263,7 +264,7 @@ class OgdenIdealDielectric:
     alphas: tuple[float, ...] = TABLE_5_1_OGDEN_ALPHAS
     mus: tuple[float, ...] = TABLE_5_1_OGDEN_MUS
     k: float = TABLE_5_1_BULK_MODULUS
-    eps: float = field(default=4.7 * VACUUM_PERMITTIVITY)
+    eps: float = field(default=EPS_R_ASSUMED * VACUUM_PERMITTIVITY)
     numbering: ClassVar[str] = "iso"
     incompressible: ClassVar[bool] = False
 

@@ -24,8 +24,12 @@ from dataclasses import dataclass
 
 import numpy as np
 from debench.models import validation as v
-from debench.models.materials.constants import VHB_GENT_JM, VHB_SHEAR_MODULUS
-from debench.models.materials.library import VACUUM_PERMITTIVITY
+from debench.models.materials.constants import (
+    EPS_R_ASSUMED,
+    VACUUM_PERMITTIVITY,
+    VHB_GENT_JM,
+    VHB_SHEAR_MODULUS,
+)
 
 _H = 1e-30  # complex step: no subtractive cancellation, any tiny step is exact to rounding
 
@@ -49,7 +53,7 @@ class ZhaoSuoPermittivity:
     Table 3.1 lists fitted c in [-0.0892, -0.0073]; c = 0 is the ideal dielectric.
     """
 
-    eps_bar: float = 4.7 * VACUUM_PERMITTIVITY
+    eps_bar: float = EPS_R_ASSUMED * VACUUM_PERMITTIVITY
     c: float = 0.0
 
     def __post_init__(self):
@@ -82,7 +86,7 @@ class JimenezMcMeekingPermittivity:
     the Zhao-Suo form (3.27) with ``eps_bar = eps0_bar`` and ``c = -6 c0/eps0_bar``.
     """
 
-    eps0_bar: float = 4.7 * VACUUM_PERMITTIVITY
+    eps0_bar: float = EPS_R_ASSUMED * VACUUM_PERMITTIVITY
     c0: float = 0.0
 
     def __post_init__(self):
