@@ -79,10 +79,10 @@ def invariants(F, D_L=None, A=None, *, xp) -> dict:
     return out
 
 
-def isochoric_right_cauchy_green(F, *, xp):
-    """``Cbar = J^{-2/3} C``, whose eigenvalues are the squared deviatoric principal
-    stretches ``lb_k^2 = J^{-2/3} lambda_k^2`` of (5.26)."""
-    return xp.det(F) ** (-2 / 3) * right_cauchy_green(F, xp=xp)
+def isochoric_right_cauchy_green(C, J):
+    """``Cbar = J^{-2/3} C`` (``J = det F``), whose eigenvalues are the squared deviatoric
+    principal stretches ``lb_k^2 = J^{-2/3} lambda_k^2`` of (5.26)."""
+    return J ** (-2 / 3) * C
 
 
 def membrane_first_invariant(l1, l2):

@@ -309,7 +309,8 @@ class OgdenIdealDielectric:
         c = np.asarray(c, dtype=float)
         Pc = float(np.prod(c))
         J = math.sqrt(Pc)
-        W = E.ogden(J ** (-2 / 3) * c, J, alphas=self.alphas, mus=self.mus, k=self.k)
+        W = E.ogden(E.isochoric_right_cauchy_green(c, J), J, alphas=self.alphas, mus=self.mus,
+                    k=self.k)
         phik = np.zeros(3)
         phikl = np.zeros((3, 3))
         A_common = 0.0

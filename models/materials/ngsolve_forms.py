@@ -89,14 +89,15 @@ def ogden_mechanical(F, *, alphas, mus, k, delta=OGDEN_DELTA):
     ``Cbar +- delta P`` (module docstring; error O(delta^2))."""
     if not 0 < delta < 0.1:
         raise ValueError(f"delta = {delta!r} must lie in (0, 0.1)")
-    Cb = E.isochoric_right_cauchy_green(F, xp=NGSOLVE)
+    J = NGSOLVE.det(F)
+    Cb = E.isochoric_right_cauchy_green(E.right_cauchy_green(F, xp=NGSOLVE), J)
     P = ng.CoefficientFunction(tuple(_perturbation_direction().ravel()), dims=(3, 3))
     w = 0
     for sign in (1.0, -1.0):
         cbar = _sym_eigs(Cb + sign * delta * P)
         for a, mu in zip(alphas, mus, strict=True):   # the mean of the two evaluations
             w = w + 0.5 * E.ogden_term(cbar, alpha=a, mu=mu)
-    return w + E.volumetric(NGSOLVE.det(F), k=k)
+    return w + E.volumetric(J, k=k)
 
 
 def ideal_dielectric(F, D_L, *, eps):
