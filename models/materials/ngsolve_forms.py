@@ -95,7 +95,7 @@ def ogden_mechanical(F, *, alphas, mus, k, delta=OGDEN_DELTA):
     w = 0
     for sign in (1.0, -1.0):
         cbar = _sym_eigs(Cb + sign * delta * P)
-        for a, mu in zip(alphas, mus, strict=True):   # the mean of the two evaluations
+        for a, mu in zip(alphas, mus, strict=True):   # 0.5: the mean of the +- delta pair
             w = w + 0.5 * E.ogden_term(cbar, alpha=a, mu=mu)
     return w + E.volumetric(J, k=k)
 
