@@ -5,7 +5,8 @@
   closed-form check of the library and of the finite-element model.  The energies
   themselves come from the library (:mod:`debench.models.materials`).
 * The ideal dielectric (5.9) ``W_ele = D_L.C D_L/(2 eps J)`` and its partial Legendre
-  transform ``Omega = W_mech - eps/2 J C^-1:(E_L x E_L)``.
+  transform ``Omega = W_mech - eps/2 J C^-1:(E_L x E_L)`` (the library's expressions,
+  :mod:`debench.models.materials.energies`, evaluated by numpy).
 * The homogeneous pre-buckled state of the clamped film: in-plane stretches 1, thickness
   stretch ``s`` from the traction-free faces (sigma_33 = 0); in-plane total Cauchy stress
   ``sigma_11 = tau_1/J - eps E^2/2`` which tends to ``-eps E^2`` (the Maxwell stress) as
@@ -28,6 +29,7 @@ import numpy as np
 from debench.models import validation as val
 from debench.models.buckling.parameters import MU_REF, NeoHookean, Ogden
 from debench.models.errors import ConvergenceError
+from debench.models.materials import energies as E
 from scipy.optimize import brentq
 from scipy.special import jn_zeros
 
@@ -67,9 +69,10 @@ def kirchhoff_principal(stretches, mat: NeoHookean | Ogden) -> np.ndarray:
 
 def enthalpy_numpy(F, EL, mat, eps) -> float:
     """Omega(F, E_L) = W_mech - eps/2 J C^-1 : (E_L x E_L), the Legendre transform of (5.9)."""
-    J = _check_F(F)
-    C = F.T @ F
-    return mechanical_energy_numpy(F, mat) - 0.5 * eps * J * float(EL @ np.linalg.solve(C, EL))
+    _check_F(F)
+    F = np.asarray(F, dtype=float)
+    return mechanical_energy_numpy(F, mat) + float(
+        E.ideal_dielectric_enthalpy(F, np.asarray(EL, dtype=float), eps=eps, xp=E.NUMPY))
 
 
 # --------------------------------------------------------------------------- flat film

@@ -17,8 +17,9 @@ potential energy per unit mu H::
 with ``Phibar^2 = eps_bar Phi^2/(mu H^2)`` (Sec. 3.5) and ``chi_A`` the indicator of the
 electrode. ``w`` is the library energy
 :meth:`~debench.models.materials.membrane.GentMembrane.free_energy` in units mu = 1,
-eps_bar = 1, ``I4 = Phibar^2`` (written once more as an NGSolve CoefficientFunction here,
-and tested equal to the library).
+eps_bar = 1, ``I4 = Phibar^2``: the same expressions
+(:mod:`debench.models.materials.energies`) evaluated as NGSolve CoefficientFunctions
+(:func:`energy_cf`, tested equal to the numpy evaluation).
 
 Why it is independent of (3.31)-(3.34)
 --------------------------------------
@@ -58,6 +59,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError
+from debench.models.materials import energies as E
+from debench.models.materials import ngsolve_forms as ngf
 from debench.models.materials.membrane import GentMembrane, ZhaoSuoPermittivity
 from debench.models.numerics.roots import checked_brentq
 from netgen.meshing import Element0D, Element1D, MeshPoint, Pnt
@@ -667,12 +670,12 @@ def _T1(material, l1, l2, I4):
 def energy_cf(l1, l2, material: GentMembrane):
     """The energy (3.20) of :class:`GentMembrane` with Zhao-Suo permittivity as NGSolve
     CoefficientFunctions: ``(Ws, dW/dI4)`` so that ``w = Ws + I4 dW/dI4`` (w is linear in
-    ``I4 = E_L^2``). Units follow ``material`` (mu, eps_bar)."""
+    ``I4 = E_L^2``). Units follow ``material`` (mu, eps_bar). The expressions are those of
+    the library (:mod:`debench.models.materials.energies`), evaluated by NGSolve."""
     perm = material.permittivity
     if not isinstance(perm, ZhaoSuoPermittivity):
         raise NotImplementedError("energy_cf: Zhao-Suo permittivity only")
-    I1 = l1 * l1 + l2 * l2 + 1 / (l1 * l1 * l2 * l2)
-    ws = -0.5 * material.mu * material.Jm * ng.log(1 - (I1 - 3) / material.Jm)
-    eps = perm.eps_bar * (1 + perm.c * (l1 + l2 - 2))
-    we = -0.5 * eps * l1 * l1 * l2 * l2
-    return ws, we
+    ws = E.gent(E.membrane_first_invariant(l1, l2), mu=material.mu, Jm=material.Jm,
+                xp=ngf.NGSOLVE)
+    eps = E.zhao_suo_permittivity(l1, l2, eps_bar=perm.eps_bar, c=perm.c)
+    return ws, E.membrane_electric(l1, l2, 1.0, eps=eps)

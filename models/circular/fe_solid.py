@@ -95,6 +95,7 @@ import ngsolve as ng
 import numpy as np
 import scipy.sparse as sp
 from debench.models import validation as v
+from debench.models.materials import energies as E
 from debench.models.materials import ngsolve_forms as forms
 from netgen.meshing import Element1D, Element2D, MeshPoint, Pnt
 from netgen.meshing import Mesh as NetgenMesh
@@ -184,7 +185,7 @@ def energy_parts(F, grad_psi, c: float, Jm: float):
     zero = ng.CoefficientFunction((0.0, 0.0, 0.0))
     wm = forms.gent_ideal_dielectric(F, zero, mu=1.0, Jm=Jm, eps=1.0)
     C = F.trans * F
-    eps = 1.0 + c * (ng.sqrt(C[0, 0]) + F[2, 2] - 2.0)
+    eps = E.zhao_suo_permittivity(ng.sqrt(C[0, 0]), F[2, 2], eps_bar=1.0, c=c)
     we = forms.ideal_dielectric_enthalpy(F, grad_psi, eps=eps)
     return wm, we
 

@@ -28,13 +28,9 @@ EPS0 = VACUUM_PERMITTIVITY  # F/m, vacuum permittivity as printed below (3.27)
 EB_COEFF = 51e6          # V/m, E_B = 51 lam^1.13 MV/m (Huang et al. [63], Sec. 3.5.5)
 EB_EXPONENT = 1.13
 EPS_R_ASSUMED = constants.EPS_R_ASSUMED  # NOT stated in the thesis: assumption ch3.assumption.eps_r
-C_WISSLER_MAZZA = -0.053  # Sec. 3.5, Wissler & Mazza [56]
-
 #: Table 3.1: (experimental-data reference number, c)
-TABLE_3_1 = (
-    (55, -0.0073), (62, -0.0107), (59, -0.0236), (57, -0.0241), (74, -0.0275),
-    (62, -0.0317), (56, -0.053), (61, -0.0777), (53, -0.0823), (58, -0.0892),
-)
+TABLE_3_1 = constants.TABLE_3_1
+C_WISSLER_MAZZA = dict(TABLE_3_1)[56]  # c = -0.053, Sec. 3.5, Wissler & Mazza [56]
 
 EQUILIBRIUM_VARIANTS = ("printed", "membrane")
 

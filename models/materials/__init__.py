@@ -57,6 +57,7 @@ Example
 
 from __future__ import annotations
 
+from debench.models.materials.constants import EPS_R_ASSUMED, TABLE_3_1
 from debench.models.materials.kernel import Response, invariant_chain_rule, spectral_response
 from debench.models.materials.library import (
     VACUUM_PERMITTIVITY,
@@ -99,12 +100,15 @@ alpha = 0.3 (the thesis uses alpha = 0; nonzero here so the battery exercises th
 term); the others are SI.
 """
 
+_C_TABLE_3_1 = dict(TABLE_3_1)[59]  # c = -0.0236 of Table 3.1 (data of ref. [59])
+
 MEMBRANE_MODELS = {
-    "gent_membrane_zhao_suo": GentMembrane(permittivity=ZhaoSuoPermittivity(c=-0.0236)),
+    "gent_membrane_zhao_suo": GentMembrane(permittivity=ZhaoSuoPermittivity(c=_C_TABLE_3_1)),
     "gent_membrane_jimenez_mcmeeking": GentMembrane(
-        permittivity=JimenezMcMeekingPermittivity(c0=0.0236 * 4.7 * VACUUM_PERMITTIVITY / 6)),
+        permittivity=JimenezMcMeekingPermittivity(
+            c0=-_C_TABLE_3_1 * EPS_R_ASSUMED * VACUUM_PERMITTIVITY / 6)),
 }
-"""Membrane models of Ch. 3 (c from Table 3.1; c0 is the JM coefficient whose
+"""Membrane models of Ch. 3 (c = -0.0236 from Table 3.1; c0 is the JM coefficient whose
 linearisation gives the same c)."""
 
 __all__ = [

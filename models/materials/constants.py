@@ -10,6 +10,7 @@ Every chapter and every finite-element model takes these from here (through
   Chapter 3 (Sec. 3.3.3): mu = 51 kPa, Jm = 120.
 * :data:`EPS_R_ASSUMED` -- relative permittivity of VHB 4910, not printed in the thesis
   (assumption ``ch2.assumption.eps_r``).
+* :data:`TABLE_3_1` -- the Zhao-Suo factors c of (3.27) fitted to experiments (Table 3.1).
 * Table 5.1 (thesis p. 88): the neo-Hookean shear and bulk moduli (5.15)-(5.17) and the
   three-term Ogden parameters (5.26). Table 5.1 gives one bulk modulus; the Ogden model
   uses it too (assumption ``ch2.assumption.ogden_bulk_modulus``).
@@ -29,6 +30,12 @@ VHB_SHEAR_MODULUS = 51e3
 VHB_GENT_JM = 120.0
 """Gent locking parameter Jm of VHB 4910 (3.23), Sec. 3.3.3."""
 
+TABLE_3_1 = (
+    (55, -0.0073), (62, -0.0107), (59, -0.0236), (57, -0.0241), (74, -0.0275),
+    (62, -0.0317), (56, -0.053), (61, -0.0777), (53, -0.0823), (58, -0.0892),
+)
+"""Table 3.1: (experimental-data reference number, Zhao-Suo factor c of (3.27))."""
+
 TABLE_5_1_NH_SHEAR_MODULUS = 156000.0
 """Pa, Table 5.1 neo-Hookean mu (C10 = mu/2, eq. (5.16))."""
 
@@ -47,6 +54,7 @@ evaluates (5.26) (:mod:`debench.models.materials.ngsolve_forms`): a numerical pa
 energy error O(delta^2) ~ 1e-6 relative."""
 
 __all__ = [
-    "EPS_R_ASSUMED", "OGDEN_DELTA", "TABLE_5_1_BULK_MODULUS", "TABLE_5_1_NH_SHEAR_MODULUS",
-    "TABLE_5_1_OGDEN_ALPHAS", "TABLE_5_1_OGDEN_MUS", "VACUUM_PERMITTIVITY",
+    "EPS_R_ASSUMED", "OGDEN_DELTA", "TABLE_3_1", "TABLE_5_1_BULK_MODULUS",
+    "TABLE_5_1_NH_SHEAR_MODULUS", "TABLE_5_1_OGDEN_ALPHAS", "TABLE_5_1_OGDEN_MUS",
+    "VACUUM_PERMITTIVITY",
 ]

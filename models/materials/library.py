@@ -6,6 +6,11 @@ Every material has ``energy(F, D_L)`` and ``response(F, D_L, second=True) -> Res
 for det F = 1 with a Lagrange multiplier p (eqs (2.29)-(2.34)); their energy is still
 evaluated off the constraint (needed for derivatives), as printed in the thesis.
 
+Each energy ``W`` is the one expression of :mod:`debench.models.materials.energies`
+(evaluated here with numpy, by NGSolve in :mod:`debench.models.materials.ngsolve_forms`);
+the derivatives ``W_n``, ``W_mn`` (and Ogden's spectral derivatives) are written out here
+and checked against NGSolve's symbolic derivatives of the same expressions.
+
 Units: SI (Pa, F/m, C/m^2) or any consistent non-dimensional set.
 """
 
@@ -19,6 +24,7 @@ from typing import ClassVar
 import numpy as np
 from debench.models import validation as v
 from debench.models.invariants import invariants, validate_state
+from debench.models.materials import energies as E
 from debench.models.materials.constants import (  # defined once; VACUUM_PERMITTIVITY re-exported
     EPS_R_ASSUMED,
     TABLE_5_1_BULK_MODULUS,
@@ -111,7 +117,8 @@ class GentIdealDielectric(_InvariantMaterial):
         if not x < 1.0:
             raise ValueError(f"I1 - 3 = {I[0] - 3.0:.6g} is past the Gent lock: must be "
                              f"< Jm = {self.Jm:.6g}")
-        W = -0.5 * self.mu * self.Jm * math.log1p(-x) + I[4] / (2 * self.eps)
+        W = E.gent_ideal_dielectric(I[0], I[4], mu=self.mu, Jm=self.Jm, eps=self.eps,
+                                    xp=E.NUMPY)
         Wn = np.zeros(6)
         Wmn = np.zeros((6, 6))
         Wn[0] = 0.5 * self.mu / (1 - x)
@@ -137,7 +144,8 @@ class NeoHookeanIdealDielectric(_InvariantMaterial):
 
     mu: float = TABLE_5_1_NH_SHEAR_MODULUS
     k: float = TABLE_5_1_BULK_MODULUS
-    eps: float = field(default=4.7 * VACUUM_PERMITTIVITY)  # assumption ch2.assumption.eps_r
+    # assumption ch2.assumption.eps_r
+    eps: float = field(default=EPS_R_ASSUMED * VACUUM_PERMITTIVITY)
     numbering: ClassVar[str] = "iso"
     incompressible: ClassVar[bool] = False
 
@@ -163,8 +171,8 @@ class NeoHookeanIdealDielectric(_InvariantMaterial):
         I = _invariant_vector(I)
         I1, I3, I5 = I[0], I[2], I[4]
         C10, D1, eps = self.C10, self.D1, self.eps
-        J = math.sqrt(I3)
-        W = C10 * (I1 * I3 ** (-1 / 3) - 3) + (J - 1) ** 2 / D1 + I5 / (2 * eps * J)
+        W = E.neo_hookean_ideal_dielectric(I1, math.sqrt(I3), I5, mu=self.mu, k=self.k,
+                                           eps=eps)
         Wn = np.zeros(6)
         Wmn = np.zeros((6, 6))
         Wn[0] = C10 * I3 ** (-1 / 3)
@@ -185,7 +193,7 @@ class IdealDielectric(_InvariantMaterial):
     Not a solid on its own (zero shear modulus); included so the battery checks (5.9).
     """
 
-    eps: float = field(default=4.7 * VACUUM_PERMITTIVITY)
+    eps: float = field(default=EPS_R_ASSUMED * VACUUM_PERMITTIVITY)
     numbering: ClassVar[str] = "iso"
     incompressible: ClassVar[bool] = False
 
@@ -202,7 +210,7 @@ class IdealDielectric(_InvariantMaterial):
         I3, I5, eps = I[2], I[4], self.eps
         Wn = np.zeros(6)
         Wmn = np.zeros((6, 6))
-        W = I5 * I3**-0.5 / (2 * eps)
+        W = E.ideal_dielectric(I5, math.sqrt(I3), eps=eps)
         Wn[2] = -I5 * I3**-1.5 / (4 * eps)
         Wn[4] = I3**-0.5 / (2 * eps)
         Wmn[2, 2] = 3 * I5 * I3**-2.5 / (8 * eps)
@@ -241,7 +249,9 @@ class DorfmannOgdenElectric(_InvariantMaterial):
         Wn = np.zeros(6)
         Wn[3] = self.alpha / (2 * self.eps)
         Wn[4] = self.beta / (2 * self.eps)
-        return (self.alpha * I[3] + self.beta * I[4]) / (2 * self.eps), Wn, np.zeros((6, 6))
+        W = E.dorfmann_ogden_electric(I[3], I[4], alpha=self.alpha, beta=self.beta,
+                                      eps=self.eps)
+        return W, Wn, np.zeros((6, 6))
 
 
 # ------------------------------------------------------------- Ogden (Ch. 5, 5.26)
@@ -263,7 +273,7 @@ class OgdenIdealDielectric:
     alphas: tuple[float, ...] = TABLE_5_1_OGDEN_ALPHAS
     mus: tuple[float, ...] = TABLE_5_1_OGDEN_MUS
     k: float = TABLE_5_1_BULK_MODULUS
-    eps: float = field(default=4.7 * VACUUM_PERMITTIVITY)
+    eps: float = field(default=EPS_R_ASSUMED * VACUUM_PERMITTIVITY)
     numbering: ClassVar[str] = "iso"
     incompressible: ClassVar[bool] = False
 
@@ -293,11 +303,14 @@ class OgdenIdealDielectric:
         return float(sum(self.mus))
 
     def _phi(self, c):
-        """Energy of the eigenvalues c_k of C and its derivatives (see spectral_response)."""
+        """Energy of the eigenvalues c_k of C and its derivatives (see spectral_response):
+        the energy is :func:`debench.models.materials.energies.ogden` at the eigenvalues
+        ``J^{-2/3} c_k`` of Cbar, the derivatives are written out here."""
         c = np.asarray(c, dtype=float)
         Pc = float(np.prod(c))
         J = math.sqrt(Pc)
-        W = 0.0
+        W = E.ogden(E.isochoric_right_cauchy_green(c, J), J, alphas=self.alphas, mus=self.mus,
+                    k=self.k)
         phik = np.zeros(3)
         phikl = np.zeros((3, 3))
         A_common = 0.0
@@ -309,7 +322,6 @@ class OgdenIdealDielectric:
             q = a / 2
             Pe = Pc**e
             s = float(np.sum(c**q))
-            W += ap * (Pe * s - 3)
             A_common += ap * e * Pe * s
             B = ap * Pe * q
             phik += B * c ** (q - 1)
@@ -320,7 +332,6 @@ class OgdenIdealDielectric:
                            + np.diag(Pe * q * (q - 1) * c ** (q - 2)))
             theta += B * divided_difference_power(c[:, None], c[None, :], q - 1)
         # volumetric k/2 (J-1)^2
-        W += 0.5 * self.k * (J - 1) ** 2
         U1, U2 = self.k * (J - 1), self.k
         A_common += U1 * J / 2
         phikl += (U2 * J**2 / 4 * np.outer(inv_c, inv_c)
@@ -383,8 +394,8 @@ class TransverselyIsotropicNeoHookean(_InvariantMaterial):
         """``(W, W_n, W_mn)`` at ``I = [I1, ..., I6]`` (ti numbering)."""
         I = _invariant_vector(I)
         mu, xi = self.mu, self.xi
-        W = (0.5 * mu * (I[0] - 3) + 0.5 * mu * xi * (I[3] - 1) ** 2
-             + (self.alpha * I[5] + self.beta * I[4]) / (2 * self.eps))
+        W = E.ti_neo_hookean_dielectric(I[0], I[3], I[5], I[4], mu=mu, xi=xi,
+                                        alpha=self.alpha, beta=self.beta, eps=self.eps)
         Wn = np.zeros(6)
         Wmn = np.zeros((6, 6))
         Wn[0] = mu / 2

@@ -24,8 +24,13 @@ from dataclasses import dataclass
 
 import numpy as np
 from debench.models import validation as v
-from debench.models.materials.constants import VHB_GENT_JM, VHB_SHEAR_MODULUS
-from debench.models.materials.library import VACUUM_PERMITTIVITY
+from debench.models.materials import energies as E
+from debench.models.materials.constants import (
+    EPS_R_ASSUMED,
+    VACUUM_PERMITTIVITY,
+    VHB_GENT_JM,
+    VHB_SHEAR_MODULUS,
+)
 
 _H = 1e-30  # complex step: no subtractive cancellation, any tiny step is exact to rounding
 
@@ -49,7 +54,7 @@ class ZhaoSuoPermittivity:
     Table 3.1 lists fitted c in [-0.0892, -0.0073]; c = 0 is the ideal dielectric.
     """
 
-    eps_bar: float = 4.7 * VACUUM_PERMITTIVITY
+    eps_bar: float = EPS_R_ASSUMED * VACUUM_PERMITTIVITY
     c: float = 0.0
 
     def __post_init__(self):
@@ -59,7 +64,7 @@ class ZhaoSuoPermittivity:
     @v.finite_result
     def __call__(self, l1, l2):
         _check_stretches(l1, l2)
-        eps = self.eps_bar * (1 + self.c * (l1 + l2 - 2))
+        eps = E.zhao_suo_permittivity(l1, l2, eps_bar=self.eps_bar, c=self.c)
         if not np.all(np.real(eps) > 0):
             raise ValueError(f"permittivity must stay > 0: 1 + c (l1 + l2 - 2) > 0 violated "
                              f"at l1={l1!r}, l2={l2!r}, c={self.c}")
@@ -82,7 +87,7 @@ class JimenezMcMeekingPermittivity:
     the Zhao-Suo form (3.27) with ``eps_bar = eps0_bar`` and ``c = -6 c0/eps0_bar``.
     """
 
-    eps0_bar: float = 4.7 * VACUUM_PERMITTIVITY
+    eps0_bar: float = EPS_R_ASSUMED * VACUUM_PERMITTIVITY
     c0: float = 0.0
 
     def __post_init__(self):
@@ -146,12 +151,13 @@ class GentMembrane:
     def stretching_energy(self, l1, l2):
         """``Ws = -mu Jm/2 ln(1 - (I1 - 3)/Jm)``, ``I1 = l1^2 + l2^2 + l1^-2 l2^-2`` (3.23)."""
         _check_stretches(l1, l2)
-        x = (l1 * l1 + l2 * l2 + 1 / (l1 * l2) ** 2 - 3) / self.Jm
+        I1 = E.membrane_first_invariant(l1, l2)
+        x = (I1 - 3) / self.Jm
         if not np.all(np.real(x) < 1):
             raise ValueError(f"I1 - 3 = {np.max(np.real(x)) * self.Jm:.6g} is past the Gent "
                              f"lock: must be < Jm = {self.Jm:.6g} (lambda1 = {l1!r:.40}, "
                              f"lambda2 = {l2!r:.40})")
-        return -0.5 * self.mu * self.Jm * np.log1p(-x)
+        return E.gent(I1, mu=self.mu, Jm=self.Jm, xp=E.NUMPY)
 
     @v.finite_result
     def stretching_energy_derivative(self, l1, l2):
@@ -167,7 +173,7 @@ class GentMembrane:
         """``W(l1, l2, I4) = Ws - eps l1^2 l2^2 I4/2`` (3.20), ``I4 = E_L^2``."""
         v.nonnegative("I4", I4, complex_ok=True)
         return (self.stretching_energy(l1, l2)
-                - 0.5 * self.permittivity(l1, l2) * (l1 * l2) ** 2 * I4)
+                + E.membrane_electric(l1, l2, I4, eps=self.permittivity(l1, l2)))
 
     # ---- equations of state
     @v.finite_result

@@ -3,7 +3,10 @@
 Import on demand (``import debench.models.materials.ngsolve_forms``): it imports ``ngsolve``.
 
 One function per energy builds ``W`` from CF arguments ``F`` (3x3) and ``D_L`` (3-vector)
-and the parameters; stress and moduli follow from NGSolve's symbolic differentiation::
+and the parameters, by evaluating the one expression of the energy in
+:mod:`debench.models.materials.energies` with the NGSolve namespace :data:`NGSOLVE` (this
+module writes no energy of its own); stress and moduli follow from NGSolve's symbolic
+differentiation::
 
     F = CoefficientFunction(..., dims=(3, 3)).MakeVariable()
     D = CoefficientFunction(...).MakeVariable()
@@ -36,27 +39,25 @@ import math
 
 import ngsolve as ng
 import numpy as np
+from debench.models.materials import energies as E
 from debench.models.materials.constants import OGDEN_DELTA
 
-
-def _invariants(F, D_L):
-    C = F.trans * F
-    I1 = ng.Trace(C)
-    J = ng.Det(F)
-    I5 = ng.InnerProduct(D_L, C * D_L)
-    return C, I1, J, I5
+NGSOLVE = E.MathNamespace(
+    name="ngsolve", det=ng.Det, trace=ng.Trace, inv=ng.Inv, transpose=lambda A: A.trans,
+    matmul=lambda A, B: A * B, inner=ng.InnerProduct, log1p=lambda x: ng.log(1 + x))
+"""The NGSolve namespace of :mod:`debench.models.materials.energies` (CoefficientFunctions)."""
 
 
 def gent_ideal_dielectric(F, D_L, *, mu, Jm, eps):
     """(3.23) + I5/(2 eps): ``-mu Jm/2 log(1 - (I1 - 3)/Jm) + I5/(2 eps)`` (incompressible)."""
-    _, I1, _, I5 = _invariants(F, D_L)
-    return -0.5 * mu * Jm * ng.log(1 - (I1 - 3) / Jm) + I5 / (2 * eps)
+    I = E.invariants(F, D_L, xp=NGSOLVE)
+    return E.gent_ideal_dielectric(I["I1"], I["DCD"], mu=mu, Jm=Jm, eps=eps, xp=NGSOLVE)
 
 
 def neo_hookean_mechanical(F, *, mu, k):
     """(5.15)-(5.17): ``mu/2 (J^{-2/3} I1 - 3) + k/2 (J - 1)^2`` (C10 = mu/2, D1 = 2/k)."""
-    J = ng.Det(F)
-    return 0.5 * mu * (J ** (-2 / 3) * ng.Trace(F.trans * F) - 3) + 0.5 * k * (J - 1) ** 2
+    I = E.invariants(F, xp=NGSOLVE)
+    return E.neo_hookean(I["I1"], I["J"], mu=mu, k=k)
 
 
 def _sym_eigs(M):
@@ -88,34 +89,34 @@ def ogden_mechanical(F, *, alphas, mus, k, delta=OGDEN_DELTA):
     ``Cbar +- delta P`` (module docstring; error O(delta^2))."""
     if not 0 < delta < 0.1:
         raise ValueError(f"delta = {delta!r} must lie in (0, 0.1)")
-    J = ng.Det(F)
-    Cb = J ** (-2 / 3) * (F.trans * F)
+    J = NGSOLVE.det(F)
+    Cb = E.isochoric_right_cauchy_green(E.right_cauchy_green(F, xp=NGSOLVE), J)
     P = ng.CoefficientFunction(tuple(_perturbation_direction().ravel()), dims=(3, 3))
     w = 0
     for sign in (1.0, -1.0):
-        eigs = _sym_eigs(Cb + sign * delta * P)
-        for a, mu in zip(alphas, mus, strict=True):
-            w = w + mu / a**2 * (sum(e ** (a / 2) for e in eigs) - 3)   # 0.5 * 2 mu/a^2
-    return w + 0.5 * k * (J - 1) ** 2
+        cbar = _sym_eigs(Cb + sign * delta * P)
+        for a, mu in zip(alphas, mus, strict=True):   # 0.5: the mean of the +- delta pair
+            w = w + 0.5 * E.ogden_term(cbar, alpha=a, mu=mu)
+    return w + E.volumetric(J, k=k)
 
 
 def ideal_dielectric(F, D_L, *, eps):
     """(5.9): ``I5/(2 eps J)``."""
-    _, _, J, I5 = _invariants(F, D_L)
-    return I5 / (2 * eps * J)
+    I = E.invariants(F, D_L, xp=NGSOLVE)
+    return E.ideal_dielectric(I["DCD"], I["J"], eps=eps)
 
 
 def ideal_dielectric_enthalpy(F, E_L, *, eps):
     """Partial Legendre transform of (5.9) in the referential field ``E_L = -Grad phi``:
     ``min_D (I5/(2 eps J) - E_L.D_L) = -eps/2 J C^-1 : (E_L x E_L)``, attained at
     ``D_L = eps J C^-1 E_L`` (so that ``E_L = dW/dD_L``, eq. (5.13))."""
-    C = F.trans * F
-    return -0.5 * eps * ng.Det(F) * ng.InnerProduct(ng.Inv(C) * E_L, E_L)
+    return E.ideal_dielectric_enthalpy(F, E_L, eps=eps, xp=NGSOLVE)
 
 
 def neo_hookean_ideal_dielectric(F, D_L, *, mu, k, eps):
     """(5.15) + (5.9): ``mu/2 (J^{-2/3} I1 - 3) + k/2 (J - 1)^2 + I5/(2 eps J)``."""
-    return neo_hookean_mechanical(F, mu=mu, k=k) + ideal_dielectric(F, D_L, eps=eps)
+    I = E.invariants(F, D_L, xp=NGSOLVE)
+    return E.neo_hookean_ideal_dielectric(I["I1"], I["J"], I["DCD"], mu=mu, k=k, eps=eps)
 
 
 def ogden_ideal_dielectric(F, D_L, *, alphas, mus, k, eps, delta=OGDEN_DELTA):
@@ -138,18 +139,16 @@ def mechanical_energy_cf(material, F, *, delta=OGDEN_DELTA):
 
 def ti_neo_hookean_dielectric(F, D_L, *, mu, xi, alpha, beta, eps, A):
     """(4.22): ``mu/2 (I1-3) + mu xi/2 (A.CA - 1)^2 + (alpha D.D + beta D.CD)/(2 eps)``."""
-    C, I1, _, I5 = _invariants(F, D_L)
     a = ng.CoefficientFunction(tuple(float(x) for x in A))
-    I4 = ng.InnerProduct(a, C * a)
-    I6 = ng.InnerProduct(D_L, D_L)
-    return (0.5 * mu * (I1 - 3) + 0.5 * mu * xi * (I4 - 1) ** 2
-            + (alpha * I6 + beta * I5) / (2 * eps))
+    I = E.invariants(F, D_L, a, xp=NGSOLVE)
+    return E.ti_neo_hookean_dielectric(I["I1"], I["ACA"], I["DD"], I["DCD"], mu=mu, xi=xi,
+                                       alpha=alpha, beta=beta, eps=eps)
 
 
 def dorfmann_ogden_electric(F, D_L, *, alpha, beta, eps):
     """(4.20): ``(alpha D.D + beta D.CD)/(2 eps)``."""
-    _, _, _, I5 = _invariants(F, D_L)
-    return (alpha * ng.InnerProduct(D_L, D_L) + beta * I5) / (2 * eps)
+    I = E.invariants(F, D_L, xp=NGSOLVE)
+    return E.dorfmann_ogden_electric(I["DD"], I["DCD"], alpha=alpha, beta=beta, eps=eps)
 
 
 def energy_cf(material, F, D_L):
