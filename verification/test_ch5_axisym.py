@@ -146,6 +146,27 @@ def test_bad_inputs_raise_naming_the_argument():
         m.set_voltage(math.nan)
 
 
+def test_newton_refuses_a_state_outside_the_material_domain_before_factorising(monkeypatch):
+    """A state with inverted elements (u_z = -2 Z: F_zz = -1, the energy NaN) makes both Newton
+    solvers raise ConvergenceError naming the non-finite residual, without a factorisation: a
+    NaN matrix given to SuperLU calls BLAS with negative sizes (the OpenBLAS message "DGEMV
+    parameter number 2 had an illegal value") before it fails."""
+    m = ax.AxisymModel(Plate(), Ogden(), COARSE, with_imperfection=False)
+    m.set_voltage(0.1)
+    g = ngs.GridFunction(m.X)
+    g.components[1].Set(-2.0 * ngs.y)
+    inverted = np.array(g.vec.FV())
+
+    def no_factorisation(*args, **kwargs):
+        raise AssertionError("a non-finite matrix reached SuperLU")
+
+    monkeypatch.setattr(ax, "splu", no_factorisation)
+    for solve in (m.newton, lambda: m.newton_deflection(0.5)):
+        m.set_state(inverted)
+        with pytest.raises(ConvergenceError, match="non-finite residual or tangent"):
+            solve()
+
+
 @pytest.mark.slow
 def test_3d_eigenvalues_of_wavenumbers_0_and_1_approach_the_axisymmetric_ones():
     """At v = 0.2 on the perfect film the 3D model's lowest eigenvalue (n = 0) and its

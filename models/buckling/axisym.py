@@ -255,6 +255,18 @@ class _Factor:
         return x
 
 
+def _require_finite(r: np.ndarray, K: sp.spmatrix, what: str) -> None:
+    """Raise ConvergenceError when the residual ``r`` or the tangent ``K`` of a Newton step
+    is not finite: the iterate left the material's domain (e.g. an inverted element, where
+    the energy is NaN), and no step from it can converge. Checked
+    before any factorisation: SuperLU's pivot search does not see NaN entries, builds
+    inconsistent supernodes and calls BLAS with negative sizes (OpenBLAS prints "On entry to
+    DGEMV parameter number 2 had an illegal value" and skips the call) before it fails."""
+    if not (np.all(np.isfinite(r)) and np.all(np.isfinite(K.data))):
+        raise ConvergenceError(f"{what}: non-finite residual or tangent (the state left the "
+                               f"material's domain)")
+
+
 def _mat3(rows) -> ngs.CoefficientFunction:
     return ngs.CoefficientFunction(tuple(c for row in rows for c in row), dims=(3, 3))
 
@@ -424,6 +436,7 @@ class AxisymModel:
         ref = max(ref, rn)
         for it in range(maxit + 1):
             K = self._tangent()
+            _require_finite(r[fr], K, f"AxisymModel.newton at v = {self.v:.8g} (step {it})")
             x = self.state()
             floor = NEWTON_FLOOR_FACTOR * np.finfo(float).eps * float(
                 np.linalg.norm((abs(K) @ np.abs(x))[fr]))
@@ -500,6 +513,8 @@ class AxisymModel:
             rn = float(np.linalg.norm(r[fr]))
             ref = max(ref, rn) if it == 0 else ref
             K = self._tangent()
+            _require_finite(r[fr], K, f"AxisymModel.newton_deflection at c = {c:.6g} "
+                                      f"(step {it})")
             floor = NEWTON_FLOOR_FACTOR * np.finfo(float).eps * float(
                 np.linalg.norm((abs(K) @ np.abs(self.state()))[fr]))
             if (rn <= rtol * ref or rn <= floor) and abs(g) <= 1e-12 * t0:
