@@ -602,15 +602,15 @@ def test_energy_compiler_is_found_beside_the_interpreter(monkeypatch, tmp_path):
     import os
     import sys
 
-    from debench.models.buckling import fem
+    from debench.models.buckling import energy
 
     fake = tmp_path / "bin"
     fake.mkdir()
     (fake / "python").write_text("")
     monkeypatch.setattr(sys, "executable", str(fake / "python"))
     monkeypatch.setenv("PATH", str(tmp_path / "empty"))
-    assert fem._ngscxx() is False
+    assert energy._ngscxx() is False
     (fake / "ngscxx").write_text("#!/bin/sh\n")
     (fake / "ngscxx").chmod(0o755)
-    assert fem._ngscxx() is True
+    assert energy._ngscxx() is True
     assert os.environ["PATH"].split(os.pathsep)[0] == str(fake)

@@ -14,12 +14,9 @@ Formulation (re-derived; the thesis uses Abaqus UEL with D_L-based energy (5.1)-
   of ``int Omega dV``: minimum in ``u``, maximum in ``phi``.  Dividing by ``mu_ref`` and
   scaling the potential makes the discrete problem depend on eps only through the
   normalised voltage ``v = Phi/t0 sqrt(eps/mu_ref)``.
-* Energies: from the constitutive library's NGSolve path
-  (:mod:`debench.models.materials.ngsolve_forms`): neo-Hookean (5.15) and Ogden (5.26)
-  (averaged spectral perturbation, error O(delta^2), ``Discretisation.ogden_delta``), and
-  the enthalpy of the ideal dielectric.  The energy is compiled to C++
-  (``Compile(realcompile=True)``) when the problem is large enough to repay the compile
-  time (seconds), with a fall-back to the interpreted compiled tree.
+* Energies: neo-Hookean (5.15) and Ogden (5.26) from the constitutive library's NGSolve
+  path and the enthalpy of the ideal dielectric, compiled to C++ when the problem is large
+  (:mod:`debench.models.buckling.energy`).
 * Mesh: a netgen triangulation of the disk extruded into ``layers`` prism layers, lifted
   by the imperfection ``w0`` (:mod:`debench.models.buckling.mesh`).  Edge (lateral face)
   clamped: u = 0.  Electrodes: p = 0 on the bottom face, p = v t0 on the top face.
@@ -52,12 +49,10 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 from debench.models import validation as val
+from debench.models.buckling.energy import compile_energy, enthalpy_cf
 from debench.models.buckling.mesh import disk_prism_mesh
 from debench.models.buckling.parameters import MU_REF, Discretisation, NeoHookean, Ogden, Plate
 from debench.models.errors import ConvergenceError, require
-from debench.models.materials import ngsolve_forms as ngf
-from netgen.meshing import Element3D, MeshPoint, Pnt
-from netgen.meshing import Mesh as NGMesh
 from scipy.sparse.linalg import splu
 
 NEWTON_TOL = 1e-9
@@ -105,10 +100,6 @@ spectrum).  Far above the eigenvalue error (EIG_RTOL on that scale) and the pivo
 round-off next to a singular tangent (at the critical voltage lambda_1 is zero to 1e-11:
 a shift 1e-17 below it gave a wrong count), and far below the gaps between the modes the
 records resolve."""
-REALCOMPILE_MIN_DOFS = 20000
-"""``compile="auto"`` compiles the energy to C++ above this size: compiling takes 15-20 s
-(measured), assembly is 1.2-2.3x faster with identical matrices, so it pays only for
-problems assembled hundreds of times at >= 20k DOFs."""
 #: the sparse direct solvers of NGSolve a model may use (``inverse=``), in order of preference
 INVERSES = ("sparsecholesky", "umfpack", "pardiso", "superlu")
 CHORD_RATE = 0.25
@@ -118,49 +109,6 @@ residual at least by this factor; a weaker step makes the next one reassemble an
 refactorise (a step that increases the residual is undone first).  Assembly of the tangent
 costs 8-13x a residual evaluation and 5-15x a factorisation here (measured), so a chord
 step is cheap; 0.25 makes six digits of contraction cost ten chord steps at most."""
-
-# --------------------------------------------------------------------------- energies
-def enthalpy_cf(F, EL_hat, mat: NeoHookean | Ogden, *, mu_ref: float = MU_REF,
-                ogden_delta: float | None = None):
-    """Electric enthalpy Omega/mu_ref with the scaled referential field
-    ``EL_hat = E_L sqrt(eps/mu_ref)``: ``W_mech/mu_ref - 1/2 J C^-1:(EL x EL)``
-    (library energies, :mod:`debench.models.materials.ngsolve_forms`)."""
-    kw = {} if ogden_delta is None else {"delta": ogden_delta}
-    return (ngf.mechanical_energy_cf(mat, F, **kw) / mu_ref
-            + ngf.ideal_dielectric_enthalpy(F, EL_hat, eps=1.0))
-
-
-def _compile(cf, mode: str, ndof: int):
-    """Compile an energy CF: C++ (``realcompile``) when asked or, with ``"auto"``, when
-    the problem is large; falls back to the interpreted compiled tree when no compiler
-    works.  Returns (cf, how)."""
-    if (mode is True or (mode == "auto" and ndof >= REALCOMPILE_MIN_DOFS)) and _ngscxx():
-        try:
-            return cf.Compile(realcompile=True, wait=True), "realcompile"
-        except Exception:  # noqa: BLE001 - a failed build: fall back
-            pass
-    return cf.Compile(), "compiled-tree"
-
-
-def _ngscxx() -> bool:
-    """Whether NGSolve's compiler wrapper ``ngscxx`` (which ``realcompile`` runs through
-    the shell) can be found. The wheel installs it beside the Python interpreter; when the
-    environment is used without being activated that directory is not on ``PATH``, so it
-    is put first there (as activation would). False when it is nowhere: compile as a tree
-    without a failed shell call."""
-    import os
-    import shutil
-    import sys
-    from pathlib import Path
-
-    if shutil.which("ngscxx"):
-        return True
-    here = Path(sys.executable).parent
-    if (here / "ngscxx").exists():
-        os.environ["PATH"] = f"{here}{os.pathsep}{os.environ.get('PATH', '')}"
-        return True
-    return False
-
 
 # --------------------------------------------------------------------------- problem
 @dataclass
@@ -205,7 +153,7 @@ class MembraneModel:
         (u, p), (du, dp) = self.X.TnT()
         F = ngs.Id(3) + ngs.Grad(u)
         delta = self.disc.ogden_delta if isinstance(self.material, Ogden) else None
-        energy, how = _compile(enthalpy_cf(F, -ngs.Grad(p), self.material, ogden_delta=delta),
+        energy, how = compile_energy(enthalpy_cf(F, -ngs.Grad(p), self.material, ogden_delta=delta),
                                self.compile, self.X.ndof)
         self.a = ngs.BilinearForm(self.X, symmetric=False)
         self.a += ngs.Variation(energy * ngs.dx)
@@ -853,31 +801,6 @@ def _lobpcg(S, M, T, X, nev, rtol, iters):
         X, SX = Z @ Y, SZ @ Y
     raise ConvergenceError(f"LOBPCG: eigen-residuals {res} above {rtol} after {iters} "
                            f"iterations ({lam[:nev]})")
-
-
-def energies_at(F: np.ndarray, E_hat: np.ndarray, mat: NeoHookean | Ogden,
-                mu_ref: float = MU_REF) -> tuple[float, float]:
-    """Evaluate the CoefficientFunction energies at a constant ``F`` and scaled field.
-
-    Returns ``(W_mech [Pa], Omega/mu_ref)`` exactly as assembled by :class:`MembraneModel`
-    (used to check the NGSolve energies against :mod:`debench.models.materials`).
-    """
-    F = np.asarray(F, dtype=float)
-    require(F.shape == (3, 3), f"F must be 3x3, got {F.shape}")
-    require(np.linalg.det(F) > 0, f"det F must be > 0, got {np.linalg.det(F)}")
-    mesh = _unit_mesh()
-    mip = mesh(0.25, 0.25, 0.25)
-    Fcf = ngs.CF(tuple(F.ravel()), dims=(3, 3))
-    Ecf = ngs.CF(tuple(float(e) for e in E_hat))
-    return (float(ngf.mechanical_energy_cf(mat, Fcf)(mip)),
-            float(enthalpy_cf(Fcf, Ecf, mat, mu_ref=mu_ref)(mip)))
-
-
-def _unit_mesh():
-    ngm = NGMesh(dim=3)
-    pts = [ngm.Add(MeshPoint(Pnt(*p))) for p in ((0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1))]
-    ngm.Add(Element3D(1, pts))
-    return ngs.Mesh(ngm)
 
 
 def ring_displacement(model: MembraneModel, vec: np.ndarray | None = None,
