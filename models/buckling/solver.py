@@ -13,7 +13,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from debench.models import validation as val
 from debench.models.buckling.analytic import critical_voltage_plate
-from debench.models.buckling.fem import MembraneModel, deflection_asymmetry, mode_harmonics
+from debench.models.buckling.fem import MembraneModel
+from debench.models.buckling.modes import deflection_asymmetry, mode_harmonics
 from debench.models.buckling.parameters import Discretisation, NeoHookean, Ogden, Plate
 from debench.models.errors import ConvergenceError, require
 
@@ -152,7 +153,7 @@ class RampResult:
     true field at the centre, ``e_max`` largest sampled true field, ``w_asym`` and
     ``n_asym`` the amplitude / t0 and wavenumber of the largest non-axisymmetric harmonic of
     the deflection on the mid-plane circle r = R/2
-    (:func:`~debench.models.buckling.fem.deflection_asymmetry`).  The path continues a
+    (:func:`~debench.models.buckling.modes.deflection_asymmetry`).  The path continues a
     little past the voltage maximum (deflection control).  ``v_pullin``, ``w_pullin``: the
     limit point (vertex of the parabola v(w) through the three points around the maximum;
     None if not reached); ``pullin_bracket`` = (largest computed v, v_pullin).
@@ -244,7 +245,7 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
     c_max = 1.2 * plate.aspect if c_max is None else c_max
     require(dc > 0, f"dc must be > 0, got {dc}")
     require(c_max > 0, f"c_max must be > 0, got {c_max}")
-    from debench.models.buckling.fem import control_deflection, newton_deflection
+    from debench.models.buckling.deflection import control_deflection, newton_deflection
     model = MembraneModel(plate, mat, disc, with_imperfection=True, inverse=inverse,
                           reuse=reuse, eigensolver=eigensolver, chord=chord)
     rec = {k: [] for k in ("v", "w", "w_mid", "thickness", "e_centre", "e_max", "its", "res",
