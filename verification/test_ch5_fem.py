@@ -23,7 +23,7 @@ import os
 import ngsolve
 import numpy as np
 import pytest
-from debench.models.buckling import analytic, fem
+from debench.models.buckling import analytic, eigen, fem
 from debench.models.buckling.fem import MembraneModel
 from debench.models.buckling.modes import mode_axisymmetry, mode_harmonics
 from debench.models.buckling.parameters import COARSE, Discretisation, NeoHookean, Ogden, Plate
@@ -340,7 +340,7 @@ def test_negative_pivots_count_the_negative_eigenvalues():
     """Sylvester's law of inertia on a random sparse symmetric indefinite matrix; a
     singular matrix raises instead of returning a count."""
     import scipy.sparse as sps
-    from debench.models.buckling.fem import negative_pivots
+    from debench.models.buckling.eigen import negative_pivots
     rng = np.random.default_rng(3)
     A = sps.random(60, 60, density=0.1, random_state=rng)
     A = (A + A.T + sps.diags(rng.uniform(-3.0, 3.0, 60))).tocsc()
@@ -352,7 +352,7 @@ def test_negative_pivots_count_the_negative_eigenvalues():
 def test_inertia_counts_refuse_bad_input():
     """A non-square or non-finite matrix, or a NaN shift, raises ValueError naming it."""
     import scipy.sparse as sps
-    from debench.models.buckling.fem import negative_pivots
+    from debench.models.buckling.eigen import negative_pivots
     with pytest.raises(ValueError, match="square"):
         negative_pivots(sps.csc_matrix(np.ones((2, 3))))
     with pytest.raises(ValueError, match="finite"):
@@ -425,7 +425,7 @@ def test_lowest_eigenvalues_find_the_negative_eigenvalues_of_the_unstable_flat_f
     assert dense[1] < 0                        # at least two unstable modes
     np.testing.assert_allclose(lam, dense, rtol=EIG_DENSE_RTOL,
                                atol=EIG_DENSE_RTOL * abs(dense[0]))
-    assert m.last_eig["residual"] <= fem.EIG_RTOL
+    assert m.last_eig["residual"] <= eigen.EIG_RTOL
 
 
 CHORD_STATE_TOL = 1e-8
@@ -478,7 +478,7 @@ def test_sparse_direct_solvers_agree_on_the_critical_voltage():
     assert old.stats["chord_steps"] == 0 < new.stats["chord_steps"]
     assert new.stats["factorisations"] >= new.stats["newton_steps"] - new.stats["chord_steps"]
     assert new.stats["factorisations"] < old.stats["factorisations"]
-    assert new.eig_residual <= fem.EIG_RTOL and new.ndof == old.ndof
+    assert new.eig_residual <= eigen.EIG_RTOL and new.ndof == old.ndof
 
 
 def test_singular_tangent_raises_instead_of_printing():
@@ -525,7 +525,7 @@ def test_critical_voltage_of_a_compressible_film_runs():
     mat = NeoHookean(k=156000.0)
     r = critical_voltage(Plate(), mat, COARSE)
     assert analytic.critical_voltage_plate(mat, 10.0) < r.v
-    assert r.eig_residual <= fem.EIG_RTOL
+    assert r.eig_residual <= eigen.EIG_RTOL
 
 
 def test_bad_discretisation_raises_naming_the_bound():

@@ -49,6 +49,17 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 from debench.models import validation as val
+from debench.models.buckling.eigen import (
+    EIG_COUNT_MARGIN,
+    EIG_MAXIT,
+    EIG_RTOL,
+    certified,
+    lobpcg,
+    negative_pivots,
+    shift_below_spectrum,
+    shifted_lobpcg,
+    subspace_iteration,
+)
 from debench.models.buckling.energy import compile_energy, enthalpy_cf
 from debench.models.buckling.mesh import disk_prism_mesh
 from debench.models.buckling.parameters import MU_REF, Discretisation, NeoHookean, Ogden, Plate
@@ -86,20 +97,6 @@ zero pivot gives O(1) or non-finite residuals that refinement does not reduce.  
 critical voltage itself the tangent is singular by definition and the solves keep 1e-6 ..
 1e-5 (measured, Ogden, coarse mesh): an inexact Newton correction that still converges
 (the nonlinear residual decides), so the bound sits well above it."""
-EIG_RTOL = 1e-10
-"""LOBPCG backward error ||S x - lambda M x|| / (||S|| ||x|| + |lambda| ||M x||): its
-round-off floor is ~1e-15 (eps times the growth of the saddle-point solves); 1e-10 makes the
-eigenvalue error far below the 1e-7 change of lambda over the secant's last step."""
-EIG_MAXIT = 200
-EIG_COUNT_MARGIN = 1e-8
-"""Margin below the lowest computed eigenvalue at which the inertia count certifies it (no
-eigenvalue of the pencil below ``lambda_1 - margin``; and, when no computed eigenvalue is
-within the margin of zero, as many eigenvalues below zero as were computed), relative to
-the pencil's scale (the largest Rayleigh quotient of the random start block, ~ its upper
-spectrum).  Far above the eigenvalue error (EIG_RTOL on that scale) and the pivots'
-round-off next to a singular tangent (at the critical voltage lambda_1 is zero to 1e-11:
-a shift 1e-17 below it gave a wrong count), and far below the gaps between the modes the
-records resolve."""
 #: the sparse direct solvers of NGSolve a model may use (``inverse=``), in order of preference
 INVERSES = ("sparsecholesky", "umfpack", "pardiso", "superlu")
 CHORD_RATE = 0.25
@@ -522,7 +519,8 @@ class MembraneModel:
         LDL^T of the saddle-point tangent each, which costs more than the eigen-solve on the
         largest meshes): for iterations whose final state is certified by the caller.
         Returns (eigenvalues ascending, modes as full-length columns); the largest
-        eigen-residual (backward error, see ``_lobpcg``) is in ``last_eig``.  Raises
+        eigen-residual (backward error, see
+        :func:`~debench.models.buckling.eigen.lobpcg`) is in ``last_eig``.  Raises
         ConvergenceError if the residuals do not reach ``rtol`` in ``iters`` iterations.
         """
         nev = val.integer_at_least("nev", nev, 1)
@@ -536,6 +534,48 @@ class MembraneModel:
             out = self._subspace(nev, iters, rtol, seed)
             self.stats["eig_s"] += time.perf_counter() - t_start
             return out
+        S, T, M = self._condensed_operators()
+        idx = np.flatnonzero(self._ufree)
+        n = len(idx)
+        nb = nev + 2
+        rng = np.random.default_rng(seed)
+        X = rng.standard_normal((n, nb))
+        if x0 is not None:
+            x0 = np.asarray(x0)[idx].reshape(n, -1)[:, :nb]
+            X[:, :x0.shape[1]] = x0
+        scale = float(np.max(np.abs(np.einsum("ij,ij->j", X, S(X)))
+                             / np.einsum("ij,ij->j", X, M @ X)))
+        margin = EIG_COUNT_MARGIN * scale
+        w, V, res, its = lobpcg(S, M, T, X, nev, rtol, iters)
+        shift = 0.0
+        if certify and not certified(self._count, w, margin):
+            # LOBPCG converged on eigenpairs that are not the lowest: with the exact inverse
+            # of the indefinite S as preconditioner it favours eigenvalues near zero, and a
+            # well separated negative one can stay out of its block (measured: -0.032
+            # missed beside +1.3e-4 past a voltage maximum).  Shift the pencil below the
+            # whole spectrum (found by inertia counts) and solve the positive definite
+            # problem, whose smallest eigenvalues LOBPCG finds from any start.
+            shift = shift_below_spectrum(self._count, float(np.min(w)) - margin,
+                                         max(float(np.max(np.abs(w))), margin))
+            w, V, res, its = shifted_lobpcg(S, M, self._shifted_tangent(shift).tocsc(),
+                                            np.flatnonzero(self._ufree[self._free]), shift,
+                                            rng.standard_normal((n, nb)), nev, rtol, iters)
+            if not certified(self._count, w, margin):
+                raise ConvergenceError(
+                    "lowest_eigenvalues: an eigenvalue below the computed "
+                    f"{float(np.min(w)):.6g} remains after the shifted solve")
+        self.stats["eig_s"] += time.perf_counter() - t_start
+        self.last_eig = {"residual": float(np.max(res)), "iterations": its, "shift": shift}
+        order = np.argsort(w)
+        modes = np.zeros((self.ndof, nev))
+        modes[idx] = V[:, order]
+        return w[order], modes
+
+    def _condensed_operators(self):
+        """The condensed tangent at fixed voltage ``S = K_uu - K_up K_pp^-1 K_pu``, the
+        preconditioner ``T = S^-1`` (a solve with the factorised saddle-point tangent and
+        right-hand side ``(r, 0)``), both acting on blocks of the free displacement DOFs,
+        and the mass ``M`` there (see :meth:`lowest_eigenvalues`)."""
         iu, ip = self._ufree, self._pfree
         Kuu = self._scipy(self.a.mat, iu, iu)
         Kup = self._scipy(self.a.mat, iu, ip)
@@ -561,53 +601,7 @@ class MembraneModel:
                 out[:, j] = vout.FV().NumPy()[idx]
             return out
 
-        nb = nev + 2
-        rng = np.random.default_rng(seed)
-        X = rng.standard_normal((n, nb))
-        if x0 is not None:
-            x0 = np.asarray(x0)[idx].reshape(n, -1)[:, :nb]
-            X[:, :x0.shape[1]] = x0
-        scale = float(np.max(np.abs(np.einsum("ij,ij->j", X, S(X)))
-                             / np.einsum("ij,ij->j", X, M @ X)))
-        margin = EIG_COUNT_MARGIN * scale
-        w, V, res, its = _lobpcg(S, M, T, X, nev, rtol, iters)
-        shift = 0.0
-        if certify and not self._certified(w, margin):
-            # LOBPCG converged on eigenpairs that are not the lowest: with the exact inverse
-            # of the indefinite S as preconditioner it favours eigenvalues near zero, and a
-            # well separated negative one can stay out of its block (measured: -0.032
-            # missed beside +1.3e-4 past a voltage maximum).  Shift the pencil below the
-            # whole spectrum (found by inertia counts) and solve the positive definite
-            # problem, whose smallest eigenvalues LOBPCG finds from any start.
-            shift = self._shift_below_spectrum(float(np.min(w)) - margin,
-                                               max(float(np.max(np.abs(w))), margin))
-            Ksh = self._shifted_tangent(shift).tocsc()
-            lu = splu(Ksh)
-            nfree = Ksh.shape[0]
-            u_of_free = np.flatnonzero(iu[self._free])
-
-            def S_shift(X):
-                return S(X) - shift * (M @ X.reshape(n, -1))
-
-            def T_shift(R):
-                R = R.reshape(n, -1)
-                rhs = np.zeros((nfree, R.shape[1]))
-                rhs[u_of_free] = R
-                return lu.solve(rhs)[u_of_free]
-
-            X = rng.standard_normal((n, nb))
-            w, V, res, its = _lobpcg(S_shift, M, T_shift, X, nev, rtol, iters)
-            w = w + shift
-            if not self._certified(w, margin):
-                raise ConvergenceError(
-                    "lowest_eigenvalues: an eigenvalue below the computed "
-                    f"{float(np.min(w)):.6g} remains after the shifted solve")
-        self.stats["eig_s"] += time.perf_counter() - t_start
-        self.last_eig = {"residual": float(np.max(res)), "iterations": its, "shift": shift}
-        order = np.argsort(w)
-        modes = np.zeros((self.ndof, nev))
-        modes[idx] = V[:, order]
-        return w[order], modes
+        return S, T, M
 
     def _shifted_tangent(self, sigma: float):
         """The saddle-point tangent on the free DOFs with ``sigma`` times the mass taken off
@@ -628,9 +622,10 @@ class MembraneModel:
         (mass on the displacement block only) has as many negative eigenvalues as its
         potential block ``K_pp`` and its Schur complement ``S - sigma M`` together; by
         Sylvester's law of inertia each is the number of negative pivots of an LDL^T
-        factorisation (:func:`negative_pivots`).  Raises ConvergenceError when ``sigma``
-        is an eigenvalue to working precision (a zero pivot).  Assembles the tangent at
-        the current state unless the factorised one is current.
+        factorisation (:func:`~debench.models.buckling.eigen.negative_pivots`).  Raises
+        ConvergenceError when ``sigma`` is an eigenvalue to working precision (a zero
+        pivot).  Assembles the tangent at the current state unless the factorised one is
+        current.
         """
         sigma = float(val.finite("sigma", sigma))
         if not self._fresh:
@@ -642,36 +637,10 @@ class MembraneModel:
         pp = self._scipy(self.a.mat, self._pfree, self._pfree)
         return negative_pivots(self._shifted_tangent(sigma)) - negative_pivots(pp)
 
-    def _certified(self, w: np.ndarray, margin: float) -> bool:
-        """Whether ``w`` starts at the lowest eigenvalue by inertia counts: none below
-        ``min(w) - margin`` and, when every ``w`` is farther than ``margin`` from zero,
-        exactly as many below zero as ``w`` has."""
-        if self._count(float(np.min(w)) - margin) > 0:
-            return False
-        if np.min(np.abs(w)) > margin:
-            return self._count(0.0) == int(np.count_nonzero(w < 0))
-        return True
-
-    def _shift_below_spectrum(self, start: float, scale: float) -> float:
-        """A shift below every eigenvalue of the pencil: from ``start`` down in steps that
-        double from ``scale`` until the inertia count is zero."""
-        step = max(scale, 1e-12)
-        sigma = start
-        for _ in range(80):
-            sigma -= step
-            if self._count(sigma) == 0:
-                return sigma
-            step *= 2.0
-        raise ConvergenceError("lowest_eigenvalues: no shift below the spectrum down to "
-                               f"{sigma:.3g}")
-
     def _subspace(self, nev, iters, rtol, seed):
-        """Block inverse subspace iteration (smallest |lambda|; the former engine)."""
-        free = self._free
-        mask = self._ufree
-        rng = np.random.default_rng(seed)
-        nb = nev + 2
-        Xb = rng.standard_normal((len(free), nb)) * mask[:, None]
+        """Block inverse subspace iteration (smallest |lambda|; the former engine:
+        :func:`~debench.models.buckling.eigen.subspace_iteration`) with the mass and the
+        factorised tangent."""
         vin, vout = self.gf.vec.CreateVector(), self.gf.vec.CreateVector()
 
         def apply(mat_or_inv, x):
@@ -680,124 +649,8 @@ class MembraneModel:
             return np.array(vout.FV(), copy=True)
 
         Mmat, inv = self.m.mat, self._inv
-        old = None
-        for it in range(iters):
-            MX = np.column_stack([apply(Mmat, Xb[:, j]) for j in range(nb)])
-            Y = np.column_stack([apply(inv, MX[:, j]) for j in range(nb)]) * mask[:, None]
-            scale = np.max(np.abs(Y), axis=0)
-            if not np.all(np.isfinite(scale)) or np.any(scale == 0):
-                raise ConvergenceError("subspace iteration: singular tangent (exact bifurcation)")
-            Y, MX = Y / scale, MX / scale
-            MY = np.column_stack([apply(Mmat, Y[:, j]) for j in range(nb)])
-            A, B = Y.T @ MX, Y.T @ MY
-            A, B = 0.5 * (A + A.T), 0.5 * (B + B.T)
-            bw, bv = np.linalg.eigh(B)
-            keep = bw > 1e-13 * bw.max()
-            T = bv[:, keep] / np.sqrt(bw[keep])
-            w, Q = np.linalg.eigh(T.T @ A @ T)
-            Q = T @ Q
-            if len(w) < nb:
-                Q = np.column_stack([Q, rng.standard_normal((nb, nb - len(w)))])
-                w = np.concatenate([w, np.full(nb - len(w), np.inf)])
-            order = np.argsort(np.abs(w))
-            w, Q = w[order], Q[:, order]
-            Xb = Y @ Q
-            wscale = np.max(np.abs(w[np.isfinite(w)]))
-            if old is not None and np.all(np.abs(w[:nev] - old) <= rtol * wscale + 1e-13):
-                idx = np.argsort(w[:nev])
-                self.last_eig = {"residual": float(np.max(np.abs(w[:nev] - old))),
-                                 "iterations": it + 1, "shift": 0.0}
-                return w[:nev][idx], Xb[:, :nev][:, idx]
-            old = w[:nev]
-        raise ConvergenceError(f"subspace iteration: no convergence in {iters} steps ({w[:nev]})")
-
-
-def negative_pivots(A) -> int:
-    """Number of negative eigenvalues of the sparse symmetric matrix ``A`` (Sylvester's law of
-    inertia): the negative pivots of ``P A P^T = L D L^T``, computed by SuperLU in symmetric
-    mode with diagonal pivots only (threshold 0; the row and column orderings must agree,
-    checked).  Raises ConvergenceError on a zero or non-finite pivot (``A`` singular to
-    working precision) or when SuperLU had to pivot off the diagonal; ValueError when ``A``
-    is not square or has non-finite entries."""
-    A = sp.csc_matrix(A, dtype=float)
-    require(A.ndim == 2 and A.shape[0] == A.shape[1] and A.shape[0] > 0,
-            f"A must be a non-empty square matrix, got shape {A.shape}")
-    require(bool(np.all(np.isfinite(A.data))), "A must have finite entries")
-    try:
-        lu = splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                  options={"SymmetricMode": True})
-    except RuntimeError as exc:          # SuperLU: "Factor is exactly singular"
-        raise ConvergenceError(f"negative_pivots: {exc} (matrix singular)") from exc
-    if not np.array_equal(lu.perm_r, lu.perm_c):
-        raise ConvergenceError("negative_pivots: SuperLU pivoted off the diagonal")
-    d = lu.U.diagonal()
-    if not np.all(np.isfinite(d)) or np.any(d == 0.0):
-        raise ConvergenceError("negative_pivots: zero pivot (matrix singular)")
-    return int(np.count_nonzero(d < 0.0))
-
-
-def _mortho(Z, MZ, drop=1e-10):
-    """Coefficients T with (Z T)^T M (Z T) = I over the well-conditioned part of span(Z)."""
-    B = Z.T @ MZ
-    B = 0.5 * (B + B.T)
-    bw, bv = np.linalg.eigh(B)
-    keep = bw > drop * bw.max()
-    return bv[:, keep] / np.sqrt(bw[keep])
-
-
-def _lobpcg(S, M, T, X, nev, rtol, iters):
-    """Locally optimal block preconditioned conjugate gradient (Knyazev 2001) for the
-    algebraically smallest eigenpairs of ``S x = lambda M x``.
-
-    ``S``, ``T`` act on blocks (T: the exact inverse S^-1, applied by the factorised
-    saddle-point tangent), ``M`` sparse SPD.  Rayleigh-Ritz on span[X, T M X, P] (equal
-    to LOBPCG's span[X, T R, P] for this T); the new directions are M-orthogonalised
-    against X before the Gram matrix (near-dependent directions dropped).  Converged when
-    the backward error
-    ``||S x - lambda M x|| / (||S|| ||x|| + |lambda| ||M x||)`` of the first ``nev`` pairs
-    is below ``rtol`` (||S|| estimated on the start block).
-    Returns (lambda[:nev], X[:, :nev], residuals, iterations); raises ConvergenceError.
-    """
-    nb = X.shape[1]
-    SX = S(X)
-    # scale of S: ||S x|| / ||x|| over the (random or previous) start block
-    s_norm = float(np.max(np.linalg.norm(SX, axis=0) / np.linalg.norm(X, axis=0)))
-    lam = np.zeros(nb)
-    P = None
-    res = np.full(nev, np.inf)
-    for it in range(1, iters + 1):
-        blocks, sblocks = [X], [SX]
-        if it > 1:
-            MX = M @ X
-            R = SX - MX * lam
-            scale = (s_norm * np.linalg.norm(X[:, :nev], axis=0)
-                     + np.abs(lam[:nev]) * np.linalg.norm(MX[:, :nev], axis=0))
-            res = np.linalg.norm(R[:, :nev], axis=0) / scale
-            if np.all(res <= rtol):
-                return lam[:nev], X[:, :nev], res, it - 1
-            # span[X, T R] = span[X, T M X] for T = S^-1; T M X is the numerically stable
-            # form when S is (nearly) singular (T R would cancel), as in inverse iteration
-            # new directions M-orthogonalised against the (M-orthonormal) Ritz block,
-            # twice: a Gram matrix of nearly parallel columns would lose the correction
-            # below sqrt(eps)
-            W = T(MX)
-            if P is not None:
-                W = np.hstack([W, P])
-            for _ in range(2):
-                W = W - X @ (MX.T @ W)
-                W = W / np.sqrt(np.einsum("ij,ij->j", W, M @ W))
-            blocks.append(W)
-            sblocks.append(S(W))
-        Z, SZ = np.hstack(blocks), np.hstack(sblocks)
-        C = _mortho(Z, M @ Z)
-        A = C.T @ (Z.T @ SZ) @ C
-        theta, Q = np.linalg.eigh(0.5 * (A + A.T))
-        if len(theta) < nb:
-            raise ConvergenceError("LOBPCG: the search space collapsed")
-        Y = C @ Q[:, :nb]
-        lam = theta[:nb]
-        if it > 1:
-            P = Z[:, nb:] @ Y[nb:]
-        X, SX = Z @ Y, SZ @ Y
-    raise ConvergenceError(f"LOBPCG: eigen-residuals {res} above {rtol} after {iters} "
-                           f"iterations ({lam[:nev]})")
+        w, X, change, its = subspace_iteration(lambda x: apply(Mmat, x),
+                                               lambda x: apply(inv, x), self._ufree,
+                                               nev, iters, rtol, seed)
+        self.last_eig = {"residual": change, "iterations": its, "shift": 0.0}
+        return w, X

@@ -73,7 +73,7 @@ def critical_voltage(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation
     mesh* to within ``vtol`` (default 1e-6, i.e. ~5e-6 relative): the secant stops at the
     evaluated voltage whose next secant step is below ``vtol`` (the secant converges
     superlinearly, so that step is its error to higher order);
-    each eigenvalue is converged to a relative eigen-residual below ``fem.EIG_RTOL`` (the
+    each eigenvalue is converged to a relative eigen-residual below ``eigen.EIG_RTOL`` (the
     achieved value is ``eig_residual``) at a Newton state whose residual is reported
     (``newton_residual``).  The secant's eigen-solves are not certified one by one; the
     final state is (inertia count,
