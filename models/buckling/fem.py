@@ -344,14 +344,8 @@ class MembraneModel:
                     return 0
             if not chord:
                 self.factor()
-            du = self.solve(self.res)
-            dmax = float(np.max(np.abs(du.FV().NumPy())))
-            if not np.isfinite(dmax):
-                raise ConvergenceError(f"Newton: non-finite correction at v={self.v:.6g}")
             fresh_step = not chord
-            if dmax > 0.5 * t0 * self.plate.aspect and fresh_step:
-                raise ConvergenceError(
-                    f"Newton: correction {dmax / t0:.3g} t0 too large at v={self.v:.6g}")
+            du, dmax = self._correction(check_size=fresh_step)
             self.gf.vec.data -= du
             self.stats["newton_steps"] += 1
             rn = self.residual_norm()
@@ -369,31 +363,55 @@ class MembraneModel:
                 chord = verdict == "keep"
                 err = dmax * theta / (1 - theta)
             hist.append(rn)
-            if err < tol * t0:
-                self._record(it, rn, r_first, floor, "correction")
-                # a factor of the state before a correction < tol t0 is the tangent at the
-                # converged state to O(tol) (used by the eigen-analysis); a chord step's
-                # factor belongs to an older state
-                self._fresh = fresh_step
-                return it
-            if rn <= NEWTON_RTOL * r_ref:
-                self._record(it, rn, r_first, floor, "relative residual")
-                return it
-            if rn <= floor:
-                self._record(it, rn, r_first, floor, "floor")
-                return it
             if fresh_step:                    # stagnation is judged on fresh tangents
                 stalls = stalls + 1 if rn > NEWTON_STAGNATION * hist[-2] else 0
-            if stalls >= 2:
-                if rn <= NEWTON_STAGNATION_RTOL * r_ref:
-                    self._record(it, rn, r_first, floor, "stagnation at floor")
-                    return it
-                raise ConvergenceError(
-                    f"Newton: residual stagnates at {rn:.3g} (reference {r_ref:.3g}, floor "
-                    f"{floor:.3g}) at v={self.v:.6g}")
+            how = self._stopped_by(err, rn, tol * t0, r_ref, floor, stalls)
+            if how is not None:
+                self._record(it, rn, r_first, floor, how)
+                if how == "correction":
+                    # a factor of the state before a correction < tol t0 is the tangent at
+                    # the converged state to O(tol) (used by the eigen-analysis); a chord
+                    # step's factor belongs to an older state
+                    self._fresh = fresh_step
+                return it
         raise ConvergenceError(f"Newton: no convergence in {maxit} steps at v={self.v:.6g}, "
                                f"last |du|/t0={dmax / t0:.3g}, residual {rn:.3g} "
                                f"(first {r_first:.3g}, floor {floor:.3g})")
+
+    def _correction(self, *, check_size: bool):
+        """The Newton correction ``K^-1 R`` with the current factorisation and its largest
+        entry; raises ConvergenceError when it is not finite or (``check_size``: a step
+        with the tangent of its own iterate) larger than half the radius."""
+        t0 = self.plate.thickness
+        du = self.solve(self.res)
+        dmax = float(np.max(np.abs(du.FV().NumPy())))
+        if not np.isfinite(dmax):
+            raise ConvergenceError(f"Newton: non-finite correction at v={self.v:.6g}")
+        if dmax > 0.5 * t0 * self.plate.aspect and check_size:
+            raise ConvergenceError(
+                f"Newton: correction {dmax / t0:.3g} t0 too large at v={self.v:.6g}")
+        return du, dmax
+
+    def _stopped_by(self, err: float, rn: float, tol_abs: float, r_ref: float, floor: float,
+                    stalls: int) -> str | None:
+        """Why Newton stops after a step with error estimate ``err`` and residual ``rn``
+        (:meth:`_newton`): ``"correction"`` (err < tol_abs), ``"relative residual"``,
+        ``"floor"``, ``"stagnation at floor"`` (two stalled steps, residual below
+        NEWTON_STAGNATION_RTOL times the reference), or None to go on; two stalled steps
+        above that raise ConvergenceError."""
+        if err < tol_abs:
+            return "correction"
+        if rn <= NEWTON_RTOL * r_ref:
+            return "relative residual"
+        if rn <= floor:
+            return "floor"
+        if stalls >= 2:
+            if rn <= NEWTON_STAGNATION_RTOL * r_ref:
+                return "stagnation at floor"
+            raise ConvergenceError(
+                f"Newton: residual stagnates at {rn:.3g} (reference {r_ref:.3g}, floor "
+                f"{floor:.3g}) at v={self.v:.6g}")
+        return None
 
     def chord_usable(self) -> bool:
         """Whether the next Newton step may reuse the factorisation: ``chord`` is on and the
