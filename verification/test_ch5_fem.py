@@ -23,8 +23,9 @@ import os
 import ngsolve
 import numpy as np
 import pytest
-from debench.models.buckling import analytic, fem
-from debench.models.buckling.fem import MembraneModel, mode_axisymmetry, mode_harmonics
+from debench.models.buckling import analytic, eigen, fem
+from debench.models.buckling.fem import MembraneModel
+from debench.models.buckling.modes import mode_axisymmetry, mode_harmonics
 from debench.models.buckling.parameters import COARSE, Discretisation, NeoHookean, Ogden, Plate
 from debench.models.buckling.solver import (
     CRITICAL_VTOL,
@@ -80,7 +81,7 @@ def test_deflection_control_and_voltage_control_find_the_same_state():
     """Two solvers, one equilibrium: the bordered Newton (deflection prescribed, voltage
     unknown) gives a voltage v; plain Newton at that v from the previous state returns the
     same centre deflection (stable post-buckled branch)."""
-    from debench.models.buckling.fem import control_deflection, newton_deflection
+    from debench.models.buckling.deflection import control_deflection, newton_deflection
     m = MembraneModel(Plate(), NeoHookean(), COARSE)
     # small steps: stays on the upward branch
     for v in (0.1, 0.2, 0.22, 0.24, 0.25, 0.26, 0.28, 0.3):
@@ -269,11 +270,11 @@ def test_wrinkle_imperfection_peaks_at_its_amplitude_with_wavenumber_n(n):
 
 
 def test_deflection_asymmetry_measures_a_prescribed_wavenumber_n_deflection():
-    """fem.deflection_asymmetry: a displacement u_z = A t0 (r/a) cos(theta) set on the mesh
+    """modes.deflection_asymmetry: a displacement u_z = A t0 (r/a) cos(theta) set on the mesh
     reads as amplitude A / 2 at r = a/2 with n = 1; an axisymmetric u_z reads as zero
     (quadratic elements interpolate the linear-in-x field exactly)."""
     import ngsolve as ngs
-    from debench.models.buckling.fem import deflection_asymmetry
+    from debench.models.buckling.modes import deflection_asymmetry
     m = MembraneModel(Plate(), NeoHookean(), COARSE, with_imperfection=True)
     a, t0, amp = m.plate.radius, m.plate.thickness, 0.3
     m.gf.components[0].Set(ngs.CF((0, 0, amp * t0 * ngs.x / a)))
@@ -339,7 +340,7 @@ def test_negative_pivots_count_the_negative_eigenvalues():
     """Sylvester's law of inertia on a random sparse symmetric indefinite matrix; a
     singular matrix raises instead of returning a count."""
     import scipy.sparse as sps
-    from debench.models.buckling.fem import negative_pivots
+    from debench.models.buckling.eigen import negative_pivots
     rng = np.random.default_rng(3)
     A = sps.random(60, 60, density=0.1, random_state=rng)
     A = (A + A.T + sps.diags(rng.uniform(-3.0, 3.0, 60))).tocsc()
@@ -351,7 +352,7 @@ def test_negative_pivots_count_the_negative_eigenvalues():
 def test_inertia_counts_refuse_bad_input():
     """A non-square or non-finite matrix, or a NaN shift, raises ValueError naming it."""
     import scipy.sparse as sps
-    from debench.models.buckling.fem import negative_pivots
+    from debench.models.buckling.eigen import negative_pivots
     with pytest.raises(ValueError, match="square"):
         negative_pivots(sps.csc_matrix(np.ones((2, 3))))
     with pytest.raises(ValueError, match="finite"):
@@ -424,7 +425,7 @@ def test_lowest_eigenvalues_find_the_negative_eigenvalues_of_the_unstable_flat_f
     assert dense[1] < 0                        # at least two unstable modes
     np.testing.assert_allclose(lam, dense, rtol=EIG_DENSE_RTOL,
                                atol=EIG_DENSE_RTOL * abs(dense[0]))
-    assert m.last_eig["residual"] <= fem.EIG_RTOL
+    assert m.last_eig["residual"] <= eigen.EIG_RTOL
 
 
 CHORD_STATE_TOL = 1e-8
@@ -477,7 +478,7 @@ def test_sparse_direct_solvers_agree_on_the_critical_voltage():
     assert old.stats["chord_steps"] == 0 < new.stats["chord_steps"]
     assert new.stats["factorisations"] >= new.stats["newton_steps"] - new.stats["chord_steps"]
     assert new.stats["factorisations"] < old.stats["factorisations"]
-    assert new.eig_residual <= fem.EIG_RTOL and new.ndof == old.ndof
+    assert new.eig_residual <= eigen.EIG_RTOL and new.ndof == old.ndof
 
 
 def test_singular_tangent_raises_instead_of_printing():
@@ -524,7 +525,7 @@ def test_critical_voltage_of_a_compressible_film_runs():
     mat = NeoHookean(k=156000.0)
     r = critical_voltage(Plate(), mat, COARSE)
     assert analytic.critical_voltage_plate(mat, 10.0) < r.v
-    assert r.eig_residual <= fem.EIG_RTOL
+    assert r.eig_residual <= eigen.EIG_RTOL
 
 
 def test_bad_discretisation_raises_naming_the_bound():
@@ -563,12 +564,12 @@ def test_ramp_ends_at_a_singular_tangent_only_past_the_limit_point(nh_pullin_ram
     pull-in vertex is the same), and still raises when that happens before it. The
     singular tangent is simulated by a bordered Newton that fails when asked for a centre
     deflection beyond a given one."""
-    from debench.models.buckling import fem
+    from debench.models.buckling import deflection
     from debench.models.errors import ConvergenceError
 
     assert nh_pullin_ramp.end == "voltage drop"
     k = int(np.argmax(nh_pullin_ramp.v))
-    real = fem.newton_deflection
+    real = deflection.newton_deflection
 
     def failing_beyond(c_fail):
         def newton_deflection(model, c, **kw):
@@ -579,13 +580,13 @@ def test_ramp_ends_at_a_singular_tangent_only_past_the_limit_point(nh_pullin_ram
 
     # past the maximum: the states beyond the first recorded point past it fail (the
     # control variable is the mean centre deflection, i.e. the mid-plane's)
-    monkeypatch.setattr(fem, "newton_deflection",
+    monkeypatch.setattr(deflection, "newton_deflection",
                         failing_beyond(nh_pullin_ramp.w_mid[k + 1] - 1e-6))
     r = voltage_ramp(Plate(), NeoHookean(), COARSE, dv0=0.02, dv_max=0.04)
     assert r.end == "singular past the limit point"
     assert r.v_pullin == pytest.approx(nh_pullin_ramp.v_pullin, rel=PULLIN_BRACKET_RTOL)
     # before any maximum (every deflection-controlled step fails): the error propagates
-    monkeypatch.setattr(fem, "newton_deflection", failing_beyond(-np.inf))
+    monkeypatch.setattr(deflection, "newton_deflection", failing_beyond(-np.inf))
     with pytest.raises(ConvergenceError, match="simulated"):
         voltage_ramp(Plate(), NeoHookean(), COARSE, dv0=0.02, dv_max=0.04)
     # ... unless asked to stop there: no pull-in, the last state's eigen-analysis recorded
@@ -602,15 +603,15 @@ def test_energy_compiler_is_found_beside_the_interpreter(monkeypatch, tmp_path):
     import os
     import sys
 
-    from debench.models.buckling import fem
+    from debench.models.buckling import energy
 
     fake = tmp_path / "bin"
     fake.mkdir()
     (fake / "python").write_text("")
     monkeypatch.setattr(sys, "executable", str(fake / "python"))
     monkeypatch.setenv("PATH", str(tmp_path / "empty"))
-    assert fem._ngscxx() is False
+    assert energy._ngscxx() is False
     (fake / "ngscxx").write_text("#!/bin/sh\n")
     (fake / "ngscxx").chmod(0o755)
-    assert fem._ngscxx() is True
+    assert energy._ngscxx() is True
     assert os.environ["PATH"].split(os.pathsep)[0] == str(fake)

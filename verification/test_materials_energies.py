@@ -27,7 +27,7 @@ import debench.models
 import ngsolve as ng
 import numpy as np
 import pytest
-from debench.models.buckling import analytic, fem
+from debench.models.buckling import analytic, energy
 from debench.models.buckling.parameters import MU_REF, NeoHookean, Ogden
 from debench.models.circular import fe as circular_fe
 from debench.models.invariants import invariants as closed_form_invariants
@@ -333,7 +333,7 @@ def test_membrane_energy_of_the_library_and_of_the_fe_is_one_expression(part, mo
 def test_chapter_5_enthalpy_of_the_closed_forms_and_of_the_fe_is_one_expression(mat, part,
                                                                              monkeypatch):
     """The electric enthalpy ``W_mech - eps/2 J C^-1:(E_L x E_L)`` assembled by the Ch. 5
-    FE (``buckling.fem.enthalpy_cf``) and its numpy closed form
+    FE (``buckling.energy.enthalpy_cf``) and its numpy closed form
     (``buckling.analytic.enthalpy_numpy``) move together."""
     eps = NH.eps
     F, _ = _fixed_state(mat)
@@ -342,7 +342,7 @@ def test_chapter_5_enthalpy_of_the_closed_forms_and_of_the_fe_is_one_expression(
 
     def both():
         return (analytic.enthalpy_numpy(F, E_L, mat, eps) / MU_REF,
-                _value(fem.enthalpy_cf(_cf(F), _cf(E_hat), mat)))
+                _value(energy.enthalpy_cf(_cf(F), _cf(E_hat), mat)))
 
     rtol = BACKEND_RTOL if isinstance(mat, NeoHookean) else OGDEN_PERTURBATION_RTOL
     before = both()

@@ -76,7 +76,7 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 from debench.models import validation as val
-from debench.models.buckling.fem import negative_pivots
+from debench.models.buckling.eigen import negative_pivots
 from debench.models.buckling.parameters import MU_REF, NeoHookean, Ogden, Plate
 from debench.models.errors import ConvergenceError, require
 from debench.models.materials import ngsolve_forms as ngf

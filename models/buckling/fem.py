@@ -14,18 +14,12 @@ Formulation (re-derived; the thesis uses Abaqus UEL with D_L-based energy (5.1)-
   of ``int Omega dV``: minimum in ``u``, maximum in ``phi``.  Dividing by ``mu_ref`` and
   scaling the potential makes the discrete problem depend on eps only through the
   normalised voltage ``v = Phi/t0 sqrt(eps/mu_ref)``.
-* Energies: from the constitutive library's NGSolve path
-  (:mod:`debench.models.materials.ngsolve_forms`): neo-Hookean (5.15) and Ogden (5.26)
-  (averaged spectral perturbation, error O(delta^2), ``Discretisation.ogden_delta``), and
-  the enthalpy of the ideal dielectric.  The energy is compiled to C++
-  (``Compile(realcompile=True)``) when the problem is large enough to repay the compile
-  time (seconds), with a fall-back to the interpreted compiled tree.
-* Mesh: a netgen triangulation of the disk extruded into ``layers`` prism layers
-  (the thesis: 8-node bricks, 5 layers).  Edge (lateral face) clamped: u = 0.
-  Electrodes: p = 0 on the bottom face, p = v t0 on the top face.  Imperfection:
-  the reference geometry is lifted by ``w0(r) = imperfection t0 (1 - r^2/a^2)^2``
-  (the clamped-plate polynomial close to the first buckling mode), optionally plus a
-  non-axisymmetric term of wavenumber n (:class:`~debench.models.buckling.parameters.Plate`).
+* Energies: neo-Hookean (5.15) and Ogden (5.26) from the constitutive library's NGSolve
+  path and the enthalpy of the ideal dielectric, compiled to C++ when the problem is large
+  (:mod:`debench.models.buckling.energy`).
+* Mesh: a netgen triangulation of the disk extruded into ``layers`` prism layers, lifted
+  by the imperfection ``w0`` (:mod:`debench.models.buckling.mesh`).  Edge (lateral face)
+  clamped: u = 0.  Electrodes: p = 0 on the bottom face, p = v t0 on the top face.
 
 Linear algebra (chosen by measurement, ``benchmarks/test_bench_ch5.py``):
 
@@ -55,12 +49,21 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 from debench.models import validation as val
+from debench.models.buckling.eigen import (
+    EIG_COUNT_MARGIN,
+    EIG_MAXIT,
+    EIG_RTOL,
+    certified,
+    lobpcg,
+    negative_pivots,
+    shift_below_spectrum,
+    shifted_lobpcg,
+    subspace_iteration,
+)
+from debench.models.buckling.energy import compile_energy, enthalpy_cf
+from debench.models.buckling.mesh import disk_prism_mesh
 from debench.models.buckling.parameters import MU_REF, Discretisation, NeoHookean, Ogden, Plate
 from debench.models.errors import ConvergenceError, require
-from debench.models.materials import ngsolve_forms as ngf
-from netgen.geom2d import SplineGeometry
-from netgen.meshing import Element2D, Element3D, FaceDescriptor, MeshPoint, Pnt
-from netgen.meshing import Mesh as NGMesh
 from scipy.sparse.linalg import splu
 
 NEWTON_TOL = 1e-9
@@ -94,24 +97,6 @@ zero pivot gives O(1) or non-finite residuals that refinement does not reduce.  
 critical voltage itself the tangent is singular by definition and the solves keep 1e-6 ..
 1e-5 (measured, Ogden, coarse mesh): an inexact Newton correction that still converges
 (the nonlinear residual decides), so the bound sits well above it."""
-EIG_RTOL = 1e-10
-"""LOBPCG backward error ||S x - lambda M x|| / (||S|| ||x|| + |lambda| ||M x||): its
-round-off floor is ~1e-15 (eps times the growth of the saddle-point solves); 1e-10 makes the
-eigenvalue error far below the 1e-7 change of lambda over the secant's last step."""
-EIG_MAXIT = 200
-EIG_COUNT_MARGIN = 1e-8
-"""Margin below the lowest computed eigenvalue at which the inertia count certifies it (no
-eigenvalue of the pencil below ``lambda_1 - margin``; and, when no computed eigenvalue is
-within the margin of zero, as many eigenvalues below zero as were computed), relative to
-the pencil's scale (the largest Rayleigh quotient of the random start block, ~ its upper
-spectrum).  Far above the eigenvalue error (EIG_RTOL on that scale) and the pivots'
-round-off next to a singular tangent (at the critical voltage lambda_1 is zero to 1e-11:
-a shift 1e-17 below it gave a wrong count), and far below the gaps between the modes the
-records resolve."""
-REALCOMPILE_MIN_DOFS = 20000
-"""``compile="auto"`` compiles the energy to C++ above this size: compiling takes 15-20 s
-(measured), assembly is 1.2-2.3x faster with identical matrices, so it pays only for
-problems assembled hundreds of times at >= 20k DOFs."""
 #: the sparse direct solvers of NGSolve a model may use (``inverse=``), in order of preference
 INVERSES = ("sparsecholesky", "umfpack", "pardiso", "superlu")
 CHORD_RATE = 0.25
@@ -121,99 +106,6 @@ residual at least by this factor; a weaker step makes the next one reassemble an
 refactorise (a step that increases the residual is undone first).  Assembly of the tangent
 costs 8-13x a residual evaluation and 5-15x a factorisation here (measured), so a chord
 step is cheap; 0.25 makes six digits of contraction cost ten chord steps at most."""
-
-# --------------------------------------------------------------------------- mesh
-def disk_prism_mesh(plate: Plate, disc: Discretisation, *, with_imperfection: bool = True
-                    ) -> ngs.Mesh:
-    """Extruded prism mesh of the disk of radius ``plate.radius`` and thickness t0.
-
-    Boundaries: ``bottom`` (z = 0), ``top`` (z = t0), ``edge`` (r = a).  The
-    imperfection ``w0(x, y)`` (:meth:`Plate.imperfection_lift`) lifts every node vertically
-    (same for all layers).
-    """
-    a, t0 = plate.radius, plate.thickness
-    geo = SplineGeometry()
-    geo.AddCircle((0.0, 0.0), a, bc="edge")
-    m2 = geo.GenerateMesh(maxh=disc.h_rel * t0)
-    pts2 = np.array([[p[0], p[1]] for p in m2.Points()])
-    tris = np.array([[v.nr - 1 for v in el.vertices] for el in m2.Elements2D()])
-    segs = np.array([[v.nr - 1 for v in el.vertices] for el in m2.Elements1D()])
-    npt = len(pts2)
-    w0 = (plate.imperfection_lift(pts2[:, 0], pts2[:, 1]) if with_imperfection
-          else np.zeros(npt))
-
-    ngm = NGMesh(dim=3)
-    ids = []
-    for k in range(disc.layers + 1):
-        z = t0 * k / disc.layers
-        ids.append([ngm.Add(MeshPoint(Pnt(x, y, z + w)))
-                    for (x, y), w in zip(pts2, w0, strict=True)])
-    fd_bot = ngm.Add(FaceDescriptor(surfnr=1, domin=1, domout=0, bc=1))
-    fd_top = ngm.Add(FaceDescriptor(surfnr=2, domin=1, domout=0, bc=2))
-    fd_edge = ngm.Add(FaceDescriptor(surfnr=3, domin=1, domout=0, bc=3))
-    ngm.SetBCName(0, "bottom")
-    ngm.SetBCName(1, "top")
-    ngm.SetBCName(2, "edge")
-    # orientation: triangles counter-clockwise seen from +z
-    p = pts2[tris]
-    cross = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - \
-            (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0])
-    tris = np.where((cross > 0)[:, None], tris, tris[:, [0, 2, 1]])
-    for k in range(disc.layers):
-        lo, hi = ids[k], ids[k + 1]
-        for t in tris:
-            ngm.Add(Element3D(1, [lo[t[0]], lo[t[2]], lo[t[1]], hi[t[0]], hi[t[2]], hi[t[1]]]))
-        for s in segs:
-            ngm.Add(Element2D(fd_edge, [lo[s[0]], lo[s[1]], hi[s[1]], hi[s[0]]]))
-    for t in tris:
-        ngm.Add(Element2D(fd_bot, [ids[0][t[0]], ids[0][t[2]], ids[0][t[1]]]))
-        ngm.Add(Element2D(fd_top, [ids[-1][t[0]], ids[-1][t[1]], ids[-1][t[2]]]))
-    del npt
-    return ngs.Mesh(ngm)
-
-
-# --------------------------------------------------------------------------- energies
-def enthalpy_cf(F, EL_hat, mat: NeoHookean | Ogden, *, mu_ref: float = MU_REF,
-                ogden_delta: float | None = None):
-    """Electric enthalpy Omega/mu_ref with the scaled referential field
-    ``EL_hat = E_L sqrt(eps/mu_ref)``: ``W_mech/mu_ref - 1/2 J C^-1:(EL x EL)``
-    (library energies, :mod:`debench.models.materials.ngsolve_forms`)."""
-    kw = {} if ogden_delta is None else {"delta": ogden_delta}
-    return (ngf.mechanical_energy_cf(mat, F, **kw) / mu_ref
-            + ngf.ideal_dielectric_enthalpy(F, EL_hat, eps=1.0))
-
-
-def _compile(cf, mode: str, ndof: int):
-    """Compile an energy CF: C++ (``realcompile``) when asked or, with ``"auto"``, when
-    the problem is large; falls back to the interpreted compiled tree when no compiler
-    works.  Returns (cf, how)."""
-    if (mode is True or (mode == "auto" and ndof >= REALCOMPILE_MIN_DOFS)) and _ngscxx():
-        try:
-            return cf.Compile(realcompile=True, wait=True), "realcompile"
-        except Exception:  # noqa: BLE001 - a failed build: fall back
-            pass
-    return cf.Compile(), "compiled-tree"
-
-
-def _ngscxx() -> bool:
-    """Whether NGSolve's compiler wrapper ``ngscxx`` (which ``realcompile`` runs through
-    the shell) can be found. The wheel installs it beside the Python interpreter; when the
-    environment is used without being activated that directory is not on ``PATH``, so it
-    is put first there (as activation would). False when it is nowhere: compile as a tree
-    without a failed shell call."""
-    import os
-    import shutil
-    import sys
-    from pathlib import Path
-
-    if shutil.which("ngscxx"):
-        return True
-    here = Path(sys.executable).parent
-    if (here / "ngscxx").exists():
-        os.environ["PATH"] = f"{here}{os.pathsep}{os.environ.get('PATH', '')}"
-        return True
-    return False
-
 
 # --------------------------------------------------------------------------- problem
 @dataclass
@@ -258,7 +150,7 @@ class MembraneModel:
         (u, p), (du, dp) = self.X.TnT()
         F = ngs.Id(3) + ngs.Grad(u)
         delta = self.disc.ogden_delta if isinstance(self.material, Ogden) else None
-        energy, how = _compile(enthalpy_cf(F, -ngs.Grad(p), self.material, ogden_delta=delta),
+        energy, how = compile_energy(enthalpy_cf(F, -ngs.Grad(p), self.material, ogden_delta=delta),
                                self.compile, self.X.ndof)
         self.a = ngs.BilinearForm(self.X, symmetric=False)
         self.a += ngs.Variation(energy * ngs.dx)
@@ -452,14 +344,8 @@ class MembraneModel:
                     return 0
             if not chord:
                 self.factor()
-            du = self.solve(self.res)
-            dmax = float(np.max(np.abs(du.FV().NumPy())))
-            if not np.isfinite(dmax):
-                raise ConvergenceError(f"Newton: non-finite correction at v={self.v:.6g}")
             fresh_step = not chord
-            if dmax > 0.5 * t0 * self.plate.aspect and fresh_step:
-                raise ConvergenceError(
-                    f"Newton: correction {dmax / t0:.3g} t0 too large at v={self.v:.6g}")
+            du, dmax = self._correction(check_size=fresh_step)
             self.gf.vec.data -= du
             self.stats["newton_steps"] += 1
             rn = self.residual_norm()
@@ -477,31 +363,55 @@ class MembraneModel:
                 chord = verdict == "keep"
                 err = dmax * theta / (1 - theta)
             hist.append(rn)
-            if err < tol * t0:
-                self._record(it, rn, r_first, floor, "correction")
-                # a factor of the state before a correction < tol t0 is the tangent at the
-                # converged state to O(tol) (used by the eigen-analysis); a chord step's
-                # factor belongs to an older state
-                self._fresh = fresh_step
-                return it
-            if rn <= NEWTON_RTOL * r_ref:
-                self._record(it, rn, r_first, floor, "relative residual")
-                return it
-            if rn <= floor:
-                self._record(it, rn, r_first, floor, "floor")
-                return it
             if fresh_step:                    # stagnation is judged on fresh tangents
                 stalls = stalls + 1 if rn > NEWTON_STAGNATION * hist[-2] else 0
-            if stalls >= 2:
-                if rn <= NEWTON_STAGNATION_RTOL * r_ref:
-                    self._record(it, rn, r_first, floor, "stagnation at floor")
-                    return it
-                raise ConvergenceError(
-                    f"Newton: residual stagnates at {rn:.3g} (reference {r_ref:.3g}, floor "
-                    f"{floor:.3g}) at v={self.v:.6g}")
+            how = self._stopped_by(err, rn, tol * t0, r_ref, floor, stalls)
+            if how is not None:
+                self._record(it, rn, r_first, floor, how)
+                if how == "correction":
+                    # a factor of the state before a correction < tol t0 is the tangent at
+                    # the converged state to O(tol) (used by the eigen-analysis); a chord
+                    # step's factor belongs to an older state
+                    self._fresh = fresh_step
+                return it
         raise ConvergenceError(f"Newton: no convergence in {maxit} steps at v={self.v:.6g}, "
                                f"last |du|/t0={dmax / t0:.3g}, residual {rn:.3g} "
                                f"(first {r_first:.3g}, floor {floor:.3g})")
+
+    def _correction(self, *, check_size: bool):
+        """The Newton correction ``K^-1 R`` with the current factorisation and its largest
+        entry; raises ConvergenceError when it is not finite or (``check_size``: a step
+        with the tangent of its own iterate) larger than half the radius."""
+        t0 = self.plate.thickness
+        du = self.solve(self.res)
+        dmax = float(np.max(np.abs(du.FV().NumPy())))
+        if not np.isfinite(dmax):
+            raise ConvergenceError(f"Newton: non-finite correction at v={self.v:.6g}")
+        if dmax > 0.5 * t0 * self.plate.aspect and check_size:
+            raise ConvergenceError(
+                f"Newton: correction {dmax / t0:.3g} t0 too large at v={self.v:.6g}")
+        return du, dmax
+
+    def _stopped_by(self, err: float, rn: float, tol_abs: float, r_ref: float, floor: float,
+                    stalls: int) -> str | None:
+        """Why Newton stops after a step with error estimate ``err`` and residual ``rn``
+        (:meth:`_newton`): ``"correction"`` (err < tol_abs), ``"relative residual"``,
+        ``"floor"``, ``"stagnation at floor"`` (two stalled steps, residual below
+        NEWTON_STAGNATION_RTOL times the reference), or None to go on; two stalled steps
+        above that raise ConvergenceError."""
+        if err < tol_abs:
+            return "correction"
+        if rn <= NEWTON_RTOL * r_ref:
+            return "relative residual"
+        if rn <= floor:
+            return "floor"
+        if stalls >= 2:
+            if rn <= NEWTON_STAGNATION_RTOL * r_ref:
+                return "stagnation at floor"
+            raise ConvergenceError(
+                f"Newton: residual stagnates at {rn:.3g} (reference {r_ref:.3g}, floor "
+                f"{floor:.3g}) at v={self.v:.6g}")
+        return None
 
     def chord_usable(self) -> bool:
         """Whether the next Newton step may reuse the factorisation: ``chord`` is on and the
@@ -627,7 +537,8 @@ class MembraneModel:
         LDL^T of the saddle-point tangent each, which costs more than the eigen-solve on the
         largest meshes): for iterations whose final state is certified by the caller.
         Returns (eigenvalues ascending, modes as full-length columns); the largest
-        eigen-residual (backward error, see ``_lobpcg``) is in ``last_eig``.  Raises
+        eigen-residual (backward error, see
+        :func:`~debench.models.buckling.eigen.lobpcg`) is in ``last_eig``.  Raises
         ConvergenceError if the residuals do not reach ``rtol`` in ``iters`` iterations.
         """
         nev = val.integer_at_least("nev", nev, 1)
@@ -641,6 +552,48 @@ class MembraneModel:
             out = self._subspace(nev, iters, rtol, seed)
             self.stats["eig_s"] += time.perf_counter() - t_start
             return out
+        S, T, M = self._condensed_operators()
+        idx = np.flatnonzero(self._ufree)
+        n = len(idx)
+        nb = nev + 2
+        rng = np.random.default_rng(seed)
+        X = rng.standard_normal((n, nb))
+        if x0 is not None:
+            x0 = np.asarray(x0)[idx].reshape(n, -1)[:, :nb]
+            X[:, :x0.shape[1]] = x0
+        scale = float(np.max(np.abs(np.einsum("ij,ij->j", X, S(X)))
+                             / np.einsum("ij,ij->j", X, M @ X)))
+        margin = EIG_COUNT_MARGIN * scale
+        w, V, res, its = lobpcg(S, M, T, X, nev, rtol, iters)
+        shift = 0.0
+        if certify and not certified(self._count, w, margin):
+            # LOBPCG converged on eigenpairs that are not the lowest: with the exact inverse
+            # of the indefinite S as preconditioner it favours eigenvalues near zero, and a
+            # well separated negative one can stay out of its block (measured: -0.032
+            # missed beside +1.3e-4 past a voltage maximum).  Shift the pencil below the
+            # whole spectrum (found by inertia counts) and solve the positive definite
+            # problem, whose smallest eigenvalues LOBPCG finds from any start.
+            shift = shift_below_spectrum(self._count, float(np.min(w)) - margin,
+                                         max(float(np.max(np.abs(w))), margin))
+            w, V, res, its = shifted_lobpcg(S, M, self._shifted_tangent(shift).tocsc(),
+                                            np.flatnonzero(self._ufree[self._free]), shift,
+                                            rng.standard_normal((n, nb)), nev, rtol, iters)
+            if not certified(self._count, w, margin):
+                raise ConvergenceError(
+                    "lowest_eigenvalues: an eigenvalue below the computed "
+                    f"{float(np.min(w)):.6g} remains after the shifted solve")
+        self.stats["eig_s"] += time.perf_counter() - t_start
+        self.last_eig = {"residual": float(np.max(res)), "iterations": its, "shift": shift}
+        order = np.argsort(w)
+        modes = np.zeros((self.ndof, nev))
+        modes[idx] = V[:, order]
+        return w[order], modes
+
+    def _condensed_operators(self):
+        """The condensed tangent at fixed voltage ``S = K_uu - K_up K_pp^-1 K_pu``, the
+        preconditioner ``T = S^-1`` (a solve with the factorised saddle-point tangent and
+        right-hand side ``(r, 0)``), both acting on blocks of the free displacement DOFs,
+        and the mass ``M`` there (see :meth:`lowest_eigenvalues`)."""
         iu, ip = self._ufree, self._pfree
         Kuu = self._scipy(self.a.mat, iu, iu)
         Kup = self._scipy(self.a.mat, iu, ip)
@@ -666,53 +619,7 @@ class MembraneModel:
                 out[:, j] = vout.FV().NumPy()[idx]
             return out
 
-        nb = nev + 2
-        rng = np.random.default_rng(seed)
-        X = rng.standard_normal((n, nb))
-        if x0 is not None:
-            x0 = np.asarray(x0)[idx].reshape(n, -1)[:, :nb]
-            X[:, :x0.shape[1]] = x0
-        scale = float(np.max(np.abs(np.einsum("ij,ij->j", X, S(X)))
-                             / np.einsum("ij,ij->j", X, M @ X)))
-        margin = EIG_COUNT_MARGIN * scale
-        w, V, res, its = _lobpcg(S, M, T, X, nev, rtol, iters)
-        shift = 0.0
-        if certify and not self._certified(w, margin):
-            # LOBPCG converged on eigenpairs that are not the lowest: with the exact inverse
-            # of the indefinite S as preconditioner it favours eigenvalues near zero, and a
-            # well separated negative one can stay out of its block (measured: -0.032
-            # missed beside +1.3e-4 past a voltage maximum).  Shift the pencil below the
-            # whole spectrum (found by inertia counts) and solve the positive definite
-            # problem, whose smallest eigenvalues LOBPCG finds from any start.
-            shift = self._shift_below_spectrum(float(np.min(w)) - margin,
-                                               max(float(np.max(np.abs(w))), margin))
-            Ksh = self._shifted_tangent(shift).tocsc()
-            lu = splu(Ksh)
-            nfree = Ksh.shape[0]
-            u_of_free = np.flatnonzero(iu[self._free])
-
-            def S_shift(X):
-                return S(X) - shift * (M @ X.reshape(n, -1))
-
-            def T_shift(R):
-                R = R.reshape(n, -1)
-                rhs = np.zeros((nfree, R.shape[1]))
-                rhs[u_of_free] = R
-                return lu.solve(rhs)[u_of_free]
-
-            X = rng.standard_normal((n, nb))
-            w, V, res, its = _lobpcg(S_shift, M, T_shift, X, nev, rtol, iters)
-            w = w + shift
-            if not self._certified(w, margin):
-                raise ConvergenceError(
-                    "lowest_eigenvalues: an eigenvalue below the computed "
-                    f"{float(np.min(w)):.6g} remains after the shifted solve")
-        self.stats["eig_s"] += time.perf_counter() - t_start
-        self.last_eig = {"residual": float(np.max(res)), "iterations": its, "shift": shift}
-        order = np.argsort(w)
-        modes = np.zeros((self.ndof, nev))
-        modes[idx] = V[:, order]
-        return w[order], modes
+        return S, T, M
 
     def _shifted_tangent(self, sigma: float):
         """The saddle-point tangent on the free DOFs with ``sigma`` times the mass taken off
@@ -733,9 +640,10 @@ class MembraneModel:
         (mass on the displacement block only) has as many negative eigenvalues as its
         potential block ``K_pp`` and its Schur complement ``S - sigma M`` together; by
         Sylvester's law of inertia each is the number of negative pivots of an LDL^T
-        factorisation (:func:`negative_pivots`).  Raises ConvergenceError when ``sigma``
-        is an eigenvalue to working precision (a zero pivot).  Assembles the tangent at
-        the current state unless the factorised one is current.
+        factorisation (:func:`~debench.models.buckling.eigen.negative_pivots`).  Raises
+        ConvergenceError when ``sigma`` is an eigenvalue to working precision (a zero
+        pivot).  Assembles the tangent at the current state unless the factorised one is
+        current.
         """
         sigma = float(val.finite("sigma", sigma))
         if not self._fresh:
@@ -747,36 +655,10 @@ class MembraneModel:
         pp = self._scipy(self.a.mat, self._pfree, self._pfree)
         return negative_pivots(self._shifted_tangent(sigma)) - negative_pivots(pp)
 
-    def _certified(self, w: np.ndarray, margin: float) -> bool:
-        """Whether ``w`` starts at the lowest eigenvalue by inertia counts: none below
-        ``min(w) - margin`` and, when every ``w`` is farther than ``margin`` from zero,
-        exactly as many below zero as ``w`` has."""
-        if self._count(float(np.min(w)) - margin) > 0:
-            return False
-        if np.min(np.abs(w)) > margin:
-            return self._count(0.0) == int(np.count_nonzero(w < 0))
-        return True
-
-    def _shift_below_spectrum(self, start: float, scale: float) -> float:
-        """A shift below every eigenvalue of the pencil: from ``start`` down in steps that
-        double from ``scale`` until the inertia count is zero."""
-        step = max(scale, 1e-12)
-        sigma = start
-        for _ in range(80):
-            sigma -= step
-            if self._count(sigma) == 0:
-                return sigma
-            step *= 2.0
-        raise ConvergenceError("lowest_eigenvalues: no shift below the spectrum down to "
-                               f"{sigma:.3g}")
-
     def _subspace(self, nev, iters, rtol, seed):
-        """Block inverse subspace iteration (smallest |lambda|; the former engine)."""
-        free = self._free
-        mask = self._ufree
-        rng = np.random.default_rng(seed)
-        nb = nev + 2
-        Xb = rng.standard_normal((len(free), nb)) * mask[:, None]
+        """Block inverse subspace iteration (smallest |lambda|; the former engine:
+        :func:`~debench.models.buckling.eigen.subspace_iteration`) with the mass and the
+        factorised tangent."""
         vin, vout = self.gf.vec.CreateVector(), self.gf.vec.CreateVector()
 
         def apply(mat_or_inv, x):
@@ -785,312 +667,8 @@ class MembraneModel:
             return np.array(vout.FV(), copy=True)
 
         Mmat, inv = self.m.mat, self._inv
-        old = None
-        for it in range(iters):
-            MX = np.column_stack([apply(Mmat, Xb[:, j]) for j in range(nb)])
-            Y = np.column_stack([apply(inv, MX[:, j]) for j in range(nb)]) * mask[:, None]
-            scale = np.max(np.abs(Y), axis=0)
-            if not np.all(np.isfinite(scale)) or np.any(scale == 0):
-                raise ConvergenceError("subspace iteration: singular tangent (exact bifurcation)")
-            Y, MX = Y / scale, MX / scale
-            MY = np.column_stack([apply(Mmat, Y[:, j]) for j in range(nb)])
-            A, B = Y.T @ MX, Y.T @ MY
-            A, B = 0.5 * (A + A.T), 0.5 * (B + B.T)
-            bw, bv = np.linalg.eigh(B)
-            keep = bw > 1e-13 * bw.max()
-            T = bv[:, keep] / np.sqrt(bw[keep])
-            w, Q = np.linalg.eigh(T.T @ A @ T)
-            Q = T @ Q
-            if len(w) < nb:
-                Q = np.column_stack([Q, rng.standard_normal((nb, nb - len(w)))])
-                w = np.concatenate([w, np.full(nb - len(w), np.inf)])
-            order = np.argsort(np.abs(w))
-            w, Q = w[order], Q[:, order]
-            Xb = Y @ Q
-            wscale = np.max(np.abs(w[np.isfinite(w)]))
-            if old is not None and np.all(np.abs(w[:nev] - old) <= rtol * wscale + 1e-13):
-                idx = np.argsort(w[:nev])
-                self.last_eig = {"residual": float(np.max(np.abs(w[:nev] - old))),
-                                 "iterations": it + 1, "shift": 0.0}
-                return w[:nev][idx], Xb[:, :nev][:, idx]
-            old = w[:nev]
-        raise ConvergenceError(f"subspace iteration: no convergence in {iters} steps ({w[:nev]})")
-
-
-def negative_pivots(A) -> int:
-    """Number of negative eigenvalues of the sparse symmetric matrix ``A`` (Sylvester's law of
-    inertia): the negative pivots of ``P A P^T = L D L^T``, computed by SuperLU in symmetric
-    mode with diagonal pivots only (threshold 0; the row and column orderings must agree,
-    checked).  Raises ConvergenceError on a zero or non-finite pivot (``A`` singular to
-    working precision) or when SuperLU had to pivot off the diagonal; ValueError when ``A``
-    is not square or has non-finite entries."""
-    A = sp.csc_matrix(A, dtype=float)
-    require(A.ndim == 2 and A.shape[0] == A.shape[1] and A.shape[0] > 0,
-            f"A must be a non-empty square matrix, got shape {A.shape}")
-    require(bool(np.all(np.isfinite(A.data))), "A must have finite entries")
-    try:
-        lu = splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                  options={"SymmetricMode": True})
-    except RuntimeError as exc:          # SuperLU: "Factor is exactly singular"
-        raise ConvergenceError(f"negative_pivots: {exc} (matrix singular)") from exc
-    if not np.array_equal(lu.perm_r, lu.perm_c):
-        raise ConvergenceError("negative_pivots: SuperLU pivoted off the diagonal")
-    d = lu.U.diagonal()
-    if not np.all(np.isfinite(d)) or np.any(d == 0.0):
-        raise ConvergenceError("negative_pivots: zero pivot (matrix singular)")
-    return int(np.count_nonzero(d < 0.0))
-
-
-def _mortho(Z, MZ, drop=1e-10):
-    """Coefficients T with (Z T)^T M (Z T) = I over the well-conditioned part of span(Z)."""
-    B = Z.T @ MZ
-    B = 0.5 * (B + B.T)
-    bw, bv = np.linalg.eigh(B)
-    keep = bw > drop * bw.max()
-    return bv[:, keep] / np.sqrt(bw[keep])
-
-
-def _lobpcg(S, M, T, X, nev, rtol, iters):
-    """Locally optimal block preconditioned conjugate gradient (Knyazev 2001) for the
-    algebraically smallest eigenpairs of ``S x = lambda M x``.
-
-    ``S``, ``T`` act on blocks (T: the exact inverse S^-1, applied by the factorised
-    saddle-point tangent), ``M`` sparse SPD.  Rayleigh-Ritz on span[X, T M X, P] (equal
-    to LOBPCG's span[X, T R, P] for this T); the new directions are M-orthogonalised
-    against X before the Gram matrix (near-dependent directions dropped).  Converged when
-    the backward error
-    ``||S x - lambda M x|| / (||S|| ||x|| + |lambda| ||M x||)`` of the first ``nev`` pairs
-    is below ``rtol`` (||S|| estimated on the start block).
-    Returns (lambda[:nev], X[:, :nev], residuals, iterations); raises ConvergenceError.
-    """
-    nb = X.shape[1]
-    SX = S(X)
-    # scale of S: ||S x|| / ||x|| over the (random or previous) start block
-    s_norm = float(np.max(np.linalg.norm(SX, axis=0) / np.linalg.norm(X, axis=0)))
-    lam = np.zeros(nb)
-    P = None
-    res = np.full(nev, np.inf)
-    for it in range(1, iters + 1):
-        blocks, sblocks = [X], [SX]
-        if it > 1:
-            MX = M @ X
-            R = SX - MX * lam
-            scale = (s_norm * np.linalg.norm(X[:, :nev], axis=0)
-                     + np.abs(lam[:nev]) * np.linalg.norm(MX[:, :nev], axis=0))
-            res = np.linalg.norm(R[:, :nev], axis=0) / scale
-            if np.all(res <= rtol):
-                return lam[:nev], X[:, :nev], res, it - 1
-            # span[X, T R] = span[X, T M X] for T = S^-1; T M X is the numerically stable
-            # form when S is (nearly) singular (T R would cancel), as in inverse iteration
-            # new directions M-orthogonalised against the (M-orthonormal) Ritz block,
-            # twice: a Gram matrix of nearly parallel columns would lose the correction
-            # below sqrt(eps)
-            W = T(MX)
-            if P is not None:
-                W = np.hstack([W, P])
-            for _ in range(2):
-                W = W - X @ (MX.T @ W)
-                W = W / np.sqrt(np.einsum("ij,ij->j", W, M @ W))
-            blocks.append(W)
-            sblocks.append(S(W))
-        Z, SZ = np.hstack(blocks), np.hstack(sblocks)
-        C = _mortho(Z, M @ Z)
-        A = C.T @ (Z.T @ SZ) @ C
-        theta, Q = np.linalg.eigh(0.5 * (A + A.T))
-        if len(theta) < nb:
-            raise ConvergenceError("LOBPCG: the search space collapsed")
-        Y = C @ Q[:, :nb]
-        lam = theta[:nb]
-        if it > 1:
-            P = Z[:, nb:] @ Y[nb:]
-        X, SX = Z @ Y, SZ @ Y
-    raise ConvergenceError(f"LOBPCG: eigen-residuals {res} above {rtol} after {iters} "
-                           f"iterations ({lam[:nev]})")
-
-
-def energies_at(F: np.ndarray, E_hat: np.ndarray, mat: NeoHookean | Ogden,
-                mu_ref: float = MU_REF) -> tuple[float, float]:
-    """Evaluate the CoefficientFunction energies at a constant ``F`` and scaled field.
-
-    Returns ``(W_mech [Pa], Omega/mu_ref)`` exactly as assembled by :class:`MembraneModel`
-    (used to check the NGSolve energies against :mod:`debench.models.materials`).
-    """
-    F = np.asarray(F, dtype=float)
-    require(F.shape == (3, 3), f"F must be 3x3, got {F.shape}")
-    require(np.linalg.det(F) > 0, f"det F must be > 0, got {np.linalg.det(F)}")
-    mesh = _unit_mesh()
-    mip = mesh(0.25, 0.25, 0.25)
-    Fcf = ngs.CF(tuple(F.ravel()), dims=(3, 3))
-    Ecf = ngs.CF(tuple(float(e) for e in E_hat))
-    return (float(ngf.mechanical_energy_cf(mat, Fcf)(mip)),
-            float(enthalpy_cf(Fcf, Ecf, mat, mu_ref=mu_ref)(mip)))
-
-
-def _unit_mesh():
-    ngm = NGMesh(dim=3)
-    pts = [ngm.Add(MeshPoint(Pnt(*p))) for p in ((0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1))]
-    ngm.Add(Element3D(1, pts))
-    return ngs.Mesh(ngm)
-
-
-def ring_displacement(model: MembraneModel, vec: np.ndarray | None = None,
-                      n_theta: int = 24) -> np.ndarray:
-    """Cylindrical displacement components (u_r, u_theta, u_z), shape (n_theta, 3), at
-    ``n_theta`` equally spaced points of the mid-plane circle r = a/2 of the reference
-    geometry: of the vector ``vec`` of the compound space (a mode), or of the current state
-    (``vec=None``)."""
-    n_theta = val.integer_at_least("n_theta", n_theta, 4)
-    if vec is None:
-        gu = model.gf.components[0]
-    else:
-        gf = ngs.GridFunction(model.X)
-        gf.vec.FV().NumPy()[:] = vec
-        gu = gf.components[0]
-    r, t0 = 0.5 * model.plate.radius, model.plate.thickness
-    comps = []
-    for th in np.linspace(0, 2 * np.pi, n_theta, endpoint=False):
-        x, y = r * np.cos(th), r * np.sin(th)
-        ux, uy, uz = gu(model._point(x, y, 0.5 * t0 + model.lift(x, y)))
-        comps.append((ux * np.cos(th) + uy * np.sin(th), -ux * np.sin(th) + uy * np.cos(th), uz))
-    return np.array(comps)
-
-
-def _harmonic_power(samples: np.ndarray) -> np.ndarray:
-    """Power of the angular harmonics n = 0 .. n_theta/2 of ring samples (n_theta, k)
-    (discrete Parseval, the +n and -n terms added), summed over the k components."""
-    n_theta = samples.shape[0]
-    c = np.fft.fft(samples, axis=0) / n_theta                 # (harmonic, component)
-    power = np.sum(np.abs(c) ** 2, axis=1)
-    half = n_theta // 2
-    out = np.zeros(half + 1)
-    out[0] = power[0]
-    for n in range(1, half + 1):
-        out[n] = power[n] + (power[n_theta - n] if n_theta - n != n else 0.0)
-    return out
-
-
-def mode_harmonics(model: MembraneModel, mode: np.ndarray, n_theta: int = 24) -> np.ndarray:
-    """Fractions of a mode's displacement in the angular harmonics n = 0 .. n_theta/2.
-
-    The mode's cylindrical components (u_r, u_theta, u_z) are sampled at ``n_theta``
-    equally spaced points of the mid-plane circle r = a/2 (:func:`ring_displacement`) and
-    Fourier-analysed (discrete Parseval): entry n is
-    ``sum_c (|c_n|^2 + |c_-n|^2) / mean_theta sum_c |u_c|^2``, so the entries sum to 1;
-    entry 0 is 1 for an axisymmetric mode, a wrinkling mode of angular wavenumber n has
-    its weight at n (resolved for n < n_theta/2).
-    """
-    power = _harmonic_power(ring_displacement(model, mode, n_theta))
-    total = float(np.sum(power))
-    if total == 0:
-        raise ValueError("mode is zero on the sampling circle")
-    return power / total
-
-
-def deflection_asymmetry(model: MembraneModel, n_theta: int = 24) -> tuple[float, int]:
-    """Non-axisymmetric part of the current deflection: the amplitude / t0 of the largest
-    angular harmonic n >= 1 of u_z on the mid-plane circle r = a/2 (the peak of its
-    cos(n theta - phase) term, 2 |c_n|; resolved for n < n_theta/2) and that n. Zero on an
-    axisymmetric state; it grows from the seed of a non-axisymmetric imperfection as the
-    film follows a wrinkling mode."""
-    uz = ring_displacement(model, None, n_theta)[:, 2:]
-    amp = np.sqrt(_harmonic_power(uz))                       # |c_n|, +n and -n together
-    amp[1:] *= np.sqrt(2.0)                                  # peak of a real cos(n theta)
-    n = 1 + int(np.argmax(amp[1:n_theta // 2]))
-    return float(amp[n]) / model.plate.thickness, n
-
-
-def mode_axisymmetry(model: MembraneModel, mode: np.ndarray, n_theta: int = 24) -> float:
-    """Fraction of a mode's displacement in the angular harmonic n = 0 (1 for an
-    axisymmetric mode, 0 for a pure n >= 1 wrinkling mode): :func:`mode_harmonics`."""
-    return float(mode_harmonics(model, mode, n_theta)[0])
-
-
-def _control_dofs(model: MembraneModel) -> tuple[int, int]:
-    """z-displacement dofs of the top and bottom vertices nearest to the centre axis."""
-    t0 = model.plate.thickness
-    w0 = model.lift(0.0, 0.0)
-    best = {}
-    for v in model.mesh.vertices:
-        x, y, z = v.point
-        for key, zt in (("top", t0 + w0), ("bottom", w0)):
-            d = x * x + y * y + (z - zt) ** 2
-            if key not in best or d < best[key][0]:
-                best[key] = (d, v.nr)
-    dofs = []
-    for key in ("top", "bottom"):
-        nrs = model.X.GetDofNrs(ngs.NodeId(ngs.VERTEX, best[key][1]))
-        dofs.append(int(nrs[2]))          # (u_x, u_y, u_z, phi) of the compound space
-    return dofs[0], dofs[1]
-
-
-def control_deflection(model: MembraneModel) -> float:
-    """Control variable of the deflection-controlled continuation: mean z-displacement of
-    the top and bottom vertices nearest to the centre, / t0."""
-    it, ib = model._ctrl if hasattr(model, "_ctrl") else _control_dofs(model)
-    model._ctrl = (it, ib)
-    x = model.gf.vec.FV().NumPy()
-    return 0.5 * (x[it] + x[ib]) / model.plate.thickness
-
-
-def newton_deflection(model: MembraneModel, c: float, *, tol: float = NEWTON_TOL,
-                      maxit: int = NEWTON_MAXIT) -> int:
-    """Bordered Newton with the voltage as unknown and the centre deflection prescribed.
-
-    Solves R(x, v) = 0, g(x) = c (g: :func:`control_deflection`) by
-    ``dx = -a - dv b``, ``K a = R``, ``K b = dR/dv``, ``dv = (g(x) - c - g(a)) / g(b)``;
-    dR/dv by a central difference, exact because R is quadratic in the potential.
-    Every step assembles a new tangent (a reused one was measured not to pay here: the
-    bordered iteration past buckling contracts too slowly with a stale tangent).
-    Passes voltage limit points (pull-in).  Stops on the same criteria as
-    :meth:`MembraneModel.newton` (correction, residual relative to the first, round-off
-    floor).  A solve at a singular tangent (the iterate landed on the limit point itself)
-    raises ConvergenceError, so the continuation steps back.
-    """
-    c = float(val.finite("c", c))
-    tol = val.tolerance("tol", tol)
-    maxit = val.integer_at_least("maxit", maxit, 1)
-    t0 = model.plate.thickness
-    model._fresh = False
-    control_deflection(model)
-    it_, ib_ = model._ctrl
-    res_p, res_m = model.res.CreateVector(), model.res.CreateVector()
-    r_first = model.residual_norm()
-    floor = None
-    for k in range(1, maxit + 1):
-        v = model.v
-        h = 1e-3 * max(abs(v), 0.1)
-        model.set_voltage(v + h)
-        model.a.Apply(model.gf.vec, res_p)
-        model.set_voltage(v - h)
-        model.a.Apply(model.gf.vec, res_m)
-        model.set_voltage(v)
-        model.a.Apply(model.gf.vec, model.res)
-        rv = ((1 / (2 * h)) * (res_p - res_m)).Evaluate()
-        model.assemble()
-        if floor is None:
-            floor = model.residual_floor()
-        model.factor()
-        a = model.solve(model.res).FV().NumPy().copy()
-        b = model.solve(rv).FV().NumPy().copy()
-        x = model.gf.vec.FV().NumPy()
-        gx = 0.5 * (x[it_] + x[ib_]) / t0
-        ga = 0.5 * (a[it_] + a[ib_]) / t0
-        gb = 0.5 * (b[it_] + b[ib_]) / t0
-        if gb == 0 or not np.isfinite(gb):
-            raise ConvergenceError(f"bordered Newton: singular border at c={c}")
-        dv = (gx - c - ga) / gb
-        dx = -a - dv * b
-        dmax = float(np.max(np.abs(dx)))
-        if not np.isfinite(dmax) or abs(dv) > 0.5:
-            raise ConvergenceError(f"bordered Newton: diverged at c={c} (dv={dv:.3g})")
-        x += dx
-        model.set_voltage(v + dv)
-        model.stats["newton_steps"] += 1
-        rn = model.residual_norm()
-        if dmax < tol * t0 and abs(dv) < tol:
-            model._record(k, rn, r_first, floor, "correction")
-            return k
-        if rn <= max(NEWTON_RTOL * r_first, floor) and abs(dv) < tol ** 0.5:
-            model._record(k, rn, r_first, floor, "residual")
-            return k
-    raise ConvergenceError(f"bordered Newton: no convergence in {maxit} steps at c={c}")
+        w, X, change, its = subspace_iteration(lambda x: apply(Mmat, x),
+                                               lambda x: apply(inv, x), self._ufree,
+                                               nev, iters, rtol, seed)
+        self.last_eig = {"residual": change, "iterations": its, "shift": 0.0}
+        return w, X

@@ -12,7 +12,7 @@ tangent the flat pre-buckled state at the trial voltage ``v_t`` brings:
 * ``"initial_stress"`` -- purely mechanical: the stress-stiffness (geometric) matrix
   ``K_sigma(S) = int S_IJ du_k,I dw_k,J dV`` of the total second Piola-Kirchhoff stress
   ``S = F^-1 dOmega/dF`` of the finite-element flat state (mechanical + Maxwell, the
-  enthalpy of :func:`~debench.models.buckling.fem.enthalpy_cf`) with the material
+  enthalpy of :func:`~debench.models.buckling.energy.enthalpy_cf`) with the material
   stiffness of the unloaded film: the classical linear buckling analysis of a plate under
   a given in-plane pre-stress, in 3D.  The field does not follow the buckling mode;
 * ``"frozen_potential"`` -- ``dK = K_uu(v_t) - K_0``: the full tangent of the flat state
@@ -45,7 +45,8 @@ import numpy as np
 import scipy.sparse as sp
 from debench.models import validation as val
 from debench.models.buckling.analytic import critical_voltage_plate
-from debench.models.buckling.fem import MembraneModel, enthalpy_cf
+from debench.models.buckling.energy import enthalpy_cf
+from debench.models.buckling.fem import MembraneModel
 from debench.models.buckling.parameters import Discretisation, NeoHookean, Ogden, Plate
 from debench.models.errors import ConvergenceError
 from scipy.sparse.linalg import LinearOperator, eigsh, splu

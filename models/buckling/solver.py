@@ -13,7 +13,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from debench.models import validation as val
 from debench.models.buckling.analytic import critical_voltage_plate
-from debench.models.buckling.fem import MembraneModel, deflection_asymmetry, mode_harmonics
+from debench.models.buckling.fem import MembraneModel
+from debench.models.buckling.modes import deflection_asymmetry, mode_harmonics
 from debench.models.buckling.parameters import Discretisation, NeoHookean, Ogden, Plate
 from debench.models.errors import ConvergenceError, require
 
@@ -72,7 +73,7 @@ def critical_voltage(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation
     mesh* to within ``vtol`` (default 1e-6, i.e. ~5e-6 relative): the secant stops at the
     evaluated voltage whose next secant step is below ``vtol`` (the secant converges
     superlinearly, so that step is its error to higher order);
-    each eigenvalue is converged to a relative eigen-residual below ``fem.EIG_RTOL`` (the
+    each eigenvalue is converged to a relative eigen-residual below ``eigen.EIG_RTOL`` (the
     achieved value is ``eig_residual``) at a Newton state whose residual is reported
     (``newton_residual``).  The secant's eigen-solves are not certified one by one; the
     final state is (inertia count,
@@ -152,7 +153,7 @@ class RampResult:
     true field at the centre, ``e_max`` largest sampled true field, ``w_asym`` and
     ``n_asym`` the amplitude / t0 and wavenumber of the largest non-axisymmetric harmonic of
     the deflection on the mid-plane circle r = R/2
-    (:func:`~debench.models.buckling.fem.deflection_asymmetry`).  The path continues a
+    (:func:`~debench.models.buckling.modes.deflection_asymmetry`).  The path continues a
     little past the voltage maximum (deflection control).  ``v_pullin``, ``w_pullin``: the
     limit point (vertex of the parabola v(w) through the three points around the maximum;
     None if not reached); ``pullin_bracket`` = (largest computed v, v_pullin).
@@ -244,7 +245,7 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
     c_max = 1.2 * plate.aspect if c_max is None else c_max
     require(dc > 0, f"dc must be > 0, got {dc}")
     require(c_max > 0, f"c_max must be > 0, got {c_max}")
-    from debench.models.buckling.fem import control_deflection, newton_deflection
+    from debench.models.buckling.deflection import control_deflection, newton_deflection
     model = MembraneModel(plate, mat, disc, with_imperfection=True, inverse=inverse,
                           reuse=reuse, eigensolver=eigensolver, chord=chord)
     rec = {k: [] for k in ("v", "w", "w_mid", "thickness", "e_centre", "e_max", "its", "res",

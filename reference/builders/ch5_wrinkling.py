@@ -13,7 +13,7 @@ R/t0 = 20 to and past pull-in (:func:`debench.models.buckling.solver.voltage_ram
 layer of quadratic prisms as the radius/thickness 10 ramps) with the eigen-analysis of the
 condensed tangent every :data:`EIG_EVERY` steps (the three algebraically smallest
 eigenvalues, their axisymmetric fraction and dominant angular wavenumber on the mid-plane
-circle r = R/2, :func:`debench.models.buckling.fem.mode_harmonics`), on five
+circle r = R/2, :func:`debench.models.buckling.modes.mode_harmonics`), on five
 circumferential resolutions (the default build writes nothing: :data:`LEVELS`). It
 writes ``ch5_wrinkling.nc``: the path, the eigen-records (each from a random start block:
 a warm start can hide a newly unstable mode), the path's voltage maximum, the first

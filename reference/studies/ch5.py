@@ -123,7 +123,7 @@ def plan(full: bool = False) -> dict[str, list[tuple]]:
 def axisymmetric(eig_n) -> np.ndarray:
     """Which recorded modes are axisymmetric: those whose dominant angular harmonic (the
     harmonic with the largest share of the mode, ``eig_wavenumber`` of the records; see
-    :func:`debench.models.buckling.fem.mode_harmonics`) is n = 0. The dominant harmonic
+    :func:`debench.models.buckling.modes.mode_harmonics`) is n = 0. The dominant harmonic
     rather than a threshold on the n = 0 share: on the unstructured meshes the pull-in mode
     can carry half of its amplitude in n >= 1 harmonics spread over several wavenumbers
     (measured: 47 % in n = 0 at the first record past pull-in of one R/t0 = 10 mesh),
