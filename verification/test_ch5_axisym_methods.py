@@ -28,7 +28,7 @@ def ds():
 
 def test_curated_data_are_the_full_plan(ds):
     """The curated dataset is the converged plan (three orders at the finest grading: the
-    safety factor 1.25), for both films and every operator."""
+    safety factor 1.25), for every operator."""
     plan = builder.PLANS[True]
     assert [list(d) for d in plan["discs"]] == [[int(o), int(L)] for o, L in zip(
         ds.order.values, ds.layers.values, strict=True)]

@@ -20,9 +20,13 @@ the converged value (top discretisation) and its error estimate (Roache's safety
 times the larger of the change from the order below and from the coarser grading:
 :func:`debench.reference.builders.ch5_axisym_path.converged`); the plate estimates.
 
-Plans: ``full`` both films of Table 5.1 on (p, L) = (3, 6), (4, 6), (5, 6), (5, 4) (three
-orders: safety factor 1.25); default the neo-Hookean film on (2, 3), (3, 3), (3, 2) (a
-coarse check of the same code path; CPU in ``cpu_seconds``).
+Plans: ``full`` the neo-Hookean film (the one the catalogue's coupling diagnosis is about)
+on (p, L) = (3, 6), (4, 6), (5, 6), (5, 4) (three orders: safety factor 1.25); default the
+same film on (2, 3), (3, 3), (3, 2) (a coarse check of the same code path; CPU in
+``cpu_seconds``). The Ogden film is not in the plan: its initial-stress operator carries
+the symbolic derivative of the Ogden enthalpy (the state's stress) inside the Hessian form,
+and one critical voltage at p = 2 with 3 layers did not finish in 4 CPU minutes (its coupled
+and frozen-potential ones take 5-60 s on the full plan's discretisations).
 """
 
 from __future__ import annotations
@@ -43,7 +47,7 @@ from debench.reference.studies.ch5_axisym_methods import (
 NAME = "ch5_axisym_methods"
 PLANS = {
     False: {"cases": ("nh_t1",), "discs": ((2, 3), (3, 3), (3, 2))},
-    True: {"cases": ("nh_t1", "ogden_t1"), "discs": ((3, 6), (4, 6), (5, 6), (5, 4))},
+    True: {"cases": ("nh_t1",), "discs": ((3, 6), (4, 6), (5, 6), (5, 4))},
 }
 REGEN_ATOL = 1e-8
 """Regenerations of a critical voltage agree to ~1e-9 (the secant's stopping rule and the
