@@ -963,6 +963,15 @@ def _record(model: AxisymModel, wavenumbers) -> PathPoint:
 ZERO_WTOL = 1e-9
 """The secant on lambda_n(w) = 0 stops when its step in the deflection is below ZERO_WTOL t0
 (the voltage at a voltage maximum is stationary in w, so its error is second order)."""
+ZERO_STALL_W = 1e-6
+"""... or when it has stagnated at the eigenvalue's round-off floor: its last
+ZERO_STALL_COUNT iterates all within ZERO_STALL_W t0 of each other without a step below
+ZERO_WTOL. The floor: the Newton states carry round-off of ~1e-10 of the load next to the
+near-singular tangent, which moves lambda_n by ~1e-11..1e-10; over its slope along the path
+(1e-4..1e-3 per t0) that is 1e-7..1e-6 t0 in w (measured: an Ogden film at R/t0 = 20,
+n = 6, iterates wandering within 1e-7 t0 at |lambda| ~ 5e-11). The crossing is then the
+iterate with the smallest |lambda|, and ``wtol`` the spread of the stagnated iterates."""
+ZERO_STALL_COUNT = 4
 
 
 @dataclass(frozen=True)
@@ -991,21 +1000,46 @@ def zero_crossing(model: AxisymModel, points: list[PathPoint], n: int,
     else:
         return None
     ws, ls, states = [a.w, b.w], [a.lam[n], b.lam[n]], [(a.state, a.v), (b.state, b.v)]
-    for _ in range(maxit):
-        w_new = ws[-1] - ls[-1] * (ws[-1] - ws[-2]) / (ls[-1] - ls[-2])
+
+    def lam_at(w_new):
         near = min(range(len(ws)), key=lambda k: abs(ws[k] - w_new))
         model.set_state(states[near][0])
         model.v = states[near][1]
         model.newton_deflection(w_new)
         lam = float(model.spectrum(n, nev=1).lam[0])
+        states.append((model.state(), model.v))
+        return lam
+
+    k, wtol = secant_zero(lam_at, ws, ls, maxit=maxit, what=f"zero_crossing(n={n})")
+    model.set_state(states[k][0])
+    model.v = states[k][1]
+    return Crossing(n=n, w=ws[k], v=model.v, thickness=model.centre_thickness(), wtol=wtol)
+
+
+def secant_zero(f, ws: list[float], ls: list[float], *, maxit: int = 30,
+                what: str = "secant_zero") -> tuple[int, float]:
+    """Secant iteration for f(w) = 0 from the two points (``ws``, ``ls``), appending every
+    evaluation to ``ws`` and ``ls``: returns (index of the answer in ``ws``, its tolerance).
+    Stops when a step is below :data:`ZERO_WTOL` (the last iterate, tolerance the step) or
+    when the iteration has stagnated at the round-off floor of f (the last
+    :data:`ZERO_STALL_COUNT` iterates within :data:`ZERO_STALL_W`: the one with the smallest
+    |f|, tolerance their spread). ConvergenceError after ``maxit`` evaluations, or when two
+    values of f are equal (a flat secant)."""
+    for _ in range(maxit):
+        if ls[-1] == ls[-2]:
+            raise ConvergenceError(f"{what}: flat secant: {list(zip(ws, ls, strict=True))}")
+        w_new = ws[-1] - ls[-1] * (ws[-1] - ws[-2]) / (ls[-1] - ls[-2])
         step = abs(w_new - ws[-1])
+        lam = f(w_new)
         ws.append(w_new)
         ls.append(lam)
-        states.append((model.state(), model.v))
         if step < ZERO_WTOL:
-            return Crossing(n=n, w=w_new, v=model.v, thickness=model.centre_thickness(),
-                            wtol=step)
-    raise ConvergenceError(f"zero_crossing(n={n}): no convergence in {maxit} steps: "
+            return len(ws) - 1, step
+        last = ws[-ZERO_STALL_COUNT:]
+        if len(ws) >= ZERO_STALL_COUNT + 2 and max(last) - min(last) < ZERO_STALL_W:
+            tail = range(len(ws) - ZERO_STALL_COUNT, len(ws))
+            return min(tail, key=lambda i: abs(ls[i])), max(last) - min(last)
+    raise ConvergenceError(f"{what}: no convergence in {maxit} steps: "
                            f"{list(zip(ws, ls, strict=True))}")
 
 
