@@ -221,3 +221,45 @@ def test_no_wrinkling_before_the_voltage_maximum_of_the_neo_hookean_film():
     assert top is not None and top.v == pytest.approx(0.6796, rel=1e-2)
     lam = [m.spectrum(n, 1).lam[0] for n in range(1, 9)]
     assert min(lam) > 0.005
+
+
+def test_secant_zero_converges_on_a_smooth_function():
+    """A smooth root: the secant stops on a step below ZERO_WTOL, at the root to it."""
+    from debench.models.buckling.axisym import ZERO_WTOL, secant_zero
+
+    def f(w):
+        return 1e-3 * (7.2 - w) + 1e-4 * (7.2 - w) ** 2
+
+    ws, ls = [7.0, 7.5], [f(7.0), f(7.5)]
+    k, tol = secant_zero(f, ws, ls)
+    assert abs(ws[k] - 7.2) < 10 * ZERO_WTOL and tol < ZERO_WTOL
+
+
+def test_secant_zero_stops_where_it_stagnates_at_the_round_off_floor():
+    """A root under round-off noise of 5e-11 on a slope of 6e-4 per t0 (the Ogden R/t0 = 20,
+    n = 6 crossing that wandered within 1e-7 t0): the secant returns the iterate with the
+    smallest |f| once ZERO_STALL_COUNT iterates lie within ZERO_STALL_W, within the noise's
+    reach of the root (noise / slope ~ 1e-7), and says how far the iterates spread."""
+    from debench.models.buckling.axisym import ZERO_STALL_W, secant_zero
+
+    rng = np.random.default_rng(1)
+
+    def f(w):
+        return 6e-4 * (7.1734317 - w) + 5e-11 * rng.standard_normal()
+
+    ws, ls = [7.14, 7.64], [f(7.14), f(7.64)]
+    k, tol = secant_zero(f, ws, ls)
+    assert abs(ws[k] - 7.1734317) < 1e-6 and tol < ZERO_STALL_W
+
+
+def test_secant_zero_raises_on_a_function_without_a_root():
+    from debench.models.buckling.axisym import secant_zero
+    from debench.models.errors import ConvergenceError
+
+    with pytest.raises(ConvergenceError, match="flat secant|no convergence"):
+        secant_zero(lambda w: 1.0 + 0 * w, [0.0, 1.0], [1.0, 1.0])
+    with pytest.raises(ConvergenceError, match="flat secant|no convergence"):
+        secant_zero(lambda w: 1.0 + w * w, [0.0, 1.0], [1.0, 2.0], maxit=5)
+    # a minimum of |f| above zero: the iterates stagnate without bracketing a root
+    with pytest.raises(ConvergenceError, match="flat secant|no convergence"):
+        secant_zero(lambda w: 1e-12 + (w - 3.0) ** 2, [2.0, 2.5], [1.0, 0.25])

@@ -1022,8 +1022,9 @@ def secant_zero(f, ws: list[float], ls: list[float], *, maxit: int = 30,
     evaluation to ``ws`` and ``ls``: returns (index of the answer in ``ws``, its tolerance).
     Stops when a step is below :data:`ZERO_WTOL` (the last iterate, tolerance the step) or
     when the iteration has stagnated at the round-off floor of f (the last
-    :data:`ZERO_STALL_COUNT` iterates within :data:`ZERO_STALL_W`: the one with the smallest
-    |f|, tolerance their spread). ConvergenceError after ``maxit`` evaluations, or when two
+    :data:`ZERO_STALL_COUNT` iterates within :data:`ZERO_STALL_W` and f of both signs among
+    them, so that they bracket the root: the one with the smallest |f|, tolerance their
+    spread). ConvergenceError after ``maxit`` evaluations, or when two
     values of f are equal (a flat secant)."""
     for _ in range(maxit):
         if ls[-1] == ls[-2]:
@@ -1035,8 +1036,9 @@ def secant_zero(f, ws: list[float], ls: list[float], *, maxit: int = 30,
         ls.append(lam)
         if step < ZERO_WTOL:
             return len(ws) - 1, step
-        last = ws[-ZERO_STALL_COUNT:]
-        if len(ws) >= ZERO_STALL_COUNT + 2 and max(last) - min(last) < ZERO_STALL_W:
+        last, signs = ws[-ZERO_STALL_COUNT:], np.sign(ls[-ZERO_STALL_COUNT:])
+        if (len(ws) >= ZERO_STALL_COUNT + 2 and max(last) - min(last) < ZERO_STALL_W
+                and signs.min() < 0 < signs.max()):
             tail = range(len(ws) - ZERO_STALL_COUNT, len(ws))
             return min(tail, key=lambda i: abs(ls[i])), max(last) - min(last)
     raise ConvergenceError(f"{what}: no convergence in {maxit} steps: "
