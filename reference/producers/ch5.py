@@ -104,6 +104,55 @@ def critical_ratio_ogden_nh(entry: Entry) -> Outcome:
                    evidence=f"{EV_FEM}::test_ogden_buckles_lower_than_neo_hookean")
 
 
+def pullin_voltage(entry: Entry) -> Outcome:
+    """Pull-in voltage: mesh limit over the ramp levels (the finest level when there are
+    fewer than three); the levels, the error estimate and the finest mesh in details."""
+    r = _ramps().sel(case=_case(entry))
+    v = float(r.v_pullin_extrapolated)
+    return Outcome(value=v, evidence=entry.evidence,
+                   details={"v_max_computed": float(r.v_max_computed),
+                            "v_pullin_finest_mesh": float(r.v_pullin),
+                            "v_pullin_levels": r.v_pullin_levels.values.tolist(),
+                            "ramp_h_rel": r.ramp_level.values.tolist(),
+                            "v_pullin_error": float(r.v_pullin_error),
+                            "thesis_over_ours": entry.value / v,
+                            "w_pullin_over_t0": float(r.w_pullin_extrapolated)})
+
+
+def pullin_ratio_ogden_nh(entry: Entry) -> Outcome:
+    r = _ramps()
+    ratio = float(r.sel(case="ogden_t1").v_pullin_extrapolated
+                  / r.sel(case="nh_t1").v_pullin_extrapolated)
+    return Outcome(value=ratio, evidence=f"{EV_DATA}::test_curated_pullin_ratio")
+
+
+def pullin_displacement(entry: Entry) -> Outcome:
+    r = _ramps()
+    w_og = float(r.sel(case="ogden_t1").w_pullin_extrapolated) * 1.0   # t0 = 1 mm -> mm
+    w_nh = float(r.sel(case="nh_t1").w_pullin_extrapolated) * 1.0
+    return Outcome(value=w_og, details={"w_nh_mm": w_nh, "w_ogden_mm": w_og},
+                   evidence=entry.evidence)
+
+
+def same_pullin_displacement(entry: Entry) -> Outcome:
+    r = _ramps()
+    w_og = float(r.sel(case="ogden_t1").w_pullin_extrapolated)
+    w_nh = float(r.sel(case="nh_t1").w_pullin_extrapolated)
+    return Outcome(value=bool(abs(w_nh - w_og) / w_nh < entry.tolerance),
+                   details={"w_nh_mm": w_nh, "w_ogden_mm": w_og})
+
+
+def wrinkling_displacement(entry: Entry) -> Outcome:
+    r = _ramps().sel(case=_case(entry))
+    w = float(r.w_wrinkling)
+    if math.isnan(w):
+        return Outcome(value=None, status="not_reproduced",
+                       diagnosis=entry.diagnosis + " (ours: none before pull-in at "
+                       f"w = {float(r.w_pullin) * 0.5:.3g} mm)",
+                       evidence=f"{EV_FEM}::test_no_wrinkling_before_pullin_on_coarse_mesh")
+    return Outcome(value=w * float(r.thickness_m) * 1e3)
+
+
 def field_at_instability(entry: Entry) -> Outcome:
     r = _ramps().sel(case=_case(entry))
     e = float(r.e_centre_pullin)
@@ -135,6 +184,26 @@ def thinner_buckles_lower_volts(entry: Entry) -> Outcome:
         volts[case] = float(cc.v_cr_reference) * float(cc.thickness_m) * math.sqrt(
             MU_REF / (EPS_R * EPS0))
     return Outcome(value=volts["ogden_t0p5"] < volts["ogden_t1"], details={"volts": volts})
+
+
+def _wrinkles_first(case: str) -> bool:
+    r = _ramps().sel(case=case)
+    return not math.isnan(float(r.v_wrinkling)) and float(r.v_wrinkling) < float(r.v_pullin)
+
+
+def thin_plate_wrinkles_first(entry: Entry) -> Outcome:
+    return Outcome(value=_wrinkles_first("ogden_t0p5"),
+                   evidence=f"{EV_FEM}::test_no_wrinkling_before_pullin_on_coarse_mesh")
+
+
+def _fails_by_pullin(case: str) -> bool:
+    r = _ramps().sel(case=case)
+    return (not math.isnan(float(r.v_pullin))) and not _wrinkles_first(case)
+
+
+def thick_plate_fails_by_pullin(entry: Entry) -> Outcome:
+    return Outcome(value=_fails_by_pullin("ogden_t1"),
+                   evidence=f"{EV_FEM}::test_thick_plate_fails_by_pullin_at_a_voltage_limit_point")
 
 
 def ogden_buckles_lower_than_nh(entry: Entry) -> Outcome:
@@ -169,11 +238,8 @@ def erratum_scale_invariance(entry: Entry) -> Outcome:
 
 
 def erratum_pullin_thickness(entry: Entry) -> Outcome:
-    """Confirmed when the 1 mm film fails by pull-in (the decided first instability of the
-    converged Ogden path at R/t0 = 10 is its voltage maximum)."""
-    ok = _first_of("ogden_r10")["first"] == 0
-    return Outcome(value=ok, status="confirmed" if ok else "refuted",
-                   evidence=f"{EV_AXISYM_PATH}::test_curated_first_instability_is_decided")
+    ok = _fails_by_pullin("ogden_t1")
+    return Outcome(value=ok, status="confirmed" if ok else "refuted", evidence=entry.evidence)
 
 
 def erratum_compressibility(entry: Entry) -> Outcome:
@@ -703,6 +769,29 @@ def axisym_value_check(ds, case: str, n: int, stated: float) -> dict:
     return got
 
 
+#: exponents q of the second term of the two-term expansion v_h = v + C1 h^q1 + C2 h^q: the
+#: regular h^2 and values on either side (the discretisation theory gives the singular
+#: q1 = 2 s, not q)
+SECOND_EXPONENTS = (1.6, 2.0, 2.4, 3.0)
+#: finest levels the two-term fits use (three unknowns, one redundant level)
+TWO_TERM_LEVELS = 4
+
+
+def two_term_limits(h, v, q1: float, layer_correction: float) -> dict[float, float]:
+    """What the 3D fit's single-term assumption costs: the limit of the 3D sequence ``v(h)``
+    by the least-squares two-term expansion v + C1 h^q1 + C2 h^q on its
+    :data:`TWO_TERM_LEVELS` finest levels, for each second exponent q of
+    :data:`SECOND_EXPONENTS`, plus the sequence's ``layer_correction`` (as the 3D reference
+    adds it): ``{q: limit}``. The spread over q is the uncertainty a single-term fit hides
+    when the second term's exponent is unknown."""
+    h, v = np.asarray(h, float)[-TWO_TERM_LEVELS:], np.asarray(v, float)[-TWO_TERM_LEVELS:]
+    out = {}
+    for q in SECOND_EXPONENTS:
+        A = np.column_stack([np.ones_like(h), h**q1, h**q])
+        out[q] = float(np.linalg.lstsq(A, v, rcond=None)[0][0]) + layer_correction
+    return out
+
+
 def axisym_vs_3d(axi, crit, case: str) -> dict:
     """The 3D model's reference critical voltage (``ch5_critical_voltage.nc``) against the
     axisymmetric converged value (n = 0: the 3D model's lowest mode is axisymmetric):
@@ -713,7 +802,12 @@ def axisym_vs_3d(axi, crit, case: str) -> dict:
     c = crit.sel(case=case)
     v3, e3 = float(c.v_cr_reference), float(c.v_cr_reference_error)
     v3x, e3x = float(c.v_cr_extrapolated), float(c.v_cr_error)
+    fits = two_term_limits(c.h_rel.values, c.v_cr.values, float(c.expected_order),
+                           float(c.layer_correction))
+    spread = [x - ax["v"] for x in fits.values()]
     return {"v_axisym": ax["v"], "v_axisym_error": ax["error"], "v_3d": v3, "v_3d_error": e3,
+            "two_term_second_exponents": list(fits), "two_term_bias": spread,
+            "two_term_bias_range": [min(spread), max(spread)],
             "bias": v3 - ax["v"], "bias_relative": (v3 - ax["v"]) / ax["v"],
             "bias_over_3d_error": (v3 - ax["v"]) / e3, "contains": bool(abs(v3 - ax["v"]) <= e3),
             "v_3d_extrapolated": v3x, "v_3d_extrapolated_error": e3x,
@@ -896,87 +990,8 @@ def axisym_vs_3d_pullin_voltage(entry: Entry) -> Outcome:
         evidence=f"{EV_AXISYM_PATH}::test_3d_pullin_against_the_converged_path")
 
 
-
-
-def _films(entry: Entry) -> dict:
-    """The converged path summaries of the neo-Hookean and Ogden films at R/t0 = 10."""
-    ds = _axisym_path()
-    return {m: axisym_path_summary(ds, f"{m}_r10") for m in ("nh", "ogden")}
-
-
-def axisym_pullin_ratio_ogden_nh(entry: Entry) -> Outcome:
-    """Ratio of the converged pull-in voltages Ogden / neo-Hookean (R/t0 = 10), with its
-    error bound from the two error estimates (first order in the relative errors)."""
-    f = _films(entry)
-    ratio = f["ogden"]["v_max"] / f["nh"]["v_max"]
-    err = ratio * (f["ogden"]["v_max_error"] / f["ogden"]["v_max"]
-                   + f["nh"]["v_max_error"] / f["nh"]["v_max"])
-    return Outcome(value=ratio, details={"ratio_error": err, "v_nh": f["nh"]["v_max"],
-                                         "v_ogden": f["ogden"]["v_max"]},
-                   evidence=f"{EV_AXISYM_PATH}::test_catalogue_pullin_values_are_the_"
-                            "converged_path_values")
-
-
-def axisym_pullin_displacement(entry: Entry) -> Outcome:
-    """Centre deflection at pull-in (mm at t0 = ``thickness_mm``) of the Ogden film, the
-    neo-Hookean one and both error estimates in details (converged path)."""
-    f = _films(entry)
-    t0 = float(entry.parameters["thickness_mm"])
-    return Outcome(value=f["ogden"]["w_max"] * t0, details={
-        "w_nh_mm": f["nh"]["w_max"] * t0, "w_ogden_mm": f["ogden"]["w_max"] * t0,
-        "w_nh_error_mm": f["nh"]["w_max_error"] * t0,
-        "w_ogden_error_mm": f["ogden"]["w_max_error"] * t0},
-        evidence=f"{EV_AXISYM_PATH}::test_catalogue_pullin_values_are_the_converged_path_values")
-
-
-def axisym_same_pullin_displacement(entry: Entry) -> Outcome:
-    """Both films reach pull-in at about the same deflection: |w_nh - w_ogden| / w_nh
-    below the entry's tolerance (converged path)."""
-    f = _films(entry)
-    w_nh, w_og = f["nh"]["w_max"], f["ogden"]["w_max"]
-    return Outcome(value=bool(abs(w_nh - w_og) / w_nh < entry.tolerance),
-                   details={"w_nh_over_t0": w_nh, "w_ogden_over_t0": w_og,
-                            "relative_difference": abs(w_nh - w_og) / w_nh},
-                   evidence=f"{EV_AXISYM_PATH}::test_curated_first_instability_is_decided")
-
-
 def _first_of(film: str) -> dict:
     return axisym_path_summary(_axisym_path(), film)
-
-
-def thick_plate_fails_by_pullin(entry: Entry) -> Outcome:
-    """The 1 mm film (R/t0 = 10) fails by pull-in: the decided first instability of both
-    films' converged paths is the voltage maximum (``first`` = 0,
-    :func:`~debench.reference.builders.ch5_axisym_path.decide`), so no wrinkling mode
-    n = 1..8 becomes unstable before it."""
-    got = {m: _first_of(f"{m}_r10") for m in ("nh", "ogden")}
-    return Outcome(value=all(g["first"] == 0 for g in got.values()), details={
-        f"{m}_{k}": g[k] for m, g in got.items() for k in ("kind", "n_lowest", "margin",
-                                                             "margin_error")},
-        evidence=f"{EV_AXISYM_PATH}::test_curated_first_instability_is_decided")
-
-
-def thin_plate_wrinkles_first(entry: Entry) -> Outcome:
-    """The 0.5 mm film at the stated R/t0 = 10 (in normalised variables the same film as the
-    1 mm one: scale invariance) wrinkles before pull-in: ``first`` = 1 of the converged
-    Ogden path at R/t0 = 10."""
-    got = _first_of("ogden_r10")
-    return Outcome(value=got["first"] == 1, details={
-        k: got[k] for k in ("kind", "n_lowest", "margin", "margin_error")},
-        evidence=f"{EV_AXISYM_PATH}::test_curated_first_instability_is_decided")
-
-
-def wrinkling_displacement(entry: Entry) -> Outcome:
-    """Centre deflection (mm) at the onset of wrinkling of the film of the entry's thickness
-    at the stated R/t0 = 10 (converged path); no value when pull-in comes first."""
-    got = _first_of(PATH_CASES[_case(entry)])
-    t0 = float(entry.parameters["thickness_mm"])
-    if got["first"] != 1:
-        return Outcome(value=None, status="not_reproduced", details=got | {
-            "w_max_mm": got["w_max"] * t0},
-            evidence=f"{EV_AXISYM_PATH}::test_curated_first_instability_is_decided")
-    return Outcome(value=got["w_first"] * t0, details=got,
-                   evidence=f"{EV_AXISYM_PATH}::test_curated_first_instability_is_decided")
 
 
 def radius_kept_wrinkling(entry: Entry) -> Outcome:
@@ -991,10 +1006,8 @@ def radius_kept_wrinkling(entry: Entry) -> Outcome:
     t0 = float(entry.parameters["thickness_mm"])
     target = catalogue.by_id()[entry.parameters["target"]]
     t, dt = float(target.value), target.implied_tolerance()
-    r10 = _first_of("ogden_r10")
     details = got | {"thesis_interval": [t - dt, t + dt], "thickness_mm": t0,
-                     "w_max_mm": got["w_max"] * t0, "r10_kind": r10["kind"],
-                     "r10_margin": r10["margin"], "r10_n_lowest": r10["n_lowest"]}
+                     "w_max_mm": got["w_max"] * t0}
     if got["first"] != 1:
         return Outcome(value=None, status="unexplained", details=details,
                        evidence=f"{EV_AXISYM_PATH}::test_r20_wrinkling_is_decided")
