@@ -20,16 +20,17 @@ from verification.cleanroom import pullin
 #: refinements at each clamped corner (~4 s CPU, 1533 dofs)
 PULLIN_FAST = {"order": 3, "n_r": 20, "n_z": 2, "levels": 2}
 #: the clean room's finest discretisation, P4 80 x 8 with 6 corner refinements (33075
-#: dofs, ~200 s CPU): v_pullin 0.6795775470, w_pullin 5.5610157 (converged to ~1e-9 in v
-#: and ~3e-7 in w: the table in the module docstring of pullin). PULLIN_FAST measured
-#: against it: v 0.6795758447 (relative error 2.5e-6), w 5.5606494 (6.6e-5)
+#: dofs, ~200 s CPU): v_pullin 0.6795775470, w_pullin 5.5610157, its own error estimated
+#: as 6e-9 and 1.2e-5 (Roache, 3 orders: the table in the module docstring of pullin).
+#: PULLIN_FAST measured against it: v 0.6795758447 (relative error 2.5e-6), w 5.5606494
+#: (6.6e-5, thirty times the finest's own estimate)
 PULLIN_FINEST = {"order": 4, "n_r": 80, "n_z": 8, "levels": 6}
 #: 3 x the measured relative errors of PULLIN_FAST
 RTOL_V = 3 * 2.5e-6
 RTOL_W = 3 * 6.6e-5
-#: the slow test's discretisation: P4 40 x 8 (17235 dofs, ~90 s CPU), 5e-10 and 3e-7 from
-#: PULLIN_FINEST relative, far inside the reference's stated accuracy (3.5e-6 in v, 1.5e-4
-#: in w, relative), which it is checked at
+#: the slow test's discretisation: P4 40 x 8 (17235 dofs, ~85 s CPU), 5e-10 (v) and 3e-7
+#: (w) from PULLIN_FINEST relative, far inside the reference's stated accuracy (3.5e-6 in
+#: v, 1.5e-4 in w, relative), which it is checked at
 PULLIN_FINE = {"order": 4, "n_r": 40, "n_z": 8, "levels": 6}
 
 

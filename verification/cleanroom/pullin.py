@@ -50,8 +50,52 @@ state (relative to its value at Phi = 0) as the check. No mid-plane symmetry pro
 raises (after halving the deflection step down to MIN_STEP on the path; never in the
 location of the maximum).
 
-Measured convergence: see CONVERGENCE below (v_pullin, w_pullin, CPU seconds per
-discretisation).
+Measured convergence (CPU seconds of one ``pullin`` call on a loaded 2-core machine; the
+mesh of ``buckling.mesh``: n_r radial intervals, a quarter of them over the last thickness
+before the rim, n_z layers, ``levels`` refinements at each clamped corner, ``ratio`` < 1 a
+geometric grading of the rim intervals towards R = a):
+
+    p  n_r n_z levels ratio  v_pullin      w_pullin    dofs   CPU s
+    2  20  2   0      1      0.6794642095  5.5521728     615    2.0
+    2  20  2   2      1      0.6794932788  5.5612337     735    2.5
+    3  20  2   2      1      0.6795758447  5.5606494    1533    3.6  default test
+    3  20  4   2      1      0.6795769659  5.5608326    2631    7.6
+    2  40  4   6      1      0.6795684942  5.5601881    2547   10.3
+    3  40  4   6      1      0.6795774692  5.5609514    5475   18.4
+    4  20  4   6      1      0.6795775375  5.5610130    5427   18.6
+    4  40  4   2      1      0.6795775149  5.5609952    8643   27.3
+    4  40  4   6      1      0.6795775298  5.5610092    9507   37.5
+    4  40  6   6      1      0.6795775443  5.5610151   13371   50.9
+    2  40  8   6      1      0.6795742135  5.5608863    4491   19.2
+    3  40  8   6      1      0.6795775090  5.5610046    9831   37.8
+    4  40  8   6      1      0.6795775475  5.5610160   17235   85.1  slow test, default
+    2  80  8   6      1      0.6795770559  5.5608135    8571   37.6
+    3  80  8   6      1      0.6795775520  5.5610059   18831   73.8
+    4  80  8   6      1      0.6795775470  5.5610157   33075  202.1  finest
+    4  40  4   6      0.7    0.6795774919  5.5609412    9507   33.8  graded
+    4  40  8   6      0.7    0.6795775334  5.5610049   17235   83.3  graded
+
+The finest's error, as Roache's estimate with three orders (safety 1.25 times the larger
+of the p-step P3 -> P4 at 80 x 8 and the mesh step 40 x 8 -> 80 x 8 at P4): v 1.25 x
+5.0e-9 = 6e-9, w 1.25 x 9.8e-6 = 1.2e-5 (2e-6 relative). The page's reference (0.6795775428
++- 2.4e-6, 5.5609852 +- 8.5e-4) lies 4e-9 and 3.0e-5 from it. The order matters most, the
+layers next (P3 20 x 2 -> 20 x 4: 1.1e-6 in v); the corner refinements and the radial
+resolution little; the geometric grading towards the rim does not help (it makes the rim
+elements tall: dZ/dR up to ~20 at 0.7 with 4 layers) and moves w by -7.5e-5 at 4 layers.
+
+Not in the table (an unexplained discretisation sensitivity, reported): meshes whose rim
+elements are taller than 2.5 x their width with n_r >= 60 (dZ/dR = n_r/(4 n_z) in the rim
+zone) deviate more than the table's differences: P4 60 x 4: v 0.6795776280, w 5.5610235;
+P4 80 x 6: 0.6795781831, 5.5611443; P4 80 x 4 with 0, 2, 6 corner refinements:
+0.6795786988 / 0.6795788208 / 0.6795788275, w up to 5.5612588 (+1.3e-6 in v, +2.4e-4 in w
+from the finest, both inside the reference's stated accuracy); P4 40 x 2: 0.6795774550,
+5.5609188. In the P4 80 x 4 state the top-surface u_z within R = 9.45..9.75 (where the top
+face dips to u_z ~ -0.014 below its reference near the clamp) has a mesh-scale
+non-smooth part of 1.7e-3 t0 (2.5e-4 at 40 x 4, 2e-5 at 80 x 8; the mid-plane is smooth to
+1e-6); quadrature order (+4) changes nothing, and the spectrum of S_0 there is positive
+(no unstable mode). The S_0 eigenvalue above the zero one differs by 2 % from the
+40 x 4 / 40 x 8 values (which agree to 5e-5). These meshes are also where Newton needs
+the step halving (P4 160 x 4 fails at w = 5.16 with 0.1 steps).
 """
 
 from __future__ import annotations
@@ -334,8 +378,9 @@ def _check_discretisation(order, n_r, n_z, levels, ratio):
 def pullin(case: str = "nh_r10", order: int = 4, n_r: int = 40, n_z: int = 8,
            levels: int = 6, ratio: float = 1.0) -> Pullin:
     """v_pullin and w_pullin of ``case`` on one discretisation (Lagrange P``order``, the mesh
-    of ``buckling.mesh(n_r, n_z, levels, ratio)``; the default P4 40 x 8 is good to ~1e-9
-    in v and ~1e-7 in w relative, CONVERGENCE): the path of the module docstring, its
+    of ``buckling.mesh(n_r, n_z, levels, ratio)``; the default P4 40 x 8 is within 1e-9
+    in v and 3e-7 in w (relative) of the finest, itself good to ~1e-8 and ~2e-6: the table
+    of the module docstring): the path of the module docstring, its
     first zero of dv/dw located to W_TOL in w, certified at the maximum by the smallest
     algebraic eigenvalue of S_0 (LOBPCG: no negative one, the zero one is the located
     maximum). Raises ValueError/TypeError on bad input, NewtonError when a state cannot be
