@@ -972,6 +972,8 @@ near-singular tangent, which moves lambda_n by ~1e-11..1e-10; over its slope alo
 n = 6, iterates wandering within 1e-7 t0 at |lambda| ~ 5e-11). The crossing is then the
 iterate with the smallest |lambda|, and ``wtol`` the spread of the stagnated iterates."""
 ZERO_STALL_COUNT = 4
+"""How many last iterates of the secant must lie within ZERO_STALL_W (and bracket the root)
+for it to count as stagnated."""
 
 
 @dataclass(frozen=True)
