@@ -162,7 +162,7 @@ def decide(w_max, w_max_err, w_cross, w_cross_err, lam_max, lam_max_err,
         margin, bound = w_max - w_cross[j], w_max_err + w_cross_err[j]
         first = 1 if np.isfinite(bound) and margin > bound else -1
         return {"first": first, "n_index": j, "margin": margin, "margin_error": bound}
-    j = int(np.argmin(lam_max))
+    j = int(np.nanargmin(lam_max))   # NaN: a wavenumber this film does not record
     margin, bound = float(lam_max[j]), float(lam_max_err[j])
     first = 0 if (not any_cross_before and margin > bound) else -1
     return {"first": first, "n_index": j, "margin": margin, "margin_error": bound}
