@@ -144,3 +144,55 @@ def test_3d_pullin_against_the_converged_path(ds):
     assert d["like_change_2p5_to_2"] > d["v_3d_error"]
     gap_h2 = abs(d["v_axisym"] - d["v_3d_like"][d["h_3d_like"].index(2.0)])
     assert d["like_gap_at_h0p5"] < 0.1 * gap_h2
+
+
+def test_r20_wrinkling_is_decided(ds):
+    """The Ogden film at R/t0 = 20 (the 0.5 mm film with R = 10 mm kept): wrinkling first,
+    decided by the check function of the catalogue entries: the first crossing's wavenumber
+    vanishes before the voltage maximum by more than the summed error estimates; on every
+    discretisation of order >= 3 it is the same wavenumber that crosses first, and it
+    crosses before that discretisation's own maximum; n = 1 does not cross. The
+    catalogue's verdict on the printed deflection is the producer's."""
+    from debench.reference import catalogue
+    from debench.reference.producers import ch5 as prod
+
+    got = prod.axisym_path_summary(ds, "ogden_r20")
+    assert got["first"] == 1 and got["margin"] > got["margin_error"] > 0, got
+    c = ds.sel(case="ogden_r20")
+    n = got["n_first"]
+    ns = [int(x) for x in c.n.values]
+    for k in range(c.sizes["disc"]):
+        if int(c.order.values[k]) < 3:
+            continue
+        wc = c.w_cross.values[k]
+        assert ns[int(np.nanargmin(wc))] == n, (k, wc)
+        assert wc[ns.index(n)] < float(c.w_max.values[k])
+    assert not np.any(np.isfinite(c.w_cross.sel(n=1).values))
+    entry = catalogue.by_id()["ch5.hypothesis.radius_kept.wrinkling_t0p5"]
+    out = catalogue.evaluate(entry)
+    assert out.value == pytest.approx(got["w_first"] * 0.5, rel=1e-15)
+    assert out.status == entry.expected_status, out.details
+
+
+def test_3d_wrinkling_against_the_converged_path(ds):
+    """The 3D wrinkling search at R/t0 = 20 against the converged axisymmetric path (the
+    crosscheck entry's status, computed by its check function): the two models agree that
+    a non-axisymmetric mode becomes unstable before the axisymmetric voltage maximum, and
+    disagree on which: the 3D meshes' first mode is n = 1, whose axisymmetric eigenvalue
+    stays positive up to the maximum."""
+    from debench.reference import catalogue
+
+    out = catalogue.evaluate(catalogue.by_id()["ch5.crosscheck.axisym_vs_3d_wrinkling_r20"])
+    d = out.details
+    assert out.status == "not_reproduced", d
+    assert d["n_3d"] == 1 and d["n_axisym"] != 1 and d["lam_n1_at_max"] > 0, d
+    assert d["w_axisym"] < d["w_max_axisym"] and d["w_3d"] < d["w_max_axisym"], d
+
+
+def test_decide_ignores_wavenumbers_the_film_does_not_record():
+    """A film recorded on fewer wavenumbers than the dataset's union (NaN for the others):
+    the decision rests on the smallest recorded eigenvalue, not on a NaN."""
+    lam = np.array([0.02, 0.01, np.nan, np.nan])
+    got = path.decide(5.0, 1e-3, np.full(4, np.nan), np.full(4, np.nan), lam,
+                      np.array([1e-4, 1e-4, np.nan, np.nan]), False)
+    assert got["first"] == 0 and got["n_index"] == 1 and got["margin"] == 0.01
