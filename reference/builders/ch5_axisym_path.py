@@ -27,12 +27,14 @@ w_max by more than the sum of their error estimates; pull-in when no wavenumber'
 eigenvalue crosses zero before the maximum on any discretisation and the smallest
 converged eigenvalue at the maximum exceeds its error estimate; otherwise undecided.
 
-Plans: ``full`` the three films (neo-Hookean and Ogden at R/t0 = 10, Ogden at R/t0 = 20)
-on (p, L) = (2, 6), (3, 6), (4, 6), (4, 4) (the Ogden paths cost several times the
+Plans: ``full`` the neo-Hookean film at R/t0 = 10 and the Ogden film at R/t0 = 20 on
+(p, L) = (2, 6), (3, 6), (4, 6), (4, 4) (the Ogden paths cost more than ten times the
 neo-Hookean ones, through the Ogden Hessian's assembly at every eigen-analysis: measured CPU
-per path in the dataset's ``cpu_seconds``). The default build the neo-Hookean film at
-R/t0 = 10 on (2, 3), (3, 3), (3, 2) with wavenumbers 1..4 (a coarse check of the same code
-path; measured CPU in the dataset's ``cpu_seconds``).
+per path in the dataset's ``cpu_seconds``, about 1,100 s at (4, 4)). The Ogden film at
+R/t0 = 10 is a case of the same task (``plan(True, cases=["ogden_r10"])``) not in the
+curated plan: its pull-in stays the 3D ramps' (``ch5_ramps``). The default
+build the neo-Hookean film at R/t0 = 10 on (2, 3), (3, 3), (3, 2) with wavenumbers 1..4
+(a coarse check of the same code path; measured CPU in the dataset's ``cpu_seconds``).
 
 The 3D-like resolution study (:func:`three_d_like`, variables ``*_3d_like``): the voltage
 maximum of the R/t0 = 10 films on the 3D ramps' discretisation (quadratic elements, one
@@ -58,7 +60,7 @@ from debench.reference.studies.ch5_axisym_tasks import (
 NAME = "ch5_axisym_path"
 PLANS = {
     False: {"cases": ("nh_r10",), "discs": ((2, 3), (3, 3), (3, 2)), "n_max": 4},
-    True: {"cases": ("nh_r10", "ogden_r10", "ogden_r20"),
+    True: {"cases": ("nh_r10", "ogden_r20"),
            "discs": ((2, 6), (3, 6), (4, 6), (4, 4)), "n_max": None},
 }
 COARSE_3D_H = {False: (2.5, 2.0), True: (10.0 / 3.0, 2.5, 2.0, 1.0, 0.5)}
