@@ -5,6 +5,10 @@
 your coordinates where the quantity is a curve, and applies the accuracy the reference
 states (solver tolerance + discretisation error + interpolation error estimate) or your
 tolerance, whichever is larger: a reference cannot be checked tighter than it is known.
+Several quantities of one problem at the same points are checked at once by passing their
+values as a mapping (quantity name -> values): each against its own reference and
+accuracy, with the same coverage and duplicate checks, reported together
+(:class:`Comparisons`).
 
 Examples
 --------
@@ -14,6 +18,15 @@ Examples
 >>> phibar = np.sqrt(lam**-2 - lam**-8)        # your free-membrane solver here
 >>> assert_matches("ch3_free_membrane_nh", "phibar", phibar, {"lam": lam}).passed
 True
+
+Two quantities of one problem at once (here the reference values themselves):
+
+>>> from debench.reference import problems
+>>> prob = problems.get("ch5_pullin")
+>>> mine = {q.name: problems.reference_at(prob, q, {"case": "nh_r10"}).value
+...         for q in prob.quantities}
+>>> assert_matches("ch5_pullin", None, mine, {"case": "nh_r10"}).quantities
+('v_pullin', 'w_pullin')
 """
 
 from __future__ import annotations
@@ -24,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["Comparison", "assert_matches", "compare"]
+__all__ = ["Comparison", "Comparisons", "assert_matches", "compare"]
 
 #: rows of the worst points shown in a failure message
 WORST_ROWS = 10
@@ -112,6 +125,68 @@ class Comparison:
                           f"{units}):", line(head), *(line(r) for r in body)])
 
 
+@dataclass(frozen=True)
+class Comparisons:
+    """Several quantities of one problem compared at the same points, one
+    :class:`Comparison` each (in the order given); passed when every one passed."""
+
+    problem: str
+    items: tuple[Comparison, ...]
+
+    @property
+    def quantities(self) -> tuple[str, ...]:
+        return tuple(c.quantity for c in self.items)
+
+    def __getitem__(self, quantity: str) -> Comparison:
+        for c in self.items:
+            if c.quantity == quantity:
+                return c
+        raise KeyError(f"{self.problem}: no comparison of {quantity!r}; compared "
+                       f"{list(self.quantities)}")
+
+    @property
+    def passed(self) -> bool:
+        return all(c.passed for c in self.items)
+
+    @property
+    def failing(self) -> tuple[str, ...]:
+        """The quantities that did not match."""
+        return tuple(c.quantity for c in self.items if not c.passed)
+
+    def summary(self) -> str:
+        """One line per quantity (:meth:`Comparison.summary`), then the verdict naming the
+        quantities that failed."""
+        n, bad = len(self.items), self.failing
+        verdict = (f"{self.problem} MATCHES: all {n} quantities" if not bad else
+                   f"{self.problem} DOES NOT MATCH: {len(bad)} of {n} quantities failed "
+                   f"({', '.join(bad)})")
+        return "\n".join([*(c.summary() for c in self.items), verdict])
+
+    def worst(self) -> str:
+        """One row per quantity, worst first: points, failures, its worst
+        |error|/tolerance and the point where it occurs."""
+        names = list(self.items[0].coords) if self.items else []
+        body = []
+        for c in self.items:
+            i = int(np.argmax(c.ratio)) if c.values.size else None
+            at = [_fmt(c.coords[k][i]) if i is not None else "" for k in names]
+            body.append([c.quantity, c.units or "-", str(c.values.size),
+                         str(int(c.failed.sum())),
+                         _fmt(float(c.ratio[i])) if i is not None else "", *at])
+        body.sort(key=lambda r: -float(r[4] or 0.0))
+        head = ["quantity", "units", "points", "failed", "worst |err|/tol",
+                *(f"at {k}" for k in names)]
+        widths = [max(len(h), *(len(r[j]) for r in body)) if body else len(h)
+                  for j, h in enumerate(head)]
+        line = lambda cells: "  ".join(c.rjust(w) for c, w in zip(cells, widths, strict=True))  # noqa: E731
+        return "\n".join([f"per quantity ({len(body)}):", line(head),
+                          *(line(r) for r in body)])
+
+    def table(self, rows: int = WORST_ROWS) -> str:
+        """:meth:`worst`, then the worst points of each quantity (:meth:`Comparison.table`)."""
+        return "\n".join([self.worst(), *(c.table(rows) for c in self.items)])
+
+
 def _fmt(x: Any) -> str:
     if isinstance(x, float | np.floating):
         return f"{float(x):.6g}" if np.isfinite(x) else str(float(x))
@@ -119,17 +194,21 @@ def _fmt(x: Any) -> str:
 
 
 def compare(problem: str, quantity: str | None, values, coords: Mapping[str, Any], *,
-            rtol: float | None = None, atol: float | None = None,
-            coverage: str = "full") -> Comparison:
+            rtol: float | Mapping[str, float] | None = None,
+            atol: float | Mapping[str, float] | None = None,
+            coverage: str = "full") -> Comparison | Comparisons:
     """Compare ``values`` at ``coords`` with the reference of ``problem``.
 
     Parameters
     ----------
     problem, quantity
         A problem id (``debench problems``) and one of its quantities (``None``: the
-        only one).
+        only one, or the keys of ``values`` when it is a mapping).
     values
-        Your values, broadcastable with the coordinate arrays.
+        Your values, broadcastable with the coordinate arrays; or a mapping quantity name
+        -> values, to check several quantities of the problem at the same ``coords``
+        (they must share their coordinates), each against its own reference and stated
+        accuracy; ``quantity`` must then be ``None``.
     coords
         Coordinate name -> scalar or array: every ``select`` coordinate of the quantity
         (matched exactly to the reference grid; defaults from the spec apply) and, for a
@@ -149,14 +228,22 @@ def compare(problem: str, quantity: str | None, values, coords: Mapping[str, Any
     Returns
     -------
     Comparison
+        for one quantity; :class:`Comparisons` (one :class:`Comparison` per quantity)
+        when ``values`` is a mapping. ``rtol`` and ``atol`` may then be mappings quantity
+        name -> tolerance too (a quantity not named gets the stated accuracy alone).
     """
     from debench.reference import problems
 
-    for name, x in (("rtol", rtol), ("atol", atol)):
-        if x is not None and not (np.isfinite(x) and x >= 0):
-            raise ValueError(f"{name} must be finite and >= 0, got {x}")
     if coverage not in ("full", "partial"):
         raise ValueError(f"coverage must be 'full' or 'partial', got {coverage!r}")
+    if isinstance(values, Mapping):
+        return _compare_several(problem, quantity, values, coords, rtol, atol, coverage)
+    for name, x in (("rtol", rtol), ("atol", atol)):
+        if isinstance(x, Mapping):
+            raise ValueError(f"{name} is a mapping per quantity, but values is not: pass "
+                             "values as a mapping quantity name -> values")
+        if x is not None and not (np.isfinite(x) and x >= 0):
+            raise ValueError(f"{name} must be finite and >= 0, got {x}")
     prob = problems.get(problem)
     q = prob.quantity(quantity)
     ref = problems.reference_at(prob, q, coords)
@@ -190,13 +277,55 @@ def compare(problem: str, quantity: str | None, values, coords: Mapping[str, Any
                       tolerance_source=source, coverage=cov)
 
 
-def assert_matches(problem: str, quantity: str | None, values, coords: Mapping[str, Any],
-                   rtol: float | None = None, *, atol: float | None = None,
-                   coverage: str = "full") -> Comparison:
-    """Raise ``AssertionError`` (with a table of the worst points) unless ``values`` match
-    the reference of ``problem``; see :func:`compare` for the arguments.
+def _compare_several(problem, quantity, values, coords, rtol, atol, coverage) -> Comparisons:
+    """:func:`compare` for ``values`` = {quantity name: values}: one comparison each; an
+    error about one quantity names it."""
+    from debench.reference import problems
 
-    Returns the :class:`Comparison` when they match.
+    if quantity is not None:
+        raise ValueError(f"quantity must be None when values is a mapping (its keys name "
+                         f"the quantities), got {quantity!r}")
+    if not values:
+        raise ValueError("values is an empty mapping: name at least one quantity")
+    prob = problems.get(problem)
+    qs = [prob.quantity(n) for n in values]
+    shared = set(qs[0].coordinates)
+    for q in qs[1:]:
+        if set(q.coordinates) != shared:
+            raise ValueError(f"{prob.id}: quantities {qs[0].name} (coordinates "
+                             f"{list(qs[0].coordinates)}) and {q.name} (coordinates "
+                             f"{list(q.coordinates)}) do not share their coordinates; "
+                             "compare them separately")
+
+    for name, x in (("rtol", rtol), ("atol", atol)):
+        extra = sorted(set(x) - set(values)) if isinstance(x, Mapping) else []
+        if extra:
+            raise ValueError(f"{name} names quantities {extra} that values does not hold "
+                             f"({list(values)})")
+    items = []
+    for q in qs:
+        kw = {k: (x.get(q.name) if isinstance(x, Mapping) else x)
+              for k, x in (("rtol", rtol), ("atol", atol))}
+        try:
+            items.append(compare(prob.id, q.name, values[q.name], coords,
+                                 coverage=coverage, **kw))
+        except ValueError as exc:
+            if str(exc).startswith(f"{prob.id}:{q.name}"):
+                raise
+            raise type(exc)(f"{prob.id}:{q.name}: {exc}") from None
+    return Comparisons(problem=prob.id, items=tuple(items))
+
+
+def assert_matches(problem: str, quantity: str | None, values, coords: Mapping[str, Any],
+                   rtol: float | Mapping[str, float] | None = None, *,
+                   atol: float | Mapping[str, float] | None = None,
+                   coverage: str = "full") -> Comparison | Comparisons:
+    """Raise ``AssertionError`` (with a table of the worst points) unless ``values`` match
+    the reference of ``problem``; see :func:`compare` for the arguments (``values`` a
+    mapping quantity name -> values: every quantity must match, the message names those
+    that do not).
+
+    Returns the :class:`Comparison` (:class:`Comparisons`) when they match.
     """
     result = compare(problem, quantity, values, coords, rtol=rtol, atol=atol,
                      coverage=coverage)

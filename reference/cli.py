@@ -15,6 +15,7 @@ Examples
     debench report --readme        # regenerate the README results table
     debench problems ch3_free_membrane_nh --json
     debench check ch3_free_membrane_nh results.csv
+    debench check ch5_pullin pullin.csv   # columns case, v_pullin, w_pullin: each checked
     debench check --submission submissions/ch5_critical_voltage/dolfinx-axisym
     debench cite ch3.pullin.voltage_lamP_1p25
 """
@@ -743,6 +744,31 @@ def _problem_quantity(problem: str, quantity: str):
     return problems.get(problem).quantity(quantity)
 
 
+def _rtol(given: list[str] | None, quantities: tuple[str, ...]):
+    """``--rtol`` values: ``X`` (every quantity) or ``NAME=X`` (one quantity), repeatable:
+    None, a float, or {quantity: float}."""
+    if not given:
+        return None
+    plain, named = [], {}
+    for item in given:
+        name, eq, value = item.rpartition("=")
+        try:
+            x = float(value)
+        except ValueError:
+            raise UsageError(f"--rtol {item}: expected a number or NAME=number") from None
+        if not eq:
+            plain.append(x)
+        elif name not in quantities:
+            raise UsageError(f"--rtol {item}: {name!r} is not a quantity of the file "
+                             f"{list(quantities)}")
+        else:
+            named[name] = x
+    if plain and (named or len(plain) > 1):
+        raise UsageError("--rtol: give one number for every quantity, or NAME=number per "
+                         "quantity, not both")
+    return plain[0] if plain else named
+
+
 def cmd_check(args) -> int:
     from debench.reference import problems
 
@@ -757,18 +783,30 @@ def cmd_check(args) -> int:
         prob = problems.get(args.problem)
     except problems.ProblemError as exc:
         raise UsageError(str(exc)) from None
-    qname, cols = read_results(Path(args.file), args.quantity, prob)
-    q = prob.quantity(qname)
+    found, cols = read_results(Path(args.file), args.quantity, prob)
+    rtol = _rtol(args.rtol, found)
+    qs = [prob.quantity(n) for n in found]
+    coords = {c: cols[c] for c in qs[0].coordinates if c in cols}
+    cov = "partial" if args.partial else "full"
     try:
-        result = compare(prob.id, q.name, cols[qname],
-                         {c: cols[c] for c in q.coordinates if c in cols}, rtol=args.rtol,
-                         coverage="partial" if args.partial else "full")
+        if len(qs) == 1:
+            result = compare(prob.id, qs[0].name, cols[qs[0].name], coords,
+                             rtol=rtol[qs[0].name] if isinstance(rtol, dict) else rtol,
+                             coverage=cov)
+            items = (result,)
+        else:
+            result = compare(prob.id, None, {q.name: cols[q.name] for q in qs}, coords,
+                             rtol=rtol, coverage=cov)
+            items = result.items
     except ValueError as exc:
         raise UsageError(str(exc)) from None
     print(result.summary())
-    if q.along and len(q.select):
-        print(result.by_curve(q.along))
-    print(result.table())
+    if len(qs) > 1:
+        print(result.worst())
+    for q, item in zip(qs, items, strict=True):
+        if q.along and len(q.select):
+            print(item.by_curve(q.along))
+        print(item.table())
     return EXIT_OK if result.passed else EXIT_FAILED
 
 
@@ -880,9 +918,12 @@ def build_parser() -> argparse.ArgumentParser:
                    "method, mesh, tolerances, hardware, command) and the results file it "
                    "names (checksum verified); refused, naming each missing field, when "
                    "the metadata is incomplete")
-    s.add_argument("--quantity", help="quantity to check (default: the one in FILE)")
-    s.add_argument("--rtol", type=float, help="your relative tolerance (default: the "
-                   "stated accuracy of the reference, which is also the floor)")
+    s.add_argument("--quantity", help="the one quantity to check (default: every quantity "
+                   "column in FILE, each against its own reference; they must share their "
+                   "coordinates)")
+    s.add_argument("--rtol", action="append", metavar="[NAME=]X", help="your relative "
+                   "tolerance, for every quantity (X) or one (NAME=X, repeatable) (default: "
+                   "the stated accuracy of the reference, which is also the floor)")
     s.add_argument("--partial", action="store_true", help="declare partial coverage: "
                    "check the points given and report what they cover (default: every "
                    "reference curve or value the file addresses must be covered)")

@@ -689,6 +689,20 @@ def render_markdown(problem: Problem, extra=()) -> str:
                              "whole range (any points; the stored ones are exact)"
                              if q.along else "") + "; or pass `--partial` and the report "
                 "says what was covered.", ""]
+    groups: dict[tuple, list[Quantity]] = {}
+    for q in p.quantities:
+        groups.setdefault(tuple(sorted(q.coordinates)), []).append(q)
+    for qs in (g for g in groups.values() if len(g) > 1):
+        q0 = qs[0]
+        header = ",".join(f"{c} [{q0.units_of(c)}]" if (c in q0.coordinate_units and
+                          q0.units_of(c)) or c == q0.along else c for c in q0.coordinates)
+        header += "".join(f",{q.name} [{q.units}]" for q in qs)
+        out += [f"**Several quantities in one file.** "
+                + ", ".join(f"`{q.name}`" for q in qs) + " share their coordinates: one "
+                f"file with the header `{header}` is checked per quantity (each against "
+                "its own reference and accuracy, each needing its own coverage; the exit "
+                "code is the worst); `--quantity NAME` checks a file of one quantity "
+                "alone, `--rtol NAME=X` sets one quantity's tolerance.", ""]
     out += list(extra)
     prov = provenance(p)
     if prov["datasets"]:

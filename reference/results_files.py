@@ -1,6 +1,6 @@
-"""Users' results files (CSV with a units header, or netCDF) read for a reference problem's
-quantity: the reader behind ``debench check`` and submissions, and the usage error it raises
-on bad input (the command line's exit code 2)."""
+"""Users' results files (CSV with a units header, or netCDF) read for the quantities of a
+reference problem they hold: the reader behind ``debench check`` and submissions, and the
+usage error it raises on bad input (the command line's exit code 2)."""
 
 from __future__ import annotations
 
@@ -39,12 +39,17 @@ def _unit(spelled: str | None, expected: str, column: str, where: str):
     return lambda x: got.convert(np.asarray(x, dtype=float), want)
 
 
-def read_results(path: Path, quantity: str | None, prob) -> tuple[str, dict]:
-    """Columns of a user's results file for one quantity of ``prob``: CSV with header
-    ``name [units]``, or netCDF (variables named like the coordinates and the quantity,
-    with a ``units`` attribute, broadcast against it). Every numeric column needs units,
-    compared by meaning and converted to the problem's; a column that is neither the
-    quantity nor one of its coordinates, or a repeated column, is refused."""
+def read_results(path: Path, quantity: str | None, prob) -> tuple[tuple[str, ...], dict]:
+    """Columns of a user's results file for the quantities of ``prob`` it holds: CSV with
+    header ``name [units]``, or netCDF (variables named like the coordinates and the
+    quantities, with a ``units`` attribute, broadcast against the first quantity).
+
+    Returns the names of the quantities found (in the file's order; ``quantity``: that
+    one alone) and ``{column: values}``. Several quantities in one file must share their
+    coordinates (each row is one point of every quantity). Every numeric column needs
+    units, compared by meaning and converted to the problem's; a column that is neither
+    one of the quantities nor one of their coordinates (with ``quantity`` given, another
+    quantity's column too), or a repeated column, is refused."""
     path = Path(path)
     if not path.is_file():
         raise UsageError(f"FILE {path} does not exist")
@@ -53,24 +58,24 @@ def read_results(path: Path, quantity: str | None, prob) -> tuple[str, dict]:
         import xarray as xr
 
         with xr.open_dataset(path) as ds:
-            qname = quantity or next((n for n in names if n in ds.data_vars), None)
-            if qname is None or qname not in ds:
-                raise UsageError(f"{path} has no variable for quantity "
-                                 f"{quantity or names}")
-            q = _quantity_of(prob, qname)
-            unknown = sorted(set(ds.data_vars) - {qname, *q.coordinates})
+            found = _quantities_in(path, [n for n in ds.data_vars], names, quantity,
+                                   "variable")
+            qs = [_quantity_of(prob, n) for n in found]
+            coords = _shared_coordinates(path, qs)
+            unknown = sorted(set(ds.data_vars) - {*found, *coords})
             if unknown:
-                raise UsageError(f"{path}: variables {unknown} are not the quantity "
-                                 f"{qname} or its coordinates {list(q.coordinates)}")
+                raise UsageError(f"{path}: variables {unknown} are not "
+                                 f"{_what(found, coords, quantity)}")
             cols = {}
-            for n in (*q.coordinates, qname):
+            first = ds[found[0]]
+            for n in (*coords, *found):
                 if n not in ds.variables:
                     continue
-                conv = _unit(ds[n].attrs.get("units"), q.units_of(n), n, str(path))
-                a, _ = xr.broadcast(ds[n], ds[qname])
-                v = a.transpose(*ds[qname].dims).values.ravel()
+                conv = _unit(ds[n].attrs.get("units"), _units(qs, n), n, str(path))
+                a, _ = xr.broadcast(ds[n], first)
+                v = a.transpose(*first.dims).values.ravel()
                 cols[n] = conv(v) if conv else v
-        return qname, cols
+        return tuple(found), cols
     import csv
 
     with path.open(newline="", encoding="utf-8") as fh:
@@ -85,18 +90,16 @@ def read_results(path: Path, quantity: str | None, prob) -> tuple[str, dict]:
             raise UsageError(f"{path}: column {name} appears twice in the header")
         header.append(name)
         spelled[name] = rest.rstrip().removesuffix("]").strip() if bracket else None
-    qname = quantity or next((n for n in header if n in names), None)
-    if qname is None or qname not in header:
-        raise UsageError(f"{path}: no column for quantity {quantity or names}; "
-                         f"header {header}")
-    q = _quantity_of(prob, qname)
-    unknown = [n for n in header if n not in (qname, *q.coordinates)]
+    found = _quantities_in(path, header, names, quantity, "column")
+    qs = [_quantity_of(prob, n) for n in found]
+    coords = _shared_coordinates(path, qs)
+    unknown = [n for n in header if n not in (*found, *coords)]
     if unknown:
-        raise UsageError(f"{path}: columns {unknown} are not the quantity {qname} or its "
-                         f"coordinates {list(q.coordinates)}")
+        raise UsageError(f"{path}: columns {unknown} are not "
+                         f"{_what(found, coords, quantity)}")
     cols = {}
     for j, name in enumerate(header):
-        conv = _unit(spelled[name], q.units_of(name), name, str(path))
+        conv = _unit(spelled[name], _units(qs, name), name, str(path))
         raw = [r[j].strip() if j < len(r) else "" for r in rows[1:]]
         if conv is None:
             cols[name] = np.array(raw)
@@ -106,7 +109,54 @@ def read_results(path: Path, quantity: str | None, prob) -> tuple[str, dict]:
         except ValueError:
             raise UsageError(f"{path}: column {name} holds a value that is not a "
                              "number") from None
-    return qname, cols
+    return tuple(found), cols
+
+
+def _quantities_in(path, present, names, quantity, kind: str) -> list[str]:
+    """The quantities to check: ``quantity`` (which must be present), else every
+    quantity of the problem that ``present`` (the file's columns) names."""
+    found = [quantity] if quantity else [n for n in present if n in names]
+    if not found or found[0] not in present:
+        raise UsageError(f"{path}: no {kind} for quantity {quantity or names}; "
+                         f"{'header' if kind == 'column' else 'variables'} {list(present)}")
+    return found
+
+
+def _shared_coordinates(path, qs) -> tuple[str, ...]:
+    """The coordinates of the quantities ``qs``, which must be the same for all (one row
+    is one point of each)."""
+    coords = qs[0].coordinates
+    for q in qs[1:]:
+        if set(q.coordinates) != set(coords):
+            raise UsageError(f"{path}: quantities {qs[0].name} (coordinates {list(coords)}) "
+                             f"and {q.name} (coordinates {list(q.coordinates)}) do not share "
+                             "their coordinates; check them in separate files")
+    return coords
+
+
+def _units(qs, name: str) -> str:
+    """Units of column ``name``: its quantity's, or those of a coordinate, which every
+    quantity of the file must state alike."""
+    for q in qs:
+        if name == q.name:
+            return q.units
+    units = {q.units_of(name) for q in qs}
+    if len(units) != 1:
+        raise UsageError(f"coordinate {name} has units {sorted(units)} in the quantities "
+                         f"{[q.name for q in qs]}; check them in separate files")
+    return units.pop()
+
+
+def _what(found, coords, quantity) -> str:
+    """``the quantity X or its coordinates [...]`` for a refusal message."""
+    if len(found) == 1:
+        text = f"the quantity {found[0]} or its coordinates {list(coords)}"
+    else:
+        text = f"the quantities {found} or their coordinates {list(coords)}"
+    if quantity:
+        text += (" (a quantity was named, so only it is checked: drop --quantity to check "
+                 "every quantity column of the file)")
+    return text
 
 
 def _quantity_of(prob, name: str):

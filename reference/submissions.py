@@ -196,7 +196,7 @@ def check(sub: Submission) -> Outcome:
 
     prob = problems.get(sub.problem)
     try:
-        qname, cols = read_results(sub.results, sub.quantity, prob)
+        (qname,), cols = read_results(sub.results, sub.quantity, prob)
     except UsageError as exc:
         raise SubmissionError(f"{sub.results}: {exc}") from None
     q = prob.quantity(qname)

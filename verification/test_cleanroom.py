@@ -265,3 +265,38 @@ def test_cleanroom_buckling_passes_check_refined(tmp_path, capsys):
     path = _buckling_file(tmp_path, BUCKLING_FINE)
     assert cli.main(["check", "ch5_critical_voltage", path]) == 0
     assert "coverage complete" in capsys.readouterr().out
+
+
+def _facet_dofs(basis, on_face):
+    """The dofs of the boundary facets both of whose vertices satisfy ``on_face`` (the
+    mesh topology, independent of any distance tolerance)."""
+    m = basis.mesh
+    f = m.boundary_facets()
+    f = f[np.all(on_face(m.p[:, m.facets[:, f]]), axis=0)]
+    return np.unique(basis.get_dofs(f).flatten())
+
+
+#: graded or deeply corner-refined meshes whose smallest elements next to the rim are far
+#: below numpy isclose's default reach there (1e-5 relative: 1e-4 at R = a): ratio 0.5
+#: makes the last rim interval ~1e-3 before 6 corner refinements halve it to ~1.5e-5; 10
+#: refinements of the uniform 20 x 2 mesh leave ~1e-4
+GRADED_MESHES = [{"n_r": 40, "n_z": 4, "levels": 6, "ratio": 0.5},
+                 {"n_r": 20, "n_z": 2, "levels": 10, "ratio": 1.0}]
+
+
+@pytest.mark.parametrize("disc", GRADED_MESHES)
+def test_buckling_clean_room_clamps_only_the_rim_dofs_on_graded_meshes(disc):
+    """The Dirichlet dofs of the flat film are those of the mesh's boundary facets: u_r on
+    the rim R = a and the axis R = 0, u_z on the rim, phi on the electrodes Z = 0, 1, and no
+    interior dof, however small the elements next to the rim (the page's clamp is the rim
+    face, not a band next to it)."""
+    film = buckling.Film("nh_t1", order=2, **disc)
+    b, n = film.basis, film.n
+    rim = _facet_dofs(b, lambda p: p[0] == buckling.ASPECT)
+    axis = _facet_dofs(b, lambda p: p[0] == 0.0)
+    bottom = _facet_dofs(b, lambda p: p[1] == 0.0)
+    top = _facet_dofs(b, lambda p: p[1] == 1.0)
+    expected = np.unique(np.concatenate((rim, axis, n + rim, 2 * n + bottom, 2 * n + top)))
+    np.testing.assert_array_equal(film.D, expected)
+    np.testing.assert_array_equal(film.top, top)
+    np.testing.assert_array_equal(film.bottom, bottom)

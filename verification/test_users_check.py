@@ -162,3 +162,37 @@ def test_readme_shows_the_example_as_it_runs():
     pos = 0
     for line in filter(None, block.splitlines()):
         pos = source.index(line, pos) + len(line)
+
+
+def test_several_quantities_are_checked_each_against_its_own_reference():
+    """A mapping quantity -> values checks each quantity of ch5_pullin against its own
+    reference and stated accuracy; the failure message names the quantity that failed;
+    a tolerance may be given per quantity; a mapping with a quantity named, or naming
+    quantities that do not share their coordinates, is refused."""
+    from debench.reference import problems
+
+    p = problems.get("ch5_pullin")
+    ref = {q.name: problems.reference_at(p, q, {"case": "nh_r10"}) for q in p.quantities}
+    half = {n: r.value + 0.5 * r.tolerance for n, r in ref.items()}
+    ok = assert_matches("ch5_pullin", None, half, {"case": "nh_r10"})
+    assert ok.quantities == ("v_pullin", "w_pullin") and ok.passed
+    assert ok["w_pullin"].ratio.max() == pytest.approx(0.5)
+    off = {**half, "w_pullin": ref["w_pullin"].value + 2.0 * ref["w_pullin"].tolerance}
+    with pytest.raises(AssertionError, match=r"1 of 2 quantities failed \(w_pullin\)"):
+        assert_matches("ch5_pullin", None, off, {"case": "nh_r10"})
+    res = compare("ch5_pullin", None, off, {"case": "nh_r10"}, rtol={"w_pullin": 1e-3})
+    assert res.passed and res["v_pullin"].tolerance_source.startswith("stated")
+    with pytest.raises(ValueError, match="quantity must be None"):
+        compare("ch5_pullin", "v_pullin", half, {"case": "nh_r10"})
+    with pytest.raises(ValueError, match="rtol names quantities"):
+        compare("ch5_pullin", None, half, {"case": "nh_r10"}, rtol={"v_cr": 1e-3})
+    with pytest.raises(ValueError, match="do not share their coordinates"):
+        compare("ch2_kernel_states", None, {"W": 1.0, "sigma": 1.0},
+                {"material": "x", "state": "y"})
+
+
+def test_several_quantities_error_names_the_quantity():
+    """An off-grid selector with several quantities: the error names problem and quantity."""
+    with pytest.raises(ValueError, match=r"ch5_pullin:v_pullin: coordinate case"):
+        compare("ch5_pullin", None, {"v_pullin": 0.68, "w_pullin": 5.56},
+                {"case": "ogden_r10"})

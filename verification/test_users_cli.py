@@ -193,3 +193,108 @@ def test_reproduce_ends_with_a_summary(tmp_path, monkeypatch, capsys):
     last = capsys.readouterr().out.strip().splitlines()[-1]
     assert last.startswith("reproduce: ch3: wrote 1 file(s) (0 datasets) to ")
     assert str(tmp_path.resolve()) in last and last.endswith(" s")
+
+
+def _pullin_reference():
+    """ch5_pullin's reference value and stated tolerance of each quantity (case nh_r10)."""
+    from debench.reference import problems
+
+    p = problems.get("ch5_pullin")
+    return {q.name: problems.reference_at(p, q, {"case": "nh_r10"}) for q in p.quantities}
+
+
+def _pullin_csv(path, v, w, header="case,v_pullin [1],w_pullin [1]"):
+    path.write_text(f"{header}\nnh_r10,{v!r},{w!r}\n")
+    return str(path)
+
+
+def test_check_two_quantities_in_one_file(tmp_path, capsys):
+    """ch5_pullin with v_pullin and w_pullin as two columns: each checked against its own
+    reference and tolerance (half of each off the reference passes), the per-quantity
+    table lists both; w_pullin 2 tolerances off fails (exit 1), the verdict names it."""
+    ref = _pullin_reference()
+    v, w = (float(ref[n].value[0] + 0.5 * ref[n].tolerance[0])
+            for n in ("v_pullin", "w_pullin"))
+    assert cli.main(["check", "ch5_pullin", _pullin_csv(tmp_path / "ok.csv", v, w)]) == 0
+    out = capsys.readouterr().out
+    assert "ch5_pullin MATCHES: all 2 quantities" in out
+    table = out.split("per quantity (2):", 1)[1].splitlines()[2:4]
+    assert sorted(r.split()[0] for r in table) == ["v_pullin", "w_pullin"]
+    assert out.count("coverage complete (1/1") == 2
+    w_bad = float(ref["w_pullin"].value[0] + 2.0 * ref["w_pullin"].tolerance[0])
+    bad = _pullin_csv(tmp_path / "bad.csv", v, w_bad)
+    assert cli.main(["check", "ch5_pullin", bad]) == 1
+    out = capsys.readouterr().out
+    assert "DOES NOT MATCH: 1 of 2 quantities failed (w_pullin)" in out
+    assert "ch5_pullin:v_pullin MATCHES" in out and "ch5_pullin:w_pullin DOES NOT MATCH" in out
+    # the worst quantity heads the per-quantity table
+    assert out.split("per quantity (2):", 1)[1].splitlines()[2].split()[0] == "w_pullin"
+    # a tolerance per quantity: w_pullin's loosened to 1e-3 relative passes it
+    assert cli.main(["check", "ch5_pullin", bad, "--rtol", "w_pullin=1e-3"]) == 0
+    assert cli.main(["check", "ch5_pullin", bad, "--rtol", "no_such=1e-3"]) == 2
+    assert "not a quantity of the file" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("header, args, message", [
+    ("case,v_pullin [1],w_pullin", [], "w_pullin has no units"),
+    ("case,v_pullin [1],w_pullin [m]", [], "not convertible"),
+    ("case,v_pullin [1],w_pullin [1],note", [], "columns ['note'] are not the quantities"),
+    ("case,v_pullin [1],w_pullin [1],w_pullin [1]", [], "w_pullin appears twice"),
+    ("case,v_pullin [1],w_pullin [1]", ["--quantity", "v_pullin"],
+     "columns ['w_pullin'] are not the quantity v_pullin"),
+])
+def test_check_two_quantity_file_keeps_every_refusal(tmp_path, capsys, header, args,
+                                                     message):
+    """A unit missing or wrong on the second quantity, an unknown or a repeated column,
+    another quantity's column when one is named: usage errors (exit 2) naming it."""
+    ref = _pullin_reference()
+    v, w = (float(ref[n].value[0]) for n in ("v_pullin", "w_pullin"))
+    path = tmp_path / "x.csv"
+    cells = header.count(",") + 1
+    path.write_text(header + "\n" + ",".join(["nh_r10", repr(v), repr(w), repr(w)][:cells])
+                    + "\n")
+    assert cli.main(["check", "ch5_pullin", str(path), *args]) == 2
+    assert message in capsys.readouterr().err
+
+
+def _wrinkling_rows(skip=()):
+    """Every (case, n) with a ch5_wrinkling reference, both quantities, at the reference."""
+    from debench.reference.datasets import read_dataset
+
+    ds = read_dataset("ch5_axisym_path").sel(case="ogden_r20")
+    w, v = ds.w_cross_converged, ds.v_cross_converged
+    return [f"ogden_r20,{int(n)},{float(w.sel(n=n))!r},{float(v.sel(n=n))!r}"
+            for n in ds.n.values if np.isfinite(w.sel(n=n)) and int(n) not in skip]
+
+
+def test_check_two_quantity_file_needs_the_coverage_of_each(tmp_path, capsys):
+    """ch5_wrinkling, w_cross and v_cross per wavenumber: every crossing wavenumber covers
+    both; one row left out is refused (exit 2) naming the quantity and the missing point,
+    and with --partial each quantity reports what it covers."""
+    header = "case,n [1],w_cross [1],v_cross [1]"
+    path = tmp_path / "w.csv"
+    rows = _wrinkling_rows()
+    assert len(rows) >= 2
+    path.write_text("\n".join([header, *rows]) + "\n")
+    assert cli.main(["check", "ch5_wrinkling", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert out.count(f"coverage complete ({len(rows)}/{len(rows)}") == 2
+    missing = int(rows[-1].split(",")[1])
+    path.write_text("\n".join([header, *_wrinkling_rows(skip=(missing,))]) + "\n")
+    assert cli.main(["check", "ch5_wrinkling", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "ch5_wrinkling:w_cross: PARTIAL coverage (not declared)" in err
+    assert f"n = {missing}" in err
+    assert cli.main(["check", "ch5_wrinkling", str(path), "--partial"]) == 0
+    out = capsys.readouterr().out
+    assert out.count(f"PARTIAL coverage (declared): {len(rows) - 1}/{len(rows)}") == 2
+
+
+def test_check_refuses_quantities_that_do_not_share_coordinates(tmp_path, capsys):
+    """ch2_kernel_states: W is per (material, state), sigma per (material, state, i,
+    alpha); one row cannot be a point of both."""
+    path = tmp_path / "k.csv"
+    path.write_text("material,state,i [1],alpha [1],W [J m-3],sigma [Pa]\n"
+                    "nh,uniaxial,0,0,1.0,1.0\n")
+    assert cli.main(["check", "ch2_kernel_states", str(path)]) == 2
+    assert "do not share their coordinates" in capsys.readouterr().err

@@ -41,8 +41,9 @@ branch).
 
 Measured convergence (neo-Hookean; layers = elements through the thickness, 40 radial
 intervals, 6 corner refinements): P2 4 layers 0.2204084, P3 4 layers 0.2202792, P4 4
-layers 0.2202722, P4 8 layers 0.2202710; the corner refinements matter little (P2: 6 -> 10
-levels moves v_cr by 1.7e-7), the thickness resolution and the order most.
+layers 0.2202722, P4 8 layers 0.2202710; the corner refinements matter little (P2 40 x 4:
+6 -> 10 levels moves v_cr by 6.8e-7, 0.2204083630 -> 0.2204076798), the thickness
+resolution and the order most.
 """
 
 from __future__ import annotations
@@ -83,6 +84,13 @@ MAX_ROOT = 60
 #: LOBPCG residual norms accepted relative to lambda_1(0): the certificate compares the
 #: smallest eigenvalue with the tracked one to 1e-6 lambda_1(0)
 LOBPCG_RTOL = 1e-5
+#: a dof or node lies on a face (R = 0, R = a, Z = 0, Z = 1) within this fraction of the
+#: mesh's smallest element height (twice the area over the longest edge): a point off the
+#: face is at least that height / p away from it (Lagrange dofs sit at barycentric
+#: coordinates k/p, p <= 4), points on it are there to round-off (1e-15 a). No fixed
+#: tolerance serves every mesh: graded, corner-refined ones have interior dofs within 1e-5
+#: of R = a
+FACE_TOL_FRACTION = 1e-3
 
 
 class Jet:
@@ -218,9 +226,21 @@ def mesh(n_r: int, n_z: int, levels: int, ratio: float = 1.0) -> MeshTri:
     r = np.concatenate((interior, rim[1:]))
     m = MeshTri.init_tensor(r, np.linspace(0.0, 0.5, n_z // 2 + 1))
     for _ in range(levels):
-        node = np.flatnonzero(np.isclose(m.p[0], ASPECT) & np.isclose(m.p[1], 0.0))
+        tol = face_tolerance(m)
+        node = np.flatnonzero((np.abs(m.p[0] - ASPECT) <= tol) & (np.abs(m.p[1]) <= tol))
         m = m.refined(np.flatnonzero(np.isin(m.t, node).any(axis=0)))
     return m + m.mirrored((0.0, 1.0), (0.0, 0.5))
+
+
+def face_tolerance(m: MeshTri) -> float:
+    """Distance within which a point is on a face of mesh ``m``: FACE_TOL_FRACTION of its
+    smallest element height."""
+    p = m.p[:, m.t]                                    # (2, 3 vertices, elements)
+    e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    area = 0.5 * np.abs(e1[0] * e2[1] - e1[1] * e2[0])
+    longest = np.max([np.hypot(*(p[:, i] - p[:, j])) for i, j in ((0, 1), (1, 2), (2, 0))],
+                     axis=0)
+    return FACE_TOL_FRACTION * float(np.min(2.0 * area / longest))
 
 
 def _component(f, kind: int, R):
@@ -298,10 +318,11 @@ class Film:
         n = self.basis.N
         self.n = n
         x = self.basis.doflocs
-        rim = np.flatnonzero(np.isclose(x[0], ASPECT))
-        axis = np.flatnonzero(np.isclose(x[0], 0.0))
-        self.bottom = np.flatnonzero(np.isclose(x[1], 0.0))
-        self.top = np.flatnonzero(np.isclose(x[1], 1.0))
+        tol = face_tolerance(self.mesh)
+        rim = np.flatnonzero(np.abs(x[0] - ASPECT) <= tol)
+        axis = np.flatnonzero(np.abs(x[0]) <= tol)
+        self.bottom = np.flatnonzero(np.abs(x[1]) <= tol)
+        self.top = np.flatnonzero(np.abs(x[1] - 1.0) <= tol)
         D = np.unique(np.concatenate((rim, axis, n + rim, 2 * n + self.bottom,
                                       2 * n + self.top)))
         self.D = D

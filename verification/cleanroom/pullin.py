@@ -113,9 +113,6 @@ CASES = ("nh_r10",)
 MATERIAL = {"nh_r10": "nh_t1"}
 #: imperfection amplitude / t0
 IMPERFECTION = 1e-3
-#: a dof is on a face (R = 0, R = a, Zh = 0, Zh = 1) within this distance (round-off of
-#: the mesh generator; the smallest dof spacing of the meshes used is ~1e-4)
-EDGE_TOL = 1e-10
 #: voltage control up to here (below the flat film's v_cr ~ 0.2203), deflection control on
 V_SWITCH = 0.2
 V_STEPS = 4
@@ -199,9 +196,10 @@ class ImperfectFilm(buckling.Film):
         n = self.n = self.basis.N
         x = self.basis.doflocs
 
-        def on(c, val):  # mesh nodes on a face are exact to round-off; graded and
-            # corner-refined meshes have interior dofs within isclose's 1e-5 of R = a
-            return np.abs(x[c] - val) <= EDGE_TOL
+        tol = buckling.face_tolerance(self.mesh)
+
+        def on(c, val):  # on a face: within buckling.FACE_TOL_FRACTION of the mesh's height
+            return np.abs(x[c] - val) <= tol
 
         rim = np.flatnonzero(on(0, ASPECT))
         axis = np.flatnonzero(on(0, 0.0))
