@@ -27,6 +27,7 @@ import xarray as xr
 from debench.models.circular import circle_a, params
 from debench.models.circular._chapter_pass import Chapter
 from debench.models.circular.actuator import EVENT_KINDS, Event
+from debench.reference import figures as figure_io
 from debench.reference.datasets import write_dataset
 from debench.reference.figures import LABELS as L
 from debench.reference.figures import (
@@ -37,7 +38,6 @@ from debench.reference.figures import (
     pyplot,
     written,
 )
-from debench.reference.figures import save as save_figure
 from debench.reference.studies.ch3 import (
     C_CURVES,
     EPS_R,
@@ -300,7 +300,7 @@ def figures(ds: dict[str, xr.Dataset], fig_dir: Path) -> list[Path]:
              ("fig3_9_c_sweep", _fig3_9, (s,)))
     out = []
     for name, draw, data in drawn:
-        out += save_figure(draw(plt, *data), fig_dir / name)
+        out += figure_io.save(draw(plt, *data), fig_dir / name)  # module attribute: tests replace it
     return out
 
 

@@ -32,8 +32,9 @@ from debench.models.errors import ConvergenceError
 from debench.models.materials.constants import OGDEN_DELTA
 from debench.models.numerics import convergence_fit, level_fit, reference_fit
 from debench.models.numerics.convergence import FIT_SAFETY, NO_FIT
+from debench.reference import figures as figure_io
 from debench.reference.datasets import variable_attrs, write_dataset
-from debench.reference.figures import LABELS, pyplot, save
+from debench.reference.figures import LABELS, pyplot
 from debench.reference.studies.ch5 import (
     CASES,
     EIG_EVERY,
@@ -427,8 +428,9 @@ def figures(crit, ramps, fig_dir: Path) -> list[Path]:
     for name, draw in (("fig5_4_deflection_voltage_thickness", _fig5_4),
                        ("fig5_6_deflection_voltage_material", _fig5_6),
                        ("fig5_5_nonaxisymmetric_modes", _fig5_5)):
-        out += save(draw(plt, ramps), fig_dir / name)
-    out += save(_fig_convergence(plt, crit, ramps), fig_dir / "fig5_x_critical_voltage_convergence")
+        out += figure_io.save(draw(plt, ramps), fig_dir / name)
+    out += figure_io.save(_fig_convergence(plt, crit, ramps),
+                          fig_dir / "fig5_x_critical_voltage_convergence")
     return out
 
 
