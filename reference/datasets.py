@@ -21,7 +21,7 @@ Writes: one step seen from any reader
 A dataset lives in two places, its file and its manifest entry, and no file system
 replaces two files in one step. The writer therefore commits in two phases with the
 intent recorded first, all under an inter-process lock on the directory
-(:data:`LOCK_NAME`, a ``flock`` lock through ``filelock``, released by the kernel when a
+(``LOCK_NAME``, a ``flock`` lock through ``filelock``, released by the kernel when a
 writer dies, so a ``kill -9`` never leaves the directory locked):
 
 1. *Recover*: finish or roll back what a killed writer left (see :func:`recover`) and
@@ -45,7 +45,7 @@ write the directory, before it fails. Readers take no lock otherwise, so a read-
 installed data directory reads as before.
 
 The manifest, the lock, the durability steps and the recovery are
-:mod:`debench.reference.manifest`; this module puts the protocol together.
+``debench.reference.manifest``; this module puts the protocol together.
 
 Alternatives considered: per-file sidecar checksums with a manifest rebuilt from them
 move the two-file problem to the sidecar and the data file; a lock with two plain
