@@ -21,7 +21,7 @@ Writes: one step seen from any reader
 A dataset lives in two places, its file and its manifest entry, and no file system
 replaces two files in one step. The writer therefore commits in two phases with the
 intent recorded first, all under an inter-process lock on the directory
-(:data:`LOCK_NAME`, a ``flock`` lock through ``filelock``, released by the kernel when a
+(``LOCK_NAME``, a ``flock`` lock through ``filelock``, released by the kernel when a
 writer dies, so a ``kill -9`` never leaves the directory locked):
 
 1. *Recover*: finish or roll back what a killed writer left (see :func:`recover`) and
@@ -44,6 +44,9 @@ re-reads once under the lock, finishing an interrupted write on the way when it 
 write the directory, before it fails. Readers take no lock otherwise, so a read-only
 installed data directory reads as before.
 
+The manifest, the lock, the durability steps and the recovery are
+``debench.reference.manifest``; this module puts the protocol together.
+
 Alternatives considered: per-file sidecar checksums with a manifest rebuilt from them
 move the two-file problem to the sidecar and the data file; a lock with two plain
 renames loses the old version when killed between them (the new file is then rejected
@@ -65,31 +68,39 @@ from __future__ import annotations
 
 import contextlib
 import datetime as _dt
-import hashlib
 import importlib.resources
 import json
 import os
 import re
-import secrets
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import filelock
 import numpy as np
 import xarray as xr
-from debench.reference import __version__
+from debench.reference import __version__, manifest
+from debench.reference.manifest import (
+    LOCK_NAME,
+    MANIFEST_NAME,
+    WRITE_DATA_COMMAND,
+    DatasetError,
+    DatasetWriteError,
+    is_temporary,
+    sha256,
+)
 from debench.reference.provenance import command_line, git_commit, package_versions_json
 from debench.reference.standards import acdd_attributes, coverage_content_type
 
-MANIFEST_NAME = "MANIFEST.json"
-#: The inter-process lock of a data directory (kept: deleting a flock file races).
-LOCK_NAME = ".MANIFEST.json.lock"
-#: Seconds a writer (or a reader re-checking) waits for the directory lock. A write holds
-#: it for one netCDF serialisation of a dataset of at most a few MB (well under a second);
-#: minutes of waiting mean a hung process, which the error then names.
-LOCK_TIMEOUT_S = 300.0
+__all__ = [
+    "CONVENTIONS", "DATA_DIR_ENV", "LOCK_NAME", "MANIFEST_NAME", "REQUIRED_GLOBAL_ATTRS",
+    "REQUIRED_NUMERIC_ATTRS", "REQUIRED_VARIABLE_ATTRS", "THESIS_REFERENCE",
+    "WRITE_DATA_COMMAND", "DataProblem", "DatasetError", "DatasetWriteError",
+    "check_attributes", "data_dir", "dataset_parameters", "is_temporary", "read_dataset",
+    "read_manifest", "recover", "sha256", "variable_attrs", "verify_directory",
+    "write_dataset",
+]
+
 CONVENTIONS = "CF-1.10, ACDD-1.3"
 THESIS_REFERENCE = (
     "Zeng, C. (2020). Deformation and stability of dielectric elastomer films used in "
@@ -102,28 +113,6 @@ REQUIRED_GLOBAL_ATTRS = (
 REQUIRED_VARIABLE_ATTRS = ("long_name",)
 REQUIRED_NUMERIC_ATTRS = ("units",)
 _NAME = re.compile(r"^[a-z0-9][a-z0-9_]*$")
-_SHA256 = re.compile(r"^[0-9a-f]{64}$")
-#: Temporary files of the writer (any generation of it): ``.<name>[.<pid>.<hex>].tmp.nc``
-#: and ``MANIFEST.json[.<pid>.<hex>].tmp``. Never data, never reported as unlisted.
-_TEMP = re.compile(r"^(\.[^/]+\.tmp\.nc|MANIFEST\.json(\.[^/]+)?\.tmp)$")
-#: The command that (re)creates the curated datasets.
-WRITE_DATA_COMMAND = "debench reproduce --write-data"
-
-
-class DatasetError(RuntimeError):
-    """A dataset is malformed, tampered with, or missing from its manifest."""
-
-
-class DatasetWriteError(DatasetError):
-    """A write failed (disk full, directory not writable, lock not obtained).
-
-    The message says which version of the file is in place afterwards; ``errno`` is that
-    of the underlying :class:`OSError` (``None`` when there is none).
-    """
-
-    def __init__(self, message: str, errno: int | None = None):
-        super().__init__(message)
-        self.errno = errno
 
 
 @dataclass(frozen=True)
@@ -184,164 +173,14 @@ def _missing_data_hint(directory: Path) -> str:
             "regenerates the curated datasets from a source checkout")
 
 
-def sha256(path: Path) -> str:
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for block in iter(lambda: fh.read(1 << 20), b""):
-            h.update(block)
-    return h.hexdigest()
-
-
-def is_temporary(name: str) -> bool:
-    """Whether ``name`` is a writer's temporary file (stale unless a write is under way)."""
-    return bool(_TEMP.match(name))
-
-
-# --------------------------------------------------------------------------- durability
-def _fsync_file(path: Path) -> None:
-    fd = os.open(path, os.O_RDONLY)
-    try:
-        os.fsync(fd)
-    finally:
-        os.close(fd)
-
-
-def _fsync_dir(directory: Path) -> None:
-    """Make a rename durable; not every platform can open a directory (then skip)."""
-    try:
-        fd = os.open(directory, os.O_RDONLY)
-    except OSError:
-        return
-    try:
-        with contextlib.suppress(OSError):
-            os.fsync(fd)
-    finally:
-        os.close(fd)
-
-
-def _unique(directory: Path, stem: str, suffix: str) -> Path:
-    return directory / f"{stem}.{os.getpid()}.{secrets.token_hex(4)}{suffix}"
-
-
-# --------------------------------------------------------------------------- lock
-@contextlib.contextmanager
-def _write_lock(directory: Path) -> Iterator[None]:
-    """The directory's lock for a writer; :class:`DatasetWriteError` when not obtained."""
-    lock = filelock.FileLock(str(directory / LOCK_NAME), timeout=LOCK_TIMEOUT_S)
-    try:
-        lock.acquire()
-    except filelock.Timeout as exc:
-        raise DatasetWriteError(
-            f"{directory}: another writer has held {LOCK_NAME} for more than "
-            f"{LOCK_TIMEOUT_S:g} s; nothing was written") from exc
-    except OSError as exc:
-        raise DatasetWriteError(
-            f"{directory}: cannot lock the directory for writing ({exc.strerror or exc}); "
-            "nothing was written", exc.errno) from exc
-    try:
-        yield
-    finally:
-        lock.release()
-
-
-@contextlib.contextmanager
-def _reader_lock(directory: Path) -> Iterator[bool]:
-    """The lock for a reader's second look: ``True`` when held, ``False`` when the
-    directory cannot be locked (read-only install), in which case the read goes on."""
-    lock = filelock.FileLock(str(directory / LOCK_NAME), timeout=LOCK_TIMEOUT_S)
-    try:
-        lock.acquire()
-        held = True
-    except (OSError, filelock.Timeout):
-        held = False
-    try:
-        yield held
-    finally:
-        if held:
-            lock.release()
-
-
 # --------------------------------------------------------------------------- manifest
-def _validate_entries(path: Path, files: Any, section: str) -> dict[str, dict[str, Any]]:
-    if not isinstance(files, dict):
-        raise DatasetError(f"{path}: malformed manifest ({section!r} is not an object)")
-    for fname, meta in files.items():
-        if not isinstance(meta, dict) or "sha256" not in meta:
-            raise DatasetError(f"{path}: the entry of {fname} has no sha256; "
-                               f"regenerate it with `{WRITE_DATA_COMMAND}`")
-        if not isinstance(meta["sha256"], str) or not _SHA256.match(meta["sha256"]):
-            raise DatasetError(f"{path}: the entry of {fname} has a malformed sha256 "
-                               f"{meta['sha256']!r} (64 lower-case hex digits expected)")
-    return files
-
-
-def _read_body(directory: Path) -> tuple[dict[str, dict[str, Any]], dict[str, dict[str, Any]]]:
-    """``(files, pending)`` of a directory's manifest (both empty when there is none)."""
-    path = Path(directory) / MANIFEST_NAME
-    try:
-        text = path.read_text()
-    except FileNotFoundError:
-        return {}, {}
-    try:
-        body = json.loads(text)
-        files = body["files"]
-    except (json.JSONDecodeError, KeyError, TypeError) as exc:
-        raise DatasetError(f"{path}: malformed manifest ({exc})") from exc
-    return (_validate_entries(path, files, "files"),
-            _validate_entries(path, body.get("pending", {}), "pending"))
-
-
 def read_manifest(directory: Path) -> dict[str, dict[str, Any]]:
     """The committed entries of a directory's manifest, ``{file name: metadata}``.
 
     Every entry has a ``sha256``; an entry without one raises :class:`DatasetError`
     naming the file.
     """
-    return _read_body(directory)[0]
-
-
-def _write_manifest(directory: Path, files: Mapping[str, Mapping[str, Any]],
-                    pending: Mapping[str, Mapping[str, Any]] | None = None) -> None:
-    """Replace the manifest in one step: unique temporary file, fsync, rename."""
-    directory = Path(directory)
-    body: dict[str, Any] = {
-        "description": "sha256 of every curated debench dataset in this directory",
-        "files": {k: dict(files[k]) for k in sorted(files)}}
-    if pending:
-        body["pending"] = {k: dict(pending[k]) for k in sorted(pending)}
-    tmp = _unique(directory, MANIFEST_NAME, ".tmp")
-    try:
-        with open(tmp, "w") as fh:
-            fh.write(json.dumps(body, indent=2, sort_keys=True) + "\n")
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, directory / MANIFEST_NAME)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            tmp.unlink()
-        raise
-    _fsync_dir(directory)
-
-
-def _recover_locked(directory: Path) -> list[str]:
-    """Finish or roll back interrupted writes and remove stale temporaries (lock held)."""
-    actions: list[str] = []
-    files, pending = _read_body(directory)
-    for fname, meta in sorted(pending.items()):
-        final = directory / fname
-        if final.exists() and sha256(final) == meta["sha256"]:
-            files[fname] = {k: v for k, v in meta.items() if k != "temp"}
-            actions.append(f"{fname}: completed an interrupted write (new version listed)")
-        else:
-            actions.append(f"{fname}: rolled back an interrupted write (previous version kept)")
-    if pending:
-        _write_manifest(directory, files)
-    for path in sorted(directory.iterdir()):
-        if is_temporary(path.name):
-            with contextlib.suppress(FileNotFoundError):
-                path.unlink()
-            actions.append(f"{path.name}: removed a stale temporary file")
-    return actions
+    return manifest.read_body(directory)[0]
 
 
 def recover(directory: Path | None = None) -> list[str]:
@@ -355,8 +194,8 @@ def recover(directory: Path | None = None) -> list[str]:
     directory = Path(directory) if directory is not None else data_dir()
     if not directory.is_dir():
         return []
-    with _write_lock(directory):
-        return _recover_locked(directory)
+    with manifest.write_lock(directory):
+        return manifest.recover_locked(directory)
 
 
 # --------------------------------------------------------------------------- validation
@@ -396,6 +235,41 @@ def variable_attrs(long_name: str, units: str = "1", atol: float | None = None,
         out["accuracy_atol"] = atol
     if rtol is not None:
         out["accuracy_rtol"] = rtol
+    return out
+
+
+def _with_provenance(ds: xr.Dataset, name: str, *, now: str, command: str, title: str,
+                     summary: str, references: str, keywords: str,
+                     parameters: Mapping[str, Any]) -> xr.Dataset:
+    """A copy of ``ds`` with the global attributes of the convention (CF, ACDD, debench
+    provenance, ``param_<name>`` per parameter), every variable's
+    ``coverage_content_type`` and no ``_FillValue`` on a coordinate variable; checked."""
+    out = ds.copy()
+    out.attrs.update({
+        "Conventions": CONVENTIONS,
+        "title": title,
+        "summary": summary,
+        "references": references,
+        "source": f"debench {__version__} (models + reference packages)",
+        "history": f"{now} created by: {command}",
+        "date_created": now,
+        "creator_name": "debench developers",
+        "license": "CC-BY-4.0",
+        "keywords": keywords,
+        "git_commit": git_commit(),
+        "package_versions": package_versions_json(),
+        "command": command,
+        "parameters": json.dumps(dict(parameters), sort_keys=True, default=str),
+        **acdd_attributes(name, now),
+    })
+    for key, value in parameters.items():
+        out.attrs[f"param_{key}"] = _scalar_attr(value)
+    for vname, var in out.variables.items():
+        var.attrs.setdefault("coverage_content_type",
+                             coverage_content_type(vname, is_coordinate=vname in out.coords))
+        if vname in out.dims and np.issubdtype(var.dtype, np.floating):
+            var.encoding["_FillValue"] = None  # CF 2.5.1: never on a coordinate variable
+    check_attributes(out)
     return out
 
 
@@ -450,32 +324,8 @@ def write_dataset(
 
     now = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
     cmd = command if command is not None else command_line()
-    out = ds.copy()
-    out.attrs.update({
-        "Conventions": CONVENTIONS,
-        "title": title,
-        "summary": summary,
-        "references": references,
-        "source": f"debench {__version__} (models + reference packages)",
-        "history": f"{now} created by: {cmd}",
-        "date_created": now,
-        "creator_name": "debench developers",
-        "license": "CC-BY-4.0",
-        "keywords": keywords,
-        "git_commit": git_commit(),
-        "package_versions": package_versions_json(),
-        "command": cmd,
-        "parameters": json.dumps(dict(parameters), sort_keys=True, default=str),
-        **acdd_attributes(name, now),
-    })
-    for key, value in parameters.items():
-        out.attrs[f"param_{key}"] = _scalar_attr(value)
-    for vname, var in out.variables.items():
-        var.attrs.setdefault("coverage_content_type",
-                             coverage_content_type(vname, is_coordinate=vname in out.coords))
-        if vname in out.dims and np.issubdtype(var.dtype, np.floating):
-            var.encoding["_FillValue"] = None  # CF 2.5.1: never on a coordinate variable
-    check_attributes(out)
+    out = _with_provenance(ds, name, now=now, command=cmd, title=title, summary=summary,
+                           references=references, keywords=keywords, parameters=parameters)
 
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
@@ -484,8 +334,8 @@ def write_dataset(
                                 f"({exc.strerror or exc}); nothing was written",
                                 exc.errno) from exc
     path = out_dir / f"{name}.nc"
-    with _write_lock(out_dir):
-        _recover_locked(out_dir)
+    with manifest.write_lock(out_dir):
+        manifest.recover_locked(out_dir)
         if path.exists() and not overwrite:
             raise FileExistsError(f"{path} exists; pass overwrite=True to replace a curated file")
         meta = {"title": title, "command": cmd, "git_commit": out.attrs["git_commit"],
@@ -501,10 +351,10 @@ def write_dataset(
 def _install(out: xr.Dataset, path: Path, meta: dict[str, Any]) -> None:
     """Steps 2-5 of the write protocol (the directory lock is held)."""
     directory = path.parent
-    tmp = _unique(directory, f".{path.stem}", ".tmp.nc")
+    tmp = manifest.unique_path(directory, f".{path.stem}", ".tmp.nc")
     meta["temp"] = tmp.name
     out.to_netcdf(tmp, engine="netcdf4")
-    _fsync_file(tmp)
+    manifest.fsync_file(tmp)
     with xr.open_dataset(tmp, engine="netcdf4") as back:
         back.load()
     check_attributes(back)
@@ -515,25 +365,25 @@ def _install(out: xr.Dataset, path: Path, meta: dict[str, Any]) -> None:
             except AssertionError as exc:
                 raise DatasetError(f"{path.name}: read-back of {var!r} differs from what "
                                    "was written; nothing was installed") from exc
-    meta["sha256"] = sha256(tmp)
+    meta["sha256"] = manifest.sha256(tmp)
     meta["bytes"] = tmp.stat().st_size
-    files, pending = _read_body(directory)
+    files, pending = manifest.read_body(directory)
     pending[path.name] = dict(meta)
-    _write_manifest(directory, files, pending)                   # 3. intent
+    manifest.write_manifest(directory, files, pending)                   # 3. intent
     os.replace(tmp, path)                                        # 4. install
-    _fsync_dir(directory)
+    manifest.fsync_dir(directory)
     files[path.name] = {k: v for k, v in meta.items() if k != "temp"}
     del pending[path.name]
-    _write_manifest(directory, files, pending)                   # 5. commit
+    manifest.write_manifest(directory, files, pending)                   # 5. commit
 
 
 def _abandon(directory: Path, path: Path, meta: dict[str, Any], exc: BaseException) -> None:
     """Clean up after a failed write (lock held) and say what is left in place."""
     with contextlib.suppress(Exception):  # best effort: the next writer recovers anyway
-        _recover_locked(directory)
+        manifest.recover_locked(directory)
     if isinstance(exc, DatasetError) or not isinstance(exc, OSError | RuntimeError):
         return  # already clear (or an interrupt): re-raised as it is
-    installed = "sha256" in meta and path.exists() and sha256(path) == meta["sha256"]
+    installed = "sha256" in meta and path.exists() and manifest.sha256(path) == meta["sha256"]
     state = ("the new version was installed" if installed else
              "the previous version is intact" if path.exists() else "no file was left")
     raise DatasetWriteError(
@@ -561,11 +411,11 @@ def _read_verified(path: Path) -> tuple[xr.Dataset, bool]:
     except FileNotFoundError:
         raise DatasetError(f"{path.name}: no such dataset; "
                            f"{_missing_data_hint(path.parent)}") from None
-    files, pending = _read_body(path.parent)
+    files, pending = manifest.read_body(path.parent)
     accepted = _accepted_checksums(path.name, files, pending)
     if not accepted:
         raise DatasetError(f"{path.name} is not listed in {path.parent / MANIFEST_NAME}")
-    actual = sha256(path)
+    actual = manifest.sha256(path)
     if actual not in accepted:
         raise DatasetError(
             f"{path.name}: sha256 {actual[:12]}… does not match manifest {accepted[0][:12]}… "
@@ -583,10 +433,10 @@ def _recovered(directory: Path) -> Iterator[None]:
     """Hold the directory lock (when the directory allows it: else go on unlocked), finish
     any interrupted write, and keep the lock for the body: no writer replaces a file
     while the body reads it. Never fails a read."""
-    with _reader_lock(directory) as locked:
+    with manifest.reader_lock(directory) as locked:
         if locked:
             with contextlib.suppress(OSError, DatasetError):  # lockable, not writable
-                _recover_locked(directory)
+                manifest.recover_locked(directory)
         yield
 
 
@@ -655,7 +505,7 @@ def verify_directory(directory: Path | None = None) -> list[DataProblem]:
     if not directory.is_dir():
         return [DataProblem(str(directory), f"data directory does not exist; {fix}")]
     try:
-        files, pending = _read_body(directory)
+        files, pending = manifest.read_body(directory)
     except DatasetError as exc:
         return [_problem(str(directory / MANIFEST_NAME), exc)]
     on_disk = sorted(p.name for p in directory.glob("*.nc") if not is_temporary(p.name))
@@ -671,7 +521,7 @@ def verify_directory(directory: Path | None = None) -> list[DataProblem]:
             read_dataset(directory / fname)
         except DatasetError as exc:
             problems.append(_problem(fname, exc))
-    listed_now = set(read_manifest(directory)) | set(_read_body(directory)[1])
+    listed_now = set(read_manifest(directory)) | set(manifest.read_body(directory)[1])
     problems += [DataProblem(f, "is not listed in the manifest")
                  for f in on_disk if f not in listed_now]
     return problems

@@ -62,12 +62,12 @@ def test_branches_at_rejects_stretches_off_the_branch(pair):
 def test_producer_profiles_equal_one_integration_each():
     """The producers' annulus profiles (both variants, c = 0 and -0.053, one integration)
     equal :func:`shooting.integrate_inward` of each state alone."""
-    from debench.reference.producers import ch3 as prod
+    from debench.reference.producers import ch3_model as model
 
     for eq in ("printed", "membrane"):
-        profs = prod._profiles(3.0, -0.053, 0.2, eq)
+        profs = model.profiles(3.0, -0.053, 0.2, eq)
         for c, (p1, p2) in zip((0.0, -0.053), profs, strict=True):
-            q = prod._state(3.0, eq, c, 0.2)["q"]
+            q = model.state(3.0, eq, c, 0.2)["q"]
             _, _, _, P1, P2 = shooting.integrate_inward(Annulus(3.0, equilibrium=eq),
                                                        np.array([q]), profile=True)
             np.testing.assert_allclose(p1, P1[::-1, 0], rtol=1e-13)

@@ -1,8 +1,8 @@
 """Chapter 3 claims (Sec. 3.5) against the catalogue; evidence tests named in ch3.toml.
 
-Our values are computed by reference/producers/ch3.py (cached per process); the statuses
-(reproduced / not_reproduced with diagnosis) are asserted to be the expected ones, and
-the tests below check the reasons behind each status.
+Our values are computed by reference/producers/ch3.py (the model read through ch3_model.py,
+cached per process); the statuses (reproduced / not_reproduced with diagnosis) are asserted
+to be the expected ones, and the tests below check the reasons behind each status.
 """
 
 from __future__ import annotations
@@ -16,6 +16,8 @@ from debench.models.circular.actuator import branch, curves
 from debench.models.circular.params import Annulus
 from debench.reference import catalogue
 from debench.reference.producers import ch3 as prod
+from debench.reference.producers import ch3_checks as checks
+from debench.reference.producers import ch3_model as model
 
 CAT = {e.id: e for e in catalogue.load() if e.file == "ch3.toml" or
        e.id.startswith("lit.membrane")}
@@ -35,7 +37,7 @@ def test_interface_changes_reproduce():
         r = _status(f"ch3.annulus.{key}")
         assert r.status == "reproduced", (key, r.value, r.diagnosis)
     # internal consistency: lambda3^A = lambda^-2 ties the first and third numbers
-    ch = prod._interface_changes(3.0, 0.2, -0.053)
+    ch = model.interface_changes(3.0, 0.2, -0.053)
     assert (1 + ch["thickness_A_increase"] / 100) == pytest.approx(
         (1 - ch["lam2_interface_decrease"] / 100) ** -2, rel=1e-12)
 
@@ -49,7 +51,7 @@ def test_loss_of_tension_stretch_lamP_3():
     r = _status("ch3.loss_of_tension.stretch_lamP_3")
     assert r.status == "reproduced"
     # at the loss of tension sigma1^(A) = 0 (3.30) on every c: located to solver precision
-    br = prod._branch(3.0)
+    br = model.branch(3.0)
     for cv in curves(br, [0.0, -0.053]):
         ev = cv.events["loss_of_tension"]
         s = circle_a.sigma1_circle_a(ev.lam, ev.phibar, cv.actuator.c, 1 / 120)
@@ -117,7 +119,7 @@ def test_max_stretch_reduction_eps_r_sensitivity():
     e = CAT["ch3.max_stretch_reduction.lamP_4"]
     peak = prod.reduction_peak_over_eps_r(e.parameters["lamP"], e.parameters["c"])
     eps = np.linspace(3.5, 5.5, 21)
-    br = prod._branch(4.0)
+    br = model.branch(4.0)
     cvs = curves(br, [0.0, -0.053] * eps.size, eps_r=np.repeat(eps, 2))
     vals = np.array([100 * (1 - cvs[2 * k + 1].lam_max / cvs[2 * k].lam_max)
                      for k in range(eps.size)])
@@ -157,7 +159,7 @@ def test_fig39a_holds_on_the_pullin_range():
     assert d["c_end"] == pytest.approx(closed, abs=THRESHOLD_AGREEMENT)
     assert d["holds_on_pullin_range"] and d["loss_of_tension_below"]
     assert 0 < d["points_in_range"] < d["points"]
-    kinds, _, _ = prod._sweep(1.25, params.EPS_R_ASSUMED, "printed")
+    kinds, _, _ = checks.failure_sweep(1.25, params.EPS_R_ASSUMED, "printed")
     assert set(kinds) == {"pullin", "loss_of_tension"}   # over 0 .. -0.1 the claim fails
     r = _status("ch3.fig3_9.lamP_1p25")
     assert r.status == "not_reproducible" and r.details == d
@@ -187,7 +189,7 @@ def test_eps_r_sensitivity_of_claims():
 def test_lamP_3_breakdown_needs_no_extreme_eps_r_but_loss_of_tension_does():
     """Sec. 3.5.5 vs 3.5.6 at lamP = 3: loss of tension first for c = -0.053 would need
     Phibar_B(lambda_LoT) >= Phibar(lambda_LoT), i.e. eps_r >= ~23 (VHB: 4.05-4.7)."""
-    br = prod._branch(3.0)
+    br = model.branch(3.0)
     cv = curves(br, [-0.053])[0]
     lot = cv.events["loss_of_tension"]
     pb47 = float(circle_a.breakdown_phibar(lot.lam, 4.7, params.MU_VHB))
@@ -251,7 +253,7 @@ def test_failure_events_satisfy_their_definitions(c, lamP):
     Phibar = Phibar_B), precedes every other event, and loss of tension is independent
     of c (Sec. 3.6)."""
     from debench.models.circular.actuator import _event_function
-    br = prod._branch(lamP)
+    br = model.branch(lamP)
     cv, c0 = curves(br, [c, 0.0])
     f = cv.failure
     assert f is not None

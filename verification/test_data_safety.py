@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
-from debench.reference import datasets
+from debench.reference import datasets, manifest
 from debench.reference.datasets import (
     DatasetError,
     DatasetWriteError,
@@ -322,7 +322,7 @@ def test_full_disk_when_committing_the_manifest_keeps_a_listed_version(tmp_path,
     too, yet the file on disk verifies (through the recorded intent) and the error says
     the new version is in place; the next writer completes the manifest."""
     write(tmp_path, 1.0)
-    real = datasets._write_manifest
+    real = manifest.write_manifest
     calls = {"n": 0}
 
     def fill_after_intent(*args, **kwargs):
@@ -331,7 +331,7 @@ def test_full_disk_when_committing_the_manifest_keeps_a_listed_version(tmp_path,
             raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
         real(*args, **kwargs)
 
-    monkeypatch.setattr(datasets, "_write_manifest", fill_after_intent)
+    monkeypatch.setattr(manifest, "write_manifest", fill_after_intent)
     with pytest.raises(DatasetWriteError, match="new version was installed"):
         write(tmp_path, 2.0)
     assert version_of(tmp_path) == 2.0  # accepted through the pending record
@@ -417,7 +417,7 @@ def test_missing_or_empty_data_directory_is_a_data_problem(tmp_path, state):
     if state != "missing":
         directory.mkdir()
     if state == "empty_manifest":
-        datasets._write_manifest(directory, {})
+        manifest.write_manifest(directory, {})
     [problem] = verify_directory(directory)
     assert problem.file == str(directory)
     assert "debench reproduce --write-data" in problem.reason

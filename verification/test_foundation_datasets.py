@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 import xarray as xr
-from debench.reference import datasets
+from debench.reference import datasets, manifest
 from debench.reference.datasets import DatasetError, read_dataset, write_dataset
 from xarray.testing import assert_identical
 
@@ -86,7 +86,7 @@ def test_missing_global_attribute_is_rejected_on_read(tmp_path):
     stripped.to_netcdf(path)
     files = datasets.read_manifest(tmp_path)
     files["example.nc"]["sha256"] = datasets.sha256(path)  # a consistent checksum ...
-    datasets._write_manifest(tmp_path, files)
+    manifest.write_manifest(tmp_path, files)
     with pytest.raises(DatasetError, match="global attribute 'references'"):
         read_dataset(path)  # ... but the provenance is incomplete
 

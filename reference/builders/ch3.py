@@ -27,8 +27,17 @@ import xarray as xr
 from debench.models.circular import circle_a, params
 from debench.models.circular._chapter_pass import Chapter
 from debench.models.circular.actuator import EVENT_KINDS, Event
+from debench.reference import figures as figure_io
 from debench.reference.datasets import write_dataset
-from debench.reference.figures import written
+from debench.reference.figures import LABELS as L
+from debench.reference.figures import (
+    mark_thesis,
+    mark_thesis_x,
+    percent_note,
+    printed_value,
+    pyplot,
+    written,
+)
 from debench.reference.studies.ch3 import (
     C_CURVES,
     EPS_R,
@@ -270,30 +279,88 @@ _TEXT = {
 
 
 # ------------------------------------------------------------------ figures
+_PCT_LABEL = r"thesis: printed % change, applied to our $c$ = 0 value"
+_ENDS_NOTE = ("diamond pull-in (dotted beyond), square breakdown;\n"
+              "curves end at loss of tension or breakdown")
+
+
 def figures(ds: dict[str, xr.Dataset], fig_dir: Path) -> list[Path]:
-    from debench.reference.figures import LABELS as L
-    from debench.reference.figures import (
-        mark_thesis,
-        mark_thesis_x,
-        percent_note,
-        printed_value,
-        pyplot,
-    )
-    from debench.reference.figures import save as save_figure
-
+    """Figs 3.2-3.9 from the datasets of :func:`compute`, each with the thesis' printed
+    values marked (:func:`debench.reference.figures.mark_thesis`)."""
     plt = pyplot()
+    a, s = ds["ch3_annulus_profiles"], ds["ch3_c_sweep"]
+    v, f = ds["ch3_voltage_stretch"], ds["ch3_failure_points"].sel(equilibrium="printed")
+    drawn = (("fig3_2_annulus_stretches", _fig3_2, (a,)),
+             ("fig3_3_thickness_stretch", _fig3_3, (a,)),
+             ("fig3_4_voltage_stretch_c0", _fig3_4, (v, f)),
+             ("fig3_5_voltage_stretch_lamP_1p25", _fig3_5, (v, f)),
+             ("fig3_6_sigma1_lamP_3", _fig3_6, (v, f)),
+             ("fig3_7_failure_modes", _fig3_7, (v, f)),
+             ("fig3_8_voltage_stretch_c", _fig3_8, (v, f)),
+             ("fig3_9_c_sweep", _fig3_9, (s,)))
     out = []
+    for name, draw, data in drawn:
+        out += figure_io.save(draw(plt, *data), fig_dir / name)  # module attribute: tests replace it
+    return out
 
-    def save(fig, name):
-        out.extend(save_figure(fig, fig_dir / name))
 
-    a = ds["ch3_annulus_profiles"]
+def _implied(entry_id: str, base: float, sign: int) -> float:
+    """The c = -0.053 value the thesis' printed percentage implies from our c = 0 one."""
+    return base * (1 + sign * printed_value(entry_id) / 100)
 
-    def implied(entry_id, base, sign):
-        """The c = -0.053 value the thesis' printed percentage implies from our c = 0 one."""
-        return base * (1 + sign * printed_value(entry_id) / 100)
 
-    pct_label = r"thesis: printed % change, applied to our $c$ = 0 value"
+def _curve_upto(v: xr.Dataset, lp, c, stop, phi_stop=np.nan):
+    """The computed curve below ``stop``, closed by the event point (stop, phi_stop)."""
+    lam = v.lambda_a.sel(lamP=lp).values
+    phi = v.phibar.sel(lamP=lp, c=c).values
+    m = (lam < stop) & np.isfinite(phi)
+    lam, phi = lam[m], phi[m]
+    if np.isfinite(stop) and np.isfinite(phi_stop):
+        lam, phi = np.append(lam, stop), np.append(phi, phi_stop)
+    return lam, phi
+
+
+def _end_of(f: xr.Dataset, lp, c):
+    """Where a curve ends: loss of tension (the membrane model ends) or dielectric
+    breakdown (the material fails), whichever comes first: (lambda, Phibar, kind)."""
+    fp = f.sel(lamP=lp, c=c)
+    ends = [(float(fp.loss_of_tension_lambda), float(fp.loss_of_tension_phibar), "lot"),
+            (float(fp.breakdown_lambda), float(fp.breakdown_phibar), "breakdown")]
+    ends = [e for e in ends if np.isfinite(e[0])]
+    return min(ends) if ends else (np.inf, np.nan, None)
+
+
+def _draw(ax, v: xr.Dataset, f: xr.Dataset, lp, c, label: str) -> None:
+    """One voltage-stretch curve up to its end, dotted past pull-in (the unstable
+    branch), with the pull-in diamond and the breakdown square."""
+    stop, phi_stop, kind = _end_of(f, lp, c)
+    lam, phi = _curve_upto(v, lp, c, stop, phi_stop)
+    fp = f.sel(lamP=lp, c=c)
+    pl, pp = float(fp.pullin_lambda), float(fp.pullin_phibar)
+    if np.isfinite(pl) and pl < stop:
+        st = lam < pl
+        (ln,) = ax.plot(np.append(lam[st], pl), np.append(phi[st], pp), label=label)
+        ax.plot(np.insert(lam[~st], 0, pl), np.insert(phi[~st], 0, pp), ":",
+                color=ln.get_color(), lw=1.1)
+        ax.plot(pl, pp, "kd", ms=5)
+    else:
+        ax.plot(lam, phi, label=label)
+    if kind == "breakdown":
+        ax.plot(stop, phi_stop, "ks", ms=5, mfc="none")
+
+
+def _failure(f: xr.Dataset, lp, c):
+    """(lambda_max, Phibar there, failure code) of one curve (Fig. 3.7 symbols)."""
+    fp = f.sel(lamP=lp, c=c)
+    code = int(fp.failure_mode)
+    ev = {1: "pullin", 2: "loss_of_tension", 3: "breakdown"}.get(code)
+    if ev is None:
+        return np.inf, np.nan, code
+    return float(fp[f"{ev}_lambda"]), float(fp[f"{ev}_phibar"]), code
+
+
+def _fig3_2(plt, a: xr.Dataset):
+    """Fig. 3.2: radial and hoop stretch in annulus B, c = 0 and c = -0.053."""
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for k, (c, ls) in enumerate(zip(a.c.values, ("-", "--"), strict=True)):
         ax.plot(a.r_over_ra, a.lambda1[k], "b" + ls, label=rf"$\lambda_1$, $c$ = {c:g}")
@@ -301,94 +368,65 @@ def figures(ds: dict[str, xr.Dataset], fig_dir: Path) -> list[Path]:
     at_ra = a.sel(c=0.0).isel(r_over_ra=0)
     for eid, var, sign, off in (("ch3.annulus.lam1_interface_increase", "lambda1", 1, (7, -12)),
                                 ("ch3.annulus.lam2_interface_decrease", "lambda2", -1, (7, -12))):
-        mark_thesis(ax, 1.0, implied(eid, float(at_ra[var]), sign),
-                    pct_label if sign > 0 else None, entries=[eid],
+        mark_thesis(ax, 1.0, _implied(eid, float(at_ra[var]), sign),
+                    _PCT_LABEL if sign > 0 else None, entries=[eid],
                     note=percent_note(eid, "+" if sign > 0 else "\u2212"), note_offset=off)
     ax.set(xlabel=L["r_over_ra"], ylabel=L["lambda_12"],
            title=r"Fig. 3.2: annulus B, $\lambda_P$ = 3, $\bar\Phi$ = 0.2")
     ax.legend(fontsize=8)
-    save(fig, "fig3_2_annulus_stretches.png")
+    return fig
 
+
+def _fig3_3(plt, a: xr.Dataset):
+    """Fig. 3.3: thickness stretch in annulus B and circle A."""
+    at_ra = a.sel(c=0.0).isel(r_over_ra=0)
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for k, (c, ls) in enumerate(zip(a.c.values, ("-", "--"), strict=True)):
         ax.plot(a.r_over_ra, a.lambda3[k], "k" + ls, label=f"annulus B, $c$ = {c:g}")
         ax.plot([0, 1], [a.lambda3_a[k]] * 2, "g" + ls, label=f"circle A, $c$ = {c:g}")
     eid = "ch3.annulus.thickness_A_increase"
-    mark_thesis(ax, 0.5, implied(eid, float(a.lambda3_a.sel(c=0.0)), 1), pct_label,
+    mark_thesis(ax, 0.5, _implied(eid, float(a.lambda3_a.sel(c=0.0)), 1), _PCT_LABEL,
                 entries=[eid], note=percent_note(eid))
     eid = "ch3.annulus.lam3_interface_decrease"
-    mark_thesis(ax, 1.0, implied(eid, float(at_ra.lambda3), -1), None, entries=[eid],
+    mark_thesis(ax, 1.0, _implied(eid, float(at_ra.lambda3), -1), None, entries=[eid],
                 note=percent_note(eid, "\u2212"), note_offset=(7, 4))
     ax.set(xlabel=L["r_over_ra"], ylabel=L["lambda_3"],
            title=r"Fig. 3.3: thickness stretch, $\lambda_P$ = 3, $\bar\Phi$ = 0.2")
     ax.legend(fontsize=8, loc="center right")
-    save(fig, "fig3_3_thickness_stretch.png")
+    return fig
 
-    v = ds["ch3_voltage_stretch"]
-    f = ds["ch3_failure_points"].sel(equilibrium="printed")
 
-    def curve_upto(lp, c, stop, phi_stop=np.nan):
-        """The computed curve below ``stop``, closed by the event point (stop, phi_stop)."""
-        lam = v.lambda_a.sel(lamP=lp).values
-        phi = v.phibar.sel(lamP=lp, c=c).values
-        m = (lam < stop) & np.isfinite(phi)
-        lam, phi = lam[m], phi[m]
-        if np.isfinite(stop) and np.isfinite(phi_stop):
-            lam, phi = np.append(lam, stop), np.append(phi, phi_stop)
-        return lam, phi
-
-    def end_of(lp, c):
-        """Where a curve ends: loss of tension (the membrane model ends) or dielectric
-        breakdown (the material fails), whichever comes first: (lambda, Phibar, kind)."""
-        fp = f.sel(lamP=lp, c=c)
-        ends = [(float(fp.loss_of_tension_lambda), float(fp.loss_of_tension_phibar), "lot"),
-                (float(fp.breakdown_lambda), float(fp.breakdown_phibar), "breakdown")]
-        ends = [e for e in ends if np.isfinite(e[0])]
-        return min(ends) if ends else (np.inf, np.nan, None)
-
-    def draw(ax, lp, c, label):
-        """One voltage-stretch curve up to its end, dotted past pull-in (the unstable
-        branch), with the pull-in diamond and the breakdown square."""
-        stop, phi_stop, kind = end_of(lp, c)
-        lam, phi = curve_upto(lp, c, stop, phi_stop)
-        fp = f.sel(lamP=lp, c=c)
-        pl, pp = float(fp.pullin_lambda), float(fp.pullin_phibar)
-        if np.isfinite(pl) and pl < stop:
-            st = lam < pl
-            (ln,) = ax.plot(np.append(lam[st], pl), np.append(phi[st], pp), label=label)
-            ax.plot(np.insert(lam[~st], 0, pl), np.insert(phi[~st], 0, pp), ":",
-                    color=ln.get_color(), lw=1.1)
-            ax.plot(pl, pp, "kd", ms=5)
-        else:
-            ax.plot(lam, phi, label=label)
-        if kind == "breakdown":
-            ax.plot(stop, phi_stop, "ks", ms=5, mfc="none")
-
-    ends_note = ("diamond pull-in (dotted beyond), square breakdown;\n"
-                 "curves end at loss of tension or breakdown")
+def _fig3_4(plt, v: xr.Dataset, f: xr.Dataset):
+    """Fig. 3.4: voltage-stretch curves at c = 0 for every pre-stretch."""
     fig, ax = plt.subplots(figsize=(5.5, 4.5))
     for lp in v.lamP.values:
-        draw(ax, lp, 0.0, rf"$\lambda_P$ = {lp:g}")
+        _draw(ax, v, f, lp, 0.0, rf"$\lambda_P$ = {lp:g}")
     eid = "ch3.pullin.suppression_prestretch"
     mark_thesis(ax, printed_value(eid), 0.0,
                 rf"thesis: no pull-in for $\lambda_P \geq$ {printed_value(eid):g}",
                 entries=[eid])
     ax.set(xlabel=L["lambda_A"], ylabel=L["phibar"], ylim=(-0.02, 0.8),
-           title="Fig. 3.4: $c$ = 0; " + ends_note)
+           title="Fig. 3.4: $c$ = 0; " + _ENDS_NOTE)
     ax.legend(fontsize=8, ncol=2)
-    save(fig, "fig3_4_voltage_stretch_c0.png")
+    return fig
 
+
+def _fig3_5(plt, v: xr.Dataset, f: xr.Dataset):
+    """Fig. 3.5: voltage-stretch curves at lamP = 1.25 for every c."""
     fig, ax = plt.subplots(figsize=(5.5, 4.5))
     for c in v.c.values:
-        draw(ax, 1.25, c, f"$c$ = {c:g}")
+        _draw(ax, v, f, 1.25, c, f"$c$ = {c:g}")
     eid = "ch3.pullin.voltage_lamP_1p25"
     mark_thesis(ax, float(f.pullin_lambda.sel(lamP=1.25, c=0.0)), printed_value(eid),
                 r"thesis: pull-in $\bar\Phi$, $c$ = 0", entries=[eid])
     ax.set(xlabel=L["lambda_A"], ylabel=L["phibar"],
-           title="Fig. 3.5: $\\lambda_P$ = 1.25; " + ends_note)
+           title="Fig. 3.5: $\\lambda_P$ = 1.25; " + _ENDS_NOTE)
     ax.legend(fontsize=8, loc="lower right")
-    save(fig, "fig3_5_voltage_stretch_lamP_1p25.png")
+    return fig
 
+
+def _fig3_6(plt, v: xr.Dataset, f: xr.Dataset):
+    """Fig. 3.6: circle-A stress at lamP = 3, c = 0, up to the loss of tension."""
     fig, ax = plt.subplots(figsize=(5, 4))
     lam = v.lambda_a.sel(lamP=3.0).values
     lot = float(f.loss_of_tension_lambda.sel(lamP=3.0, c=0.0))
@@ -401,67 +439,67 @@ def figures(ds: dict[str, xr.Dataset], fig_dir: Path) -> list[Path]:
     ax.set(xlabel=L["lambda_A"], ylabel=L["sigma1_mu"],
            title=r"Fig. 3.6: $\lambda_P$ = 3, $c$ = 0")
     ax.legend()
-    save(fig, "fig3_6_sigma1_lamP_3.png")
+    return fig
 
-    def failure(lp, c):
-        """(lambda_max, Phibar there, failure code) of one curve (Fig. 3.7 symbols)."""
-        fp = f.sel(lamP=lp, c=c)
-        code = int(fp.failure_mode)
-        ev = {1: "pullin", 2: "loss_of_tension", 3: "breakdown"}.get(code)
-        if ev is None:
-            return np.inf, np.nan, code
-        return float(fp[f"{ev}_lambda"]), float(fp[f"{ev}_phibar"]), code
 
-    from debench.models.circular.circle_a import breakdown_phibar
+def _fig3_7(plt, v: xr.Dataset, f: xr.Dataset):
+    """Fig. 3.7: every curve to its first failure (c = 0 and -0.053), the breakdown line,
+    and the printed percentage changes applied to our c = 0 values."""
     fig, ax = plt.subplots(figsize=(6.5, 4.8))
     sym = {1: "d", 2: "o", 3: "s", 4: "x", 5: "x"}
     for lp in v.lamP.values:
         for c, ls in ((0.0, "-"), (-0.053, ":")):
-            stop, phi_stop, code = failure(lp, c)
-            lam, phi = curve_upto(lp, c, stop, phi_stop)
+            stop, phi_stop, code = _failure(f, lp, c)
+            lam, phi = _curve_upto(v, lp, c, stop, phi_stop)
             ax.plot(lam, phi, "k" + ls, lw=0.9)
             if code in sym:
                 ax.plot(stop, phi_stop, "k" + sym[code], ms=5, mfc="none" if c else "k")
     lam = np.linspace(1, 7.8, 200)
-    ax.plot(lam, breakdown_phibar(lam, params.EPS_R_ASSUMED, params.MU_VHB), "r--", lw=1,
-            label=r"breakdown ($\varepsilon_r$ = 4.7)")
+    ax.plot(lam, circle_a.breakdown_phibar(lam, params.EPS_R_ASSUMED, params.MU_VHB), "r--",
+            lw=1, label=r"breakdown ($\varepsilon_r$ = 4.7)")
     first = True
     for lp, stretch, eid, off in (
             (3.0, 4.5, "ch3.voltage_increase.lamP_3_stretch_4p5", (95, 118)),
             (4.0, 5.0, "ch3.voltage_increase.lamP_4_stretch_5", (100, -50))):
-        lam0, phi0 = curve_upto(lp, 0.0, np.inf)
-        mark_thesis(ax, stretch, implied(eid, float(np.interp(stretch, lam0, phi0)), 1),
-                    pct_label if first else None, entries=[eid],
+        lam0, phi0 = _curve_upto(v, lp, 0.0, np.inf)
+        mark_thesis(ax, stretch, _implied(eid, float(np.interp(stretch, lam0, phi0)), 1),
+                    _PCT_LABEL if first else None, entries=[eid],
                     note=percent_note(eid) + rf" $\bar\Phi$ ($\lambda_P$ = {lp:g})",
                     note_offset=off, arrow=True)
         first = False
     eid = "ch3.max_stretch_gain.lamP_2"     # loss of tension of c = -0.053 at this stretch
-    mark_thesis(ax, implied(eid, failure(2.0, 0.0)[0], 1), failure(2.0, -0.053)[1], None,
-                entries=[eid], note=percent_note(eid) + r" $\lambda_{\max}$ ($\lambda_P$ = 2)",
+    mark_thesis(ax, _implied(eid, _failure(f, 2.0, 0.0)[0], 1), _failure(f, 2.0, -0.053)[1],
+                None, entries=[eid],
+                note=percent_note(eid) + r" $\lambda_{\max}$ ($\lambda_P$ = 2)",
                 note_offset=(120, 120), arrow=True)
     eid = "ch3.max_stretch_reduction.lamP_4"  # breakdown of c = -0.053 at this stretch
-    x = implied(eid, failure(4.0, 0.0)[0], -1)
-    mark_thesis(ax, x, float(breakdown_phibar(x, params.EPS_R_ASSUMED, params.MU_VHB)), None,
-                entries=[eid],
+    x = _implied(eid, _failure(f, 4.0, 0.0)[0], -1)
+    mark_thesis(ax, x, float(circle_a.breakdown_phibar(x, params.EPS_R_ASSUMED, params.MU_VHB)),
+                None, entries=[eid],
                 note=percent_note(eid, "\u2212") + r" $\lambda_{\max}$ ($\lambda_P$ = 4)",
                 note_offset=(55, 63), arrow=True)
     ax.set(xlabel=L["lambda_A"], ylabel=L["phibar"], ylim=(0, 0.8),
            title="Fig. 3.7: $c$ = 0 (solid), $c$ = -0.053 (dotted), ends at the first failure:\n"
                  "diamond pull-in, circle loss of tension, square breakdown")
     ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2)
-    save(fig, "fig3_7_failure_modes.png")
+    return fig
 
+
+def _fig3_8(plt, v: xr.Dataset, f: xr.Dataset):
+    """Fig. 3.8: voltage-stretch curves for every c at lamP = 2 and 3."""
     fig, axs = plt.subplots(1, 2, figsize=(10, 4.3))
     for ax, lp in zip(axs, (2.0, 3.0), strict=True):
         for c in v.c.values:
-            draw(ax, lp, c, f"$c$ = {c:g}")
+            _draw(ax, v, f, lp, c, f"$c$ = {c:g}")
         ax.set(xlabel=L["lambda_A"], ylabel=L["phibar"],
                title=rf"Fig. 3.8: $\lambda_P$ = {lp:g}")
         ax.legend(fontsize=8)
-    fig.suptitle(ends_note.replace(";\n", "; "), fontsize=10)
-    save(fig, "fig3_8_voltage_stretch_c.png")
+    fig.suptitle(_ENDS_NOTE.replace(";\n", "; "), fontsize=10)
+    return fig
 
-    s = ds["ch3_c_sweep"]
+
+def _fig3_9(plt, s: xr.Dataset):
+    """Fig. 3.9: maximum stretch and its voltage over c, coloured by the failure mode."""
     names = {1: "pull-in", 2: "loss of tension", 3: "breakdown"}
     fig, axs = plt.subplots(2, 3, figsize=(11, 6.5), sharex=True, layout="constrained")
     for k, lp in enumerate(s.lamP.values):
@@ -484,7 +522,7 @@ def figures(ds: dict[str, xr.Dataset], fig_dir: Path) -> list[Path]:
                   note=f"no pull-in below\n$c$ = {printed_value(eids[0]):g}")
     eid = "ch3.max_stretch_gain.lamP_2"
     lam0 = float(s.lambda_max.sel(lamP=2.0, c=0.0))
-    mark_thesis(axs[0, 1], -0.053, implied(eid, lam0, 1), None, entries=[eid],
+    mark_thesis(axs[0, 1], -0.053, _implied(eid, lam0, 1), None, entries=[eid],
                 note=percent_note(eid) + r" at $c$ = -0.053", note_offset=(6, -3))
     handles = {}
     for ax in axs.flat:
@@ -492,8 +530,7 @@ def figures(ds: dict[str, xr.Dataset], fig_dir: Path) -> list[Path]:
             handles.setdefault(lab, h)
     fig.legend(handles.values(), handles.keys(), loc="outside lower center", ncol=4)
     fig.suptitle(r"Fig. 3.9: maximum stretch $\lambda_{\max}$ and its voltage over $c$")
-    save(fig, "fig3_9_c_sweep.png")
-    return out
+    return fig
 
 
 def build(out_dir: Path, *, full: bool = False) -> list[Path]:

@@ -26,11 +26,15 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from debench.models.buckling import analytic
+from debench.models.buckling.parameters import MU_REF, Plate
 from debench.models.errors import ConvergenceError
 from debench.models.materials.constants import OGDEN_DELTA
 from debench.models.numerics import convergence_fit, level_fit, reference_fit
 from debench.models.numerics.convergence import FIT_SAFETY, NO_FIT
+from debench.reference import figures as figure_io
 from debench.reference.datasets import variable_attrs, write_dataset
+from debench.reference.figures import LABELS, pyplot
 from debench.reference.studies.ch5 import (
     CASES,
     EIG_EVERY,
@@ -54,10 +58,35 @@ from debench.reference.studies.ch5 import (
 from debench.reference.tasks import resolve_scheduler, run_tasks
 
 
+def _source(case: str) -> str:
+    """The case whose FE results ``case`` reads: itself, or the case it is a scale copy of
+    (:data:`SCALE_COPIES`)."""
+    return SCALE_COPIES.get(case, case)
+
+
 def _at_pullin(r, arr) -> float:
     """A path quantity interpolated (in the centre deflection) at the pull-in deflection."""
     k = int(np.argmax(r.v))
     return float(np.interp(r.w_pullin, r.w[: k + 2], arr[: k + 2]))
+
+
+def _run_plan(full: bool, scheduler, progress: bool) -> dict:
+    """Every task of :func:`plan` once (a task that appears twice, a layer-study mesh that
+    is also a level of the sequence, runs once): ``{task: result}``."""
+    roles = plan(full)
+    unique = list(dict.fromkeys(t for ts in roles.values() for t in ts))
+    return dict(zip(unique, run_tasks(unique, scheduler=scheduler, progress=progress,
+                                      cost=task_cost),
+                    strict=True))
+
+
+def _ramp_results(done: dict, full: bool) -> dict:
+    """The ramps of the plan as :class:`~debench.models.buckling.solver.RampResult`,
+    ``{(case, h): ramp}`` (scale copies read the case they copy)."""
+    from debench.models.buckling.solver import RampResult
+    return {(c, h): RampResult(**dict(done[(ramp_task, _source(c), h, EIG_EVERY, RAMP_DV_MAX,
+                                            RAMP_LAYERS)]))
+            for c in CASES for h in RAMP_LEVELS[full]}
 
 
 def compute(full: bool = False, progress: bool = True, scheduler=None):
@@ -68,266 +97,313 @@ def compute(full: bool = False, progress: bool = True, scheduler=None):
     the sequence) runs once; scale copies (:data:`SCALE_COPIES`) are filled from the case
     they copy.
     """
-    from debench.models.buckling import analytic
-    from debench.models.buckling.parameters import MU_REF
-    from debench.models.buckling.solver import RampResult, southwell
-    levels, ramp_levels = LEVELS[full], RAMP_LEVELS[full]
+    done = _run_plan(full, scheduler, progress)
+    ramps = _ramp_results(done, full)
+    return critical_dataset(done, ramps, full), ramps_dataset(ramps, full), _parameters(full)
+
+
+# ------------------------------------------------------------------ ch5_critical_voltage
+_THIS_MESH = ("of this mesh: secant on the lowest eigenvalue to |dv| < 1e-6; the "
+              "discretisation error is what the sequence measures")
+
+
+def _mesh_sequence(done: dict, full: bool) -> dict[str, np.ndarray]:
+    """The critical-voltage results per (case, level) of the in-plane sequence and per
+    (case, layer count) of the through-thickness study."""
+    levels, lay = LEVELS[full], LAYERS[full]
     h_ls, layer_counts = LAYER_STUDY[full]
-    roles = plan(full)
-    unique = list(dict.fromkeys(t for ts in roles.values() for t in ts))
-    done = dict(zip(unique, run_tasks(unique, scheduler=scheduler, progress=progress,
-                                       cost=task_cost),
-                    strict=True))
+    crit = [[done[(critical_task, _source(c), h, lay)] for h in levels] for c in CASES]
+    layer = [[done[(critical_task, _source(c), h_ls, n)] for n in layer_counts] for c in CASES]
 
-    def ramp(task):
-        fields = dict(done[task])
-        return RampResult(**fields)
+    def table(rows, key, dtype=None):
+        return np.array([[r[key] for r in row] for row in rows], dtype=dtype)
 
-    names = list(CASES)
+    return {"v_cr": table(crit, "v"), "ndof": table(crit, "ndof", np.int64),
+            "nelements": table(crit, "nelements", np.int64),
+            "wall_seconds": table(crit, "seconds"), "eig_residual": table(crit, "eig_residual"),
+            "v_cr_layers": table(layer, "v"), "ndof_layers": table(layer, "ndof", np.int64)}
 
-    def source(case):
-        return SCALE_COPIES.get(case, case)
 
-    lay = LAYERS[full]
-    crit_res = {(c, h): done[(critical_task, source(c), h, lay)] for c in names for h in levels}
-    layer_res = {(c, n): done[(critical_task, source(c), h_ls, n)]
-                 for c in names for n in layer_counts}
-    ramps = {(c, h): ramp((ramp_task, source(c), h, EIG_EVERY, RAMP_DV_MAX, RAMP_LAYERS))
-             for c in names for h in ramp_levels}
-    vcr = np.array([[crit_res[(c, h)]["v"] for h in levels] for c in names])
-    ndof = np.array([[crit_res[(c, h)]["ndof"] for h in levels] for c in names], dtype=np.int64)
-    nel = np.array([[crit_res[(c, h)]["nelements"] for h in levels] for c in names],
-                   dtype=np.int64)
-    secs = np.array([[crit_res[(c, h)]["seconds"] for h in levels] for c in names])
-    eig_res = np.array([[crit_res[(c, h)]["eig_residual"] for h in levels] for c in names])
-    v_layers = np.array([[layer_res[(c, n)]["v"] for n in layer_counts] for c in names])
-    ndof_layers = np.array([[layer_res[(c, n)]["ndof"] for n in layer_counts] for c in names],
-                           dtype=np.int64)
-
-    v_inf, rate, err, resid, v_k, v_m, v_sw, v_cr_ramp_mesh = ([] for _ in range(8))
-    v_free, p_free, p_exp, fit_kind = [], [], [], []
-    lay_lim, lay_err, lay_corr = [], [], []
-    finest_ramp = ramp_levels[-1]
-    for i, case in enumerate(names):
-        p_exp.append(expected_order(source(case)))
-        fitted = reference_fit(np.array(levels), vcr[i], p_exp[-1])
-        fit_kind.append(fitted.kind)
-        v_inf.append(fitted.v_inf)
-        rate.append(fitted.p)
-        err.append(fitted.error)
-        resid.append(fitted.residual)
+def _case_estimates(seq: dict, done: dict, ramps: dict, full: bool) -> dict[str, np.ndarray]:
+    """Per case: the in-plane mesh limit (:func:`reference_fit` at the expected order, and
+    a free-rate fit), the through-thickness limit (a fit in 1/layers), their sum (the
+    reference), the plate-theory estimates and the Southwell estimate from the finest ramp."""
+    from debench.models.buckling.solver import southwell
+    levels, lay = np.array(LEVELS[full]), LAYERS[full]
+    layer_counts = LAYER_STUDY[full][1]
+    finest_ramp = RAMP_LEVELS[full][-1]
+    out: dict[str, list] = {k: [] for k in (
+        "v_cr_extrapolated", "convergence_rate", "v_cr_error", "v_cr_fit_residual",
+        "fit_kind", "expected_order", "v_cr_free_fit", "free_fit_rate", "v_cr_layer_limit",
+        "layer_error", "layer_correction", "v_cr_kirchhoff", "v_cr_mindlin",
+        "v_cr_southwell", "v_cr_ramp_mesh")}
+    for i, case in enumerate(CASES):
+        out["expected_order"].append(expected_order(_source(case)))
+        fitted = reference_fit(levels, seq["v_cr"][i], out["expected_order"][-1])
+        out["fit_kind"].append(fitted.kind)
+        out["v_cr_extrapolated"].append(fitted.v_inf)
+        out["convergence_rate"].append(fitted.p)
+        out["v_cr_error"].append(fitted.error)
+        out["v_cr_fit_residual"].append(fitted.residual)
         try:
-            free_fit = convergence_fit(np.array(levels), vcr[i])
+            free_fit = convergence_fit(levels, seq["v_cr"][i])
         except ConvergenceError:   # a free rate at its bound: no free-rate limit
             free_fit = NO_FIT
-        v_free.append(free_fit.v_inf)
-        p_free.append(free_fit.p)
+        out["v_cr_free_fit"].append(free_fit.v_inf)
+        out["free_fit_rate"].append(free_fit.p)
         # through-thickness: v(n layers) ~ v_n_inf + C n^-q, i.e. a fit in 1/n
-        lf = level_fit(1.0 / np.array(layer_counts, float), v_layers[i])
-        lay_lim.append(lf.v_inf)
-        lay_err.append(lf.error)
-        lay_corr.append(lf.v_inf - v_layers[i][list(layer_counts).index(lay)])
+        v_layers = seq["v_cr_layers"][i]
+        lf = level_fit(1.0 / np.array(layer_counts, float), v_layers)
+        out["v_cr_layer_limit"].append(lf.v_inf)
+        out["layer_error"].append(lf.error)
+        out["layer_correction"].append(lf.v_inf - v_layers[list(layer_counts).index(lay)])
         mat = material(CASES[case][0])
-        v_k.append(analytic.critical_voltage_plate(mat, 10.0, mindlin=False))
-        v_m.append(analytic.critical_voltage_plate(mat, 10.0, mindlin=True))
+        out["v_cr_kirchhoff"].append(analytic.critical_voltage_plate(mat, 10.0, mindlin=False))
+        out["v_cr_mindlin"].append(analytic.critical_voltage_plate(mat, 10.0, mindlin=True))
         r = ramps[(case, finest_ramp)]
-        v_rm = done[(critical_task, source(case), finest_ramp, RAMP_LAYERS)]["v"]
-        v_cr_ramp_mesh.append(v_rm)
-        v_sw.append(southwell(r.v, r.w_mid, v_guess=v_rm))
-    v_ref = np.array(v_inf) + np.array(lay_corr)
-    v_ref_err = np.array(err) + np.abs(np.array(lay_err))
+        v_rm = done[(critical_task, _source(case), finest_ramp, RAMP_LAYERS)]["v"]
+        out["v_cr_ramp_mesh"].append(v_rm)
+        out["v_cr_southwell"].append(southwell(r.v, r.w_mid, v_guess=v_rm))
+    est = {k: np.array(v, dtype=str if k == "fit_kind" else None) for k, v in out.items()}
+    est["v_cr_reference"] = est["v_cr_extrapolated"] + est["layer_correction"]
+    est["v_cr_reference_error"] = est["v_cr_error"] + np.abs(est["layer_error"])
+    return est
 
-    attrs1 = variable_attrs
 
-    this_mesh = ("of this mesh: secant on the lowest eigenvalue to |dv| < 1e-6; the "
-                 "discretisation error is what the sequence measures")
-    crit = xr.Dataset(
+def critical_dataset(done: dict, ramps: dict, full: bool) -> xr.Dataset:
+    """``ch5_critical_voltage``: the mesh sequence (case x level), the through-thickness
+    study (case x layer_count) and the per-case estimates of :func:`_case_estimates`."""
+    seq = _mesh_sequence(done, full)
+    est = _case_estimates(seq, done, ramps, full)
+    a, cl, c = variable_attrs, ("case", "level"), ("case",)
+    return xr.Dataset(
         {
-            "v_cr": (("case", "level"), vcr, attrs1(
+            "v_cr": (cl, seq["v_cr"], a(
                 "normalised critical voltage Phi/t0 sqrt(eps/mu_ref) of the perfect film "
-                "(linearised eigen-analysis)", accuracy=this_mesh)),
-            "ndof": (("case", "level"), ndof, attrs1("degrees of freedom")),
-            "nelements": (("case", "level"), nel, attrs1("prism elements")),
-            "eig_residual": (("case", "level"), eig_res, attrs1(
+                "(linearised eigen-analysis)", accuracy=_THIS_MESH)),
+            "ndof": (cl, seq["ndof"], a("degrees of freedom")),
+            "nelements": (cl, seq["nelements"], a("prism elements")),
+            "eig_residual": (cl, seq["eig_residual"], a(
                 "relative eigen-residual ||S x - lambda M x||/||M x|| at v_cr")),
-            "wall_seconds": (("case", "level"), secs, attrs1(
+            "wall_seconds": (cl, seq["wall_seconds"], a(
                 "wall time of the critical-voltage computation (one thread)", "s")),
-            "v_cr_extrapolated": (("case",), np.array(v_inf), attrs1(
+            "v_cr_extrapolated": (c, est["v_cr_extrapolated"], a(
                 "in-plane mesh limit of v_cr at the sequence's layer count (fit_kind: "
                 "v_inf + C h^q at the expected order q over the three finest levels when "
                 "they show it, else a free-rate fit over all levels)",
                 accuracy="+- v_cr_error")),
-            "v_cr_error": (("case",), np.array(err), attrs1(
+            "v_cr_error": (c, est["v_cr_error"], a(
                 "error estimate of the in-plane mesh limit (expected order: 3 x the largest "
                 "of the fit residual, the distance from the three-point limit with a free "
                 "rate and the change when the next coarser level is added; free rate: 3 x "
                 "the largest of the drop-a-level change, the residual and the distance "
                 "from the limit at the expected order)")),
-            "fit_kind": (("case",), np.array(fit_kind, dtype=str), attrs1(
-                "which fit gives v_cr_extrapolated")),
-            "expected_order": (("case",), np.array(p_exp), attrs1(
+            "fit_kind": (c, est["fit_kind"], a("which fit gives v_cr_extrapolated")),
+            "expected_order": (c, est["expected_order"], a(
                 "asymptotic convergence order q of v_cr: 2 s(nu), s the Williams exponent "
                 "of the clamped-free edge for the material's small-strain Poisson ratio")),
-            "v_cr_fit_residual": (("case",), np.array(resid), attrs1(
+            "v_cr_fit_residual": (c, est["v_cr_fit_residual"], a(
                 "largest |fit - v_cr| over the three finest levels")),
-            "convergence_rate": (("case",), np.array(rate), attrs1(
+            "convergence_rate": (c, est["convergence_rate"], a(
                 "observed convergence order of v_cr on the three finest levels")),
-            "v_cr_free_fit": (("case",), np.array(v_free), attrs1(
+            "v_cr_free_fit": (c, est["v_cr_free_fit"], a(
                 "mesh limit of a least-squares fit v_inf + C h^p with a free rate over all "
                 "levels (a diagnostic: the coarse levels are pre-asymptotic)")),
-            "free_fit_rate": (("case",), np.array(p_free), attrs1(
+            "free_fit_rate": (c, est["free_fit_rate"], a(
                 "rate p of the free-rate fit over all levels")),
-            "v_cr_layers": (("case", "layer_count"), v_layers, attrs1(
+            "v_cr_layers": (("case", "layer_count"), seq["v_cr_layers"], a(
                 "v_cr at the layer-study in-plane size versus layers through the thickness",
-                accuracy=this_mesh)),
-            "ndof_layers": (("case", "layer_count"), ndof_layers,
-                            attrs1("degrees of freedom of the layer study")),
-            "v_cr_layer_limit": (("case",), np.array(lay_lim), attrs1(
+                accuracy=_THIS_MESH)),
+            "ndof_layers": (("case", "layer_count"), seq["ndof_layers"],
+                            a("degrees of freedom of the layer study")),
+            "v_cr_layer_limit": (c, est["v_cr_layer_limit"], a(
                 "through-thickness limit of v_cr at the layer-study in-plane size (fit in "
                 "1/layers; with two counts: the finer)", accuracy="+- v_cr_layer_error")),
-            "v_cr_layer_error": (("case",), np.abs(np.array(lay_err)), attrs1(
+            "v_cr_layer_error": (c, np.abs(est["layer_error"]), a(
                 "error estimate of the through-thickness limit")),
-            "layer_correction": (("case",), np.array(lay_corr), attrs1(
+            "layer_correction": (c, est["layer_correction"], a(
                 "v_cr_layer_limit minus v_cr with the sequence's layer count, same mesh")),
-            "v_cr_reference": (("case",), v_ref, attrs1(
+            "v_cr_reference": (c, est["v_cr_reference"], a(
                 "reference critical voltage: in-plane limit plus through-thickness "
                 "correction (errors assumed additive)", accuracy="+- v_cr_reference_error")),
-            "v_cr_reference_error": (("case",), v_ref_err, attrs1(
+            "v_cr_reference_error": (c, est["v_cr_reference_error"], a(
                 "error estimate of v_cr_reference: v_cr_error + v_cr_layer_error")),
-            "v_cr_kirchhoff": (("case",), np.array(v_k), attrs1(
+            "v_cr_kirchhoff": (c, est["v_cr_kirchhoff"], a(
                 "Kirchhoff clamped-plate estimate (14.68 D/a^2, compressible flat film)")),
-            "v_cr_mindlin": (("case",), np.array(v_m), attrs1(
+            "v_cr_mindlin": (c, est["v_cr_mindlin"], a(
                 "Mindlin (thick-plate) corrected clamped-plate estimate")),
-            "v_cr_southwell": (("case",), np.array(v_sw), attrs1(
+            "v_cr_southwell": (c, est["v_cr_southwell"], a(
                 "Southwell estimate from the ramp of the imperfect film (finest ramp mesh)")),
-            "v_cr_ramp_mesh": (("case",), np.array(v_cr_ramp_mesh), attrs1(
+            "v_cr_ramp_mesh": (c, est["v_cr_ramp_mesh"], a(
                 "eigen-analysis critical voltage on the finest ramp mesh")),
-            "thickness_m": (("case",), np.array([CASES[c][1] for c in names]),
-                            attrs1("initial thickness t0", "m")),
+            "thickness_m": (c, _thicknesses(), a("initial thickness t0", "m")),
         },
-        coords={"case": ("case", names, {"long_name": "material and thickness case"}),
-                "level": ("level", np.arange(len(levels)), attrs1("mesh level")),
-                "h_rel": ("level", np.array(levels), attrs1("in-plane mesh size / t0")),
-                "layer_count": ("layer_count", np.array(layer_counts, dtype=np.int64),
-                                attrs1("layers of quadratic prisms through the thickness"))},
+        coords={"case": _case_coord(),
+                "level": ("level", np.arange(len(LEVELS[full])), a("mesh level")),
+                "h_rel": ("level", np.array(LEVELS[full]), a("in-plane mesh size / t0")),
+                "layer_count": ("layer_count", np.array(LAYER_STUDY[full][1], dtype=np.int64),
+                                a("layers of quadratic prisms through the thickness"))},
     )
-    rfin = {c: ramps[(c, finest_ramp)] for c in names}
-    nstep = max(len(r.v) for r in rfin.values())
-    neig = max(len(r.eig_v) for r in rfin.values())
 
-    def pad(a, n, extra=()):
-        out = np.full((n,) + extra, np.nan)
-        out[: len(a)] = a
-        return out
 
-    data = {}
-    for key, ln, unit in (("v", "normalised voltage Phi/t0 sqrt(eps/mu_ref)", "1"),
-                          ("w", "vertical displacement of the top-surface centre / t0", "1"),
-                          ("w_mid", "mean vertical displacement of top and bottom centre / t0",
-                           "1"),
-                          ("thickness", "current centre thickness / t0", "1"),
-                          ("e_centre", "normalised true field at the centre E sqrt(eps/mu_ref)",
-                           "1"),
-                          ("e_max", "largest sampled normalised true field (mid-plane radius)",
-                           "1")):
-        data[key] = (("case", "step"),
-                     np.array([pad(getattr(rfin[c], key), nstep) for c in names]),
-                     attrs1(ln, unit))
-    data["eig_v"] = (("case", "eig_record"), np.array([pad(rfin[c].eig_v, neig) for c in names]),
-                     attrs1("normalised voltage of the eigen-analysis record"))
-    data["eig_w"] = (("case", "eig_record"), np.array([pad(rfin[c].eig_w, neig) for c in names]),
-                     attrs1("centre deflection / t0 of the eigen-analysis record"))
-    data["eig_lambda"] = (("case", "eig_record", "mode"),
-                          np.array([pad(rfin[c].eig_lam, neig, (3,)) for c in names]),
-                          attrs1("lowest eigenvalues of the condensed tangent "
-                                 "S u = lambda M u (M: L2 mass / t0^2)"))
-    data["eig_axisymmetry"] = (("case", "eig_record", "mode"),
-                               np.array([pad(rfin[c].eig_axisym, neig, (3,)) for c in names]),
-                               attrs1("fraction of the mode in the angular harmonic n = 0"))
-    data["eig_wavenumber"] = (("case", "eig_record", "mode"),
-                              np.array([pad(rfin[c].eig_wavenumber, neig, (3,)) for c in names]),
-                              attrs1("dominant angular harmonic of the mode (0: axisymmetric)"))
+def _case_coord() -> tuple:
+    return ("case", list(CASES), {"long_name": "material and thickness case"})
 
-    rl = [rfin[c] for c in names]
-    pullin_acc = "parabola through the voltage maximum of this mesh (< 1e-3 relative)"
-    data["v_pullin"] = (("case",), np.array([r.v_pullin for r in rl]), attrs1(
-        "pull-in on the finest ramp mesh: voltage limit point (vertex of the parabola v(w) "
-        "through the maximum)", accuracy=pullin_acc))
-    data["v_max_computed"] = (("case",), np.array([np.max(r.v) for r in rl]), attrs1(
-        "largest normalised voltage among the computed path points"))
-    data["w_pullin"] = (("case",), np.array([r.w_pullin for r in rl]), attrs1(
-        "centre deflection / t0 at pull-in (finest ramp mesh)", accuracy=pullin_acc))
-    data["thickness_pullin"] = (("case",), np.array([_at_pullin(r, r.thickness) for r in rl]),
-                                attrs1("centre thickness / t0 at pull-in"))
-    data["e_centre_pullin"] = (("case",), np.array([_at_pullin(r, r.e_centre) for r in rl]),
-                               attrs1("normalised true centre field at pull-in"))
-    data["e_max_pullin"] = (("case",), np.array([_at_pullin(r, r.e_max) for r in rl]),
-                            attrs1("largest sampled normalised true field at pull-in"))
 
-    def wrinkling(r) -> dict:
-        f = first_instability(r.eig_w, r.eig_v, r.eig_lam, r.eig_axisym, r.eig_wavenumber)
-        return f if f["kind"] == "non-axisymmetric" else {**f, "v": np.nan, "w": np.nan}
+def _thicknesses() -> np.ndarray:
+    return np.array([CASES[c][1] for c in CASES])
 
-    first = [wrinkling(r) for r in rl]
-    data["first_kind"] = (("case",), np.array([f["kind"] for f in first], dtype=str), {
-        "long_name": "kind of the first instability along the finest ramp (first eigen-record "
-        "with an eigenvalue <= 0): axisymmetric (pull-in), non-axisymmetric (wrinkling) or "
-        "none"})
-    data["v_wrinkling"] = (("case",), np.array([f["v"] for f in first]), attrs1(
-        "normalised voltage at the onset of a non-axisymmetric mode when it is the first "
-        "instability (NaN: pull-in or nothing comes first)"))
-    data["w_wrinkling"] = (("case",), np.array([f["w"] for f in first]), attrs1(
-        "centre deflection / t0 at the onset of a non-axisymmetric mode when it is the first "
-        "instability (NaN: none)"))
-    data["ndof"] = (("case",), np.array([r.ndof for r in rl]), attrs1("degrees of freedom"))
-    # pull-in on every ramp level and its mesh limit
+
+# ------------------------------------------------------------------ ch5_ramps
+_PULLIN_ACCURACY = "parabola through the voltage maximum of this mesh (< 1e-3 relative)"
+_PATH_QUANTITIES = (
+    ("v", "normalised voltage Phi/t0 sqrt(eps/mu_ref)"),
+    ("w", "vertical displacement of the top-surface centre / t0"),
+    ("w_mid", "mean vertical displacement of top and bottom centre / t0"),
+    ("thickness", "current centre thickness / t0"),
+    ("e_centre", "normalised true field at the centre E sqrt(eps/mu_ref)"),
+    ("e_max", "largest sampled normalised true field (mid-plane radius)"))
+"""The path quantities stored per converged load step: (name, long_name), all
+dimensionless."""
+_EIG_RECORDS = (
+    ("eig_lambda", "eig_lam",
+     "lowest eigenvalues of the condensed tangent S u = lambda M u (M: L2 mass / t0^2)"),
+    ("eig_axisymmetry", "eig_axisym", "fraction of the mode in the angular harmonic n = 0"),
+    ("eig_wavenumber", "eig_wavenumber",
+     "dominant angular harmonic of the mode (0: axisymmetric)"))
+"""The per-mode eigen-records along the path: (variable, RampResult field, long_name)."""
+
+
+def _pad(a, n, extra=()):
+    """``a`` NaN-padded to length ``n`` along its first axis."""
+    out = np.full((n,) + extra, np.nan)
+    out[: len(a)] = a
+    return out
+
+
+def _wrinkling(r) -> dict:
+    """The first instability of a ramp (:func:`first_instability`) when it is
+    non-axisymmetric; its voltage and deflection NaN otherwise."""
+    f = first_instability(r.eig_w, r.eig_v, r.eig_lam, r.eig_axisym, r.eig_wavenumber)
+    return f if f["kind"] == "non-axisymmetric" else {**f, "v": np.nan, "w": np.nan}
+
+
+def _path_variables(rl: list) -> dict:
+    """The finest ramp of each case step by step (case x step) and its eigen-records
+    (case x eig_record [x mode]), NaN-padded to the longest."""
+    a = variable_attrs
+    nstep = max(len(r.v) for r in rl)
+    neig = max(len(r.eig_v) for r in rl)
+    data = {key: (("case", "step"), np.array([_pad(getattr(r, key), nstep) for r in rl]),
+                  a(ln, "1")) for key, ln in _PATH_QUANTITIES}
+    data["eig_v"] = (("case", "eig_record"), np.array([_pad(r.eig_v, neig) for r in rl]),
+                     a("normalised voltage of the eigen-analysis record"))
+    data["eig_w"] = (("case", "eig_record"), np.array([_pad(r.eig_w, neig) for r in rl]),
+                     a("centre deflection / t0 of the eigen-analysis record"))
+    for name, field, ln in _EIG_RECORDS:
+        data[name] = (("case", "eig_record", "mode"),
+                      np.array([_pad(getattr(r, field), neig, (3,)) for r in rl]), a(ln))
+    return data
+
+
+def _pullin_variables(rl: list) -> dict:
+    """Pull-in and the first instability on the finest ramp of each case."""
+    a = variable_attrs
+    first = [_wrinkling(r) for r in rl]
+    return {
+        "v_pullin": (("case",), np.array([r.v_pullin for r in rl]), a(
+            "pull-in on the finest ramp mesh: voltage limit point (vertex of the parabola "
+            "v(w) through the maximum)", accuracy=_PULLIN_ACCURACY)),
+        "v_max_computed": (("case",), np.array([np.max(r.v) for r in rl]), a(
+            "largest normalised voltage among the computed path points")),
+        "w_pullin": (("case",), np.array([r.w_pullin for r in rl]), a(
+            "centre deflection / t0 at pull-in (finest ramp mesh)", accuracy=_PULLIN_ACCURACY)),
+        "thickness_pullin": (("case",), np.array([_at_pullin(r, r.thickness) for r in rl]),
+                             a("centre thickness / t0 at pull-in")),
+        "e_centre_pullin": (("case",), np.array([_at_pullin(r, r.e_centre) for r in rl]),
+                            a("normalised true centre field at pull-in")),
+        "e_max_pullin": (("case",), np.array([_at_pullin(r, r.e_max) for r in rl]),
+                         a("largest sampled normalised true field at pull-in")),
+        "first_kind": (("case",), np.array([f["kind"] for f in first], dtype=str), {
+            "long_name": "kind of the first instability along the finest ramp (first "
+            "eigen-record with an eigenvalue <= 0): axisymmetric (pull-in), non-axisymmetric "
+            "(wrinkling) or none"}),
+        "v_wrinkling": (("case",), np.array([f["v"] for f in first]), a(
+            "normalised voltage at the onset of a non-axisymmetric mode when it is the first "
+            "instability (NaN: pull-in or nothing comes first)")),
+        "w_wrinkling": (("case",), np.array([f["w"] for f in first]), a(
+            "centre deflection / t0 at the onset of a non-axisymmetric mode when it is the "
+            "first instability (NaN: none)")),
+        "ndof": (("case",), np.array([r.ndof for r in rl]), a("degrees of freedom")),
+    }
+
+
+def _ramp_level_variables(ramps: dict, full: bool) -> dict:
+    """Pull-in and wrinkling on every ramp level (case x ramp_level) and the mesh limit of
+    the pull-in voltage and deflection (:func:`level_fit`)."""
+    a, ramp_levels, cr = variable_attrs, RAMP_LEVELS[full], ("case", "ramp_level")
     by_level = {key: np.array([[getattr(ramps[(c, h)], key) for h in ramp_levels]
-                               for c in names], float) for key in ("v_pullin", "w_pullin")}
-    data["v_pullin_levels"] = (("case", "ramp_level"), by_level["v_pullin"], attrs1(
-        "pull-in voltage per ramp mesh", accuracy=pullin_acc))
-    data["w_pullin_levels"] = (("case", "ramp_level"), by_level["w_pullin"], attrs1(
-        "centre deflection / t0 at pull-in per ramp mesh", accuracy=pullin_acc))
-    data["v_wrinkling_levels"] = (("case", "ramp_level"), np.array(
-        [[wrinkling(ramps[(c, h)])["v"] for h in ramp_levels] for c in names]), attrs1(
-        "onset voltage of a non-axisymmetric mode as the first instability per ramp mesh "
-        "(NaN: none)"))
-    data["ndof_ramp_levels"] = (("case", "ramp_level"), np.array(
-        [[ramps[(c, h)].ndof for h in ramp_levels] for c in names], dtype=np.int64),
-        attrs1("degrees of freedom of the ramp meshes"))
+                               for c in CASES], float) for key in ("v_pullin", "w_pullin")}
+    data = {
+        "v_pullin_levels": (cr, by_level["v_pullin"], a(
+            "pull-in voltage per ramp mesh", accuracy=_PULLIN_ACCURACY)),
+        "w_pullin_levels": (cr, by_level["w_pullin"], a(
+            "centre deflection / t0 at pull-in per ramp mesh", accuracy=_PULLIN_ACCURACY)),
+        "v_wrinkling_levels": (cr, np.array(
+            [[_wrinkling(ramps[(c, h)])["v"] for h in ramp_levels] for c in CASES]), a(
+            "onset voltage of a non-axisymmetric mode as the first instability per ramp "
+            "mesh (NaN: none)")),
+        "ndof_ramp_levels": (cr, np.array(
+            [[ramps[(c, h)].ndof for h in ramp_levels] for c in CASES], dtype=np.int64),
+            a("degrees of freedom of the ramp meshes")),
+    }
     for key, ln in (("v_pullin", "pull-in voltage"), ("w_pullin", "pull-in deflection / t0")):
-        fits = [level_fit(ramp_levels, by_level[key][i]) for i in range(len(names))]
-        data[f"{key}_extrapolated"] = (("case",), np.array([f.v_inf for f in fits]), attrs1(
+        fits = [level_fit(ramp_levels, by_level[key][i]) for i in range(len(CASES))]
+        data[f"{key}_extrapolated"] = (("case",), np.array([f.v_inf for f in fits]), a(
             f"mesh limit of the {ln} (fit v_inf + C h^p with three or more ramp levels; "
             "else the finest level)", accuracy=f"+- {key}_error"))
-        data[f"{key}_error"] = (("case",), np.array([f.error for f in fits]), attrs1(
+        data[f"{key}_error"] = (("case",), np.array([f.error for f in fits]), a(
             f"error estimate of the mesh limit of the {ln} (NaN: one ramp level)"))
-        data[f"{key}_rate"] = (("case",), np.array([f.p for f in fits]), attrs1(
+        data[f"{key}_rate"] = (("case",), np.array([f.p for f in fits]), a(
             f"fitted convergence rate of the {ln} (NaN: fewer than three levels)"))
-    data["thickness_m"] = (("case",), np.array([CASES[c][1] for c in names]),
-                           attrs1("initial thickness t0", "m"))
-    coords = {
-        "case": ("case", names, {"long_name": "material and thickness case"}),
-        "step": ("step", np.arange(nstep), attrs1("converged load step")),
-        "eig_record": ("eig_record", np.arange(neig), attrs1("eigen-analysis record")),
-        "mode": ("mode", np.arange(3), attrs1("mode index (ascending eigenvalue)")),
-        "ramp_level": ("ramp_level", np.array(ramp_levels), attrs1(
-            "in-plane mesh size / t0 of the ramp"))}
+    return data
+
+
+def ramps_dataset(ramps: dict, full: bool) -> xr.Dataset:
+    """``ch5_ramps``: the finest ramp of each case step by step with its eigen-records,
+    pull-in and the first instability, and the pull-in on every ramp level."""
+    a = variable_attrs
+    rl = [ramps[(c, RAMP_LEVELS[full][-1])] for c in CASES]
+    data = {**_path_variables(rl), **_pullin_variables(rl), **_ramp_level_variables(ramps, full)}
+    data["thickness_m"] = (("case",), _thicknesses(), a("initial thickness t0", "m"))
     data["min_nonaxisymmetric_lambda"] = (("case",), np.array([_min_nonaxisym(r) for r in rl]),
-                                          attrs1("smallest eigenvalue of a non-axisymmetric "
-                                                 "mode recorded before pull-in"))
-    ramp_ds = xr.Dataset(data, coords=coords)
+                                          a("smallest eigenvalue of a non-axisymmetric "
+                                            "mode recorded before pull-in"))
+    coords = {
+        "case": _case_coord(),
+        "step": ("step", np.arange(data["v"][1].shape[1]), a("converged load step")),
+        "eig_record": ("eig_record", np.arange(data["eig_v"][1].shape[1]),
+                       a("eigen-analysis record")),
+        "mode": ("mode", np.arange(3), a("mode index (ascending eigenvalue)")),
+        "ramp_level": ("ramp_level", np.array(RAMP_LEVELS[full]), a(
+            "in-plane mesh size / t0 of the ramp"))}
+    return xr.Dataset(data, coords=coords)
+
+
+def _parameters(full: bool) -> dict:
+    """The model and plan parameters both Chapter 5 datasets record."""
     nh, og = material("nh"), material("ogden")
-    params = {"mu_ref_Pa": MU_REF, "nh_mu_Pa": nh.mu, "k_Pa": nh.k,
-              "ogden_alphas": list(og.alphas), "ogden_mus_Pa": list(og.mus),
-              "ogden_delta": OGDEN_DELTA, "aspect": 10.0, "imperfection_rel": 1e-3,
-              "imperfection_shape": "t0*1e-3*(1-r^2/a^2)^2", "eps_r": 4.7, "layers": lay,
-              "order": ORDER, "levels_h_rel": list(levels), "ramp_h_rel": list(ramp_levels),
-              "ramp_layers": RAMP_LAYERS,
-              "layer_study_h_rel": h_ls, "layer_counts": list(layer_counts),
-              "full": full, "ramp_dc_over_t0": 0.2, "ramp_dv_max": RAMP_DV_MAX,
-              "eig_every": EIG_EVERY, "fit_safety": FIT_SAFETY,
-              "scale_copies": ", ".join(f"{a} = {b}" for a, b in SCALE_COPIES.items())}
-    return crit, ramp_ds, params
+    h_ls, layer_counts = LAYER_STUDY[full]
+    return {"mu_ref_Pa": MU_REF, "nh_mu_Pa": nh.mu, "k_Pa": nh.k,
+            "ogden_alphas": list(og.alphas), "ogden_mus_Pa": list(og.mus),
+            "ogden_delta": OGDEN_DELTA, "aspect": 10.0, "imperfection_rel": 1e-3,
+            "imperfection_shape": "t0*1e-3*(1-r^2/a^2)^2", "eps_r": 4.7, "layers": LAYERS[full],
+            "order": ORDER, "levels_h_rel": list(LEVELS[full]),
+            "ramp_h_rel": list(RAMP_LEVELS[full]), "ramp_layers": RAMP_LAYERS,
+            "layer_study_h_rel": h_ls, "layer_counts": list(layer_counts),
+            "full": full, "ramp_dc_over_t0": 0.2, "ramp_dv_max": RAMP_DV_MAX,
+            "eig_every": EIG_EVERY, "fit_safety": FIT_SAFETY,
+            "scale_copies": ", ".join(f"{a} = {b}" for a, b in SCALE_COPIES.items())}
 
 
 def _min_nonaxisym(r) -> float:
@@ -346,12 +422,21 @@ def figures(crit, ramps, fig_dir: Path) -> list[Path]:
     crosses zero before pull-in), and the mesh convergence of the critical voltage, the
     pull-in and the through-thickness study.  The thesis' printed values are overlaid in
     the overlays of :mod:`debench.reference.builders.ch5_methods`."""
-    from debench.models.buckling.parameters import Plate
-    from debench.reference.figures import LABELS, pyplot, save
     plt = pyplot()
     fig_dir.mkdir(parents=True, exist_ok=True)
     out = []
-    # Fig 5.4: thickness study (Ogden), deflection in mm vs voltage in kV (eps_r 4.7)
+    for name, draw in (("fig5_4_deflection_voltage_thickness", _fig5_4),
+                       ("fig5_6_deflection_voltage_material", _fig5_6),
+                       ("fig5_5_nonaxisymmetric_modes", _fig5_5)):
+        out += figure_io.save(draw(plt, ramps), fig_dir / name)
+    out += figure_io.save(_fig_convergence(plt, crit, ramps),
+                          fig_dir / "fig5_x_critical_voltage_convergence")
+    return out
+
+
+def _fig5_4(plt, ramps):
+    """Fig 5.4: thickness study (Ogden), deflection in mm versus voltage (normalised and in
+    kV at eps_r 4.7)."""
     fig, axs = plt.subplots(1, 2, figsize=(10, 4))
     for case, style in (("ogden_t1", "-"), ("ogden_t0p5", "--")):
         r = ramps.sel(case=case)
@@ -369,8 +454,11 @@ def figures(crit, ramps, fig_dir: Path) -> list[Path]:
         ax.set_ylabel(LABELS["deflection_mm"])
         ax.legend()
     fig.suptitle("Fig 5.4 (debench): Ogden films, radius/thickness 10; dot = pull-in")
-    out += save(fig, fig_dir / "fig5_4_deflection_voltage_thickness")
-    # Fig 5.6: material study at 1 mm
+    return fig
+
+
+def _fig5_6(plt, ramps):
+    """Fig 5.6: material study at 1 mm, centre deflection / t0 versus voltage."""
     fig, ax = plt.subplots(figsize=(5.8, 4.2))
     for case, style, lab in (("nh_t1", "-", "neo-Hookean"), ("ogden_t1", "--", "Ogden")):
         r = ramps.sel(case=case)
@@ -381,8 +469,11 @@ def figures(crit, ramps, fig_dir: Path) -> list[Path]:
     ax.set_ylabel(r"centre deflection $w/t_0$")
     ax.legend()
     ax.set_title(r"Fig 5.6 (debench): $t_0$ = 1 mm; dot = pull-in")
-    out += save(fig, fig_dir / "fig5_6_deflection_voltage_material")
-    # Fig 5.5 counterpart: the lowest non-axisymmetric eigenvalue along the path
+    return fig
+
+
+def _fig5_5(plt, ramps):
+    """Fig 5.5 counterpart: the lowest non-axisymmetric eigenvalue along the path."""
     fig, ax = plt.subplots(figsize=(5.8, 4.2))
     for case, style in (("nh_t1", "-o"), ("ogden_t1", "--s")):
         r = ramps.sel(case=case)
@@ -396,8 +487,11 @@ def figures(crit, ramps, fig_dir: Path) -> list[Path]:
     ax.set_ylabel(r"lowest non-axisymmetric eigenvalue $\lambda$")
     ax.set_title("Fig 5.5 counterpart: wrinkling where a non-axisymmetric mode crosses 0")
     ax.legend()
-    out += save(fig, fig_dir / "fig5_5_nonaxisymmetric_modes")
-    # convergence: critical voltage (in-plane), pull-in (ramps), through-thickness
+    return fig
+
+
+def _fig_convergence(plt, crit, ramps):
+    """Convergence: critical voltage (in-plane sequence), pull-in (ramps), through-thickness."""
     fig, axs = plt.subplots(1, 3, figsize=(14, 4.2))
     for case in crit.case.values:
         c = crit.sel(case=case)
@@ -419,8 +513,7 @@ def figures(crit, ramps, fig_dir: Path) -> list[Path]:
     axs[2].set_title("through-thickness convergence")
     for ax in axs:
         ax.legend()
-    out += save(fig, fig_dir / "fig5_x_critical_voltage_convergence")
-    return out
+    return fig
 
 
 def converged_only(name: str, levels) -> bool:

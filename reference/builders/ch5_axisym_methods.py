@@ -12,7 +12,8 @@ their ratios are free of the discretisation to the error estimates. With the Min
 Kirchhoff plate estimates (:func:`~debench.models.buckling.analytic.critical_voltage_plate`)
 they split the gap between the coupled critical voltage and the Mindlin plate into the 3D
 mechanics (initial stress / Mindlin) and the electromechanical coupling of the mode
-(coupled / initial stress) (:func:`debench.reference.producers.ch5_methods.axisym_gap_decomposition`).
+(coupled / initial stress)
+(:func:`debench.reference.producers.ch5_methods.axisym_gap_decomposition`).
 
 ``build(out_dir, full=False)`` writes ``ch5_axisym_methods.nc``: ``v_cr(case, tangent,
 disc)`` with its secant tolerance, CPU seconds and degrees of freedom; per (case, tangent)

@@ -5,33 +5,37 @@ value with :mod:`debench.models.circular`, using the equilibrium variant the the
 (``"printed"``, Eq. 3.33) and reporting in ``details`` the value under the consistent
 thin-membrane balance (``"membrane"``) and, where the relative permittivity enters
 (breakdown), the value for each eps_r of :data:`EPS_R_SENSITIVITY`. The producers read
-the one memoised chapter pass the dataset builder reads too
-(:func:`debench.models.circular._chapter_pass.chapter` for
-:func:`debench.reference.studies.ch3.chapter_spec`, keyed on its parameters and the model
-constants): every branch, curve, state and root of the catalogue's plan computed once per
-command. Entries outside the plan are computed on demand (cached, keyed on the
-parameters and :func:`_model_key`).
+the model through :mod:`debench.reference.producers.ch3_model` (the one memoised chapter
+pass the dataset builder reads too, entries outside its plan computed on demand and
+cached); the qualitative claims are checked by :mod:`debench.reference.producers.ch3_checks`.
 """
 
 from __future__ import annotations
 
 import math
-from functools import lru_cache
 
 import numpy as np
 from debench.models.circular import analysis, circle_a, params
 from debench.models.circular.actuator import branches, curves_many
 from debench.models.circular.params import Annulus
 from debench.reference.catalogue import Accuracy, Entry, Outcome
+from debench.reference.producers.ch3_checks import C_SWEEP, CHECKS, failure_sweep, parameter
+from debench.reference.producers.ch3_model import (
+    VARIANTS,
+    branch,
+    chapter,
+    curves,
+    first_failures,
+    interface_changes,
+    loss_of_tension,
+    model_key,
+)
 from debench.reference.studies import ch3 as study
 
 #: relative permittivities for the sensitivity study (ch3.assumption.eps_r): VHB 4910
 #: reported 4.05-4.7 (Di Lillo et al. 4.2 unstretched to 4.05 at 5x5; Pelrine et al. /
 #: Wissler & Mazza ~4.7); 3.5 and 5.5 bracket them
 EPS_R_SENSITIVITY = study.EPS_R
-VARIANTS = ("printed", "membrane")
-#: c grid for the Fig. 3.9 sweeps (the thesis' Table 3.1 range 0 .. -0.1): the study's
-C_SWEEP = tuple(float(c) for c in study.c_grid(False))
 EV = "verification/test_ch3_claims.py"
 #: Accuracy of every Chapter 3 value (overridden where an outer solver is coarser): the
 #: shooting method integrates on a fixed RK4 grid and locates events and roots to 1e-14
@@ -49,146 +53,13 @@ SUPPRESSION_POINTS = study.SUPPRESSION_POINTS
 C_THRESHOLD_POINTS = study.C_THRESHOLD_POINTS
 
 
-def _model_key() -> tuple:
-    """The model constants every cached Chapter 3 result depends on (read at call time,
-    so that the caches below are keyed on them and never serve a stale result)."""
-    return (params.JM_VHB, params.MU_VHB, params.EPS0, params.EB_COEFF, params.EB_EXPONENT)
-
-
-def _chapter():
-    """The chapter pass the builder uses too (:func:`debench.reference.studies.ch3.chapter_spec`,
-    memoised on its parameters and the model constants): every value of the catalogue's
-    plan."""
-    return study.chapter_pass()
-
-
-def _branch(lamP: float, equilibrium: str = "printed", radius_ratio: float = 15.0):
-    """The annulus branch of the chapter pass, or (outside its plan) traced on demand with
-    the same grid for both variants (cached, keyed on the arguments and
-    :func:`_model_key`)."""
-    ch = _chapter()
-    key = (float(lamP), equilibrium)
-    if float(radius_ratio) == ch.spec.radius_ratio and key in ch.branches:
-        return ch.branches[key]
-    mk = _model_key()
-    ckey = (float(lamP), equilibrium, float(radius_ratio), mk)
-    if ckey not in _BRANCHES:
-        eqs = list(dict.fromkeys((equilibrium, *VARIANTS)))
-        brs = branches([Annulus(float(lamP), float(radius_ratio), mk[0], eq) for eq in eqs],
-                       n=ch.spec.n, steps=ch.spec.steps)
-        for eq, br in zip(eqs, brs, strict=True):
-            _BRANCHES[(float(lamP), eq, float(radius_ratio), mk)] = br
-    return _BRANCHES[ckey]
-
-
-_BRANCHES: dict = {}
-_CURVES: dict = {}
-
-
-def _curves(lamP: float, cs: tuple, eps_r: float = params.EPS_R_ASSUMED,
-            equilibrium: str = "printed"):
-    """Curves for the c values ``cs``: those of the chapter pass, the others computed on
-    demand in one batched location (cached per curve, keyed on the parameters and
-    :func:`_model_key`)."""
-    ch = _chapter()
-    mk = _model_key()
-    keys = [(float(lamP), float(c), float(eps_r), equilibrium) for c in cs]
-    missing = [k for k in dict.fromkeys(keys) if k not in ch.curves and (*k, mk) not in _CURVES]
-    if missing:
-        cvs = curves_many([(_branch(lamP, equilibrium), [k[1] for k in missing],
-                            [k[2] for k in missing])])[0]
-        for k, cv in zip(missing, cvs, strict=True):
-            _CURVES[(*k, mk)] = cv
-    return [ch.curves[k] if k in ch.curves else _CURVES[(*k, mk)] for k in keys]
-
-
-def _p(entry: Entry, key: str, default=None):
-    return entry.parameters.get(key, default)
-
 
 # ------------------------------------------------------------------ Sec. 3.5.1 (Figs 3.2-3.3)
-def _interface_changes(lamP, phibar, c, equilibrium="printed"):
-    return _interface_changes_cached(lamP, phibar, c, equilibrium, _model_key())
-
-
-@lru_cache(maxsize=32)
-def _interface_changes_cached(lamP, phibar, c, equilibrium, model_key):
-    s0 = _state(lamP, equilibrium, 0.0, phibar)
-    s1 = _state(lamP, equilibrium, c, phibar)
-    return {
-        "thickness_A_increase": 100 * (s1["lam3A"] / s0["lam3A"] - 1),
-        "lam1_interface_increase": 100 * (s1["lam1B"] / s0["lam1B"] - 1),
-        "lam2_interface_decrease": 100 * (1 - s1["lam"] / s0["lam"]),
-        "lam3_interface_decrease": 100 * (1 - s1["lam3B"] / s0["lam3B"]),
-    }
-
-
-def _state(lamP, equilibrium, c, phibar) -> dict:
-    """:func:`debench.models.circular.analysis.state_at_voltage`: the chapter pass's, or
-    on its branch on demand (cached, keyed on the arguments and :func:`_model_key`)."""
-    key = (float(lamP), float(phibar), float(c), equilibrium)
-    ch = _chapter()
-    if key in ch.states:
-        return ch.states[key]
-    return _state_cached(float(lamP), equilibrium, float(c), float(phibar), _model_key())
-
-
-_STATES: dict = {}
-
-
-def _state_cached(lamP, equilibrium, c, phibar, model_key):
-    """On a miss, the states for c = 0 (the reference of every comparison) and for both
-    equilibrium variants are computed in the same vectorised iteration."""
-    key = (lamP, equilibrium, c, phibar, model_key)
-    if key not in _STATES:
-        todo = [(eq, ci) for eq in dict.fromkeys((equilibrium, *VARIANTS))
-                for ci in dict.fromkeys((0.0, c))
-                if (lamP, eq, ci, phibar, model_key) not in _STATES]
-        brs = [_branch(lamP, eq) for eq, _ in todo]
-        for br, (_, ci) in zip(brs, todo, strict=True):   # the public function's checks
-            params.CircularActuator(br.annulus, c=ci)
-        sts = analysis._states_at_voltage_many(brs, [ci for _, ci in todo],
-                                               [phibar] * len(todo))
-        for (eq, ci), st in zip(todo, sts, strict=True):
-            _STATES[(lamP, eq, ci, phibar, model_key)] = st
-    return _STATES[key]
-
-
-_PROFILES: dict = {}
-
-
-def _profiles(lamP, c, phibar, equilibrium) -> tuple:
-    """Stretch profiles (lambda_1, lambda_2 from R_A outwards) of the states at Phibar for
-    c = 0 and ``c``: the chapter pass's, or both equilibrium variants in one integration
-    on demand (cached, keyed on the arguments and :func:`_model_key`)."""
-    from debench.models.circular.shooting import _integrate_inward
-
-    ch = _chapter()
-    rows = [(float(lamP), float(phibar), ci, equilibrium) for ci in (0.0, float(c))]
-    if all(r in ch.profiles for r in rows):
-        return tuple(ch.profiles[r][:2] for r in rows)
-    mk = _model_key()
-    key = (float(lamP), float(c), float(phibar), mk)
-    if key not in _PROFILES:
-        rows = [(eq, ci) for eq in VARIANTS for ci in (0.0, float(c))]
-        q = np.array([_state(lamP, eq, ci, phibar)["q"] for eq, ci in rows])
-        an = _branch(lamP, VARIANTS[0]).annulus
-        _, _, _, P1, P2 = _integrate_inward(
-            an, q, profile=True, lamP=np.full(q.size, an.lamP),
-            membrane=np.array([eq == "membrane" for eq, _ in rows]))
-        if not (np.all(np.isfinite(P1)) and np.all(np.isfinite(P2))):
-            raise ValueError(f"inadmissible annulus profile at lamP = {lamP}, "
-                             f"Phibar = {phibar}")
-        _PROFILES[key] = {row: (P1[::-1, k], P2[::-1, k]) for k, row in enumerate(rows)}
-    prof = _PROFILES[key]
-    return prof[(equilibrium, 0.0)], prof[(equilibrium, float(c))]
-
-
 def annulus_interface_change(entry: Entry) -> Outcome:
     """% changes at the interface, c vs c = 0 at the same Phibar (Sec. 3.5.1)."""
     key = entry.id.split(".")[-1]
-    args = (_p(entry, "lamP"), _p(entry, "phibar"), _p(entry, "c"))
-    vals = {v: _interface_changes(*args, equilibrium=v)[key] for v in VARIANTS}
+    args = (parameter(entry, "lamP"), parameter(entry, "phibar"), parameter(entry, "c"))
+    vals = {v: interface_changes(*args, equilibrium=v)[key] for v in VARIANTS}
     return Outcome(value=vals["printed"], evidence=f"{EV}::test_interface_changes_reproduce",
                    details={"membrane": vals["membrane"]})
 
@@ -197,16 +68,16 @@ def annulus_interface_change(entry: Entry) -> Outcome:
 def pullin_voltage(entry: Entry) -> Outcome:
     vals = {}
     for v in VARIANTS:
-        cv = _curves(_p(entry, "lamP"), (float(_p(entry, "c")),), equilibrium=v)[0]
+        cv = curves(parameter(entry, "lamP"), (float(parameter(entry, "c")),), equilibrium=v)[0]
         vals[v] = cv.events["pullin"].phibar
     return Outcome(value=vals["printed"], details={"membrane": vals["membrane"]},
                    evidence=f"{EV}::test_pullin_voltage_lamP_1p25")
 
 
 def suppression_prestretch(entry: Entry) -> Outcome:
-    d = _p(entry, "definition", "before_loss_of_tension")
-    c = float(_p(entry, "c"))
-    ch = _chapter()
+    d = parameter(entry, "definition", "before_loss_of_tension")
+    c = float(parameter(entry, "c"))
+    ch = chapter()
     if d == "before_loss_of_tension" and all((c, v) in ch.suppression for v in VARIANTS):
         vals = {v: ch.suppression[(c, v)] for v in VARIANTS}
     else:
@@ -225,9 +96,9 @@ def suppression_prestretch(entry: Entry) -> Outcome:
 def c_threshold(entry: Entry) -> Outcome:
     """:func:`debench.models.circular.analysis.pullin_c_threshold`: the chapter pass's (both
     definitions on one branch per variant), or on demand."""
-    d = _p(entry, "definition", "monotonic")
-    lamP = float(_p(entry, "lamP"))
-    ch = _chapter()
+    d = parameter(entry, "definition", "monotonic")
+    lamP = float(parameter(entry, "lamP"))
+    ch = chapter()
     if all((lamP, d, v) in ch.c_thresholds for v in VARIANTS):
         vals = {v: ch.c_thresholds[(lamP, d, v)] for v in VARIANTS}
     else:
@@ -235,7 +106,7 @@ def c_threshold(entry: Entry) -> Outcome:
                        n=C_THRESHOLD_POINTS)
         lots, br_lots = [None] * len(VARIANTS), [None] * len(VARIANTS)
         if d == "before_loss_of_tension":
-            lots = [_lot(lamP, v) for v in VARIANTS]
+            lots = [loss_of_tension(lamP, v) for v in VARIANTS]
             br_lots = analysis._lot_grids(brs, lots)
         vals = {v: analysis._c_threshold_on(br, d, lam_lot=lot, br_lot=bl)
                 for v, br, lot, bl in zip(VARIANTS, brs, lots, br_lots, strict=True)}
@@ -245,18 +116,8 @@ def c_threshold(entry: Entry) -> Outcome:
 
 
 # ------------------------------------------------------------------ Sec. 3.5.3 (Fig. 3.6)
-def _lot(lamP: float, equilibrium: str) -> float:
-    """Loss-of-tension stretch on the cached branch (as
-    :func:`debench.models.circular.analysis.loss_of_tension_stretch`, from the shared curves)."""
-    ev = _curves(lamP, (0.0,), equilibrium=equilibrium)[0].events["loss_of_tension"]
-    if ev is None:
-        raise ValueError(f"no loss of tension on the traced branch of lamP = {lamP} "
-                         f"({equilibrium})")
-    return ev.lam
-
-
 def loss_of_tension_stretch(entry: Entry) -> Outcome:
-    vals = {v: _lot(_p(entry, "lamP"), v) for v in VARIANTS}
+    vals = {v: loss_of_tension(parameter(entry, "lamP"), v) for v in VARIANTS}
     return Outcome(value=vals["printed"], details={"membrane": vals["membrane"]},
                    evidence=f"{EV}::test_loss_of_tension_stretch_lamP_3")
 
@@ -264,8 +125,8 @@ def loss_of_tension_stretch(entry: Entry) -> Outcome:
 # ------------------------------------------------------------------ Secs 3.5.4-3.5.5
 def voltage_increase(entry: Entry) -> Outcome:
     """% higher Phibar for c than for c = 0 at the same total stretch (annulus-free)."""
-    lam, c, lamP = _p(entry, "stretch"), _p(entry, "c"), _p(entry, "lamP")
-    ch = _chapter()
+    lam, c, lamP = parameter(entry, "stretch"), parameter(entry, "c"), parameter(entry, "lamP")
+    ch = chapter()
     vals = {}
     for v in VARIANTS:
         key = (float(lamP), float(lam), v)
@@ -273,11 +134,11 @@ def voltage_increase(entry: Entry) -> Outcome:
             lam_a, T1 = ch.stretch_states[key]
         else:
             from debench.models.circular.shooting import interface_state, q_for_stretch
-            br = _branch(lamP, v)
+            br = branch(lamP, v)
             q = q_for_stretch(br.annulus, np.array([lam]), np.interp(lam, br.lam, br.q))
             st = interface_state(br.annulus, q)
             lam_a, T1 = st.lam[0], st.T1[0]
-        kap = _branch(lamP, v).annulus.kappa
+        kap = branch(lamP, v).annulus.kappa
         p0 = circle_a.phibar_squared(lam_a, T1, 0.0, kap)
         p1 = circle_a.phibar_squared(lam_a, T1, c, kap)
         vals[v] = 100 * (math.sqrt(p1 / p0) - 1)
@@ -285,11 +146,6 @@ def voltage_increase(entry: Entry) -> Outcome:
     return Outcome(value=vals["printed"],
                    details={"membrane": vals["membrane"], "closed_form": closed},
                    evidence=f"{EV}::test_voltage_increase_is_annulus_independent")
-
-
-def _lam_max(lamP, c, eps_r=params.EPS_R_ASSUMED, equilibrium="printed"):
-    cv = _curves(lamP, (0.0, float(c)), eps_r, equilibrium)
-    return cv[0].failure, cv[1].failure
 
 
 #: the eps_r interval of the Sec. 3.5.5 searches (ch3.assumption.eps_r: VHB is reported at
@@ -322,14 +178,14 @@ def reduction_peak_over_eps_r(lamP: float, c: float, equilibrium: str = "printed
     eps = np.linspace(*search)
     vals = []
     for e in eps:
-        f0, f1 = _lam_max(lamP, c, float(e), equilibrium)
+        f0, f1 = first_failures(lamP, c, float(e), equilibrium)
         vals.append(-100 * (f1.lam / f0.lam - 1) if f0.kind == f1.kind == "breakdown"
                     else -np.inf)
     i = int(np.argmax(vals))
     lo, hi = eps[max(i - 1, 0)], eps[min(i + 1, eps.size - 1)]
 
     def neg(e):
-        f0, f1 = _lam_max(lamP, c, float(e), equilibrium)
+        f0, f1 = first_failures(lamP, c, float(e), equilibrium)
         return 100 * (f1.lam / f0.lam - 1)
 
     res = minimize_scalar(neg, bounds=(lo, hi), method="bounded",
@@ -344,12 +200,12 @@ def reduction_peak_over_eps_r(lamP: float, c: float, equilibrium: str = "printed
 def _failures(lamP, c, radius_ratio, Jm, equilibrium, eps_r=params.EPS_R_ASSUMED):
     """First failures of c = 0 and ``c`` on the branch of (lamP, R_B/R_A, Jm, variant)."""
     key = (float(lamP), float(c), float(radius_ratio), float(Jm), equilibrium, float(eps_r),
-           _model_key())
+           model_key())
     if key not in _FAILURES:
         if float(radius_ratio) == 15.0 and float(Jm) == params.JM_VHB:
-            _FAILURES[key] = _lam_max(lamP, c, eps_r, equilibrium)
+            _FAILURES[key] = first_failures(lamP, c, eps_r, equilibrium)
         else:
-            ch = _chapter()
+            ch = chapter()
             br = branches([Annulus(float(lamP), float(radius_ratio), float(Jm), equilibrium)],
                           n=ch.spec.n, steps=ch.spec.steps)[0]
             cv = curves_many([(br, [0.0, float(c)], float(eps_r))])[0]
@@ -367,7 +223,7 @@ def _consistency(radius_ratio: float, Jm: float) -> dict:
 
     ids = catalogue.by_id()
     out = {}
-    ch = _chapter()
+    ch = chapter()
     for eid in CONSISTENCY_IDS:
         e = ids[eid]
         lamP = float(e.parameters["lamP"])
@@ -391,8 +247,8 @@ def gain_search(entry: Entry) -> dict:
     claims CONSISTENCY_IDS are recomputed there."""
     from scipy.optimize import brentq
 
-    lamP, c = float(_p(entry, "lamP")), float(_p(entry, "c"))
-    modes = list(_p(entry, "modes"))
+    lamP, c = float(parameter(entry, "lamP")), float(parameter(entry, "c"))
+    modes = list(parameter(entry, "modes"))
     sign = 1 if "gain" in entry.id else -1
     target, tol = float(entry.value), entry.implied_tolerance()
     grids = {"eps_r": np.linspace(*EPS_R_SEARCH), "Jm": np.linspace(*JM_SEARCH),
@@ -440,15 +296,15 @@ def max_stretch_change(entry: Entry) -> Outcome:
     """% change of the maximum stretch (first failure), c vs c = 0 (Sec. 3.5.5); the
     gain's search over definitions and parameters (:func:`gain_search`) and the
     reduction's peak over eps_r (:func:`reduction_peak_over_eps_r`) in details."""
-    lamP, c = _p(entry, "lamP"), _p(entry, "c")
+    lamP, c = parameter(entry, "lamP"), parameter(entry, "c")
     sign = 1 if "gain" in entry.id else -1
 
     def pct(eps_r, v):
-        f0, f1 = _lam_max(lamP, c, eps_r, v)
+        f0, f1 = first_failures(lamP, c, eps_r, v)
         return sign * 100 * (f1.lam / f0.lam - 1), f0.kind, f1.kind
 
     val, k0, k1 = pct(params.EPS_R_ASSUMED, "printed")
-    f0, f1 = _lam_max(lamP, c, params.EPS_R_ASSUMED, "printed")
+    f0, f1 = first_failures(lamP, c, params.EPS_R_ASSUMED, "printed")
     details = {"failure_modes": [k0, k1], "max_stretch": [f0.lam, f1.lam],
                "membrane": pct(params.EPS_R_ASSUMED, "membrane")[0],
                "eps_r_sensitivity": {str(e): pct(e, "printed")[0] for e in EPS_R_SENSITIVITY}}
@@ -481,7 +337,7 @@ def free_membrane_nh(entry: Entry) -> Outcome:
 def free_membrane_gent(entry: Entry) -> Outcome:
     """Gent free membrane (Zhao, Hong & Suo 2007): local max/min of Phibar(lambda)."""
     from scipy.optimize import brentq
-    Jm = _p(entry, "Jm")
+    Jm = parameter(entry, "Jm")
     kap = 1.0 / Jm
     f = lambda x: float(np.imag(circle_a.phibar_squared(x + 1e-30j, 0.0, 0.0, kap)) / 1e-30)  # noqa: E731
     x = np.linspace(1.01, 0.999 * params.locking_stretch_equibiaxial(Jm), 4000)
@@ -497,15 +353,15 @@ def free_membrane_gent(entry: Entry) -> Outcome:
 # ------------------------------------------------------------------ figure parameters
 def model_constant(entry: Entry) -> Outcome:
     """The code's constant equals the thesis-stated value (the model implements the spec)."""
-    name = _p(entry, "constant")
+    name = parameter(entry, "constant")
     return Outcome(value=float(getattr(params, name)), status="input")
 
 
 def table_3_1(entry: Entry) -> Outcome:
     """Table 3.1 as used by the model (params.TABLE_3_1) at the entry's column."""
-    col = int(_p(entry, "column"))
+    col = int(parameter(entry, "column"))
     ref, c = params.TABLE_3_1[col - 1]
-    if ref != int(_p(entry, "data_reference")):
+    if ref != int(parameter(entry, "data_reference")):
         return Outcome(value=False, status="not_reproduced",
                        diagnosis=f"model's Table 3.1 column {col} cites [{ref}]")
     return Outcome(value=c, status="input")
@@ -514,150 +370,29 @@ def table_3_1(entry: Entry) -> Outcome:
 def figure_parameters(entry: Entry) -> Outcome:
     """The builder uses the stated figure parameters (RB/RA = 15, c = 0 and -0.053, the
     Fig. 3.7 pre-stretches)."""
-    ok = (study.RADIUS_RATIO == _p(entry, "radius_ratio_figures")
-          and set(_p(entry, "prestretches_fig3_7")) <= set(study.LAMP_CURVES)
-          and set(_p(entry, "c_values")) <= set(study.C_CURVES))
+    ok = (study.RADIUS_RATIO == parameter(entry, "radius_ratio_figures")
+          and set(parameter(entry, "prestretches_fig3_7")) <= set(study.LAMP_CURVES)
+          and set(parameter(entry, "c_values")) <= set(study.C_CURVES))
     return Outcome(value=entry.value if ok else "differs", status="input")
 
 
 # ------------------------------------------------------------------ qualitative claims
-def _modes(lamP, cs, eps_r=params.EPS_R_ASSUMED, equilibrium="printed"):
-    return [cv.failure for cv in _curves(lamP, tuple(float(c) for c in cs), eps_r,
-                                         equilibrium)]
-
-
 def qualitative(entry: Entry) -> Outcome:
     """Dispatch to the check named by parameters.check (see ch3.toml)."""
-    check = _p(entry, "check")
-    fn = _CHECKS[check]
+    check = parameter(entry, "check")
+    fn = CHECKS[check]
     ok, detail = fn(entry, params.EPS_R_ASSUMED, "printed")
     details = {"detail": detail}
     try:
         details["membrane"] = fn(entry, params.EPS_R_ASSUMED, "membrane")[0]
     except Exception as exc:  # noqa: BLE001 - the variant may not have the event at all
         details["membrane"] = f"n/a ({exc})"
-    if _p(entry, "eps_r_sensitive", False):
+    if parameter(entry, "eps_r_sensitive", False):
         details["eps_r_sensitivity"] = {str(e): fn(entry, e, "printed")[0]
                                         for e in EPS_R_SENSITIVITY}
     return Outcome(value=bool(ok), details=details,
                    diagnosis="" if ok else f"{entry.diagnosis} Found: {detail}".strip(),
                    evidence=f"{EV}::test_qualitative_claims")
-
-
-def _check_failure_modes(entry, eps_r, eq):
-    lamP = _p(entry, "lamP")
-    cs = _p(entry, "c_values")
-    want = _p(entry, "modes")
-    fails = _modes(lamP, cs, eps_r, eq)
-    got = [f.kind if f else None for f in fails]
-    ok = got == want
-    lams = [f.lam for f in fails if f]
-    if _p(entry, "same_stretch", False):
-        ok = ok and max(lams) - min(lams) < 1e-9
-    return ok, f"lamP={lamP}, c={cs}: modes {got} at stretches {[round(x, 4) for x in lams]}"
-
-
-def _check_annulus_profile(entry, eps_r, eq):
-    br = _branch(_p(entry, "lamP"), eq)
-    ok = True
-    msgs = []
-    profs = _profiles(_p(entry, "lamP"), _p(entry, "c"), _p(entry, "phibar"), eq)
-    for c, (p1, p2) in zip((0.0, _p(entry, "c")), profs, strict=True):
-        mono = bool(np.all(np.diff(p1) > 0) and np.all(np.diff(p2) < 0))
-        near = abs(p1[-1] - br.annulus.lamP) / br.annulus.lamP
-        ok &= mono and near < _p(entry, "rel_gap_at_RB")
-        msgs.append(f"c={c}: l1 up/l2 down {mono}, |l1(RB)-lamP|/lamP={near:.3g}")
-    return ok, "; ".join(msgs)
-
-
-def _check_difference_decays(entry, eps_r, eq):
-    prof = _profiles(_p(entry, "lamP"), _p(entry, "c"), _p(entry, "phibar"), eq)
-    d1 = np.abs(prof[1][0] - prof[0][0])
-    d3 = np.abs(1 / (prof[1][0] * prof[1][1]) - 1 / (prof[0][0] * prof[0][1]))
-    ok = bool(np.all(np.diff(d1) < 0) and d1[-1] < 0.05 * d1[0] and d3[-1] < 0.05 * d3[0])
-    return ok, f"|d lambda1| from {d1[0]:.3g} at R_A to {d1[-1]:.3g} at R_B"
-
-
-def _check_pullin_vs_prestretch(entry, eps_r, eq):
-    res = {}
-    for lamP in _p(entry, "with_pullin") + _p(entry, "without_pullin"):
-        cv = _curves(lamP, (0.0,), eps_r, eq)[0]
-        res[lamP] = not cv.pullin_suppressed
-    ok = all(res[x] for x in _p(entry, "with_pullin")) and not any(
-        res[x] for x in _p(entry, "without_pullin"))
-    return ok, f"pull-in before loss of tension: {res}"
-
-
-def _check_pullin_delayed_by_c(entry, eps_r, eq):
-    cs = _p(entry, "c_values")
-    cvs = _curves(_p(entry, "lamP"), tuple(cs), eps_r, eq)
-    pts = [(cv.events["pullin"].lam, cv.events["pullin"].phibar) for cv in cvs]
-    ok = all(b[0] > a[0] and b[1] > a[1] for a, b in zip(pts, pts[1:], strict=False))
-    return ok, f"pull-in (lam, Phibar) for c={cs}: {[(round(a, 4), round(b, 4)) for a, b in pts]}"
-
-
-def _check_lot_independent_of_c(entry, eps_r, eq):
-    cs = _p(entry, "c_values")
-    cvs = _curves(_p(entry, "lamP"), tuple(cs), eps_r, eq)
-    lams = [cv.events["loss_of_tension"].lam for cv in cvs]
-    return max(lams) - min(lams) < 1e-12, f"spread {max(lams) - min(lams):.2g}"
-
-
-def _check_discrepancy_grows(entry, eps_r, eq):
-    c = _p(entry, "c")
-    ok = True
-    msgs = []
-    prev = None
-    for lamP in _p(entry, "lamPs"):
-        br = _branch(lamP, eq)
-        lam = br.lam[br.lam < min(f.lam for f in _modes(lamP, (0.0, c), eps_r, eq))]
-        kap = br.annulus.kappa
-        T1 = br.T1[: lam.size]
-        with np.errstate(invalid="ignore", divide="ignore"):  # 0/0 at lam = lamP
-            r = np.sqrt(circle_a.phibar_squared(lam, T1, c, kap) /
-                        circle_a.phibar_squared(lam, T1, 0.0, kap))
-        ok &= bool(np.all(np.diff(r[1:]) > 0))  # grows with the stretch
-        # at a common actuated stretch lam/lamP
-        ra = float(np.interp(_p(entry, "actuated_stretch") * lamP, lam, r))
-        if prev is not None:
-            ok &= ra > prev
-        prev = ra
-        msgs.append(f"lamP={lamP}: ratio at lam/lamP={_p(entry, 'actuated_stretch')} {ra:.4f}")
-    return ok, "; ".join(msgs)
-
-
-def _sweep(lamP, eps_r, eq):
-    fails = _modes(lamP, C_SWEEP, eps_r, eq)
-    return [f.kind for f in fails], np.array([f.lam for f in fails]), np.array(
-        [f.phibar for f in fails])
-
-
-def _runs(kinds):
-    out = []
-    for k in kinds:
-        if not out or out[-1] != k:
-            out.append(k)
-    return out
-
-
-def _check_fig39(entry, eps_r, eq):
-    """Fig. 3.9: sequence of failure modes as c decreases, and the trends within each."""
-    lamP = _p(entry, "lamP")
-    kinds, lam, phi = _sweep(lamP, eps_r, eq)
-    seq = _runs(kinds)
-    ok = seq == _p(entry, "mode_sequence")
-    trend = _p(entry, "lam_trend")  # per mode: "up", "flat", "down" as c decreases
-    for mode, want in zip(_p(entry, "mode_sequence"), trend, strict=False):
-        sel = np.array([k == mode for k in kinds])
-        if sel.sum() < 2:
-            continue
-        d = np.diff(lam[sel])
-        ok &= {"up": bool(np.all(d > 0)), "down": bool(np.all(d < 0)),
-               "flat": bool(np.all(np.abs(d) < 1e-9))}[want]
-    if _p(entry, "phibar_increases", False):
-        ok &= bool(np.all(np.diff(phi) > 0))
-    return ok, (f"lamP={lamP}: modes along c=0..-0.1 {seq}, failure stretch from "
-                f"{lam[0]:.4f} to {lam[-1]:.4f}")
 
 
 def pullin_range_of_fig39a(lamP: float, eps_r: float = params.EPS_R_ASSUMED,
@@ -667,16 +402,16 @@ def pullin_range_of_fig39a(lamP: float, eps_r: float = params.EPS_R_ASSUMED,
     whether the claimed behaviour (pull-in, lam_max and its Phibar rising as c decreases)
     holds on every sweep point with c >= c_end, and whether every point below fails by
     loss of tension instead."""
-    kinds, lam, phi = _sweep(lamP, eps_r, equilibrium)
+    kinds, lam, phi = failure_sweep(lamP, eps_r, equilibrium)
     c = np.array(C_SWEEP)
-    ch = _chapter()
+    ch = chapter()
     key = (float(lamP), "before_loss_of_tension", equilibrium)
     if key in ch.c_thresholds:
         c_end = float(ch.c_thresholds[key])
     else:
         br = branches([Annulus(float(lamP), 15.0, params.JM_VHB, equilibrium)],
                       n=C_THRESHOLD_POINTS)[0]
-        lot = _lot(lamP, equilibrium)
+        lot = loss_of_tension(lamP, equilibrium)
         c_end = float(analysis._c_threshold_on(
             br, "before_loss_of_tension", lam_lot=lot,
             br_lot=analysis._lot_grids([br], [lot])[0]))
@@ -695,7 +430,7 @@ def fig39_unstated_range(entry: Entry) -> Outcome:
     checked on the range where pull-in governs (:func:`pullin_range_of_fig39a`): when it
     holds there and loss of tension governs beyond, whether the figure's range went beyond
     depends on the unstated range (``not_reproducible``); otherwise ``not_reproduced``."""
-    d = pullin_range_of_fig39a(_p(entry, "lamP"))
+    d = pullin_range_of_fig39a(parameter(entry, "lamP"))
     evidence = f"{EV}::test_fig39a_holds_on_the_pullin_range"
     if d["holds_on_pullin_range"] and d["loss_of_tension_below"]:
         return Outcome(value=True, status="not_reproducible", details=d,
@@ -703,22 +438,10 @@ def fig39_unstated_range(entry: Entry) -> Outcome:
     return Outcome(value=False, details=d, diagnosis=entry.diagnosis, evidence=evidence)
 
 
-_CHECKS = {
-    "failure_modes": _check_failure_modes,
-    "annulus_profile": _check_annulus_profile,
-    "difference_decays": _check_difference_decays,
-    "pullin_vs_prestretch": _check_pullin_vs_prestretch,
-    "pullin_delayed_by_c": _check_pullin_delayed_by_c,
-    "lot_independent_of_c": _check_lot_independent_of_c,
-    "discrepancy_grows": _check_discrepancy_grows,
-    "fig39": _check_fig39,
-}
-
-
 # ------------------------------------------------------------------ errata
 def erratum(entry: Entry) -> Outcome:
     """Errata are confirmed/refuted by the evidence test; the producer re-checks quickly."""
-    which = _p(entry, "check")
+    which = parameter(entry, "check")
     if which == "eq_3_30":
         # printed coefficient vs (3.21) re-derived: eps + lam/2 deps/dl1 at l1 = l2 = lam
         lam = np.linspace(1.0, 7.0, 13)
@@ -729,7 +452,7 @@ def erratum(entry: Entry) -> Outcome:
         return Outcome(value=not same, status="refuted" if same else "confirmed",
                        evidence=entry.evidence)
     if which == "eq_3_33":
-        lt = {v: _lot(3.0, v) for v in VARIANTS}
+        lt = {v: loss_of_tension(3.0, v) for v in VARIANTS}
         differs = abs(lt["printed"] - lt["membrane"]) > 1e-3
         return Outcome(value=differs, status="confirmed" if differs else "refuted",
                        evidence=entry.evidence, details=lt)
