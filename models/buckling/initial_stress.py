@@ -124,6 +124,53 @@ def _flat_state(model: MembraneModel, v: float) -> None:
     model.assemble()
 
 
+def _tangent_change(model: MembraneModel, method: str, K0):
+    """``x -> dK(v_t) x`` of ``method`` at the model's flat state (see the module
+    docstring), ``K0`` the mechanical tangent of the unloaded film."""
+    if method == "initial_stress":
+        return _stress_stiffness(model).__matmul__
+    iu, ip = model._ufree, model._pfree
+    Kuu = _sym(model._scipy(model.a.mat, iu, iu))
+    dKuu = (Kuu - K0).tocsr()
+    if method == "frozen_potential":
+        return dKuu.__matmul__
+    Kup = model._scipy(model.a.mat, iu, ip)
+    Kpu = model._scipy(model.a.mat, ip, iu)
+    Kpp = splu(model._scipy(model.a.mat, ip, ip).tocsc())
+
+    def apply_dK(x, dKuu=dKuu, Kup=Kup, Kpu=Kpu, Kpp=Kpp):
+        return dKuu @ x - Kup @ Kpp.solve(np.asarray(Kpu @ x))
+    return apply_dK
+
+
+def _load_factors(apply_dK, K0, K0inv, n: int, method: str, v_t: float):
+    """``(mu, lambda_1, backward error)``: the :data:`NEV` largest eigenvalues ``mu`` of
+    ``-dK x = mu K_0 x`` (descending, ARPACK), the load factor ``lambda_1 = 1/mu_1`` and
+    the backward error of its eigenpair; ConvergenceError when ARPACK fails, no load
+    factor is positive or the backward error exceeds :data:`EIG_BACKWARD_MAX`."""
+    A = LinearOperator((n, n), matvec=lambda x, f=apply_dK: -f(x), dtype=float)
+    try:
+        mu, X = eigsh(A, k=NEV, M=K0, Minv=K0inv, which="LA", tol=ARPACK_TOL,
+                      v0=np.ones(n))
+    except Exception as exc:  # ArpackNoConvergence
+        raise ConvergenceError(f"linearised_critical_voltage ({method}): ARPACK failed "
+                               f"at v_t = {v_t:.6g}: {exc}") from exc
+    order = np.argsort(mu)[::-1]
+    mu, X = mu[order], X[:, order]
+    if not mu[0] > 0:
+        raise ConvergenceError(f"linearised_critical_voltage ({method}): no compressive "
+                               f"load factor at v_t = {v_t:.6g} (mu = {mu})")
+    lam = 1.0 / mu[0]
+    x = X[:, 0]
+    k0x, dkx = K0 @ x, apply_dK(x)
+    eig_res = float(np.linalg.norm(k0x + lam * dkx)
+                    / (np.linalg.norm(k0x) + abs(lam) * np.linalg.norm(dkx)))
+    if not eig_res <= EIG_BACKWARD_MAX:
+        raise ConvergenceError(f"linearised_critical_voltage ({method}): eigen backward "
+                               f"error {eig_res:.3g} > {EIG_BACKWARD_MAX}")
+    return mu, lam, eig_res
+
+
 def linearised_critical_voltage(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation,
                                 *, method: str = "initial_stress", v_start: float | None = None,
                                 vtol: float = FIXED_POINT_VTOL, maxit: int = 20
@@ -148,7 +195,7 @@ def linearised_critical_voltage(plate: Plate, mat: NeoHookean | Ogden, disc: Dis
     maxit = val.integer_at_least("maxit", maxit, 1)
     t_start = time.perf_counter()
     model = MembraneModel(plate, mat, disc, with_imperfection=False)
-    iu, ip = model._ufree, model._pfree
+    iu = model._ufree
     _flat_state(model, 0.0)
     K0 = _sym(model._scipy(model.a.mat, iu, iu))
     K0_lu = splu(K0.tocsc())
@@ -159,41 +206,8 @@ def linearised_critical_voltage(plate: Plate, mat: NeoHookean | Ogden, disc: Dis
     hist = []
     for it in range(1, maxit + 1):
         _flat_state(model, v_t)
-        if method == "initial_stress":
-            dK = _stress_stiffness(model)
-            apply_dK = dK.__matmul__
-        else:
-            Kuu = _sym(model._scipy(model.a.mat, iu, iu))
-            dKuu = (Kuu - K0).tocsr()
-            if method == "frozen_potential":
-                apply_dK = dKuu.__matmul__
-            else:
-                Kup = model._scipy(model.a.mat, iu, ip)
-                Kpu = model._scipy(model.a.mat, ip, iu)
-                Kpp = splu(model._scipy(model.a.mat, ip, ip).tocsc())
-
-                def apply_dK(x, dKuu=dKuu, Kup=Kup, Kpu=Kpu, Kpp=Kpp):
-                    return dKuu @ x - Kup @ Kpp.solve(np.asarray(Kpu @ x))
-        A = LinearOperator((n, n), matvec=lambda x, f=apply_dK: -f(x), dtype=float)
-        try:
-            mu, X = eigsh(A, k=NEV, M=K0, Minv=K0inv, which="LA", tol=ARPACK_TOL,
-                          v0=np.ones(n))
-        except Exception as exc:  # ArpackNoConvergence
-            raise ConvergenceError(f"linearised_critical_voltage ({method}): ARPACK failed "
-                                   f"at v_t = {v_t:.6g}: {exc}") from exc
-        order = np.argsort(mu)[::-1]
-        mu, X = mu[order], X[:, order]
-        if not mu[0] > 0:
-            raise ConvergenceError(f"linearised_critical_voltage ({method}): no compressive "
-                                   f"load factor at v_t = {v_t:.6g} (mu = {mu})")
-        lam = 1.0 / mu[0]
-        x = X[:, 0]
-        k0x, dkx = K0 @ x, apply_dK(x)
-        eig_res = float(np.linalg.norm(k0x + lam * dkx)
-                        / (np.linalg.norm(k0x) + abs(lam) * np.linalg.norm(dkx)))
-        if not eig_res <= EIG_BACKWARD_MAX:
-            raise ConvergenceError(f"linearised_critical_voltage ({method}): eigen backward "
-                                   f"error {eig_res:.3g} > {EIG_BACKWARD_MAX}")
+        apply_dK = _tangent_change(model, method, K0)
+        mu, lam, eig_res = _load_factors(apply_dK, K0, K0inv, n, method, v_t)
         v_new = v_t * math.sqrt(lam)
         hist.append((v_t, v_new))
         if abs(v_new - v_t) < vtol:

@@ -103,19 +103,10 @@ def critical_voltage(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation
         mode[0] = modes
         return float(w[0])
 
-    def secant(xs, ls):
-        if ls[-1] == ls[-2]:
-            raise ConvergenceError(f"critical_voltage: flat secant (lambda {ls[-1]}) at "
-                                   f"v = {math.sqrt(xs[-1]):.6g}: {hist}")
-        x_new = xs[-1] - ls[-1] * (xs[-1] - xs[-2]) / (ls[-1] - ls[-2])
-        if not (x_new > 0 and math.isfinite(x_new)):
-            raise ConvergenceError(f"critical_voltage: secant left the domain (v^2={x_new})")
-        return x_new
-
     xs = [(0.8 * v_est) ** 2, (0.95 * v_est) ** 2]
     ls = [lam_at(math.sqrt(x)) for x in xs]
     hist = [(math.sqrt(x), lv) for x, lv in zip(xs, ls, strict=True)]
-    x_new = secant(xs, ls)
+    x_new = _secant(xs, ls, hist)
     for it in range(maxit):
         l_new = lam_at(math.sqrt(x_new))
         hist.append((math.sqrt(x_new), l_new))
@@ -124,24 +115,44 @@ def critical_voltage(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation
         # the secant converges superlinearly: the error of the evaluated point is its next
         # step to within higher order, so a next step below vtol ends the iteration there
         # (without evaluating at the singular tangent itself)
-        x_new = secant(xs, ls) if l_new != 0.0 else xs[-1]
+        x_new = _secant(xs, ls, hist) if l_new != 0.0 else xs[-1]
         if abs(math.sqrt(x_new) - math.sqrt(xs[-1])) < vtol:
-            v = math.sqrt(xs[-1])
-            lowest, _ = model.lowest_eigenvalues(nev=1, x0=mode[0])
-            if model.last_eig["shift"] != 0.0:
-                raise ConvergenceError(
-                    f"critical_voltage: at v = {v:.6g} the secant drove an eigenvalue to zero "
-                    f"with a lower one at {float(lowest[0]):.6g} (a higher mode's crossing)")
-            th = model.centre_thickness()
-            ln = model.last_newton
-            return CriticalResult(
-                v=v, e=v / th, thickness=th, ndof=model.ndof, nelements=model.nelements,
-                iterations=it + 3, history=tuple(hist), lam=l_new,
-                eig_residual=model.last_eig["residual"], newton_residual=ln["residual"],
-                newton_residual_rel=ln["residual_rel"], newton_iterations=ln["iterations"],
-                vtol=vtol, h_rel=disc.h_rel, layers=disc.layers, order=disc.order,
-                stats=dict(model.stats))
+            return _certified_critical(model, disc, math.sqrt(xs[-1]), l_new, mode[0],
+                                       it + 3, hist, vtol)
     raise ConvergenceError(f"critical_voltage: secant did not converge in {maxit} steps: {hist}")
+
+
+def _secant(xs, ls, hist) -> float:
+    """The next secant iterate in v^2 of :func:`critical_voltage` from its last two points
+    (``hist``: the (v, lambda) evaluated so far, for the error message)."""
+    if ls[-1] == ls[-2]:
+        raise ConvergenceError(f"critical_voltage: flat secant (lambda {ls[-1]}) at "
+                               f"v = {math.sqrt(xs[-1]):.6g}: {hist}")
+    x_new = xs[-1] - ls[-1] * (xs[-1] - xs[-2]) / (ls[-1] - ls[-2])
+    if not (x_new > 0 and math.isfinite(x_new)):
+        raise ConvergenceError(f"critical_voltage: secant left the domain (v^2={x_new})")
+    return x_new
+
+
+def _certified_critical(model: MembraneModel, disc: Discretisation, v: float, lam: float,
+                        mode, iterations: int, hist, vtol: float) -> CriticalResult:
+    """The :class:`CriticalResult` at the secant's last voltage ``v`` (eigenvalue ``lam``),
+    once the inertia count finds no eigenvalue below the one driven to zero
+    (ConvergenceError otherwise: a higher mode's crossing)."""
+    lowest, _ = model.lowest_eigenvalues(nev=1, x0=mode)
+    if model.last_eig["shift"] != 0.0:
+        raise ConvergenceError(
+            f"critical_voltage: at v = {v:.6g} the secant drove an eigenvalue to zero "
+            f"with a lower one at {float(lowest[0]):.6g} (a higher mode's crossing)")
+    th = model.centre_thickness()
+    ln = model.last_newton
+    return CriticalResult(
+        v=v, e=v / th, thickness=th, ndof=model.ndof, nelements=model.nelements,
+        iterations=iterations, history=tuple(hist), lam=lam,
+        eig_residual=model.last_eig["residual"], newton_residual=ln["residual"],
+        newton_residual_rel=ln["residual_rel"], newton_iterations=ln["iterations"],
+        vtol=vtol, h_rel=disc.h_rel, layers=disc.layers, order=disc.order,
+        stats=dict(model.stats))
 
 
 @dataclass(frozen=True)
@@ -245,17 +256,41 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
     c_max = 1.2 * plate.aspect if c_max is None else c_max
     require(dc > 0, f"dc must be > 0, got {dc}")
     require(c_max > 0, f"c_max must be > 0, got {c_max}")
-    from debench.models.buckling.deflection import control_deflection, newton_deflection
     model = MembraneModel(plate, mat, disc, with_imperfection=True, inverse=inverse,
                           reuse=reuse, eigensolver=eigensolver, chord=chord)
-    rec = {k: [] for k in ("v", "w", "w_mid", "thickness", "e_centre", "e_max", "its", "res",
-                           "w_asym", "n_asym")}
-    eig = {"v": [], "w": [], "lam": [], "ax": [], "n": [], "res": []}
+    path = _RampPath(model, eig_every, progress)
     if v_switch is None:
         v_switch = 1.3 * critical_voltage_plate(mat, plate.aspect)
     v_switch = min(v_switch, v_max)
+    path.record(0)
+    states = [model.state()]
+    steps = _voltage_control(path, states, v_switch, dv0, dv_max, dw_max, max_steps)
+    bracket = None
+    v_pull = w_pull = None
+    end = "v_max"
+    if v_switch < v_max:
+        end = _deflection_control(path, states, steps, dc, c_max, drop, max_steps,
+                                  stop_on_stall)
+        v_pull, w_pull, bracket = _pullin_vertex(path.rec, end)
+    return path.result(v_pull, w_pull, bracket, disc, end)
 
-    def record(its):
+
+class _RampPath:
+    """The points of a ramp as they are reached: the recorded quantities per point
+    (``rec``) and the eigen-records (``eig``) of :class:`RampResult`."""
+
+    def __init__(self, model: MembraneModel, eig_every: int, progress):
+        self.model = model
+        self.eig_every = eig_every
+        self.progress = progress
+        self.rec = {k: [] for k in ("v", "w", "w_mid", "thickness", "e_centre", "e_max",
+                                    "its", "res", "w_asym", "n_asym")}
+        self.eig = {"v": [], "w": [], "lam": [], "ax": [], "n": [], "res": []}
+
+    def record(self, its):
+        """Record the model's current state, reached in ``its`` Newton iterations (and an
+        eigen-record every ``eig_every`` points)."""
+        model, rec = self.model, self.rec
         rec["v"].append(model.v)
         rec["w"].append(model.centre_deflection())
         rec["w_mid"].append(model.centre_midplane_deflection())
@@ -267,25 +302,50 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
         rec["n_asym"].append(n)
         rec["its"].append(its)
         rec["res"].append(model.last_newton["residual"] if its else 0.0)
-        if eig_every and len(rec["v"]) % eig_every == 0:
-            eig_record()
-        if progress is not None:
-            progress(model.v, rec["w"][-1])
+        if self.eig_every and len(rec["v"]) % self.eig_every == 0:
+            self.eig_record()
+        if self.progress is not None:
+            self.progress(model.v, rec["w"][-1])
 
-    def eig_record():
+    def eig_record(self):
+        """The three lowest eigenvalues of the condensed tangent at the current state, the
+        axisymmetric fraction and the dominant wavenumber of their modes."""
         # a random start every time: starting modes from the previous record can hide a
         # mode that became unstable since (MembraneModel.lowest_eigenvalues)
+        model, eig = self.model, self.eig
         lam, modes = model.lowest_eigenvalues(nev=3)
         eig["res"].append(model.last_eig["residual"])
         eig["v"].append(model.v)
-        eig["w"].append(rec["w"][-1])
+        eig["w"].append(self.rec["w"][-1])
         eig["lam"].append(lam)
         harm = [mode_harmonics(model, modes[:, j]) for j in range(3)]
         eig["ax"].append([float(hj[0]) for hj in harm])
         eig["n"].append([int(np.argmax(hj)) for hj in harm])
 
-    record(0)
-    states = [model.state()]
+    def result(self, v_pull, w_pull, bracket, disc: Discretisation, end: str) -> RampResult:
+        """The :class:`RampResult` of the recorded path."""
+        model, eig = self.model, self.eig
+        arr = {k: np.array(val) for k, val in self.rec.items()}
+        return RampResult(
+            v=arr["v"], w=arr["w"], w_mid=arr["w_mid"], thickness=arr["thickness"],
+            e_centre=arr["e_centre"], e_max=arr["e_max"], newton_its=arr["its"],
+            v_pullin=v_pull, w_pullin=w_pull, pullin_bracket=bracket,
+            ndof=model.ndof, nelements=model.nelements, stats=dict(model.stats),
+            eig_v=np.array(eig["v"]), eig_w=np.array(eig["w"]),
+            eig_lam=np.array(eig["lam"]).reshape(-1, 3),
+            eig_axisym=np.array(eig["ax"]).reshape(-1, 3),
+            eig_wavenumber=np.array(eig["n"], dtype=np.int64).reshape(-1, 3),
+            newton_residual=arr["res"], eig_residual=np.array(eig["res"]),
+            w_asym=arr["w_asym"], n_asym=arr["n_asym"].astype(np.int64),
+            h_rel=disc.h_rel, layers=disc.layers, order=disc.order, end=end)
+
+
+def _voltage_control(path: _RampPath, states: list, v_switch, dv0, dv_max, dw_max,
+                     max_steps) -> int:
+    """Phase 1 of :func:`voltage_ramp`: Newton in v with a secant predictor from 0 to
+    ``v_switch``, each converged state recorded and appended to ``states``; returns the
+    steps taken (rejected ones included)."""
+    model, rec = path.model, path.rec
     dv = dv0
     v = 0.0
     steps = 0
@@ -316,77 +376,71 @@ def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
             dv /= 2
             continue
         v = v_try
-        record(its)
+        path.record(its)
         states.append(model.state())
         if its <= 4:
             dv = min(dv * 1.5, dv_max)
+    return steps
 
-    bracket = None
-    v_pull = w_pull = None
-    end = "v_max"
-    if v_switch < v_max:
-        c = control_deflection(model)
-        step = dc
-        cs = [c]
-        vmax_seen = model.v
-        passed = False
-        while c < c_max:
-            steps += 1
-            if steps > max_steps:
-                raise ConvergenceError(f"voltage_ramp: exceeded {max_steps} steps at c={c}")
-            x_prev, v_prev = model.state(), model.v
-            try:
-                its = newton_deflection(model, c + step)
-            except ConvergenceError:
-                model.set_state(x_prev)
-                model.set_voltage(v_prev)
-                if step < 1e-3:
-                    if _past_maximum(rec["v"]):
-                        end = "singular past the limit point"
-                        break
-                    if stop_on_stall:
-                        end = "stalled before the limit point"
-                        if eig_every:
-                            eig_record()
-                        break
-                    raise
-                step /= 2
-                continue
-            c += step
-            cs.append(c)
-            record(its)
-            states.append(model.state())
-            if eig_every and not passed and model.v < rec["v"][-2]:
-                passed = True
-                eig_record()      # first state past the limit point: lambda_1 < 0 expected
-            vmax_seen = max(vmax_seen, model.v)
-            if model.v < (1 - drop) * vmax_seen:
-                end = "voltage drop"
-                break
-            step = min(step * 1.5, dc)
-        else:
-            end = "c_max"
-        vv = np.array(rec["v"])
-        k = int(np.argmax(vv))
-        if 0 < k < len(vv) - 1 and end != "stalled before the limit point":
-            ww = np.array(rec["w"][k - 1:k + 2])
-            cf = np.polyfit(ww, vv[k - 1:k + 2], 2)
-            xs = -cf[1] / (2 * cf[0])
-            v_pull = float(np.polyval(cf, xs))
-            w_pull = float(xs)
-            bracket = (float(vv[k]), v_pull)
-    arr = {k: np.array(val) for k, val in rec.items()}
-    return RampResult(v=arr["v"], w=arr["w"], w_mid=arr["w_mid"], thickness=arr["thickness"],
-                      e_centre=arr["e_centre"], e_max=arr["e_max"], newton_its=arr["its"],
-                      v_pullin=v_pull, w_pullin=w_pull, pullin_bracket=bracket,
-                      ndof=model.ndof, nelements=model.nelements, stats=dict(model.stats),
-                      eig_v=np.array(eig["v"]), eig_w=np.array(eig["w"]),
-                      eig_lam=np.array(eig["lam"]).reshape(-1, 3),
-                      eig_axisym=np.array(eig["ax"]).reshape(-1, 3),
-                      eig_wavenumber=np.array(eig["n"], dtype=np.int64).reshape(-1, 3),
-                      newton_residual=arr["res"], eig_residual=np.array(eig["res"]),
-                      w_asym=arr["w_asym"], n_asym=arr["n_asym"].astype(np.int64),
-                      h_rel=disc.h_rel, layers=disc.layers, order=disc.order, end=end)
+
+def _deflection_control(path: _RampPath, states: list, steps: int, dc, c_max, drop,
+                        max_steps, stop_on_stall) -> str:
+    """Phase 2 of :func:`voltage_ramp`: the centre deflection raised in steps of at most
+    ``dc`` (bordered Newton, the voltage an unknown) until the voltage has dropped by
+    ``drop`` below its maximum or ``c_max``; ``steps``: those phase 1 took. Returns why
+    the path stopped (``RampResult.end``)."""
+    from debench.models.buckling.deflection import control_deflection, newton_deflection
+    model, rec, eig_every = path.model, path.rec, path.eig_every
+    c = control_deflection(model)
+    step = dc
+    vmax_seen = model.v
+    passed = False
+    while c < c_max:
+        steps += 1
+        if steps > max_steps:
+            raise ConvergenceError(f"voltage_ramp: exceeded {max_steps} steps at c={c}")
+        x_prev, v_prev = model.state(), model.v
+        try:
+            its = newton_deflection(model, c + step)
+        except ConvergenceError:
+            model.set_state(x_prev)
+            model.set_voltage(v_prev)
+            if step < 1e-3:
+                if _past_maximum(rec["v"]):
+                    return "singular past the limit point"
+                if stop_on_stall:
+                    if eig_every:
+                        path.eig_record()
+                    return "stalled before the limit point"
+                raise
+            step /= 2
+            continue
+        c += step
+        path.record(its)
+        states.append(model.state())
+        if eig_every and not passed and model.v < rec["v"][-2]:
+            passed = True
+            path.eig_record()   # first state past the limit point: lambda_1 < 0 expected
+        vmax_seen = max(vmax_seen, model.v)
+        if model.v < (1 - drop) * vmax_seen:
+            return "voltage drop"
+        step = min(step * 1.5, dc)
+    return "c_max"
+
+
+def _pullin_vertex(rec: dict, end: str):
+    """``(v_pullin, w_pullin, pullin_bracket)`` of :class:`RampResult`: the vertex of the
+    parabola v(w) through the three recorded points around the voltage maximum (None
+    when the maximum is not interior or the path stalled before it)."""
+    vv = np.array(rec["v"])
+    k = int(np.argmax(vv))
+    if 0 < k < len(vv) - 1 and end != "stalled before the limit point":
+        ww = np.array(rec["w"][k - 1:k + 2])
+        cf = np.polyfit(ww, vv[k - 1:k + 2], 2)
+        xs = -cf[1] / (2 * cf[0])
+        v_pull = float(np.polyval(cf, xs))
+        return v_pull, float(xs), (float(vv[k]), v_pull)
+    return None, None, None
 
 
 def _past_maximum(v) -> bool:
