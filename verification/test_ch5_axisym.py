@@ -17,6 +17,11 @@ import ngsolve as ngs
 import numpy as np
 import pytest
 from debench.models.buckling import axisym as ax
+from debench.models.buckling.axisym import linalg as ax_linalg
+from debench.models.buckling.axisym import model as ax_model
+from debench.models.buckling.axisym import secant_zero
+from debench.models.buckling.axisym.path import ZERO_STALL_W, ZERO_WTOL
+from debench.models.buckling.axisym.spectra import EIG_RTOL
 from debench.models.buckling.parameters import NeoHookean, Ogden, Plate
 from debench.models.errors import ConvergenceError
 
@@ -77,7 +82,7 @@ def test_spectrum_is_certified_and_refuses_a_shift_that_misses_the_lowest_eigenv
     m.set_voltage(0.1)
     m.newton()
     s = m.spectrum(0, nev=3)
-    assert s.below == 0 and s.lam[0] > 0 and np.all(s.residual < ax.EIG_RTOL)
+    assert s.below == 0 and s.lam[0] > 0 and np.all(s.residual < EIG_RTOL)
     with pytest.raises(ConvergenceError, match="below the lowest computed"):
         m.spectrum(0, nev=1, sigma=0.5 * float(s.lam[1] + s.lam[2]))
 
@@ -160,7 +165,8 @@ def test_newton_refuses_a_state_outside_the_material_domain_before_factorising(m
     def no_factorisation(*args, **kwargs):
         raise AssertionError("a non-finite matrix reached SuperLU")
 
-    monkeypatch.setattr(ax, "splu", no_factorisation)
+    for module in (ax_linalg, ax_model):      # every place the model calls SuperLU
+        monkeypatch.setattr(module, "splu", no_factorisation)
     for solve in (m.newton, lambda: m.newton_deflection(0.5)):
         m.set_state(inverted)
         with pytest.raises(ConvergenceError, match="non-finite residual or tangent"):
@@ -225,7 +231,6 @@ def test_no_wrinkling_before_the_voltage_maximum_of_the_neo_hookean_film():
 
 def test_secant_zero_converges_on_a_smooth_function():
     """A smooth root: the secant stops on a step below ZERO_WTOL, at the root to it."""
-    from debench.models.buckling.axisym import ZERO_WTOL, secant_zero
 
     def f(w):
         return 1e-3 * (7.2 - w) + 1e-4 * (7.2 - w) ** 2
@@ -240,7 +245,6 @@ def test_secant_zero_stops_where_it_stagnates_at_the_round_off_floor():
     n = 6 crossing that wandered within 1e-7 t0): the secant returns the iterate with the
     smallest |f| once ZERO_STALL_COUNT iterates lie within ZERO_STALL_W, within the noise's
     reach of the root (noise / slope ~ 1e-7), and says how far the iterates spread."""
-    from debench.models.buckling.axisym import ZERO_STALL_W, secant_zero
 
     rng = np.random.default_rng(1)
 
@@ -253,7 +257,6 @@ def test_secant_zero_stops_where_it_stagnates_at_the_round_off_floor():
 
 
 def test_secant_zero_raises_on_a_function_without_a_root():
-    from debench.models.buckling.axisym import secant_zero
     from debench.models.errors import ConvergenceError
 
     with pytest.raises(ConvergenceError, match="flat secant|no convergence"):

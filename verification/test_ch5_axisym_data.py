@@ -157,16 +157,6 @@ def test_problem_page_quotes_the_3d_values_of_the_curated_dataset():
         assert quoted in summary, (case, quoted)
 
 
-def test_two_term_limits_recover_a_synthetic_two_term_sequence():
-    """A sequence v + C1 h^1.2 + C2 h^2 on the 3D levels: the q = 2 fit returns v (plus the
-    layer correction) to round-off, the other exponents miss it."""
-    h = np.array([3.0, 2.0, 1.4, 1.0, 0.7, 0.45])
-    v = 0.22 + 0.01 * h**1.2 - 0.002 * h**2
-    fits = prod.two_term_limits(h, v, 1.2, -1e-4)
-    assert fits[2.0] == pytest.approx(0.22 - 1e-4, abs=1e-13)   # lstsq round-off ~1e-16
-    assert abs(fits[3.0] - (0.22 - 1e-4)) > 1e-6
-
-
 @pytest.mark.parametrize("material", ["nh", "ogden"])
 def test_the_3d_bias_is_the_single_term_fit_assumption(material):
     """The two-term fits of the stored 3D levels bracket the converged axisymmetric value

@@ -18,9 +18,14 @@ from debench.models.numerics import (
     reference_fit,
     regula_falsi_many,
     richardson,
+    two_term_limits,
     zero_near,
 )
-from debench.models.numerics.convergence import GCI_SAFETY_OBSERVED, GCI_SAFETY_THEORETICAL
+from debench.models.numerics.convergence import (
+    GCI_SAFETY_OBSERVED,
+    GCI_SAFETY_THEORETICAL,
+    SECOND_EXPONENTS,
+)
 
 EPS = np.finfo(float).eps
 #: the absolute tolerance every root method is asked for
@@ -241,3 +246,26 @@ def test_gci_uses_the_theoretical_order_with_safety_3_otherwise():
         gci(h[1:], np.array([1.4, 1.1]))
     with pytest.raises(ValueError, match="decreasing"):
         gci(h[::-1], np.array([1.0, 1.1, 1.2]), 2.0)
+
+
+#: levels of the 3D model's in-plane sequence (h / t0), on which the two-term fits run
+TWO_TERM_H = np.array([3.0, 2.0, 1.4, 1.0, 0.7, 0.45])
+
+
+@pytest.mark.parametrize("q", SECOND_EXPONENTS)
+def test_two_term_limits_recover_a_two_term_sequence_at_its_own_exponent(q):
+    """A sequence v + C1 h^1.2 + C2 h^q: the fit with that second exponent q returns v
+    (plus the correction) to round-off, every other exponent misses it by far more."""
+    v = 0.22 + 0.01 * TWO_TERM_H**1.2 - 0.002 * TWO_TERM_H**q
+    fits = two_term_limits(TWO_TERM_H, v, 1.2, -1e-4)
+    assert list(fits) == list(SECOND_EXPONENTS)
+    # lstsq round-off: condition number of the 4 x 3 design matrix (< 100 here) x eps x |v|
+    assert fits[q] == pytest.approx(0.22 - 1e-4, abs=100 * EPS)
+    assert all(abs(fits[p] - (0.22 - 1e-4)) > 1e-6 for p in SECOND_EXPONENTS if p != q)
+
+
+def test_two_term_limits_refuse_too_few_or_mismatched_levels():
+    with pytest.raises(ValueError, match="at least 4 levels"):
+        two_term_limits(TWO_TERM_H[:3], TWO_TERM_H[:3], 1.2)
+    with pytest.raises(ValueError, match="one length"):
+        two_term_limits(TWO_TERM_H, TWO_TERM_H[:5], 1.2)

@@ -18,6 +18,7 @@ from debench.models.numerics.convergence import (
     propagated_accuracy,
     reference_fit,
     richardson,
+    two_term_limits,
 )
 from debench.models.numerics.roots import Memo, checked_brentq, regula_falsi_many, zero_near
 
@@ -36,5 +37,6 @@ __all__ = [
     "reference_fit",
     "regula_falsi_many",
     "richardson",
+    "two_term_limits",
     "zero_near",
 ]

@@ -12,7 +12,9 @@ estimate, and Roache's grid convergence index.
   the finest level and its last change;
 * :func:`gci` -- Roache's grid convergence index (observed order and safety factor 1.25,
   or 3 with the theoretical order when the observed one is off);
-* :func:`propagated_accuracy` -- how far a derived value moves when its inputs move.
+* :func:`propagated_accuracy` -- how far a derived value moves when its inputs move;
+* :func:`two_term_limits` -- the limits of two-term expansions ``v_inf + C1 h^q1 + C2 h^q``
+  over a range of second exponents q: what a single-term fit's assumption costs.
 
 The fits return :class:`LimitFit` (:func:`richardson`: :class:`ThreePointFit`;
 :func:`gci`: :class:`GCI`), which state what was achieved.
@@ -29,7 +31,7 @@ from dataclasses import dataclass, replace
 from typing import NamedTuple
 
 import numpy as np
-from debench.models.errors import ConvergenceError
+from debench.models.errors import ConvergenceError, require
 
 #: rates a free-rate fit may find (a rate at a bound is not a fit: ConvergenceError)
 RATE_BOUNDS = (0.05, 8.0)
@@ -57,6 +59,13 @@ GCI_SAFETY_OBSERVED = 1.25
 GCI_SAFETY_THEORETICAL = 3.0
 GCI_MIN_LEVELS = 3
 """Levels a sequence needs for its convergence to count as observed (:func:`gci_safety`)."""
+
+#: exponents q of the second term of the two-term expansion v_h = v + C1 h^q1 + C2 h^q that
+#: :func:`two_term_limits` tries: the regular h^2 and values on either side (the
+#: discretisation theory of a corner singularity gives the leading q1 = 2 s, not q)
+SECOND_EXPONENTS = (1.6, 2.0, 2.4, 3.0)
+#: finest levels the two-term fits use (three unknowns, one redundant level)
+TWO_TERM_LEVELS = 4
 
 
 def gci_safety(n_levels: int) -> float:
@@ -346,3 +355,24 @@ def gci(h, v, theoretical_order: float | None = None, *,
     rel = band / abs(v[-1]) if v[-1] != 0 else float("inf")
     return GCI(float(v[-1]), v_inf, p_obs, float(p), safety, r, float(band), float(rel),
                reason)
+
+
+def two_term_limits(h, v, q1: float, correction: float = 0.0) -> dict[float, float]:
+    """What a single-term fit's assumption costs: the limit of the sequence ``v(h)`` by the
+    least-squares two-term expansion v + C1 h^q1 + C2 h^q on its :data:`TWO_TERM_LEVELS`
+    finest levels (the last ones), for each second exponent q of :data:`SECOND_EXPONENTS`,
+    plus ``correction`` (a known offset of every limit, such as a separately fitted layer
+    correction): ``{q: limit}``. The spread over q is the uncertainty a single-term fit
+    hides when the second term's exponent is unknown. ValueError when ``h`` and ``v``
+    differ in length or hold fewer than :data:`TWO_TERM_LEVELS` levels."""
+    h, v = np.asarray(h, float), np.asarray(v, float)
+    require(h.shape == v.shape and h.ndim == 1,
+            f"h and v must be 1D of one length, got shapes {h.shape} and {v.shape}")
+    require(len(h) >= TWO_TERM_LEVELS,
+            f"h must hold at least {TWO_TERM_LEVELS} levels, got {len(h)}")
+    h, v = h[-TWO_TERM_LEVELS:], v[-TWO_TERM_LEVELS:]
+    out = {}
+    for q in SECOND_EXPONENTS:
+        A = np.column_stack([np.ones_like(h), h**q1, h**q])
+        out[q] = float(np.linalg.lstsq(A, v, rcond=None)[0][0]) + correction
+    return out

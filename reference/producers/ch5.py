@@ -22,6 +22,7 @@ from debench.models.materials.constants import (
     TABLE_5_1_OGDEN_MUS,
     VACUUM_PERMITTIVITY,
 )
+from debench.models.numerics.convergence import two_term_limits
 from debench.reference.catalogue import Accuracy, Entry, Outcome
 from debench.reference.datasets import read_dataset
 
@@ -729,29 +730,6 @@ def axisym_value_check(ds, case: str, n: int, stated: float) -> dict:
     got = axisym_converged(ds, case, n)
     got["within"] = bool(abs(got["v"] - float(stated)) <= got["error"])
     return got
-
-
-#: exponents q of the second term of the two-term expansion v_h = v + C1 h^q1 + C2 h^q: the
-#: regular h^2 and values on either side (the discretisation theory gives the singular
-#: q1 = 2 s, not q)
-SECOND_EXPONENTS = (1.6, 2.0, 2.4, 3.0)
-#: finest levels the two-term fits use (three unknowns, one redundant level)
-TWO_TERM_LEVELS = 4
-
-
-def two_term_limits(h, v, q1: float, layer_correction: float) -> dict[float, float]:
-    """What the 3D fit's single-term assumption costs: the limit of the 3D sequence ``v(h)``
-    by the least-squares two-term expansion v + C1 h^q1 + C2 h^q on its
-    :data:`TWO_TERM_LEVELS` finest levels, for each second exponent q of
-    :data:`SECOND_EXPONENTS`, plus the sequence's ``layer_correction`` (as the 3D reference
-    adds it): ``{q: limit}``. The spread over q is the uncertainty a single-term fit hides
-    when the second term's exponent is unknown."""
-    h, v = np.asarray(h, float)[-TWO_TERM_LEVELS:], np.asarray(v, float)[-TWO_TERM_LEVELS:]
-    out = {}
-    for q in SECOND_EXPONENTS:
-        A = np.column_stack([np.ones_like(h), h**q1, h**q])
-        out[q] = float(np.linalg.lstsq(A, v, rcond=None)[0][0]) + layer_correction
-    return out
 
 
 def axisym_vs_3d(axi, crit, case: str) -> dict:

@@ -1,0 +1,198 @@
+"""The equilibrium path of the imperfect film and the eigenvalue crossings along it (Ch. 5).
+
+:func:`follow_path` follows the axisymmetric path (voltage control, then centre-deflection
+control through the voltage maximum) and records the lowest eigenvalue of chosen
+wavenumbers at its states; :func:`zero_crossing` locates where one of them vanishes (for
+n = 0 the voltage maximum, pull-in; for n >= 1 a bifurcation into wrinkles) by
+:func:`secant_zero`. The formulation: :mod:`debench.models.buckling.axisym`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from debench.models import validation as val
+from debench.models.buckling.axisym.model import AxisymModel
+from debench.models.errors import ConvergenceError, require
+
+
+@dataclass(frozen=True)
+class PathPoint:
+    """One converged state of the imperfect film: centre deflection ``w`` (top surface, t0),
+    normalised voltage ``v``, centre thickness / t0, normalised true centre field ``e``, the
+    lowest eigenvalue of each recorded wavenumber (``lam[n]``, fixed voltage), and the
+    Newton residual relative to its reference."""
+
+    w: float
+    v: float
+    thickness: float
+    e: float
+    lam: dict
+    newton_residual_rel: float
+    state: np.ndarray = field(repr=False, default_factory=lambda: np.zeros(0))
+
+
+def _record(model: AxisymModel, wavenumbers) -> PathPoint:
+    lam = {int(n): float(model.spectrum(int(n), nev=1).lam[0]) for n in wavenumbers}
+    return PathPoint(w=model.centre_deflection(), v=model.v, thickness=model.centre_thickness(),
+                     e=model.centre_field(), lam=lam,
+                     newton_residual_rel=model.last_newton["residual_rel"],
+                     state=model.state())
+
+
+ZERO_WTOL = 1e-9
+"""The secant on lambda_n(w) = 0 stops when its step in the deflection is below ZERO_WTOL t0
+(the voltage at a voltage maximum is stationary in w, so its error is second order)."""
+ZERO_STALL_W = 1e-6
+"""... or when it has stagnated at the eigenvalue's round-off floor: its last
+ZERO_STALL_COUNT iterates all within ZERO_STALL_W t0 of each other without a step below
+ZERO_WTOL. The floor: the Newton states carry round-off of ~1e-10 of the load next to the
+near-singular tangent, which moves lambda_n by ~1e-11..1e-10; over its slope along the path
+(1e-4..1e-3 per t0) that is 1e-7..1e-6 t0 in w (measured: an Ogden film at R/t0 = 20,
+n = 6, iterates wandering within 1e-7 t0 at |lambda| ~ 5e-11). The crossing is then the
+iterate with the smallest |lambda|, and ``wtol`` the spread of the stagnated iterates."""
+ZERO_STALL_COUNT = 4
+"""How many last iterates of the secant must lie within ZERO_STALL_W (and bracket the root)
+for it to count as stagnated."""
+
+
+@dataclass(frozen=True)
+class Crossing:
+    """Where the lowest eigenvalue of wavenumber ``n`` vanishes along the path: deflection
+    ``w`` (t0), voltage ``v``, centre thickness; ``wtol`` the secant's last step. For n = 0
+    this is the voltage maximum (pull-in)."""
+
+    n: int
+    w: float
+    v: float
+    thickness: float
+    wtol: float
+
+
+def zero_crossing(model: AxisymModel, points: list[PathPoint], n: int,
+                  *, maxit: int = 30) -> Crossing | None:
+    """The first zero of the wavenumber-n eigenvalue along a recorded path (None if it does
+    not change sign there): secant in the deflection between the two recorded states that
+    bracket the sign change, each trial state by deflection control from the nearer one."""
+    n = val.integer_at_least("n", n, 0)
+    pts = [p for p in points if n in p.lam]
+    for a, b in zip(pts, pts[1:], strict=False):
+        if a.lam[n] >= 0 > b.lam[n]:
+            break
+    else:
+        return None
+    ws, ls, states = [a.w, b.w], [a.lam[n], b.lam[n]], [(a.state, a.v), (b.state, b.v)]
+
+    def lam_at(w_new):
+        near = min(range(len(ws)), key=lambda k: abs(ws[k] - w_new))
+        model.set_state(states[near][0])
+        model.v = states[near][1]
+        model.newton_deflection(w_new)
+        lam = float(model.spectrum(n, nev=1).lam[0])
+        states.append((model.state(), model.v))
+        return lam
+
+    k, wtol = secant_zero(lam_at, ws, ls, maxit=maxit, what=f"zero_crossing(n={n})")
+    model.set_state(states[k][0])
+    model.v = states[k][1]
+    return Crossing(n=n, w=ws[k], v=model.v, thickness=model.centre_thickness(), wtol=wtol)
+
+
+def secant_zero(f, ws: list[float], ls: list[float], *, maxit: int = 30,
+                what: str = "secant_zero") -> tuple[int, float]:
+    """Secant iteration for f(w) = 0 from the two points (``ws``, ``ls``), appending every
+    evaluation to ``ws`` and ``ls``: returns (index of the answer in ``ws``, its tolerance).
+    Stops when a step is below :data:`ZERO_WTOL` (the last iterate, tolerance the step) or
+    when the iteration has stagnated at the round-off floor of f (the last
+    :data:`ZERO_STALL_COUNT` iterates within :data:`ZERO_STALL_W` and f of both signs among
+    them, so that they bracket the root: the one with the smallest |f|, tolerance their
+    spread). ConvergenceError after ``maxit`` evaluations, or when two
+    values of f are equal (a flat secant)."""
+    for _ in range(maxit):
+        if ls[-1] == ls[-2]:
+            raise ConvergenceError(f"{what}: flat secant: {list(zip(ws, ls, strict=True))}")
+        w_new = ws[-1] - ls[-1] * (ws[-1] - ws[-2]) / (ls[-1] - ls[-2])
+        step = abs(w_new - ws[-1])
+        lam = f(w_new)
+        ws.append(w_new)
+        ls.append(lam)
+        if step < ZERO_WTOL:
+            return len(ws) - 1, step
+        last, signs = ws[-ZERO_STALL_COUNT:], np.sign(ls[-ZERO_STALL_COUNT:])
+        if (len(ws) >= ZERO_STALL_COUNT + 2 and max(last) - min(last) < ZERO_STALL_W
+                and signs.min() < 0 < signs.max()):
+            tail = range(len(ws) - ZERO_STALL_COUNT, len(ws))
+            return min(tail, key=lambda i: abs(ls[i])), max(last) - min(last)
+    raise ConvergenceError(f"{what}: no convergence in {maxit} steps: "
+                           f"{list(zip(ws, ls, strict=True))}")
+
+
+def follow_path(model: AxisymModel, w_end: float, *, v_switch: float, dv: float = 0.01,
+                dw0: float = 0.02, dw_max: float = 0.5, wavenumbers=(0, 1),
+                record_every: float = 0.0, max_points: int = 2000,
+                stop_past_maximum: bool = True, all_from: float = math.inf,
+                all_wavenumbers=()) -> list[PathPoint]:
+    """Equilibrium path of the imperfect film: voltage control up to ``v_switch`` (steps
+    ``dv``), then centre-deflection control (:meth:`AxisymModel.newton_deflection`) up to
+    ``w_end`` with adaptive steps (from ``dw0``, doubled after an easy step up to
+    ``dw_max``, halved after a failed one, which is undone) and a secant predictor. Every
+    converged state of the deflection branch is recorded with the lowest eigenvalue of each
+    of ``wavenumbers`` (``record_every`` > 0: only states at least that far in w apart),
+    from the deflection ``all_from`` on with those of ``all_wavenumbers`` too.
+    With ``stop_past_maximum`` the path ends at the first recorded state whose wavenumber-0
+    eigenvalue is negative (past the voltage maximum, where the tangent at fixed voltage
+    turns indefinite), or, when the step falls below 1e-6 t0 on a falling voltage (past the
+    maximum), at its last converged state. Raises ConvergenceError when the step falls
+    below 1e-6 t0 otherwise."""
+    v_switch = val.positive("v_switch", v_switch)
+    w_end = val.finite("w_end", w_end)
+    require(0 in tuple(wavenumbers) or not stop_past_maximum,
+            "stop_past_maximum needs wavenumber 0 among the recorded wavenumbers")
+    model.reset()
+    for v in np.arange(dv, v_switch + 0.5 * dv, dv):
+        model.set_voltage(float(v))
+        model.newton()
+    points = [_record(model, wavenumbers)]
+    prev = None
+    w, dw = model.centre_deflection(), dw0
+    last_w_rec = w
+    while w < w_end and len(points) < max_points:
+        x0, v0 = model.state(), model.v
+        target = min(w + dw, w_end)
+        if prev is not None:            # secant predictor in the deflection
+            xp, vp, wp = prev
+            f = (target - w) / (w - wp)
+            model.set_state(x0 + f * (x0 - xp))
+            model.v = v0 + f * (v0 - vp)
+        try:
+            its = model.newton_deflection(target)
+        except ConvergenceError:
+            model.set_state(x0)
+            model.v = v0
+            dw *= 0.5
+            if dw < 1e-6:
+                if stop_past_maximum and prev is not None and v0 < prev[1]:
+                    # past the voltage maximum the deflection-controlled tangent turns
+                    # singular again (a further eigenvalue crossing): the path ends at its
+                    # last converged state, recorded, whose wavenumber-0 eigenvalue shows
+                    # whether the maximum was passed
+                    points.append(_record(model, wavenumbers))
+                    break
+                raise
+            continue
+        prev, w = (x0, v0, _w_of(x0, model)), target
+        if its <= 4:
+            dw = min(2.0 * dw, dw_max)
+        if record_every <= 0 or w - last_w_rec >= record_every or w >= w_end:
+            ns = sorted(set(wavenumbers) | (set(all_wavenumbers) if w >= all_from else set()))
+            points.append(_record(model, ns))
+            last_w_rec = w
+            if stop_past_maximum and points[-1].lam[0] < 0:
+                break
+    return points
+
+
+def _w_of(x: np.ndarray, model: AxisymModel) -> float:
+    return float(x[model._centre_dof()]) / model.plate.thickness
