@@ -19,9 +19,11 @@ import pytest
 from debench.models.buckling import axisym as ax
 from debench.models.buckling.axisym import linalg as ax_linalg
 from debench.models.buckling.axisym import model as ax_model
+from debench.models.buckling.axisym import path as ax_path
 from debench.models.buckling.axisym import secant_zero
 from debench.models.buckling.axisym.path import ZERO_STALL_W, ZERO_WTOL
 from debench.models.buckling.axisym.spectra import EIG_RTOL
+from debench.models.buckling.analytic import critical_voltage_plate
 from debench.models.buckling.parameters import NeoHookean, Ogden, Plate
 from debench.models.errors import ConvergenceError
 
@@ -171,6 +173,29 @@ def test_newton_refuses_a_state_outside_the_material_domain_before_factorising(m
         m.set_state(inverted)
         with pytest.raises(ConvergenceError, match="non-finite residual or tangent"):
             solve()
+
+
+@pytest.mark.slow
+def test_a_long_deflection_jump_is_halved_inside_the_domain_and_subdivided():
+    """From the Ogden film's state at w = 2 t0, one deflection-controlled solve at w = 4 t0
+    takes Newton corrections whose trial states invert elements (non-finite residual): they
+    are halved (counted in ``stats``), and the solve that still does not converge raises
+    ConvergenceError; :func:`~debench.models.buckling.axisym.path.deflect_from` reaches the
+    same deflection by subdividing the jump (the route of the secant's trial states)."""
+    mat = Ogden()
+    m = ax.AxisymModel(Plate(aspect=10.0), mat,
+                       ax.AxisymDiscretisation(order=2, n_r=8, edge_layers=2, face_layers=2),
+                       with_imperfection=True)
+    vs = 0.8 * critical_voltage_plate(mat, 10.0)
+    ax.follow_path(m, 2.0, v_switch=vs, dv=vs / 8, wavenumbers=(0,), stop_past_maximum=False)
+    start = (m.state(), m.v)
+    with pytest.raises(ConvergenceError, match="newton_deflection"):
+        m.newton_deflection(4.0)
+    assert m.stats["domain_halvings"] > 0
+    ax_path.deflect_from(m, start, 2.0, 4.0)
+    # the Newton tolerance on the centre DOF: 1e-12 t0 (newton_deflection's stopping rule)
+    assert abs(m.centre_deflection() - 4.0) < 1e-10
+    assert m.v > start[1]
 
 
 @pytest.mark.slow

@@ -55,6 +55,10 @@ round-off-affected levels and the next one still converges (measured for Ogden: 
 DV_MAX_REL = 0.05
 """Largest voltage correction of one deflection-controlled Newton step, relative to the
 voltage (damped Newton)."""
+DOMAIN_HALVINGS = 12
+"""Halvings of a deflection-controlled Newton correction whose trial state has a non-finite
+residual (outside the material's domain) before the step raises: 2^-12 of a correction is
+below the deflection steps of the path (>= 1e-6 t0 on a correction of O(1) t0)."""
 
 
 class AxisymModel(ModeAnalysis):
@@ -105,7 +109,7 @@ class AxisymModel(ModeAnalysis):
         self._linear = np.array(lift.vec.FV(), copy=True)   # p = Z, u = 0: uniform field
         self.v = 0.0
         self.stats = {"newton_steps": 0, "assemble_s": 0.0, "solve_s": 0.0, "eig_s": 0.0,
-                      "eigen_analyses": 0}
+                      "eigen_analyses": 0, "domain_halvings": 0}
         self.last_newton = {"iterations": 0, "residual": float("nan"),
                             "residual_rel": float("nan")}
         self._forms: dict[int, tuple] = {}
@@ -300,15 +304,34 @@ class AxisymModel(ModeAnalysis):
             # outside the linearisation's reach (the deflection responds to the voltage
             # steeply near the critical voltage): take the part of it that stays inside
             damp = min(1.0, DV_MAX_REL * max(abs(self.v), 1e-3) / max(abs(dv), 1e-300))
-            dx, dv = damp * dx, damp * dv
-            x = self.state()
-            x[fr] += dx
-            x[~fr] += dv * self._linear[~fr]
-            self.set_state(x)
-            self.v += dv
+            self._step_inside_domain(damp * dx, damp * dv, c)
             self.stats["newton_steps"] += 1
         raise ConvergenceError(f"AxisymModel.newton_deflection: residual {rn:.3e} (relative "
                                f"{rn / ref:.3e}) after {maxit} steps at c = {c:.6g}")
+
+    def _step_inside_domain(self, dx: np.ndarray, dv: float, c: float) -> None:
+        """Apply the deflection-controlled Newton correction (``dx`` on the free DOFs, ``dv``
+        on the voltage), halved while the trial state leaves the material's domain (a
+        non-finite residual, e.g. an inverted element after a long jump in the deflection):
+        the undamped step is a linearisation, and a shorter one along it stays admissible.
+        Raises ConvergenceError when :data:`DOMAIN_HALVINGS` halvings do not bring it back."""
+        fr = self.free
+        x0, v0 = self.state(), self.v
+        for _ in range(DOMAIN_HALVINGS + 1):
+            x = x0.copy()
+            x[fr] += dx
+            x[~fr] += dv * self._linear[~fr]
+            self.set_state(x)
+            self.v = v0 + dv
+            if np.all(np.isfinite(self._residual()[fr])):
+                return
+            dx, dv = 0.5 * dx, 0.5 * dv
+            self.stats["domain_halvings"] += 1
+        self.set_state(x0)
+        self.v = v0
+        raise ConvergenceError(f"AxisymModel.newton_deflection at c = {c:.6g}: every step "
+                               f"down to 2^-{DOMAIN_HALVINGS} of the Newton correction leaves "
+                               f"the material's domain (non-finite residual)")
 
     @staticmethod
     def _bordered_by_blocks(Kff, b, kf, rhs_x, rhs_g, c):

@@ -87,9 +87,7 @@ def zero_crossing(model: AxisymModel, points: list[PathPoint], n: int,
 
     def lam_at(w_new):
         near = min(range(len(ws)), key=lambda k: abs(ws[k] - w_new))
-        model.set_state(states[near][0])
-        model.v = states[near][1]
-        model.newton_deflection(w_new)
+        deflect_from(model, states[near], ws[near], w_new)
         lam = float(model.spectrum(n, nev=1).lam[0])
         states.append((model.state(), model.v))
         return lam
@@ -98,6 +96,27 @@ def zero_crossing(model: AxisymModel, points: list[PathPoint], n: int,
     model.set_state(states[k][0])
     model.v = states[k][1]
     return Crossing(n=n, w=ws[k], v=model.v, thickness=model.centre_thickness(), wtol=wtol)
+
+
+def deflect_from(model: AxisymModel, start: tuple[np.ndarray, float], w0: float,
+                  w_new: float, *, max_substeps: int = 16) -> None:
+    """Equilibrate ``model`` at the deflection ``w_new`` from the recorded state ``start``
+    (state vector, voltage) at deflection ``w0``: one deflection-controlled Newton solve, or,
+    when it does not converge, 2, 4, ... ``max_substeps`` equal deflection steps from
+    ``start`` (each converged state the next one's initial guess). Raises the last
+    ConvergenceError when the finest subdivision fails too."""
+    m = 1
+    while True:
+        model.set_state(start[0])
+        model.v = start[1]
+        try:
+            for j in range(1, m + 1):
+                model.newton_deflection(w0 + (w_new - w0) * j / m)
+            return
+        except ConvergenceError:
+            if 2 * m > max_substeps:
+                raise
+            m *= 2
 
 
 def secant_zero(f, ws: list[float], ls: list[float], *, maxit: int = 30,
