@@ -257,9 +257,10 @@ class Film(pullin.ImperfectFilm):
         self.basis = Basis(self.mesh, buckling.ELEMENTS[order](), intorder=2 * order + 2)
         n = self.n = self.basis.N
         x = self.basis.doflocs
+        tol = buckling.face_tolerance(self.mesh)
 
         def on(c, val):
-            return np.abs(x[c] - val) <= pullin.EDGE_TOL
+            return np.abs(x[c] - val) <= tol
 
         self.rim, self.axis = np.flatnonzero(on(0, ASPECT)), np.flatnonzero(on(0, 0.0))
         self.bottom, self.top = np.flatnonzero(on(1, 0.0)), np.flatnonzero(on(1, 1.0))
