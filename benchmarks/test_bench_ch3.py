@@ -155,11 +155,7 @@ def test_bench_rk4_factored_one_mixed_call(benchmark):
 def _clear_producer_caches():
     from debench.reference.producers import ch3 as prod
 
-    prod._BRANCHES.clear()
-    prod._CURVES.clear()
-    prod._PLANNED.clear()
-    prod._STATES.clear()
-    prod._interface_changes_cached.cache_clear()
+    prod.clear_caches()
 
 
 def _ch3_entries():

@@ -47,13 +47,7 @@ def _entries():
 
 def _clear(mod):
     """Cold caches: the producers' own and the chapter pass's memo."""
-    from debench.models.circular import _chapter_pass as chapter
-
-    for name in ("_BRANCHES", "_CURVES", "_PLANNED", "_STATES", "_PROFILES"):
-        if hasattr(mod, name):
-            getattr(mod, name).clear()
-    mod._interface_changes_cached.cache_clear()
-    chapter.clear_memo()
+    mod.clear_caches()
 
 
 def _chapter(build, prod, entries):

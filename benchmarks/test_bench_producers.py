@@ -64,15 +64,14 @@ def _entries(module: str, prefix: str = ""):
 
 
 def _clear(mod) -> None:
-    """Forget every memoised result of a producer module (its lru caches and the
-    Chapter 3 cache dictionaries)."""
+    """Forget every memoised result of a producer module (its lru caches and, where it
+    has one, its ``clear_caches``)."""
     for name in dir(mod):
         obj = getattr(mod, name)
         if callable(getattr(obj, "cache_clear", None)):
             obj.cache_clear()
-    for name in ("_BRANCHES", "_CURVES", "_PLANNED", "_STATES"):
-        if isinstance(getattr(mod, name, None), dict | set):
-            getattr(mod, name).clear()
+    if callable(getattr(mod, "clear_caches", None)):
+        mod.clear_caches()
 
 
 def _run_all(mod, entries):

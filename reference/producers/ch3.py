@@ -30,6 +30,7 @@ from debench.reference.producers.ch3_model import (
     loss_of_tension,
     model_key,
 )
+from debench.reference.producers.ch3_model import clear_caches as ch3_model_clear
 from debench.reference.studies import ch3 as study
 
 #: relative permittivities for the sensitivity study (ch3.assumption.eps_r): VHB 4910
@@ -214,6 +215,16 @@ def _failures(lamP, c, radius_ratio, Jm, equilibrium, eps_r=params.EPS_R_ASSUMED
 
 
 _FAILURES: dict = {}
+
+
+def clear_caches() -> None:
+    """Forget every memoised Chapter 3 result, this module's and the model's
+    (:func:`~debench.reference.producers.ch3_model.clear_caches`)."""
+    _FAILURES.clear()
+    for obj in list(globals().values()):
+        if callable(getattr(obj, "cache_clear", None)):
+            obj.cache_clear()
+    ch3_model_clear()
 
 
 def _consistency(radius_ratio: float, Jm: float) -> dict:

@@ -178,3 +178,15 @@ def failure_modes(lamP, cs, eps_r=params.EPS_R_ASSUMED, equilibrium="printed"):
     """The first failure of the curve of each c in ``cs`` at the pre-stretch ``lamP``."""
     return [cv.failure for cv in curves(lamP, tuple(float(c) for c in cs), eps_r,
                                         equilibrium)]
+
+
+def clear_caches() -> None:
+    """Forget every memoised Chapter 3 result: this module's branches, curves, states and
+    profiles and the chapter pass's memo (cold caches for benchmarks and for a model
+    change within one process)."""
+    from debench.models.circular._chapter_pass import clear_memo
+
+    for cache in (_BRANCHES, _CURVES, _STATES, _PROFILES):
+        cache.clear()
+    _interface_changes_cached.cache_clear()
+    clear_memo()
