@@ -211,15 +211,6 @@ def test_curated_wrinkling_search_agrees_across_resolutions(ramps):
         assert found.all() or not found.any(), case
 
 
-def _has_dataset(name: str) -> bool:
-    from debench.reference.datasets import DatasetError
-    try:
-        read_dataset(name)
-    except DatasetError:
-        return False
-    return True
-
-
 DIP_RATIO_R10 = 0.25
 """A non-axisymmetric eigenvalue that stays above a quarter of its largest value on the path
 up to pull-in is far from a bifurcation (R/t0 = 10: 0.36; at R/t0 = 20 it reaches zero)."""
@@ -236,9 +227,6 @@ W_AXISYMMETRIC_LIMIT = 9.0
 axisymmetric limit point (measured 11.7 t0); the bifurcations lie at 7.6-7.95 t0."""
 
 
-@pytest.mark.skipif(not _has_dataset("ch5_wrinkling"),
-                    reason="ch5_wrinkling.nc is converged-only and not curated yet "
-                           "(`debench reproduce ch5_wrinkling --full --write-data`)")
 def test_curated_r20_wrinkling_search():
     """§5.3.1 / Fig. 5.5 at radius/thickness 20 (the 0.5 mm film if its model kept
     R = 10 mm; ``ch5_wrinkling.nc``), on five circumferential resolutions. The 3D finding
@@ -286,9 +274,6 @@ def test_curated_r20_wrinkling_search():
     assert float(np.min(lam10) / np.max(lam10)) > DIP_RATIO_R10
 
 
-@pytest.mark.skipif(not _has_dataset("ch5_imperfection"),
-                    reason="ch5_imperfection.nc is converged-only and not curated yet "
-                           "(`debench reproduce ch5_imperfection --full --write-data`)")
 def test_curated_r20_imperfection_sensitivity():
     """§5.3.1 ("fails at a lower achievable deformation") at radius/thickness 20, films with
     a wavenumber-1 seed (``ch5_imperfection.nc``). The finding
