@@ -697,7 +697,7 @@ def render_markdown(problem: Problem, extra=()) -> str:
         header = ",".join(f"{c} [{q0.units_of(c)}]" if (c in q0.coordinate_units and
                           q0.units_of(c)) or c == q0.along else c for c in q0.coordinates)
         header += "".join(f",{q.name} [{q.units}]" for q in qs)
-        out += [f"**Several quantities in one file.** "
+        out += ["**Several quantities in one file.** "
                 + ", ".join(f"`{q.name}`" for q in qs) + " share their coordinates: one "
                 f"file with the header `{header}` is checked per quantity (each against "
                 "its own reference and accuracy, each needing its own coverage; the exit "

@@ -52,7 +52,8 @@ def test_thesis_region_differs_from_physical_instability():
     """The thesis' 'determinant < 0' region omits points where both parities are unstable
     (det_E det_O > 0 but the incremental energy has two negative eigenvalues): its area is
     smaller than the physical unstable area (isotropic, Dhat = 0)."""
-    assert prod_study.area(0.0, 0.0, "printed", "thesis") < prod_study.area(0.0, 0.0, "printed", "physical")
+    assert (prod_study.area(0.0, 0.0, "printed", "thesis")
+            < prod_study.area(0.0, 0.0, "printed", "physical"))
 
 
 def test_thin_plate_influence_holds_for_xi_3_and_5_and_fails_marginally_for_10():

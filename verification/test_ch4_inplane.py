@@ -160,8 +160,8 @@ def test_a_case_missing_from_the_curated_roots_raises(monkeypatch):
     monkeypatch.setattr(prod_study, "_roots_data", lambda: ds.isel(case=slice(1, None)))
     with pytest.raises(LookupError, match="regenerate"):
         prod_study.curated_fe_roots(prod_study.producer_cases()[0])
-    assert prod_study.curated_fe_roots(prod_study.producer_cases()[1]) == prod_study.curated_fe_roots(
-        prod_study.producer_cases()[1])
+    case = prod_study.producer_cases()[1]
+    assert prod_study.curated_fe_roots(case) == prod_study.curated_fe_roots(case)
     with pytest.raises(ValueError, match="fe_source"):
         prod_study.max_disagreement(fe_source="cache")
 

@@ -17,13 +17,13 @@ import ngsolve as ngs
 import numpy as np
 import pytest
 from debench.models.buckling import axisym as ax
+from debench.models.buckling.analytic import critical_voltage_plate
 from debench.models.buckling.axisym import linalg as ax_linalg
 from debench.models.buckling.axisym import model as ax_model
 from debench.models.buckling.axisym import path as ax_path
 from debench.models.buckling.axisym import secant_zero
 from debench.models.buckling.axisym.path import ZERO_STALL_W, ZERO_WTOL
 from debench.models.buckling.axisym.spectra import EIG_RTOL
-from debench.models.buckling.analytic import critical_voltage_plate
 from debench.models.buckling.parameters import NeoHookean, Ogden, Plate
 from debench.models.errors import ConvergenceError
 

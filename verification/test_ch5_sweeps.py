@@ -199,7 +199,8 @@ def test_longest_tasks_rank_first():
 
     assert ch5.task_cost((ch5.critical_task, "ogden_t1", 2.0)) > ch5.task_cost(
         (ch5.critical_task, "ogden_t1", 3.0)) > ch5.task_cost((ch5.critical_task, "nh_t1", 3.0))
-    assert ch5.task_cost((ch5.ramp_task, "nh_t1", 3.0)) > ch5.task_cost((ch5.critical_task, "nh_t1", 3.0))
+    assert (ch5.task_cost((ch5.ramp_task, "nh_t1", 3.0))
+            > ch5.task_cost((ch5.critical_task, "nh_t1", 3.0)))
     paths = [(ch5_wrinkling.wrinkling_task, h, 1) for h in ch5_wrinkling.LEVELS[True]]
     assert max(paths, key=ch5.task_cost)[1] == min(ch5_wrinkling.LEVELS[True])
     assert ch5.task_cost((imperfect.imperfect_path_task, 2.0, 0.002)) > ch5.task_cost(

@@ -8,8 +8,9 @@ import importlib
 import importlib.util
 import pkgutil
 
-import debench
 import pytest
+
+import debench
 
 PACKAGES = ("debench", "debench.models", "debench.reference")
 

@@ -45,7 +45,8 @@ def _gent(F, D):
 def _neo_hooke(F, D):
     C, I1, J, I5, _ = _invariants(F, D)
     mu = mp.mpf(156000)
-    return mu / 2 * (J ** (-mp.mpf(2) / 3) * I1 - 3) + K_BULK / 2 * (J - 1) ** 2 + I5 / (2 * EPS * J)
+    return (mu / 2 * (J ** (-mp.mpf(2) / 3) * I1 - 3) + K_BULK / 2 * (J - 1) ** 2
+            + I5 / (2 * EPS * J))
 
 
 def _ogden(F, D):

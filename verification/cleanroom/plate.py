@@ -162,9 +162,10 @@ def roots(kH, xi, D, n_scan=N_SCAN, voltage=False):
         return sorted(out)
 
 
-def _bracketed(f, a, b, fa, fb, rtol=mp.mpf(10) ** -30, maxiter=400):
+def _bracketed(f, a, b, fa, fb, rtol=None, maxiter=400):
     """The zero of ``f`` in [a, b] (fa fb < 0) by the Illinois variant of regula falsi, to
-    a bracket of ``rtol`` relative; RuntimeError if it does not get there."""
+    a bracket of ``rtol`` relative (default 1e-30); RuntimeError if it does not get there."""
+    rtol = mp.mpf(10) ** -30 if rtol is None else rtol
     side = 0
     for _ in range(maxiter):
         if abs(b - a) <= rtol * abs(b):
@@ -185,10 +186,12 @@ def _bracketed(f, a, b, fa, fb, rtol=mp.mpf(10) ** -30, maxiter=400):
     raise RuntimeError(f"regula falsi did not reach rtol {rtol} in {maxiter} iterations")
 
 
-def root_near(kH, xi, D, guess, rel=mp.mpf("1e-4")):
+def root_near(kH, xi, D, guess, rel=None):
     """The zero bracketed by guess (1 -+ rel) (ValueError when no sign change brackets
-    it): a cheap refinement where the sign scan of :func:`roots` is not needed."""
+    it; ``rel`` default 1e-4): a cheap refinement where the sign scan of :func:`roots` is
+    not needed."""
     with mp.workdps(DIGITS):
+        rel = mp.mpf("1e-4") if rel is None else mp.mpf(rel)
         g = mp.mpf(guess)
         a, b = g * (1 - rel), g * (1 + rel)
         fa, fb = determinant(a, kH, xi, D), determinant(b, kH, xi, D)
