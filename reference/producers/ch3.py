@@ -25,6 +25,7 @@ from debench.reference.producers.ch3_model import (
     branch,
     chapter,
     curves,
+    curves_at,
     first_failures,
     interface_changes,
     loss_of_tension,
@@ -177,6 +178,7 @@ def reduction_peak_over_eps_r(lamP: float, c: float, equilibrium: str = "printed
     from scipy.optimize import minimize_scalar
 
     eps = np.linspace(*search)
+    curves_at(lamP, [(x, float(e)) for e in eps for x in (0.0, float(c))], equilibrium)
     vals = []
     for e in eps:
         f0, f1 = first_failures(lamP, c, float(e), equilibrium)
@@ -215,6 +217,36 @@ def _failures(lamP, c, radius_ratio, Jm, equilibrium, eps_r=params.EPS_R_ASSUMED
 
 
 _FAILURES: dict = {}
+
+
+def _prefetch_failures(lamP, c, rows) -> None:
+    """Compute the :func:`_failures` of every ``(radius_ratio, Jm, equilibrium, eps_r)`` of
+    ``rows`` not yet cached, batched: the stated geometry's eps_r values on each variant's
+    cached branch in one location, the other geometries' branches traced per geometry (both
+    variants at once) and all their curves in one location."""
+    mk = model_key()
+    todo = [r for r in dict.fromkeys(rows)
+            if (float(lamP), float(c), *map(float, r[:2]), r[2], float(r[3]), mk)
+            not in _FAILURES]
+    stated = [r for r in todo if float(r[0]) == 15.0 and float(r[1]) == params.JM_VHB]
+    for eq in dict.fromkeys(r[2] for r in stated):
+        curves_at(lamP, [(x, float(r[3])) for r in stated if r[2] == eq
+                         for x in (0.0, float(c))], eq)
+    other = [r for r in todo if r not in stated]
+    if other:
+        ch = chapter()
+        brs = {}
+        for geo in dict.fromkeys((float(r[0]), float(r[1])) for r in other):
+            eqs = list(dict.fromkeys(r[2] for r in other if (float(r[0]), float(r[1])) == geo))
+            traced = branches([Annulus(float(lamP), *geo, eq) for eq in eqs],
+                              n=ch.spec.n, steps=ch.spec.steps)
+            brs |= {(*geo, eq): br for eq, br in zip(eqs, traced, strict=True)}
+        brs = [brs[(float(r[0]), float(r[1]), r[2])] for r in other]
+        cvs = curves_many([(br, [0.0, float(c)], float(r[3]))
+                           for br, r in zip(brs, other, strict=True)])
+        for r, cv in zip(other, cvs, strict=True):
+            _FAILURES[(float(lamP), float(c), float(r[0]), float(r[1]), r[2], float(r[3]),
+                       mk)] = (cv[0].failure, cv[1].failure)
 
 
 def clear_caches() -> None:
@@ -273,6 +305,10 @@ def gain_search(entry: Entry) -> dict:
             return None
         return _gain(f0, f1, definition, sign)
 
+    _prefetch_failures(lamP, c, [
+        ((nominal | {name: float(x)})["radius_ratio"], (nominal | {name: float(x)})["Jm"], eq,
+         (nominal | {name: float(x)})["eps_r"])
+        for eq in VARIANTS for name, grid in grids.items() for x in grid])
     ranges, crossings = {}, []
     for definition in GAIN_DEFINITIONS:
         for eq in VARIANTS:

@@ -66,9 +66,17 @@ def curves(lamP: float, cs: tuple, eps_r: float = params.EPS_R_ASSUMED,
     """Curves for the c values ``cs``: those of the chapter pass, the others computed on
     demand in one batched location (cached per curve, keyed on the parameters and
     :func:`model_key`)."""
+    return curves_at(lamP, [(float(c), float(eps_r)) for c in cs], equilibrium)
+
+
+def curves_at(lamP: float, pairs, equilibrium: str = "printed"):
+    """Curves for the (c, eps_r) ``pairs`` on one branch: those of the chapter pass, the
+    others computed on demand in one batched location (so that a sweep over eps_r costs
+    one vectorised shooting run, not one per value; cached per curve, keyed on the
+    parameters and :func:`model_key`)."""
     ch = chapter()
     mk = model_key()
-    keys = [(float(lamP), float(c), float(eps_r), equilibrium) for c in cs]
+    keys = [(float(lamP), float(c), float(e), equilibrium) for c, e in pairs]
     missing = [k for k in dict.fromkeys(keys) if k not in ch.curves and (*k, mk) not in _CURVES]
     if missing:
         cvs = curves_many([(branch(lamP, equilibrium), [k[1] for k in missing],
