@@ -420,12 +420,24 @@ def _read_verified(path: Path) -> tuple[xr.Dataset, bool]:
         raise DatasetError(
             f"{path.name}: sha256 {actual[:12]}… does not match manifest {accepted[0][:12]}… "
             "(file modified or half-written)")
+    pending = actual != accepted[0] or path.name not in files
+    key = (str(path.resolve()), actual)
+    if key in _VERIFIED:               # the same bytes, verified before: a private copy
+        return _VERIFIED[key].copy(deep=True), pending
     with xr.open_dataset(path, engine="netcdf4") as ds:
         ds = ds.load()
     if _identity(path) != before:
         raise DatasetError(f"{path.name}: replaced while being read")
     check_attributes(ds)
-    return ds, actual != accepted[0] or path.name not in files
+    _VERIFIED[key] = ds.copy(deep=True)
+    return ds, pending
+
+
+_VERIFIED: dict[tuple[str, str], xr.Dataset] = {}
+"""Datasets already read and verified in this process, keyed on (resolved path, sha256 of
+the file's bytes): a later read of the same bytes (its checksum is recomputed and checked
+against the manifest every time) returns a deep copy instead of parsing the netCDF file
+again, so no caller sees another's modifications."""
 
 
 @contextlib.contextmanager

@@ -440,13 +440,15 @@ def test_tampered_and_unlisted_files_are_records_naming_the_file(tmp_path):
 # --------------------------------------------------------------------------- command line
 @pytest.fixture
 def no_catalogue(monkeypatch):
-    """The command line without the catalogue evaluation and the value guards (their
-    producers take ~30 s and are tested elsewhere): the data handling of the commands is
-    what is tested here."""
-    from debench.reference import catalogue, cli
+    """The command line without the catalogue evaluation, the value guards (their
+    producers take ~30 s and are tested elsewhere) and the report's consensus of peer
+    submissions (it reads the reference datasets, which these tests' data directories do
+    not hold): the data handling of the commands is what is tested here."""
+    from debench.reference import catalogue, cli, report
 
     monkeypatch.setattr(catalogue, "evaluate_all", lambda progress=None: [])
     monkeypatch.setattr(cli, "value_deviations", lambda *a, **k: [], raising=False)
+    monkeypatch.setattr(report, "consensus_section", lambda: [])
 
 
 def test_reproduce_into_the_curated_directory_needs_write_data(tmp_path, monkeypatch, capsys):
