@@ -276,3 +276,36 @@ def erratum_pullin_thickness(entry: Entry) -> Outcome:
     return Outcome(value=ok, status="confirmed" if ok else "refuted",
                    details={"kind": got["kind"], "margin": got["margin"]},
                    evidence=f"{EV_AXISYM_PATH}::test_r10_first_instability_is_decided")
+
+
+#: The path guard: the study's own task (:func:`~debench.reference.studies.
+#: ch5_axisym_tasks.path_task`) on its cheapest setting, the neo-Hookean film at R/t0 = 10
+#: at order 2 with one geometric layer and the axisymmetric eigenvalue only (~9 s CPU:
+#: 318 tangent assemblies of 567 DOFs along the path and the secant to the maximum)
+GUARD_TASK = ("nh_r10", 2, 1, 0)
+
+
+def axisym_path_guards() -> list:
+    """Recompute the voltage maximum of the axisymmetric path on :data:`GUARD_TASK` and
+    guard it as ``ch5.guard.axisym_path.nh_r10.{v_max,w_max,ndof}_coarse``, within the
+    dataset's regeneration accuracy of v_max and w_max (their ``accuracy_atol``): a change
+    of the axisymmetric model (the energy, a modulus, the path or the secant settings)
+    moves them, so the curated converged pull-in values are tied to the code that made
+    them. The correction to the converged values is not formed (the coarse setting is not
+    a discretisation of the curated plan): the guard detects a change, the reported
+    values are read from the dataset."""
+    from debench.reference.studies.ch5_axisym_tasks import path_task
+    from debench.reference.values import Guarded
+
+    ds = _axisym_path()
+    case, order, layers, n_max = GUARD_TASK
+    r = path_task(case, order, layers, n_max)
+    key = f"ch5.guard.axisym_path.{case}"
+    reason = ("regeneration accuracy of ch5_axisym_path {} (secant to 1e-9 t0 in the "
+              "deflection, Newton round-off next to the singular tangent; 10x margin)")
+    return [Guarded(f"{key}.ndof_coarse", float(r["ndof"]), 0.5, "degrees of freedom "
+                    "(an integer)"),
+            Guarded(f"{key}.v_max_coarse", float(r["v_max"]),
+                    float(ds.v_max.attrs["accuracy_atol"]), reason.format("v_max")),
+            Guarded(f"{key}.w_max_coarse", float(r["w_max"]),
+                    float(ds.w_max.attrs["accuracy_atol"]), reason.format("w_max"))]
