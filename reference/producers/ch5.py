@@ -105,6 +105,55 @@ def critical_ratio_ogden_nh(entry: Entry) -> Outcome:
                    evidence=f"{EV_FEM}::test_ogden_buckles_lower_than_neo_hookean")
 
 
+def pullin_voltage(entry: Entry) -> Outcome:
+    """Pull-in voltage: mesh limit over the ramp levels (the finest level when there are
+    fewer than three); the levels, the error estimate and the finest mesh in details."""
+    r = _ramps().sel(case=_case(entry))
+    v = float(r.v_pullin_extrapolated)
+    return Outcome(value=v, evidence=entry.evidence,
+                   details={"v_max_computed": float(r.v_max_computed),
+                            "v_pullin_finest_mesh": float(r.v_pullin),
+                            "v_pullin_levels": r.v_pullin_levels.values.tolist(),
+                            "ramp_h_rel": r.ramp_level.values.tolist(),
+                            "v_pullin_error": float(r.v_pullin_error),
+                            "thesis_over_ours": entry.value / v,
+                            "w_pullin_over_t0": float(r.w_pullin_extrapolated)})
+
+
+def pullin_ratio_ogden_nh(entry: Entry) -> Outcome:
+    r = _ramps()
+    ratio = float(r.sel(case="ogden_t1").v_pullin_extrapolated
+                  / r.sel(case="nh_t1").v_pullin_extrapolated)
+    return Outcome(value=ratio, evidence=f"{EV_DATA}::test_curated_pullin_ratio")
+
+
+def pullin_displacement(entry: Entry) -> Outcome:
+    r = _ramps()
+    w_og = float(r.sel(case="ogden_t1").w_pullin_extrapolated) * 1.0   # t0 = 1 mm -> mm
+    w_nh = float(r.sel(case="nh_t1").w_pullin_extrapolated) * 1.0
+    return Outcome(value=w_og, details={"w_nh_mm": w_nh, "w_ogden_mm": w_og},
+                   evidence=entry.evidence)
+
+
+def same_pullin_displacement(entry: Entry) -> Outcome:
+    r = _ramps()
+    w_og = float(r.sel(case="ogden_t1").w_pullin_extrapolated)
+    w_nh = float(r.sel(case="nh_t1").w_pullin_extrapolated)
+    return Outcome(value=bool(abs(w_nh - w_og) / w_nh < entry.tolerance),
+                   details={"w_nh_mm": w_nh, "w_ogden_mm": w_og})
+
+
+def wrinkling_displacement(entry: Entry) -> Outcome:
+    r = _ramps().sel(case=_case(entry))
+    w = float(r.w_wrinkling)
+    if math.isnan(w):
+        return Outcome(value=None, status="not_reproduced",
+                       diagnosis=entry.diagnosis + " (ours: none before pull-in at "
+                       f"w = {float(r.w_pullin) * 0.5:.3g} mm)",
+                       evidence=f"{EV_FEM}::test_no_wrinkling_before_pullin_on_coarse_mesh")
+    return Outcome(value=w * float(r.thickness_m) * 1e3)
+
+
 def field_at_instability(entry: Entry) -> Outcome:
     r = _ramps().sel(case=_case(entry))
     e = float(r.e_centre_pullin)
@@ -138,6 +187,26 @@ def thinner_buckles_lower_volts(entry: Entry) -> Outcome:
     return Outcome(value=volts["ogden_t0p5"] < volts["ogden_t1"], details={"volts": volts})
 
 
+def _wrinkles_first(case: str) -> bool:
+    r = _ramps().sel(case=case)
+    return not math.isnan(float(r.v_wrinkling)) and float(r.v_wrinkling) < float(r.v_pullin)
+
+
+def thin_plate_wrinkles_first(entry: Entry) -> Outcome:
+    return Outcome(value=_wrinkles_first("ogden_t0p5"),
+                   evidence=f"{EV_FEM}::test_no_wrinkling_before_pullin_on_coarse_mesh")
+
+
+def _fails_by_pullin(case: str) -> bool:
+    r = _ramps().sel(case=case)
+    return (not math.isnan(float(r.v_pullin))) and not _wrinkles_first(case)
+
+
+def thick_plate_fails_by_pullin(entry: Entry) -> Outcome:
+    return Outcome(value=_fails_by_pullin("ogden_t1"),
+                   evidence=f"{EV_FEM}::test_thick_plate_fails_by_pullin_at_a_voltage_limit_point")
+
+
 def ogden_buckles_lower_than_nh(entry: Entry) -> Outcome:
     c = _crit()
     return Outcome(value=bool(float(c.sel(case="ogden_t1").v_cr_reference)
@@ -168,6 +237,10 @@ def erratum_scale_invariance(entry: Entry) -> Outcome:
                    details={"v_cr_t0p5": a.tolist(), "v_cr_t1": b.tolist(),
                             "thesis_ratio": 0.012 / 0.050, "t0_ratio_squared": 0.25})
 
+
+def erratum_pullin_thickness(entry: Entry) -> Outcome:
+    ok = _fails_by_pullin("ogden_t1")
+    return Outcome(value=ok, status="confirmed" if ok else "refuted", evidence=entry.evidence)
 
 
 def erratum_compressibility(entry: Entry) -> Outcome:
@@ -750,3 +823,165 @@ def axisym_coarse_guards() -> list:
                 Guarded(f"{key}.v_cr_reported", reported, tol, reason + "; the correction "
                         "converged - coarse is read from the dataset")]
     return out
+
+
+# ------------------------------------------------------------- the axisymmetric path study
+#: Pull-in and wrinkling of the imperfect film by the axisymmetric model: its path through
+#: the voltage maximum with the lowest eigenvalue of every wavenumber along it, converged
+#: by order and grading in ``ch5_axisym_path.nc``
+#: (:mod:`debench.reference.builders.ch5_axisym_path`).
+EV_AXISYM_PATH = "verification/test_ch5_axisym_path.py"
+#: the film of a catalogue case at the stated geometry R/t0 = 10 (the 0.5 mm and 1 mm films
+#: are one normalised problem: scale invariance)
+PATH_CASES = {"nh_t1": "nh_r10", "ogden_t1": "ogden_r10", "ogden_t0p5": "ogden_r10"}
+FIRST_KIND = {1: "wrinkling", 0: "pull-in", -1: "undecided"}
+
+
+@lru_cache(maxsize=4)
+def _axisym_path():
+    return read_dataset("ch5_axisym_path")
+
+
+def axisym_path_summary(ds, film: str) -> dict:
+    """The converged path results of one ``film`` (``nh_r10``, ``ogden_r10``,
+    ``ogden_r20``): the voltage maximum (``v_max``, ``w_max``, ``thickness_max`` with their
+    error estimates), the first instability (``first``: 1 wrinkling, 0 pull-in, -1
+    undecided; ``kind``; ``n_first``; ``margin`` and ``margin_error``), per wavenumber the
+    eigenvalue at the maximum and the first zero along the path (converged, NaN: none), and
+    the per-discretisation sequences they come from."""
+    c = ds.sel(case=film)
+    ns = [int(n) for n in ds.n.values]
+
+    def per_n(var):
+        return {n: float(x) for n, x in zip(ns, c[var].values, strict=True)}
+
+    first = int(c.first_instability)
+    out = {"film": film, "first": first, "kind": FIRST_KIND[first],
+           "n_first": int(c.n_first), "n_lowest": int(c.n_lowest),
+           "margin": float(c.margin), "margin_error": float(c.margin_error),
+           "lam_at_max": per_n("lam_at_max_converged"),
+           "lam_at_max_error": per_n("lam_at_max_error"),
+           "w_cross": per_n("w_cross_converged"), "w_cross_error": per_n("w_cross_error"),
+           "v_cross": per_n("v_cross_converged"),
+           "orders": ds.order.values.tolist(), "layers": ds.layers.values.tolist(),
+           "safety_factor": float(ds.safety_factor),
+           "v_max_by_disc": c.v_max.values.tolist(), "w_max_by_disc": c.w_max.values.tolist(),
+           "ndof": c.ndof.values.tolist(), "cpu_seconds": c.cpu_seconds.values.tolist()}
+    for k in ("v_max", "w_max", "thickness_max"):
+        out[k], out[f"{k}_error"] = float(c[f"{k}_converged"]), float(c[f"{k}_error"])
+    if first == 1:
+        n = out["n_first"]
+        out["w_first"], out["w_first_error"] = out["w_cross"][n], out["w_cross_error"][n]
+        out["v_first"] = out["v_cross"][n]
+    return out
+
+
+def _path_of(entry: Entry) -> dict:
+    return axisym_path_summary(_axisym_path(), PATH_CASES[_case(entry)])
+
+
+def axisym_pullin_voltage(entry: Entry) -> Outcome:
+    """Pull-in voltage: the converged voltage maximum of the axisymmetric path
+    (:func:`axisym_path_summary`); the 3D ramps' mesh limit beside it in details."""
+    got = _path_of(entry)
+    r = _ramps().sel(case=_case(entry))
+    return Outcome(value=got["v_max"], evidence=f"{EV_AXISYM_PATH}::test_catalogue_pullin_"
+                   "values_are_the_converged_path_values",
+                   details=got | {"thesis_over_ours": entry.value / got["v_max"],
+                                  "v_pullin_3d": float(r.v_pullin_extrapolated),
+                                  "v_pullin_3d_error": float(r.v_pullin_error)})
+
+
+def _three_d_like(film: str) -> dict:
+    """The voltage maximum of ``film`` at the 3D ramps' resolution (quadratic, one layer,
+    uniform radial elements of size h; ``ch5_axisym_path.nc`` ``*_3d_like``) per h."""
+    ds = _axisym_path()
+    like = ds.sel(case_r10=film)
+    return {"h_3d_like": ds.h_3d_like.values.tolist(),
+            "v_3d_like": like.v_max_3d_like.values.tolist(),
+            "w_3d_like": like.w_max_3d_like.values.tolist()}
+
+
+def axisym_vs_3d_pullin_voltage(entry: Entry) -> Outcome:
+    """Does the 3D ramps' pull-in mesh limit (``ch5_ramps.nc``, with its error estimate)
+    contain the axisymmetric model's converged voltage maximum? The 3D levels in details."""
+    case = f"{entry.parameters['material']}_t1"
+    got = axisym_path_summary(_axisym_path(), PATH_CASES[case])
+    r = _ramps().sel(case=case)
+    v3, e3 = float(r.v_pullin_extrapolated), float(r.v_pullin_error)
+    like = _three_d_like(PATH_CASES[case])
+
+    def like_at(h):
+        return like["v_3d_like"][int(np.argmin(np.abs(np.array(like["h_3d_like"]) - h)))]
+
+    contains = abs(v3 - got["v_max"]) <= e3 + got["v_max_error"]
+    return Outcome(contains, status="reproduced" if contains else "not_reproduced", details={
+        "v_axisym": got["v_max"], "v_axisym_error": got["v_max_error"], "v_3d": v3,
+        "v_3d_error": e3, "bias": v3 - got["v_max"], "bias_relative": v3 / got["v_max"] - 1,
+        "v_3d_levels": r.v_pullin_levels.values.tolist(),
+        "h_rel_3d": r.ramp_level.values.tolist(),
+        "finest_3d_minus_axisym": float(r.v_pullin_levels.values[-1]) - got["v_max"],
+        "w_3d": float(r.w_pullin_extrapolated), "w_axisym": got["w_max"],
+        "drift_3d": abs(float(r.v_pullin_levels.values[-1] - r.v_pullin_levels.values[0])),
+        **like,
+        "like_minus_3d_at_h2": abs(like_at(2.0) - float(r.v_pullin_levels.sel(ramp_level=2.0))),
+        "like_change_2p5_to_2": abs(like_at(2.0) - like_at(2.5)),
+        "like_gap_at_h0p5": abs(got["v_max"] - like_at(0.5))},
+        evidence=f"{EV_AXISYM_PATH}::test_3d_pullin_against_the_converged_path")
+
+
+def _first_of(film: str) -> dict:
+    return axisym_path_summary(_axisym_path(), film)
+
+
+def _crossing_order(got: dict) -> list[tuple[float, int]]:
+    """The wavenumbers that cross zero, as (w / t0 to 1e-3, n) in the order along the path."""
+    return sorted((round(x, 3), n) for n, x in got["w_cross"].items() if math.isfinite(x))
+
+
+def radius_kept_wrinkling(entry: Entry) -> Outcome:
+    """Section 5.3.1: the 0.5 mm film wrinkles before pull-in, at a centre deflection of
+    3.64 mm, under the hypothesis that its model kept R = 10 mm (R/t0 = 20): the converged
+    Ogden path at R/t0 = 20 (``ogden_r20``). ``explained`` when its first instability is
+    decided as wrinkling and the deflection there (the value, mm) meets the printed interval
+    of the target within the converged error estimate; ``unexplained`` otherwise."""
+    from debench.reference import catalogue
+
+    got = _first_of("ogden_r20")
+    t0 = float(entry.parameters["thickness_mm"])
+    target = catalogue.by_id()[entry.parameters["target"]]
+    t, dt = float(target.value), target.implied_tolerance()
+    details = got | {"thesis_interval": [t - dt, t + dt], "thickness_mm": t0,
+                     "w_max_mm": got["w_max"] * t0}
+    if got["first"] != 1:
+        return Outcome(value=None, status="unexplained", details=details,
+                       evidence=f"{EV_AXISYM_PATH}::test_r20_wrinkling_is_decided")
+    w, err = got["w_first"] * t0, got["w_first_error"] * t0
+    details |= {"w_first_mm": w, "w_first_error_mm": err, "w_over_printed": w / t - 1,
+                "crossing_order": _crossing_order(got),
+                "stable_n": [n for n, x in got["w_cross"].items() if not math.isfinite(x)]}
+    ok = abs(w - t) <= err + dt
+    return Outcome(value=w, status="explained" if ok else "unexplained", details=details,
+                   evidence=f"{EV_AXISYM_PATH}::test_r20_wrinkling_is_decided")
+
+
+def axisym_vs_3d_wrinkling(entry: Entry) -> Outcome:
+    """Does the 3D wrinkling search at R/t0 = 20 (``ch5_wrinkling.nc``, its two finest
+    meshes: :func:`wrinkling_search`) find the converged axisymmetric model's first
+    instability: the same wavenumber, at a deflection within the 3D meshes' difference plus
+    the converged error estimate?"""
+    got = _first_of("ogden_r20")
+    found = wrinkling_search(_wrinkling())
+    w3, w3b = found["w_over_t0"], found["w_over_t0_second"]
+    same_n = got["first"] == 1 and found["n"] == got["n_first"]
+    agree = bool(same_n and abs(w3 - got["w_first"]) <= abs(w3 - w3b) + got["w_first_error"])
+    lam = {n: got["lam_at_max"][n] for n in got["lam_at_max"]}
+    return Outcome(agree, status="reproduced" if agree else "not_reproduced", details={
+        "n_axisym": got["n_first"], "w_axisym": got.get("w_first", math.nan),
+        "w_axisym_error": got.get("w_first_error", math.nan),
+        "v_axisym": got.get("v_first", math.nan),
+        "n_3d": found["n"], "w_3d": w3, "w_3d_second": w3b,
+        "w_cross_n1": got["w_cross"].get(1, math.nan), "w_max_axisym": got["w_max"],
+        "lam_at_max": lam, "h_rel_3d": found["h_rel"],
+        "lam_n1_at_max": lam.get(1, math.nan), "crossing_order": _crossing_order(got)},
+        evidence=f"{EV_AXISYM_PATH}::test_3d_wrinkling_against_the_converged_path")
