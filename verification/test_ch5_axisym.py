@@ -11,6 +11,7 @@ maximum of the imperfect path is where the wavenumber-0 eigenvalue changes sign;
 
 from __future__ import annotations
 
+import functools
 import math
 
 import ngsolve as ngs
@@ -137,6 +138,36 @@ def test_voltage_maximum_is_where_the_axisymmetric_eigenvalue_changes_sign():
     # the Newton tolerance of the voltage, ~1e-12)
     assert top is not None and top.v >= v.max() - 1e-10
     assert pts[-2].w < top.w < pts[-1].w
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("w_stall, ends", [(5.7, True), (4.0, False)])
+def test_a_stalled_path_ends_only_past_the_voltage_maximum(w_stall, ends, monkeypatch):
+    """A path that cannot be continued (every deflection-controlled solve beyond
+    ``w_stall`` fails, as at a clamped corner reaching the edge of the material's domain)
+    ends at its last converged state when that state is past the voltage maximum (its
+    wavenumber-0 eigenvalue negative; the maximum of this film lies below w = 5.7 t0) and
+    raises ConvergenceError before it. Records 3 t0 apart, so that no record falls between
+    the maximum and the stall."""
+    m = ax.AxisymModel(Plate(imperfection=0.01), NeoHookean(),
+                       ax.AxisymDiscretisation(order=2, n_r=8, edge_layers=3, face_layers=3))
+    solve = m.newton_deflection
+
+    def stalls(c, **kw):
+        if c > w_stall:
+            raise ConvergenceError(f"stalled at c = {c}")
+        return solve(c, **kw)
+
+    monkeypatch.setattr(m, "newton_deflection", stalls)
+    follow = functools.partial(ax.follow_path, m, 8.0, v_switch=0.18, dv=0.03, dw_max=0.5,
+                               wavenumbers=(0,), record_every=3.0)
+    if not ends:
+        with pytest.raises(ConvergenceError, match="stalled"):
+            follow()
+        return
+    pts = follow()
+    # the last state is within the stalled step's 1e-6 t0 of w_stall, past the maximum
+    assert w_stall - 1e-5 < pts[-1].w <= w_stall and pts[-1].lam[0] < 0 <= pts[-2].lam[0]
 
 
 def test_bad_inputs_raise_naming_the_argument():
