@@ -162,9 +162,9 @@ def follow_path(model: AxisymModel, w_end: float, *, v_switch: float, dv: float 
     from the deflection ``all_from`` on with those of ``all_wavenumbers`` too.
     With ``stop_past_maximum`` the path ends at the first recorded state whose wavenumber-0
     eigenvalue is negative (past the voltage maximum, where the tangent at fixed voltage
-    turns indefinite), or, when the step falls below 1e-6 t0 at a state past the maximum
-    (its wavenumber-0 eigenvalue negative), at that last converged state. Raises
-    ConvergenceError when the step falls below 1e-6 t0 otherwise."""
+    turns indefinite), or, when a step fails from a state past the maximum (its
+    wavenumber-0 eigenvalue negative), at that last converged state. Raises
+    ConvergenceError when the step falls below 1e-6 t0 before the maximum."""
     v_switch = val.positive("v_switch", v_switch)
     w_end = val.finite("w_end", w_end)
     require(0 in tuple(wavenumbers) or not stop_past_maximum,
@@ -190,18 +190,18 @@ def follow_path(model: AxisymModel, w_end: float, *, v_switch: float, dv: float 
         except ConvergenceError:
             model.set_state(x0)
             model.v = v0
+            if stop_past_maximum and prev is not None:
+                # a step from a state past the voltage maximum failed (there the
+                # deflection-controlled tangent may turn singular again, or the state reach
+                # the edge of the material's domain at a clamped corner): the path ends at
+                # that last converged state, which its wavenumber-0 eigenvalue at fixed
+                # voltage (negative) shows past the maximum; nothing beyond it is used
+                last = _record(model, wavenumbers)
+                if last.lam[0] < 0:
+                    points.append(last)
+                    break
             dw *= 0.5
             if dw < 1e-6:
-                if stop_past_maximum and prev is not None:
-                    # the path cannot be continued from its last converged state (past the
-                    # voltage maximum the deflection-controlled tangent may turn singular
-                    # again, or the state reach the edge of the material's domain at a
-                    # clamped corner): it ends there when that state is past the maximum,
-                    # as its wavenumber-0 eigenvalue at fixed voltage shows (negative)
-                    last = _record(model, wavenumbers)
-                    if last.lam[0] < 0:
-                        points.append(last)
-                        break
                 raise
             continue
         prev, w = (x0, v0, _w_of(x0, model)), target
