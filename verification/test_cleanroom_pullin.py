@@ -107,7 +107,7 @@ def test_bordered_tangent_dv_dw_agrees_with_finite_differences(fast):
 
 def test_pullin_refuses_bad_input():
     with pytest.raises(ValueError, match="case must be one of"):
-        pullin.pullin("ogden_r10", **PULLIN_FAST)
+        pullin.pullin("ogden_r20", **PULLIN_FAST)
     with pytest.raises(ValueError, match="order must be one of"):
         pullin.pullin("nh_r10", order=5, n_r=20, n_z=2, levels=2)
     with pytest.raises(ValueError, match="mesh: need"):

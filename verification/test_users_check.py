@@ -195,4 +195,4 @@ def test_several_quantities_error_names_the_quantity():
     """An off-grid selector with several quantities: the error names problem and quantity."""
     with pytest.raises(ValueError, match=r"ch5_pullin:v_pullin: coordinate case"):
         compare("ch5_pullin", None, {"v_pullin": 0.68, "w_pullin": 5.56},
-                {"case": "ogden_r10"})
+                {"case": "ogden_r20"})

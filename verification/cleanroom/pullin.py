@@ -33,8 +33,8 @@ the gradient and Hessian of Omega come out in the flat-mesh derivatives that the
 ``buckling`` (BLOCKS, RESIDUALS) integrate.
 
 Path: voltage control (Newton at fixed Phi, from the previous state with its potential
-scaled) from Phi = 0 up to V_SWITCH (0.2, below the flat film's n = 0 bifurcation at ~0.2203
-of ch5_critical_voltage, where the imperfect film has deflected ~0.0045 t0 towards +Z,
+scaled) from Phi = 0 up to V_SWITCH (0.2 neo-Hookean, 0.12 Ogden, below the flat film's
+n = 0 bifurcation at ~0.2203 / ~0.1469 of ch5_critical_voltage, where the imperfect film has deflected ~0.0045 t0 towards +Z,
 the side the imperfection selects); then deflection control: u_z at the top-surface centre is
 prescribed and Phi is the unknown (bordered Newton: the column of that dof in the
 fixed-voltage tangent replaced by dr/dPhi; the system stays regular at the voltage
@@ -108,13 +108,15 @@ from skfem import Basis
 from . import buckling
 
 ASPECT = buckling.ASPECT
-CASES = ("nh_r10",)
-#: the material of each case in ``buckling.enthalpy``'s names (the same neo-Hookean film)
-MATERIAL = {"nh_r10": "nh_t1"}
+CASES = ("nh_r10", "ogden_r10")
+#: the material of each case in ``buckling.enthalpy``'s names (the same films at a = 10 t0)
+MATERIAL = {"nh_r10": "nh_t1", "ogden_r10": "ogden_t1"}
 #: imperfection amplitude / t0
 IMPERFECTION = 1e-3
 #: voltage control up to here (below the flat film's v_cr ~ 0.2203), deflection control on
-V_SWITCH = 0.2
+V_SWITCH = {"nh_r10": 0.2, "ogden_r10": 0.12}
+"""Per case: below the flat film's n = 0 critical voltage of ch5_critical_voltage (0.2203
+neo-Hookean, 0.1469 Ogden)."""
 V_STEPS = 4
 #: Newton: increment below NEWTON_RTOL of the solution's size (quadratic convergence, so
 #: the state is then good to round-off); at most MAX_NEWTON iterations
@@ -393,7 +395,7 @@ def pullin(case: str = "nh_r10", order: int = 4, n_r: int = 40, n_z: int = 8,
     lam0 = film.lowest(K0)
     path = [(s.w, s.v, np.nan)]
     residual = s.residual
-    for v in np.linspace(0.0, V_SWITCH, V_STEPS + 1)[1:]:
+    for v in np.linspace(0.0, V_SWITCH[case], V_STEPS + 1)[1:]:
         # the previous state, its potential scaled (from 0: the linear potential v Zh)
         guess = s.x.copy()
         guess[2 * film.n:] = (guess[2 * film.n:] * (v / s.v) if s.v > 0
