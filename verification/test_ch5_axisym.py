@@ -169,6 +169,12 @@ def test_a_stalled_path_ends_only_past_the_voltage_maximum(w_stall, ends, monkey
     pts = follow()
     # the last state: the last converged one before the stall, past the maximum
     assert pts[-1].w <= w_stall and pts[-1].lam[0] < 0 <= pts[-2].lam[0]
+    # the maximum located between the two records 3 t0 apart: the secant's trial states
+    # stay inside them (unguarded, one went to w = 5.92 t0, past this film's own stall
+    # near 5.86 t0, and failed)
+    monkeypatch.setattr(m, "newton_deflection", solve)
+    top = ax.zero_crossing(m, pts, 0)
+    assert top is not None and pts[-2].w < top.w < pts[-1].w
 
 
 def test_bad_inputs_raise_naming_the_argument():
@@ -311,6 +317,27 @@ def test_secant_zero_stops_where_it_stagnates_at_the_round_off_floor():
     ws, ls = [7.14, 7.64], [f(7.14), f(7.64)]
     k, tol = secant_zero(f, ws, ls)
     assert abs(ws[k] - 7.1734317) < 1e-6 and tol < ZERO_STALL_W
+
+
+def test_secant_zero_keeps_its_iterates_inside_the_starting_bracket():
+    """A root near one end of a strongly curved f: the pure secant's second iterate would
+    leave the bracket [0, 3] (where f would be evaluated on states that no recorded one
+    bounds); every evaluation stays inside it, and the root is found to ZERO_WTOL."""
+    seen = []
+
+    def f(w):
+        seen.append(w)
+        return math.exp(-3.0 * w) - 0.5
+
+    ws, ls = [0.0, 3.0], [f(0.0), f(3.0)]
+    k, tol = secant_zero(f, ws, ls)
+    root = math.log(2.0) / 3.0
+    assert abs(ws[k] - root) < 10 * ZERO_WTOL and tol < ZERO_WTOL
+    assert all(0.0 <= w <= 3.0 for w in seen)
+    # the unguarded secant from the same points leaves the bracket at its second step
+    w1 = 3.0 - ls[1] * (3.0 - 0.0) / (ls[1] - ls[0])
+    w2 = w1 - (math.exp(-3 * w1) - 0.5) * (w1 - 3.0) / ((math.exp(-3 * w1) - 0.5) - ls[1])
+    assert not 0.0 <= w2 <= 3.0
 
 
 def test_secant_zero_raises_on_a_function_without_a_root():

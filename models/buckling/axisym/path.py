@@ -127,16 +127,26 @@ def secant_zero(f, ws: list[float], ls: list[float], *, maxit: int = 30,
     when the iteration has stagnated at the round-off floor of f (the last
     :data:`ZERO_STALL_COUNT` iterates within :data:`ZERO_STALL_W` and f of both signs among
     them, so that they bracket the root: the one with the smallest |f|, tolerance their
-    spread). ConvergenceError after ``maxit`` evaluations, or when two
-    values of f are equal (a flat secant)."""
+    spread). When the two starting values of f have opposite signs, the iterates stay
+    inside the bracket they span, kept up to date: a secant point outside it is replaced
+    by the false-position point of the bracket (f is then only evaluated where the
+    recorded states that bound it are valid). ConvergenceError after ``maxit``
+    evaluations, or when two values of f are equal (a flat secant)."""
+    bracket = [len(ws) - 2, len(ws) - 1] if ls[-2] * ls[-1] < 0 else None
     for _ in range(maxit):
         if ls[-1] == ls[-2]:
             raise ConvergenceError(f"{what}: flat secant: {list(zip(ws, ls, strict=True))}")
         w_new = ws[-1] - ls[-1] * (ws[-1] - ws[-2]) / (ls[-1] - ls[-2])
+        if bracket is not None:
+            ia, ib = bracket
+            if not min(ws[ia], ws[ib]) < w_new < max(ws[ia], ws[ib]):
+                w_new = ws[ia] - ls[ia] * (ws[ib] - ws[ia]) / (ls[ib] - ls[ia])
         step = abs(w_new - ws[-1])
         lam = f(w_new)
         ws.append(w_new)
         ls.append(lam)
+        if bracket is not None and lam != 0:
+            bracket[0 if np.sign(lam) == np.sign(ls[bracket[0]]) else 1] = len(ws) - 1
         if step < ZERO_WTOL:
             return len(ws) - 1, step
         last, signs = ws[-ZERO_STALL_COUNT:], np.sign(ls[-ZERO_STALL_COUNT:])
