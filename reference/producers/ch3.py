@@ -202,51 +202,48 @@ def reduction_peak_over_eps_r(lamP: float, c: float, equilibrium: str = "printed
 
 def _failures(lamP, c, radius_ratio, Jm, equilibrium, eps_r=params.EPS_R_ASSUMED):
     """First failures of c = 0 and ``c`` on the branch of (lamP, R_B/R_A, Jm, variant)."""
-    key = (float(lamP), float(c), float(radius_ratio), float(Jm), equilibrium, float(eps_r),
-           model_key())
+    row = (radius_ratio, Jm, equilibrium, eps_r)
+    key = _failure_key(lamP, c, row)
     if key not in _FAILURES:
-        if float(radius_ratio) == 15.0 and float(Jm) == params.JM_VHB:
-            _FAILURES[key] = first_failures(lamP, c, eps_r, equilibrium)
-        else:
-            ch = chapter()
-            br = branches([Annulus(float(lamP), float(radius_ratio), float(Jm), equilibrium)],
-                          n=ch.spec.n, steps=ch.spec.steps)[0]
-            cv = curves_many([(br, [0.0, float(c)], float(eps_r))])[0]
-            _FAILURES[key] = (cv[0].failure, cv[1].failure)
+        _compute_failures(lamP, c, [row])
     return _FAILURES[key]
 
 
 _FAILURES: dict = {}
 
 
-def _prefetch_failures(lamP, c, rows) -> None:
-    """Compute the :func:`_failures` of every ``(radius_ratio, Jm, equilibrium, eps_r)`` of
-    ``rows`` not yet cached, batched: the stated geometry's eps_r values on each variant's
-    cached branch in one location, the other geometries' branches traced per geometry (both
-    variants at once) and all their curves in one location."""
-    mk = model_key()
-    todo = [r for r in dict.fromkeys(rows)
-            if (float(lamP), float(c), *map(float, r[:2]), r[2], float(r[3]), mk)
-            not in _FAILURES]
+def _failure_key(lamP, c, row) -> tuple:
+    radius_ratio, Jm, equilibrium, eps_r = row
+    return (float(lamP), float(c), float(radius_ratio), float(Jm), equilibrium, float(eps_r),
+            model_key())
+
+
+def _compute_failures(lamP, c, rows) -> None:
+    """The :func:`_failures` of every ``(radius_ratio, Jm, equilibrium, eps_r)`` of ``rows``
+    not yet cached, batched: the stated geometry's (R_B/R_A = 15, the VHB Jm) eps_r values
+    on each variant's cached branch in one location, the other geometries' branches traced
+    per geometry (all their variants at once) and all their curves in one location."""
+    todo = [r for r in dict.fromkeys(rows) if _failure_key(lamP, c, r) not in _FAILURES]
     stated = [r for r in todo if float(r[0]) == 15.0 and float(r[1]) == params.JM_VHB]
     for eq in dict.fromkeys(r[2] for r in stated):
         curves_at(lamP, [(x, float(r[3])) for r in stated if r[2] == eq
                          for x in (0.0, float(c))], eq)
+    for r in stated:
+        _FAILURES[_failure_key(lamP, c, r)] = first_failures(lamP, c, r[3], r[2])
     other = [r for r in todo if r not in stated]
-    if other:
-        ch = chapter()
-        brs = {}
-        for geo in dict.fromkeys((float(r[0]), float(r[1])) for r in other):
-            eqs = list(dict.fromkeys(r[2] for r in other if (float(r[0]), float(r[1])) == geo))
-            traced = branches([Annulus(float(lamP), *geo, eq) for eq in eqs],
-                              n=ch.spec.n, steps=ch.spec.steps)
-            brs |= {(*geo, eq): br for eq, br in zip(eqs, traced, strict=True)}
-        brs = [brs[(float(r[0]), float(r[1]), r[2])] for r in other]
-        cvs = curves_many([(br, [0.0, float(c)], float(r[3]))
-                           for br, r in zip(brs, other, strict=True)])
-        for r, cv in zip(other, cvs, strict=True):
-            _FAILURES[(float(lamP), float(c), float(r[0]), float(r[1]), r[2], float(r[3]),
-                       mk)] = (cv[0].failure, cv[1].failure)
+    if not other:
+        return
+    ch = chapter()
+    traced = {}
+    for geo in dict.fromkeys((float(r[0]), float(r[1])) for r in other):
+        eqs = list(dict.fromkeys(r[2] for r in other if (float(r[0]), float(r[1])) == geo))
+        brs = branches([Annulus(float(lamP), *geo, eq) for eq in eqs],
+                       n=ch.spec.n, steps=ch.spec.steps)
+        traced |= {(*geo, eq): br for eq, br in zip(eqs, brs, strict=True)}
+    cvs = curves_many([(traced[(float(r[0]), float(r[1]), r[2])], [0.0, float(c)],
+                        float(r[3])) for r in other])
+    for r, cv in zip(other, cvs, strict=True):
+        _FAILURES[_failure_key(lamP, c, r)] = (cv[0].failure, cv[1].failure)
 
 
 def clear_caches() -> None:
@@ -298,17 +295,18 @@ def gain_search(entry: Entry) -> dict:
              "radius_ratio": np.linspace(*RATIO_SEARCH)}
     nominal = {"eps_r": params.EPS_R_ASSUMED, "Jm": params.JM_VHB, "radius_ratio": 15.0}
 
-    def change(definition, eq, **kw):
+    def row(eq, **kw):
         a = nominal | kw
-        f0, f1 = _failures(lamP, c, a["radius_ratio"], a["Jm"], eq, a["eps_r"])
+        return (a["radius_ratio"], a["Jm"], eq, a["eps_r"])
+
+    def change(definition, eq, **kw):
+        f0, f1 = _failures(lamP, c, *row(eq, **kw))
         if [f0.kind, f1.kind] != modes:
             return None
         return _gain(f0, f1, definition, sign)
 
-    _prefetch_failures(lamP, c, [
-        ((nominal | {name: float(x)})["radius_ratio"], (nominal | {name: float(x)})["Jm"], eq,
-         (nominal | {name: float(x)})["eps_r"])
-        for eq in VARIANTS for name, grid in grids.items() for x in grid])
+    _compute_failures(lamP, c, [row(eq, **{name: float(x)}) for eq in VARIANTS
+                                for name, grid in grids.items() for x in grid])
     ranges, crossings = {}, []
     for definition in GAIN_DEFINITIONS:
         for eq in VARIANTS:
