@@ -37,6 +37,7 @@ STORE_NAME = "our_values"
 #: of :class:`Guarded`. Each recomputes a model on its cheapest real setting.
 EXTRA_GUARDS: tuple[str, ...] = ("debench.reference.producers.ch5:coarse_guards",
                                   "debench.reference.producers.ch5:axisym_coarse_guards",
+                                  "debench.reference.producers.ch5_path:axisym_path_guards",
                                   "debench.reference.producers.ch5_methods:axisym_methods_guards",
                                   "debench.reference.producers.ch3_fe:thickness_guards")
 

@@ -188,3 +188,27 @@ def test_thin_solid_guard_sees_a_1_percent_change_of_the_gent_locking_parameter(
     moved = {d.key for d in values.check(thickness_guards(), stored, complete=False)}
     assert moved == {"ch3.guard.thickness.thickest",
                      "ch3.guard.thickness.thickest_minus_curated"}, moved
+
+
+@pytest.mark.slow
+def test_ch5_path_guard_sees_a_1_percent_change_of_the_neo_hookean_modulus(monkeypatch):
+    """Chapter 5 pull-in: the axisymmetric path guard (the study's own task on its cheapest
+    setting) stays inside the stored values unchanged, and leaves them with the
+    neo-Hookean mu changed by 1 % (v_max ~ sqrt(mu) at the fixed normalising modulus:
+    5e-3 relative, far beyond the 1e-8 tolerance)."""
+    import dataclasses
+
+    from debench.reference.producers.ch5_path import axisym_path_guards
+    from debench.reference.studies import ch5_axisym_tasks as tasks
+
+    stored = values.read_store()
+    assert values.check(axisym_path_guards(), stored, complete=False) == []
+    original = tasks.material
+
+    def stiffer(case):
+        m = original(case)
+        return dataclasses.replace(m, mu=1.01 * m.mu) if case.startswith("nh") else m
+
+    monkeypatch.setattr(tasks, "material", stiffer)
+    moved = {d.key for d in values.check(axisym_path_guards(), stored, complete=False)}
+    assert "ch5.guard.axisym_path.nh_r10.v_max_coarse" in moved, moved
