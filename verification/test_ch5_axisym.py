@@ -340,6 +340,41 @@ def test_secant_zero_keeps_its_iterates_inside_the_starting_bracket():
     assert not 0.0 <= w2 <= 3.0
 
 
+def test_secant_zero_shrinks_the_bracket_from_both_sides():
+    """Plain false position keeps one end of the bracket for good where f is convex over
+    it (w**10 - 1 on [0, 1.3]: 30 steps leave the bracket wider than 0.1, asserted below).
+    The Illinois bracket closes from both sides and finds the root to ZERO_WTOL."""
+
+    def f(w):
+        return w**10 - 1.0
+
+    ws, ls = [0.0, 1.3], [f(0.0), f(1.3)]
+    k, tol = secant_zero(f, ws, ls)
+    assert abs(ws[k] - 1.0) < 10 * ZERO_WTOL and tol < ZERO_WTOL
+    assert all(0.0 <= w <= 1.3 for w in ws)
+    a, b = 0.0, 1.3
+    for _ in range(30):
+        c = a - f(a) * (b - a) / (f(b) - f(a))
+        a, b = (c, b) if np.sign(f(c)) == np.sign(f(a)) else (a, c)
+    assert abs(b - a) > 0.1
+
+
+def test_secant_zero_brackets_a_sign_change_under_an_offset():
+    """The Ogden R/t0 = 20, n = 6 crossing at order 3 with six layers: slope -7.7e-4 per t0,
+    the evaluations on the two sides of the sign change offset by 6e-8 from each other
+    (trial states from different recorded neighbours). The bracket closes below
+    ZERO_STALL_W around the sign change and the answer lies inside it."""
+    root = 7.1581892
+
+    def f(w):
+        return -7.7e-4 * (w - root) + (6e-8 if w < root else -6e-9)
+
+    ws = [6.891483286642438, 7.641483286642438]
+    ls = [f(ws[0]), f(ws[1])]
+    k, tol = secant_zero(f, ws, ls)
+    assert abs(ws[k] - root) <= max(tol, ZERO_WTOL) and tol < ZERO_STALL_W
+
+
 def test_secant_zero_raises_on_a_function_without_a_root():
     from debench.models.errors import ConvergenceError
 

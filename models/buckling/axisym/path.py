@@ -52,7 +52,9 @@ ZERO_WTOL. The floor: the Newton states carry round-off of ~1e-10 of the load ne
 near-singular tangent, which moves lambda_n by ~1e-11..1e-10; over its slope along the path
 (1e-4..1e-3 per t0) that is 1e-7..1e-6 t0 in w (measured: an Ogden film at R/t0 = 20,
 n = 6, iterates wandering within 1e-7 t0 at |lambda| ~ 5e-11). The crossing is then the
-iterate with the smallest |lambda|, and ``wtol`` the spread of the stagnated iterates."""
+iterate with the smallest |lambda|, and ``wtol`` the spread of the stagnated iterates. A
+bracket of the root (the usual case: the two recorded states about the sign change) is
+closed to below ZERO_STALL_W t0, the computed signs bounding the root whatever the floor."""
 ZERO_STALL_COUNT = 4
 """How many last iterates of the secant must lie within ZERO_STALL_W (and bracket the root)
 for it to count as stagnated."""
@@ -121,32 +123,32 @@ def deflect_from(model: AxisymModel, start: tuple[np.ndarray, float], w0: float,
 
 def secant_zero(f, ws: list[float], ls: list[float], *, maxit: int = 30,
                 what: str = "secant_zero") -> tuple[int, float]:
-    """Secant iteration for f(w) = 0 from the two points (``ws``, ``ls``), appending every
-    evaluation to ``ws`` and ``ls``: returns (index of the answer in ``ws``, its tolerance).
-    Stops when a step is below :data:`ZERO_WTOL` (the last iterate, tolerance the step) or
-    when the iteration has stagnated at the round-off floor of f (the last
-    :data:`ZERO_STALL_COUNT` iterates within :data:`ZERO_STALL_W` and f of both signs among
-    them, so that they bracket the root: the one with the smallest |f|, tolerance their
-    spread). When the two starting values of f have opposite signs, the iterates stay
-    inside the bracket they span, kept up to date: a secant point outside it is replaced
-    by the false-position point of the bracket (f is then only evaluated where the
-    recorded states that bound it are valid). ConvergenceError after ``maxit``
-    evaluations, or when two values of f are equal (a flat secant)."""
-    bracket = [len(ws) - 2, len(ws) - 1] if ls[-2] * ls[-1] < 0 else None
+    """Root of f(w) = 0 from the two points (``ws``, ``ls``), appending every evaluation to
+    ``ws`` and ``ls``: returns (index of the answer in ``ws``, its tolerance).
+
+    When the two starting values of f have opposite signs, the iterates stay inside the
+    bracket they span (f is then only evaluated where the recorded states that bound it
+    are valid): the Illinois variant of false position (Dowell and Jarratt 1971), whose
+    retained end has its f halved when it is kept twice in a row, so that the bracket
+    shrinks from both sides (plain false position can approach the root from one side
+    only and stagnate). It stops when a step is below :data:`ZERO_WTOL` (the last iterate,
+    tolerance the step) or when the bracket is narrower than :data:`ZERO_STALL_W` (the end
+    with the smaller |f|, tolerance the bracket's width): at the round-off floor of f the
+    computed signs still bound the root. Without a bracket it is the secant iteration, which
+    stops on a step below :data:`ZERO_WTOL` or when it has stagnated at the round-off floor
+    (the last :data:`ZERO_STALL_COUNT` iterates within :data:`ZERO_STALL_W` and f of both
+    signs among them: the one with the smallest |f|, tolerance their spread).
+    ConvergenceError after ``maxit`` evaluations, or when two values of f are equal (a
+    flat secant)."""
+    if ls[-2] * ls[-1] < 0:
+        return _illinois(f, ws, ls, maxit=maxit, what=what)
     for _ in range(maxit):
         if ls[-1] == ls[-2]:
             raise ConvergenceError(f"{what}: flat secant: {list(zip(ws, ls, strict=True))}")
         w_new = ws[-1] - ls[-1] * (ws[-1] - ws[-2]) / (ls[-1] - ls[-2])
-        if bracket is not None:
-            ia, ib = bracket
-            if not min(ws[ia], ws[ib]) < w_new < max(ws[ia], ws[ib]):
-                w_new = ws[ia] - ls[ia] * (ws[ib] - ws[ia]) / (ls[ib] - ls[ia])
         step = abs(w_new - ws[-1])
-        lam = f(w_new)
         ws.append(w_new)
-        ls.append(lam)
-        if bracket is not None and lam != 0:
-            bracket[0 if np.sign(lam) == np.sign(ls[bracket[0]]) else 1] = len(ws) - 1
+        ls.append(f(w_new))
         if step < ZERO_WTOL:
             return len(ws) - 1, step
         last, signs = ws[-ZERO_STALL_COUNT:], np.sign(ls[-ZERO_STALL_COUNT:])
@@ -154,6 +156,33 @@ def secant_zero(f, ws: list[float], ls: list[float], *, maxit: int = 30,
                 and signs.min() < 0 < signs.max()):
             tail = range(len(ws) - ZERO_STALL_COUNT, len(ws))
             return min(tail, key=lambda i: abs(ls[i])), max(last) - min(last)
+    raise ConvergenceError(f"{what}: no convergence in {maxit} steps: "
+                           f"{list(zip(ws, ls, strict=True))}")
+
+
+def _illinois(f, ws: list[float], ls: list[float], *, maxit: int,
+              what: str) -> tuple[int, float]:
+    """The bracketed branch of :func:`secant_zero` (its last two points bracket a root)."""
+    ends = [len(ws) - 2, len(ws) - 1]
+    weights = [ls[-2], ls[-1]]
+    kept = None
+    for _ in range(maxit):
+        (ia, ib), (fa, fb) = ends, weights
+        w_new = ws[ia] - fa * (ws[ib] - ws[ia]) / (fb - fa)
+        step = abs(w_new - ws[-1])
+        lam = f(w_new)
+        ws.append(w_new)
+        ls.append(lam)
+        if lam == 0 or step < ZERO_WTOL:
+            return len(ws) - 1, step
+        side = 0 if np.sign(lam) == np.sign(ls[ia]) else 1
+        ends[side], weights[side] = len(ws) - 1, lam
+        if kept == 1 - side:
+            weights[1 - side] *= 0.5
+        kept = 1 - side
+        width = abs(ws[ends[1]] - ws[ends[0]])
+        if width < ZERO_STALL_W:
+            return min(ends, key=lambda i: abs(ls[i])), width
     raise ConvergenceError(f"{what}: no convergence in {maxit} steps: "
                            f"{list(zip(ws, ls, strict=True))}")
 
