@@ -34,8 +34,9 @@ the gradient and Hessian of Omega come out in the flat-mesh derivatives that the
 
 Path: voltage control (Newton at fixed Phi, from the previous state with its potential
 scaled) from Phi = 0 up to V_SWITCH (0.2 neo-Hookean, 0.12 Ogden, below the flat film's
-n = 0 bifurcation at ~0.2203 / ~0.1469 of ch5_critical_voltage, where the imperfect film has deflected ~0.0045 t0 towards +Z,
-the side the imperfection selects); then deflection control: u_z at the top-surface centre is
+n = 0 bifurcation at ~0.2203 / ~0.1469 of ch5_critical_voltage, where the imperfect film
+has deflected towards +Z, the side the imperfection selects); then deflection control:
+u_z at the top-surface centre is
 prescribed and Phi is the unknown (bordered Newton: the column of that dof in the
 fixed-voltage tangent replaced by dr/dPhi; the system stays regular at the voltage
 maximum, where the fixed-voltage tangent is singular), with a tangent predictor and an
