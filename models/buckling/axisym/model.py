@@ -125,10 +125,7 @@ class AxisymModel(ModeAnalysis):
         return F, E
 
     def _enthalpy(self, F, E):
-        mat = self.material
-        kw = {"delta": self.disc.ogden_delta} if isinstance(mat, Ogden) else {}
-        return (ngf.mechanical_energy_cf(mat, F, **kw) / self.mu_ref
-                + ngf.ideal_dielectric_enthalpy(F, E, eps=1.0))
+        return self._mechanical_energy(F) + ngf.ideal_dielectric_enthalpy(F, E, eps=1.0)
 
     # --------------------------------------------------------------- state
     @property

@@ -138,14 +138,18 @@ class ModeAnalysis:
         cos and sin groups ``dFc``, ``dFs`` of the perturbation."""
         F0 = F0.MakeVariable()
         S0 = ngs.Inv(F0) * self._enthalpy(F0, E0).Diff(F0)
-        mat = self.material
-        kw = {"delta": self.disc.ogden_delta} if isinstance(mat, Ogden) else {}
         energy = 0
         for dF in (dFc, dFs):
-            energy = energy + (ngf.mechanical_energy_cf(mat, ngs.Id(3) + dF, **kw)
-                               / self.mu_ref
+            energy = energy + (self._mechanical_energy(ngs.Id(3) + dF)
                                + 0.5 * ngs.InnerProduct(S0, dF.trans * dF))
         return energy
+
+    def _mechanical_energy(self, F):
+        """The material's strain energy at ``F`` in units of ``mu_ref`` (the Ogden energy
+        by the averaged spectral evaluation of half-width ``disc.ogden_delta``)."""
+        mat = self.material
+        kw = {"delta": self.disc.ogden_delta} if isinstance(mat, Ogden) else {}
+        return ngf.mechanical_energy_cf(mat, F, **kw) / self.mu_ref
 
     def mode_blocks(self, n: int) -> np.ndarray:
         """Block index (0: U or S, 1: V or D, 2: W, 3: Q) of each free DOF of the
