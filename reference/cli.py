@@ -23,15 +23,13 @@ Examples
 from __future__ import annotations
 
 import argparse
-import importlib
-import inspect
 import json
 import os
 import pkgutil
 import sys
 from pathlib import Path
 
-import numpy as np
+from debench.reference import builds, regeneration
 from debench.reference.results_files import UsageError, read_results
 
 
@@ -111,109 +109,6 @@ def cmd_list(args) -> int:
     return 0
 
 
-# --------------------------------------------------------------------------- reproduce
-def _builder(chapter: str):
-    try:
-        return importlib.import_module(f"debench.reference.builders.{chapter}")
-    except ModuleNotFoundError as exc:
-        if exc.name == f"debench.reference.builders.{chapter}":
-            return None
-        raise
-
-
-#: Default agreement of a regenerated numeric variable with its curated counterpart, for
-#: variables that state no accuracy of their own: the builders' solvers stop at relative
-#: tolerances <= 1e-10 and a recomputation on another CPU/BLAS moves their values by
-#: < 1e-8 relative (measured across OpenBLAS kernels), so 1e-6 keeps a 100x margin; the
-#: absolute floor 1e-12 covers values that vanish (differences of equal quantities)
-REGEN_RTOL = 1e-6
-REGEN_ATOL = 1e-12
-
-
-def regeneration_tolerance(attrs) -> tuple[float, float]:
-    """(rtol, atol) to which a regenerated variable must match its curated counterpart.
-
-    A variable that states its own accuracy (attributes ``accuracy_rtol`` and/or
-    ``accuracy_atol``, the producer's :class:`~debench.reference.catalogue.Accuracy` of
-    its values) is judged by it, tighter or looser than the default; any other numeric
-    variable by :data:`REGEN_RTOL` and :data:`REGEN_ATOL`.
-    """
-    if "accuracy_rtol" not in attrs and "accuracy_atol" not in attrs:
-        return REGEN_RTOL, REGEN_ATOL
-    rtol, atol = (float(attrs.get(k, 0.0)) for k in ("accuracy_rtol", "accuracy_atol"))
-    if not (np.isfinite(rtol) and np.isfinite(atol) and rtol >= 0 and atol >= 0
-            and rtol + atol > 0):
-        raise ValueError(f"accuracy_rtol and accuracy_atol must be finite, >= 0 and not both "
-                         f"0, got {rtol}, {atol}")
-    return rtol, atol
-
-
-#: per dataset, the variables compared element by element within the absolute tolerance
-#: stored beside them: the store of our values (:mod:`debench.reference.values`), each value
-#: with the tolerance its method supports (the thesis values beside their printed-digit
-#: tolerances are literals: compared by the default, i.e. equal)
-TOLERANCE_VARIABLES = {"our_values": {"value": "tolerance"}}
-#: a residual (backward error, Newton residual) of a converged solve is round-off: it
-#: reproduces in size, not in digits (measured: eigen-residuals of ~3e-12 regenerate
-#: within a factor 2). It matches when it stays below RESIDUAL_GROWTH x its curated value
-#: (or REGEN_ATOL): a solve that got worse by an order of magnitude still shows.
-RESIDUAL_GROWTH = 10.0
-
-
-def is_residual(name: str, attrs) -> bool:
-    """Whether a variable is a residual of a solve: quality information
-    (``coverage_content_type``) named a residual."""
-    return (attrs.get("coverage_content_type") == "qualityInformation"
-            and "residual" in name)
-
-
-def _numeric_match(name: str, var: str, new, old) -> bool:
-    a, b = np.asarray(old[var].values, float), np.asarray(new[var].values, float)
-    same_nan = np.array_equal(np.isnan(a), np.isnan(b))
-    ok = ~np.isnan(a)
-    tol_var = TOLERANCE_VARIABLES.get(name, {}).get(var)
-    if tol_var is not None and tol_var in old and old[tol_var].shape == old[var].shape:
-        tol = np.asarray(old[tol_var].values, float)
-        return same_nan and bool(np.all(np.abs(b[ok] - a[ok]) <= tol[ok]))
-    if is_residual(var, old[var].attrs):
-        return same_nan and bool(np.all(np.abs(b[ok]) <= np.maximum(
-            RESIDUAL_GROWTH * np.abs(a[ok]), REGEN_ATOL)))
-    rtol, atol = regeneration_tolerance(old[var].attrs)
-    return bool(np.allclose(b, a, rtol=rtol, atol=atol, equal_nan=True))
-
-
-def compare_with_curated(path: Path, curated_dir: Path) -> str:
-    """One line saying whether a regenerated dataset matches the curated one.
-
-    Numeric variables must agree within the accuracy they state: a variable with a
-    per-element absolute tolerance beside it (the store of our values: ``value`` within
-    ``tolerance``, :data:`TOLERANCE_VARIABLES`) within that tolerance; a residual
-    (:func:`is_residual`) by its size; any other within :func:`regeneration_tolerance`
-    of the curated variable (``|new - old| <= atol + rtol |old|``); NaN where the curated
-    value is NaN. Text variables exactly.
-    """
-    from debench.reference.datasets import DatasetError, read_dataset
-
-    curated = curated_dir / path.name
-    if not curated.exists():
-        return f"{path.name}: no curated counterpart in {curated_dir}"
-    try:
-        new, old = read_dataset(path), read_dataset(curated)
-    except DatasetError as exc:
-        return f"{path.name}: cannot compare ({exc})"
-    if new.attrs.get("parameters") != old.attrs.get("parameters"):
-        return f"{path.name}: not comparable (different parameters, e.g. mesh resolution)"
-    bad = []
-    for var in old.data_vars:
-        if var not in new:
-            bad.append(f"{var} missing")
-        elif np.issubdtype(old[var].dtype, np.number):
-            if old[var].shape != new[var].shape or not _numeric_match(
-                    path.stem, var, new, old):
-                bad.append(var)
-        elif not np.array_equal(new[var].values, old[var].values):
-            bad.append(var)
-    return f"{path.name}: {'matches curated' if not bad else 'DIFFERS in ' + ', '.join(bad)}"
 
 
 def _same_directory(a: Path, b: Path) -> bool:
@@ -224,238 +119,6 @@ def _same_directory(a: Path, b: Path) -> bool:
         return a.resolve() == b.resolve()
 
 
-def report_figures(figures: Path) -> Path:
-    """The figures directory for a report, warning (stderr) about expected figures it lacks.
-
-    Expected are the figures of the curated set (``data_dir()/figures``); a partial
-    directory is used as it is, but never silently.
-    """
-    from debench.reference.datasets import data_dir
-
-    curated = data_dir() / "figures"
-    expected = {p.name for p in curated.glob("*.png")}
-    present = {p.name for p in figures.glob("*.png")}
-    missing = sorted(expected - present)
-    if missing:
-        print(f"debench: warning: {figures} lacks {len(missing)} of the {len(expected)} "
-              f"expected figures, which the report omits: {', '.join(missing)}. To include "
-              "them, run `debench reproduce` for the chapters that make them (figures of "
-              "converged-only studies, such as the radius/thickness 20 ones, need `--full`: "
-              "hours of FE), or `debench report --out DIR` with a DIR that has no figures/ "
-              "to use the curated figures", file=sys.stderr)
-    elif not present:
-        print(f"debench: warning: no figures in {figures}; the report has none "
-              "(`debench reproduce` makes them)", file=sys.stderr)
-    return figures
-
-
-#: CPU seconds of each builder's default build, one thread, FE tasks serial in the
-#: chapter's process (measured in one `debench reproduce --jobs 2` on the 2-core
-#: development machine, heavily loaded, so upper bounds): `debench reproduce` starts the
-#: longest first, so that no long chapter starts last. Only the order depends on these
-#: numbers; a chapter not listed counts as :data:`UNLISTED_BUILD_CPU_S`.
-BUILD_CPU_S = {
-    "ch3_fe_thickness": 96.3, "ch5_axisym": 118.5, "ch5_axisym_path": 71.0, "ch5": 70.7,
-    "ch5_axisym_methods": 12.0,
-    "ch4_fe": 32.8, "ch4": 28.3,
-    "ch5_thickness": 26.7, "ch5_methods": 23.3, "ch4_inplane": 16.9, "ch3": 9.0,
-    "ch3_fe": 7.2, "ch2_appendix": 0.7, "ch5_imperfection": 0.0, "ch5_wrinkling": 0.0,
-}
-UNLISTED_BUILD_CPU_S = 60.0
-
-
-def parse_jobs(value: int | None) -> int:
-    """The ``--jobs`` of ``debench reproduce``: how many chapters are built at once (pool
-    processes), an integer >= 1; None means the number of cores. Anything else is a
-    :class:`UsageError` naming the argument."""
-    if value is None:
-        return os.cpu_count() or 1
-    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-        raise UsageError(f"--jobs {value!r}: must be an integer >= 1 (processes building "
-                         "chapters at once)")
-    return value
-
-
-def _scheduler_option(mod, scheduler: str | None) -> dict:
-    """The ``scheduler`` keyword for a builder that runs its own FE tasks (none for others)."""
-    if scheduler is None or "scheduler" not in inspect.signature(mod.build).parameters:
-        return {}
-    return {"scheduler": scheduler}
-
-
-class _Built:
-    """What a chapter's build in a pool process sends back: the files written, the
-    chapter's own output (stdout, stderr), its CPU and wall seconds, and on failure the
-    exception and its traceback text."""
-
-    def __init__(self, chapter: str):
-        self.chapter = chapter
-        self.paths: list[Path] | None = []
-        self.stdout = self.stderr = ""
-        self.cpu = self.wall = 0.0
-        self.error: BaseException | None = None
-        self.traceback = ""
-
-
-class ChapterTraceback(Exception):
-    """The traceback of a chapter that failed in a pool process (the ``__cause__`` of the
-    exception re-raised in the command's own process)."""
-
-
-def _process_cpu() -> float:
-    import resource
-
-    own = resource.getrusage(resource.RUSAGE_SELF)
-    return own.ru_utime + own.ru_stime
-
-
-def _init_pool_process() -> None:
-    """A pool process: BLAS/OpenMP and NGSolve threads as configured for the command
-    (:func:`debench.threads.limit_threads` reads ``DEBENCH_THREADS``, which the command
-    set), no progress bars."""
-    from debench.threads import limit_threads
-
-    limit_threads()
-    os.environ["TQDM_DISABLE"] = "1"
-
-
-def _build_captured(chapter: str, out: str, full: bool, scheduler: str | None) -> _Built:
-    """Build one chapter in a pool process with its output captured (file descriptors 1 and
-    2 and ``sys.stdout``/``sys.stderr``), so that the command prints each chapter's lines
-    together; an exception is returned, not raised (with its traceback text)."""
-    import pickle
-    import tempfile
-    import time
-    import traceback
-
-    built = _Built(chapter)
-    cpu0, wall0 = _process_cpu(), time.monotonic()
-    with tempfile.TemporaryFile() as fout, tempfile.TemporaryFile() as ferr:
-        sys.stdout.flush()
-        sys.stderr.flush()
-        saved_fds, saved_streams = (os.dup(1), os.dup(2)), (sys.stdout, sys.stderr)
-        os.dup2(fout.fileno(), 1)
-        os.dup2(ferr.fileno(), 2)
-        sys.stdout = open(1, "w", encoding="utf-8", errors="replace", closefd=False)  # noqa: SIM115
-        sys.stderr = open(2, "w", encoding="utf-8", errors="replace", closefd=False)  # noqa: SIM115
-        try:
-            mod = _builder(chapter)
-            if mod is None:
-                built.paths = None
-            else:
-                built.paths = list(mod.build(Path(out), full=full,
-                                             **_scheduler_option(mod, scheduler)))
-        except Exception as exc:  # noqa: BLE001 - sent back and re-raised by the command
-            built.traceback = traceback.format_exc()
-            try:
-                pickle.loads(pickle.dumps(exc))
-                built.error = exc
-            except Exception:  # noqa: BLE001 - an exception that cannot cross processes
-                built.error = RuntimeError(f"{type(exc).__name__}: {exc}")
-        finally:
-            sys.stdout.flush()
-            sys.stderr.flush()
-            sys.stdout.close()
-            sys.stderr.close()
-            sys.stdout, sys.stderr = saved_streams
-            for fd, saved in zip((1, 2), saved_fds, strict=True):
-                os.dup2(saved, fd)
-                os.close(saved)
-        for f, attr in ((fout, "stdout"), (ferr, "stderr")):
-            f.seek(0)
-            setattr(built, attr, f.read().decode("utf-8", errors="replace"))
-    built.cpu, built.wall = _process_cpu() - cpu0, time.monotonic() - wall0
-    return built
-
-
-def _pool_context():
-    """``fork`` where the platform has it (Linux: no re-import of the package in every pool
-    process), else ``spawn``."""
-    import multiprocessing
-
-    methods = multiprocessing.get_all_start_methods()
-    return multiprocessing.get_context("fork" if sys.platform.startswith("linux")
-                                       and "fork" in methods else "spawn")
-
-
-def _announce(chapter: str, full: bool, out: Path) -> None:
-    print(f"{chapter}: building{' (full)' if full else ''} into {out} ...", file=sys.stderr)
-
-
-def _build_serially(chapters: list[str], out: Path, full: bool,
-                    scheduler: str | None) -> dict[str, list[Path]]:
-    """Build ``chapters`` one after the other in this process (``--jobs 1``)."""
-    written: dict[str, list[Path]] = {}
-    for chapter in chapters:
-        mod = _builder(chapter)
-        if mod is None:
-            print(f"{chapter}: no builder yet (pending)", file=sys.stderr)
-            continue
-        _announce(chapter, full, out)
-        written[chapter] = list(mod.build(out, full=full, **_scheduler_option(mod, scheduler)))
-        for p in written[chapter]:
-            print(f"  wrote {p}", file=sys.stderr)
-    return written
-
-
-def _stop_pool(executor) -> None:
-    """Cancel the chapters not started and end the pool processes building the others."""
-    import multiprocessing
-
-    executor.shutdown(wait=False, cancel_futures=True)
-    for proc in multiprocessing.active_children():
-        proc.terminate()
-    for proc in multiprocessing.active_children():
-        proc.join(timeout=10)
-
-
-def _build_concurrently(chapters: list[str], out: Path, full: bool, scheduler: str | None,
-                        jobs: int) -> dict[str, list[Path]]:
-    """Build ``chapters`` in a pool of ``jobs`` processes, longest first (:data:`BUILD_CPU_S`).
-
-    Each chapter's output is printed together when it finishes (a progress line per chapter
-    on a terminal). Builders that run their own FE tasks run them serially in their pool
-    process unless ``scheduler`` names one (no cluster inside a pool). A chapter that
-    raises stops the command: the chapters not started are cancelled, those running are
-    ended, and its exception is raised here (its traceback as the cause).
-    """
-    import time
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
-    order = sorted(chapters, key=lambda c: -BUILD_CPU_S.get(c, UNLISTED_BUILD_CPU_S))
-    started = time.monotonic()
-    written: dict[str, list[Path]] = {}
-    tty = sys.stderr.isatty()
-    executor = ProcessPoolExecutor(max_workers=min(jobs, len(order)), mp_context=_pool_context(),
-                                   initializer=_init_pool_process)
-    try:
-        futures = {executor.submit(_build_captured, c, str(out), full, scheduler or "serial"): c
-                   for c in order}
-        for k, fut in enumerate(as_completed(futures), 1):
-            built = fut.result()
-            if built.paths is None:
-                print(f"{built.chapter}: no builder yet (pending)", file=sys.stderr)
-                continue
-            _announce(built.chapter, full, out)
-            sys.stdout.write(built.stdout)
-            sys.stderr.write(built.stderr)
-            if built.error is not None:
-                raise built.error from ChapterTraceback(
-                    f"{built.chapter} failed in a pool process:\n{built.traceback}")
-            written[built.chapter] = built.paths
-            for p in built.paths:
-                print(f"  wrote {p}", file=sys.stderr)
-            if tty:
-                print(f"[{k}/{len(order)}] {built.chapter} done: {built.cpu:.0f} s CPU, "
-                      f"{built.wall:.0f} s; {time.monotonic() - started:.0f} s since the start",
-                      file=sys.stderr)
-            sys.stderr.flush()
-    except BaseException:      # a chapter failed, or an interrupt: nothing else runs on
-        sys.stderr.flush()
-        _stop_pool(executor)
-        raise
-    executor.shutdown(wait=True)
-    return {c: written[c] for c in chapters if c in written}
 
 
 def cmd_reproduce(args) -> int:
@@ -466,7 +129,7 @@ def cmd_reproduce(args) -> int:
 
     started = time.monotonic()
     chapters = [resolve_chapter(c) for c in args.chapters] or list(CHAPTERS)
-    jobs = parse_jobs(getattr(args, "jobs", None))
+    jobs = builds.parse_jobs(getattr(args, "jobs", None))
     if not args.write_data and _same_directory(Path(args.out), data_dir()):
         raise UsageError(f"--out {args.out} is the curated data directory {data_dir()}; "
                          "replacing the curated datasets needs --write-data")
@@ -479,25 +142,25 @@ def cmd_reproduce(args) -> int:
     # from the one catalogue evaluation of the command
     builders = [c for c in chapters if c != "catalogue"]
     if jobs > 1 and len(builders) > 1:
-        by_chapter = _build_concurrently(builders, out, args.full, scheduler, jobs)
+        by_chapter = builds.build_concurrently(builders, out, args.full, scheduler, jobs)
     else:
-        by_chapter = _build_serially(builders, out, args.full, scheduler)
+        by_chapter = builds.build_serially(builders, out, args.full, scheduler)
     results = catalogue.evaluate_all(progress=lambda xs: _progress(xs, "verifying claims"))
     if "catalogue" in chapters:
-        by_chapter["catalogue"] = _build_catalogue(out, args.full, results, by_chapter)
+        by_chapter["catalogue"] = builds.build_catalogue(out, args.full, results, by_chapter)
     written = [p for c in chapters for p in by_chapter.get(c, [])]
-    regeneration = []
+    compared = []
     if args.write_data:
         from debench.reference import datacard
 
         print(f"  data card: {datacard.write(out)}", file=sys.stderr)
     else:
-        regeneration = [compare_with_curated(p, data_dir())
-                        for p in written if p.suffix == ".nc"]
-        for line in regeneration:
+        compared = [regeneration.compare_with_curated(p, data_dir())
+                    for p in written if p.suffix == ".nc"]
+        for line in compared:
             print(f"  {line}", file=sys.stderr)
-    path = report.write_report(Path(args.out), results, regeneration=regeneration,
-                               figures_dir=report_figures(out / "figures"))
+    path = report.write_report(Path(args.out), results, regeneration=compared,
+                               figures_dir=report.report_figures(out / "figures"))
     print(f"report: {path}  ({report.summary_line(results)})")
     print(f"reproduce: {', '.join(chapters)}: wrote {len(written)} file(s) "
           f"({sum(p.suffix == '.nc' for p in written)} datasets) to {out.resolve()}, report "
@@ -505,25 +168,6 @@ def cmd_reproduce(args) -> int:
     return 0
 
 
-def _build_catalogue(out: Path, full: bool, results, by_chapter) -> list[Path]:
-    """The catalogue builder with the command's catalogue evaluation ``results``; its Chapter
-    5 model guard takes the coarsest critical voltages from the ``ch5`` dataset this command
-    built, when it built one with the curated dataset's parameters
-    (:func:`debench.reference.producers.ch5.recomputed_in_this_command`)."""
-    import contextlib
-
-    mod = _builder("catalogue")
-    _announce("catalogue", full, out)
-    fresh = [p for p in by_chapter.get("ch5", []) if p.name == "ch5_critical_voltage.nc"]
-    with contextlib.ExitStack() as stack:
-        if fresh:
-            from debench.reference.producers.ch5 import recomputed_in_this_command
-
-            stack.enter_context(recomputed_in_this_command(fresh[0]))
-        paths = list(mod.build(out, full=full, results=results))
-    for p in paths:
-        print(f"  wrote {p}", file=sys.stderr)
-    return paths
 
 
 # --------------------------------------------------------------------------- verify
@@ -538,13 +182,13 @@ def regenerate_and_compare(chapters, *, quiet: bool = False) -> list:
     problems = []
     with tempfile.TemporaryDirectory(prefix="debench-verify-") as tmp, not_written():
         for chapter in chapters:
-            mod = _builder(chapter)
+            mod = builds.builder(chapter)
             if mod is None:
                 continue
             for path in mod.build(Path(tmp) / chapter, full=False):
                 if path.suffix != ".nc":
                     continue
-                line = compare_with_curated(path, data_dir())
+                line = regeneration.compare_with_curated(path, data_dir())
                 if not quiet:
                     print(f"regenerated {line}", file=sys.stderr)
                 if "DIFFERS" in line or "cannot compare" in line:
@@ -641,7 +285,7 @@ def cmd_report(args) -> int:
         from debench.reference.datasets import data_dir
 
         figures = data_dir() / "figures"
-    path = report.write_report(out, results, figures_dir=report_figures(figures))
+    path = report.write_report(out, results, figures_dir=report.report_figures(figures))
     print(f"report: {path}  ({report.summary_line(results)})")
     return 0
 

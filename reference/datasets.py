@@ -229,7 +229,7 @@ def variable_attrs(long_name: str, units: str = "1", atol: float | None = None,
                    rtol: float | None = None, **extra) -> dict:
     """CF attributes of a dataset variable: ``long_name``, ``units``, any ``extra`` ones, and
     the accuracy a regeneration is held to (``accuracy_atol`` / ``accuracy_rtol``, read by
-    ``debench.reference.cli.regeneration_tolerance``) when given."""
+    ``debench.reference.regeneration.regeneration_tolerance``) when given."""
     out = {"long_name": long_name, "units": units, **extra}
     if atol is not None:
         out["accuracy_atol"] = atol

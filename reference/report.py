@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import datetime as _dt
 import os
+import sys
 from collections import Counter
 from collections.abc import Iterable
 from dataclasses import dataclass
@@ -450,3 +451,28 @@ def write_report(out_dir: Path, results: list[Result], *, data_problems: list[st
     out_dir.mkdir(parents=True, exist_ok=True)
     path.write_text("\n".join(lines))
     return path
+
+
+def report_figures(figures: Path) -> Path:
+    """The figures directory for a report, warning (stderr) about expected figures it lacks.
+
+    Expected are the figures of the curated set (``data_dir()/figures``); a partial
+    directory is used as it is, but never silently.
+    """
+    from debench.reference.datasets import data_dir
+
+    curated = data_dir() / "figures"
+    expected = {p.name for p in curated.glob("*.png")}
+    present = {p.name for p in figures.glob("*.png")}
+    missing = sorted(expected - present)
+    if missing:
+        print(f"debench: warning: {figures} lacks {len(missing)} of the {len(expected)} "
+              f"expected figures, which the report omits: {', '.join(missing)}. To include "
+              "them, run `debench reproduce` for the chapters that make them (figures of "
+              "converged-only studies, such as the radius/thickness 20 ones, need `--full`: "
+              "hours of FE), or `debench report --out DIR` with a DIR that has no figures/ "
+              "to use the curated figures", file=sys.stderr)
+    elif not present:
+        print(f"debench: warning: no figures in {figures}; the report has none "
+              "(`debench reproduce` makes them)", file=sys.stderr)
+    return figures

@@ -30,7 +30,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 import xarray as xr
-from debench.reference import catalogue, cli, report
+from debench.reference import builds, catalogue, cli, regeneration, report
 
 pytestmark = pytest.mark.skipif(
     not sys.platform.startswith("linux"),
@@ -105,7 +105,7 @@ def test_jobs_2_builds_at_once_and_writes_what_jobs_1_writes(tmp_path, monkeypat
              "pool": lambda c: _stub_module(c, barrier=barrier, pid_dir=pid_dir)}
     outs = {}
     for mode, jobs in (("serial", "1"), ("pool", "2")):
-        monkeypatch.setattr(cli, "_builder", stubs[mode])
+        monkeypatch.setattr(builds, "builder", stubs[mode])
         out = tmp_path / mode
         code, stdout, stderr = _run(["reproduce", "ch2", "ch3", "--jobs", jobs, "--out",
                                      str(out)], capsys)
@@ -121,7 +121,7 @@ def test_jobs_2_builds_at_once_and_writes_what_jobs_1_writes(tmp_path, monkeypat
         "stub_ch2_appendix.nc", "stub_ch3.nc"}
     for name in files:
         if name.endswith(".nc"):
-            assert cli.compare_with_curated(b / name, a).endswith("matches curated")
+            assert regeneration.compare_with_curated(b / name, a).endswith("matches curated")
         else:
             assert (a / name).read_text() == (b / name).read_text()
     summary = [ln for ln in out_a.splitlines() if ln.startswith("report:")]
@@ -148,7 +148,7 @@ def test_write_data_from_two_chapters_at_once_keeps_the_manifest_complete(
     monkeypatch.setattr(datacard, "write", lambda out=None: Path(out) / "README.md")
     monkeypatch.setattr(report, "write_report", lambda out, results, **kw: Path(out) / "R.md")
     barrier = multiprocessing.get_context("fork").Barrier(2)
-    monkeypatch.setattr(cli, "_builder", lambda c: _stub_module(c, barrier=barrier))
+    monkeypatch.setattr(builds, "builder", lambda c: _stub_module(c, barrier=barrier))
     code, _, stderr = _run(["reproduce", "ch2", "ch3", "--jobs", "2", "--write-data",
                             "--out", str(tmp_path / "report")], capsys)
     assert code == 0, stderr
@@ -172,7 +172,7 @@ def test_a_failing_chapter_stops_the_command_with_its_message(tmp_path, monkeypa
 
         return SimpleNamespace(build=slow)
 
-    monkeypatch.setattr(cli, "_builder", builder)
+    monkeypatch.setattr(builds, "builder", builder)
     started = time.monotonic()
     code, _, stderr = _run(["reproduce", "ch2", "ch3", "--jobs", "2", "--out",
                             str(tmp_path / "out")], capsys)
@@ -180,7 +180,7 @@ def test_a_failing_chapter_stops_the_command_with_its_message(tmp_path, monkeypa
     assert "debench: error: RuntimeError: stub failure in ch3" in stderr
     assert time.monotonic() - started < BARRIER_TIMEOUT_S / 2 and not done.exists()
     # the serial path fails with the same line
-    monkeypatch.setattr(cli, "_builder", lambda c: _stub_module(c, fail=c == "ch3"))
+    monkeypatch.setattr(builds, "builder", lambda c: _stub_module(c, fail=c == "ch3"))
     code1, _, stderr1 = _run(["reproduce", "ch2", "ch3", "--jobs", "1", "--out",
                               str(tmp_path / "out1")], capsys)
     assert code1 == code
@@ -190,12 +190,12 @@ def test_a_failing_chapter_stops_the_command_with_its_message(tmp_path, monkeypa
 def test_a_failing_chapter_raises_its_exception_with_the_pool_traceback(tmp_path, monkeypatch):
     """With ``--debug`` the exception itself is raised; its cause carries the traceback of
     the pool process (where the builder raised)."""
-    monkeypatch.setattr(cli, "_builder", lambda c: _stub_module(c, fail=c == "ch3"))
+    monkeypatch.setattr(builds, "builder", lambda c: _stub_module(c, fail=c == "ch3"))
     with pytest.raises(RuntimeError, match="stub failure in ch3") as info:
         cli.main(["--debug", "reproduce", "ch2", "ch3", "--jobs", "2", "--out",
                   str(tmp_path)])
     cause = info.value.__cause__
-    assert isinstance(cause, cli.ChapterTraceback)
+    assert isinstance(cause, builds.ChapterTraceback)
     assert "ch3 failed in a pool process" in str(cause) and "in build" in str(cause)
 
 
@@ -206,8 +206,8 @@ def test_jobs_below_one_is_a_usage_error_naming_the_argument(jobs, tmp_path, cap
     assert code == cli.EXIT_USAGE
     assert stderr.startswith(f"debench: error: --jobs {jobs}: must be an integer >= 1")
     with pytest.raises(ValueError, match="--jobs"):
-        cli.parse_jobs(int(jobs))
-    assert cli.parse_jobs(None) == (os.cpu_count() or 1) and cli.parse_jobs(3) == 3
+        builds.parse_jobs(int(jobs))
+    assert builds.parse_jobs(None) == (os.cpu_count() or 1) and builds.parse_jobs(3) == 3
 
 
 def test_the_catalogue_builder_gets_the_commands_evaluation_and_ch5_dataset(
@@ -229,7 +229,7 @@ def test_the_catalogue_builder_gets_the_commands_evaluation_and_ch5_dataset(
 
     modules = {"catalogue": SimpleNamespace(build=catalogue_build),
                "ch5": SimpleNamespace(build=ch5_build)}
-    monkeypatch.setattr(cli, "_builder", modules.get)
+    monkeypatch.setattr(builds, "builder", modules.get)
     code, _, stderr = _run(["reproduce", "ch5", "catalogue", "--out", str(tmp_path)], capsys)
     assert code == 0, stderr
     assert len(calls) == 1 and seen["results"] == few_results
@@ -342,5 +342,5 @@ def test_real_chapters_jobs_2_match_jobs_1(tmp_path, capsys):
                                      if p.suffix in (".nc", ".png", ".svg"))
     for name in names:
         if name.endswith(".nc"):
-            assert cli.compare_with_curated(b / name, a).endswith("matches curated"), name
+            assert regeneration.compare_with_curated(b / name, a).endswith("matches curated"), name
     assert sum_a == sum_b and sum_a

@@ -1,6 +1,6 @@
 """The regeneration check of ``debench verify`` judges each variable by its own accuracy.
 
-:func:`debench.reference.cli.compare_with_curated` compares a rebuilt dataset with the
+:func:`debench.reference.regeneration.compare_with_curated` compares a rebuilt dataset with the
 curated one; a variable that states its accuracy (``accuracy_rtol``/``accuracy_atol``, as
 the in-plane and strip FE roots do) is judged by it, any other numeric variable by the
 default (``REGEN_RTOL``, ``REGEN_ATOL``).
@@ -11,13 +11,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import xarray as xr
-from debench.reference.cli import (
+from debench.reference.datasets import write_dataset
+from debench.reference.regeneration import (
     REGEN_ATOL,
     REGEN_RTOL,
     compare_with_curated,
     regeneration_tolerance,
 )
-from debench.reference.datasets import write_dataset
 
 #: the stated accuracy of the test variable: looser in atol than the default, tighter in
 #: rtol (values O(1)), as the FE roots of the in-plane and strip datasets
@@ -90,7 +90,7 @@ def test_values_are_judged_by_their_stored_tolerance_and_residuals_by_size(tmp_p
     method matches when regenerated 1e-9 away (the default 1e-12 floor would call it
     different); beyond its tolerance it differs. A residual of round-off size matches when
     it changes within RESIDUAL_GROWTH of its size, and differs when it grows past it."""
-    from debench.reference.cli import RESIDUAL_GROWTH
+    from debench.reference.regeneration import RESIDUAL_GROWTH
 
     value, tol = np.array([1e-16, 2.0]), np.array([1e-7, 1e-7])
     res = np.array([3e-12, 6e-12])

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from debench.reference import cite, cli
+from debench.reference import builds, cite, cli
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -185,7 +185,7 @@ def test_reproduce_ends_with_a_summary(tmp_path, monkeypatch, capsys):
         path.write_text("x")
         return [path]
 
-    monkeypatch.setattr(cli, "_builder", lambda chapter: SimpleNamespace(build=build))
+    monkeypatch.setattr(builds, "builder", lambda chapter: SimpleNamespace(build=build))
     monkeypatch.setattr(catalogue, "evaluate_all", lambda progress=None: [])
     monkeypatch.setattr(report, "write_report", lambda out, results, **kw: Path(out) / "R.md")
     monkeypatch.setattr(report, "summary_line", lambda results: "stub")

@@ -1,0 +1,255 @@
+"""How ``debench reproduce`` builds chapters: each chapter's builder module, built serially
+in the command's process or concurrently in a pool of processes (longest first, each
+chapter's output printed together), and the catalogue builder last, from the command's one
+catalogue evaluation."""
+
+from __future__ import annotations
+
+import importlib
+import inspect
+import os
+import sys
+from pathlib import Path
+
+from debench.reference.results_files import UsageError
+
+
+def builder(chapter: str):
+    """The builder module of ``chapter`` (``debench.reference.builders.<chapter>``), or None
+    when the chapter has none."""
+    try:
+        return importlib.import_module(f"debench.reference.builders.{chapter}")
+    except ModuleNotFoundError as exc:
+        if exc.name == f"debench.reference.builders.{chapter}":
+            return None
+        raise
+
+
+#: CPU seconds of each builder's default build, one thread, FE tasks serial in the
+#: chapter's process (measured in one `debench reproduce --jobs 2` on the 2-core
+#: development machine, heavily loaded, so upper bounds): `debench reproduce` starts the
+#: longest first, so that no long chapter starts last. Only the order depends on these
+#: numbers; a chapter not listed counts as :data:`UNLISTED_BUILD_CPU_S`.
+BUILD_CPU_S = {
+    "ch3_fe_thickness": 96.3, "ch5_axisym": 118.5, "ch5_axisym_path": 71.0, "ch5": 70.7,
+    "ch5_axisym_methods": 12.0,
+    "ch4_fe": 32.8, "ch4": 28.3,
+    "ch5_thickness": 26.7, "ch5_methods": 23.3, "ch4_inplane": 16.9, "ch3": 9.0,
+    "ch3_fe": 7.2, "ch2_appendix": 0.7, "ch5_imperfection": 0.0, "ch5_wrinkling": 0.0,
+}
+UNLISTED_BUILD_CPU_S = 60.0
+
+
+def parse_jobs(value: int | None) -> int:
+    """The ``--jobs`` of ``debench reproduce``: how many chapters are built at once (pool
+    processes), an integer >= 1; None means the number of cores. Anything else is a
+    :class:`UsageError` naming the argument."""
+    if value is None:
+        return os.cpu_count() or 1
+    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+        raise UsageError(f"--jobs {value!r}: must be an integer >= 1 (processes building "
+                         "chapters at once)")
+    return value
+
+
+def _scheduler_option(mod, scheduler: str | None) -> dict:
+    """The ``scheduler`` keyword for a builder that runs its own FE tasks (none for others)."""
+    if scheduler is None or "scheduler" not in inspect.signature(mod.build).parameters:
+        return {}
+    return {"scheduler": scheduler}
+
+
+class _Built:
+    """What a chapter's build in a pool process sends back: the files written, the
+    chapter's own output (stdout, stderr), its CPU and wall seconds, and on failure the
+    exception and its traceback text."""
+
+    def __init__(self, chapter: str):
+        self.chapter = chapter
+        self.paths: list[Path] | None = []
+        self.stdout = self.stderr = ""
+        self.cpu = self.wall = 0.0
+        self.error: BaseException | None = None
+        self.traceback = ""
+
+
+class ChapterTraceback(Exception):
+    """The traceback of a chapter that failed in a pool process (the ``__cause__`` of the
+    exception re-raised in the command's own process)."""
+
+
+def _process_cpu() -> float:
+    import resource
+
+    own = resource.getrusage(resource.RUSAGE_SELF)
+    return own.ru_utime + own.ru_stime
+
+
+def _init_pool_process() -> None:
+    """A pool process: BLAS/OpenMP and NGSolve threads as configured for the command
+    (:func:`debench.threads.limit_threads` reads ``DEBENCH_THREADS``, which the command
+    set), no progress bars."""
+    from debench.threads import limit_threads
+
+    limit_threads()
+    os.environ["TQDM_DISABLE"] = "1"
+
+
+def _build_captured(chapter: str, out: str, full: bool, scheduler: str | None) -> _Built:
+    """Build one chapter in a pool process with its output captured (file descriptors 1 and
+    2 and ``sys.stdout``/``sys.stderr``), so that the command prints each chapter's lines
+    together; an exception is returned, not raised (with its traceback text)."""
+    import pickle
+    import tempfile
+    import time
+    import traceback
+
+    built = _Built(chapter)
+    cpu0, wall0 = _process_cpu(), time.monotonic()
+    with tempfile.TemporaryFile() as fout, tempfile.TemporaryFile() as ferr:
+        sys.stdout.flush()
+        sys.stderr.flush()
+        saved_fds, saved_streams = (os.dup(1), os.dup(2)), (sys.stdout, sys.stderr)
+        os.dup2(fout.fileno(), 1)
+        os.dup2(ferr.fileno(), 2)
+        sys.stdout = open(1, "w", encoding="utf-8", errors="replace", closefd=False)  # noqa: SIM115
+        sys.stderr = open(2, "w", encoding="utf-8", errors="replace", closefd=False)  # noqa: SIM115
+        try:
+            mod = builder(chapter)
+            if mod is None:
+                built.paths = None
+            else:
+                built.paths = list(mod.build(Path(out), full=full,
+                                             **_scheduler_option(mod, scheduler)))
+        except Exception as exc:  # noqa: BLE001 - sent back and re-raised by the command
+            built.traceback = traceback.format_exc()
+            try:
+                pickle.loads(pickle.dumps(exc))
+                built.error = exc
+            except Exception:  # noqa: BLE001 - an exception that cannot cross processes
+                built.error = RuntimeError(f"{type(exc).__name__}: {exc}")
+        finally:
+            sys.stdout.flush()
+            sys.stderr.flush()
+            sys.stdout.close()
+            sys.stderr.close()
+            sys.stdout, sys.stderr = saved_streams
+            for fd, saved in zip((1, 2), saved_fds, strict=True):
+                os.dup2(saved, fd)
+                os.close(saved)
+        for f, attr in ((fout, "stdout"), (ferr, "stderr")):
+            f.seek(0)
+            setattr(built, attr, f.read().decode("utf-8", errors="replace"))
+    built.cpu, built.wall = _process_cpu() - cpu0, time.monotonic() - wall0
+    return built
+
+
+def _pool_context():
+    """``fork`` where the platform has it (Linux: no re-import of the package in every pool
+    process), else ``spawn``."""
+    import multiprocessing
+
+    methods = multiprocessing.get_all_start_methods()
+    return multiprocessing.get_context("fork" if sys.platform.startswith("linux")
+                                       and "fork" in methods else "spawn")
+
+
+def _announce(chapter: str, full: bool, out: Path) -> None:
+    print(f"{chapter}: building{' (full)' if full else ''} into {out} ...", file=sys.stderr)
+
+
+def build_serially(chapters: list[str], out: Path, full: bool,
+                    scheduler: str | None) -> dict[str, list[Path]]:
+    """Build ``chapters`` one after the other in this process (``--jobs 1``)."""
+    written: dict[str, list[Path]] = {}
+    for chapter in chapters:
+        mod = builder(chapter)
+        if mod is None:
+            print(f"{chapter}: no builder yet (pending)", file=sys.stderr)
+            continue
+        _announce(chapter, full, out)
+        written[chapter] = list(mod.build(out, full=full, **_scheduler_option(mod, scheduler)))
+        for p in written[chapter]:
+            print(f"  wrote {p}", file=sys.stderr)
+    return written
+
+
+def _stop_pool(executor) -> None:
+    """Cancel the chapters not started and end the pool processes building the others."""
+    import multiprocessing
+
+    executor.shutdown(wait=False, cancel_futures=True)
+    for proc in multiprocessing.active_children():
+        proc.terminate()
+    for proc in multiprocessing.active_children():
+        proc.join(timeout=10)
+
+
+def build_concurrently(chapters: list[str], out: Path, full: bool, scheduler: str | None,
+                        jobs: int) -> dict[str, list[Path]]:
+    """Build ``chapters`` in a pool of ``jobs`` processes, longest first (:data:`BUILD_CPU_S`).
+
+    Each chapter's output is printed together when it finishes (a progress line per chapter
+    on a terminal). Builders that run their own FE tasks run them serially in their pool
+    process unless ``scheduler`` names one (no cluster inside a pool). A chapter that
+    raises stops the command: the chapters not started are cancelled, those running are
+    ended, and its exception is raised here (its traceback as the cause).
+    """
+    import time
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    order = sorted(chapters, key=lambda c: -BUILD_CPU_S.get(c, UNLISTED_BUILD_CPU_S))
+    started = time.monotonic()
+    written: dict[str, list[Path]] = {}
+    tty = sys.stderr.isatty()
+    executor = ProcessPoolExecutor(max_workers=min(jobs, len(order)), mp_context=_pool_context(),
+                                   initializer=_init_pool_process)
+    try:
+        futures = {executor.submit(_build_captured, c, str(out), full, scheduler or "serial"): c
+                   for c in order}
+        for k, fut in enumerate(as_completed(futures), 1):
+            built = fut.result()
+            if built.paths is None:
+                print(f"{built.chapter}: no builder yet (pending)", file=sys.stderr)
+                continue
+            _announce(built.chapter, full, out)
+            sys.stdout.write(built.stdout)
+            sys.stderr.write(built.stderr)
+            if built.error is not None:
+                raise built.error from ChapterTraceback(
+                    f"{built.chapter} failed in a pool process:\n{built.traceback}")
+            written[built.chapter] = built.paths
+            for p in built.paths:
+                print(f"  wrote {p}", file=sys.stderr)
+            if tty:
+                print(f"[{k}/{len(order)}] {built.chapter} done: {built.cpu:.0f} s CPU, "
+                      f"{built.wall:.0f} s; {time.monotonic() - started:.0f} s since the start",
+                      file=sys.stderr)
+            sys.stderr.flush()
+    except BaseException:      # a chapter failed, or an interrupt: nothing else runs on
+        sys.stderr.flush()
+        _stop_pool(executor)
+        raise
+    executor.shutdown(wait=True)
+    return {c: written[c] for c in chapters if c in written}
+
+
+def build_catalogue(out: Path, full: bool, results, by_chapter) -> list[Path]:
+    """The catalogue builder with the command's catalogue evaluation ``results``; its Chapter
+    5 model guard takes the coarsest critical voltages from the ``ch5`` dataset this command
+    built, when it built one with the curated dataset's parameters
+    (:func:`debench.reference.producers.ch5.recomputed_in_this_command`)."""
+    import contextlib
+
+    mod = builder("catalogue")
+    _announce("catalogue", full, out)
+    fresh = [p for p in by_chapter.get("ch5", []) if p.name == "ch5_critical_voltage.nc"]
+    with contextlib.ExitStack() as stack:
+        if fresh:
+            from debench.reference.producers.ch5 import recomputed_in_this_command
+
+            stack.enter_context(recomputed_in_this_command(fresh[0]))
+        paths = list(mod.build(out, full=full, results=results))
+    for p in paths:
+        print(f"  wrote {p}", file=sys.stderr)
+    return paths

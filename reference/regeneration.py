@@ -1,0 +1,102 @@
+"""Whether a regenerated dataset matches its curated counterpart, each numeric variable
+within the accuracy it states (``debench reproduce`` and ``debench verify``)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+#: Default agreement of a regenerated numeric variable with its curated counterpart, for
+#: variables that state no accuracy of their own: the builders' solvers stop at relative
+#: tolerances <= 1e-10 and a recomputation on another CPU/BLAS moves their values by
+#: < 1e-8 relative (measured across OpenBLAS kernels), so 1e-6 keeps a 100x margin; the
+#: absolute floor 1e-12 covers values that vanish (differences of equal quantities)
+REGEN_RTOL = 1e-6
+REGEN_ATOL = 1e-12
+
+
+def regeneration_tolerance(attrs) -> tuple[float, float]:
+    """(rtol, atol) to which a regenerated variable must match its curated counterpart.
+
+    A variable that states its own accuracy (attributes ``accuracy_rtol`` and/or
+    ``accuracy_atol``, the producer's :class:`~debench.reference.catalogue.Accuracy` of
+    its values) is judged by it, tighter or looser than the default; any other numeric
+    variable by :data:`REGEN_RTOL` and :data:`REGEN_ATOL`.
+    """
+    if "accuracy_rtol" not in attrs and "accuracy_atol" not in attrs:
+        return REGEN_RTOL, REGEN_ATOL
+    rtol, atol = (float(attrs.get(k, 0.0)) for k in ("accuracy_rtol", "accuracy_atol"))
+    if not (np.isfinite(rtol) and np.isfinite(atol) and rtol >= 0 and atol >= 0
+            and rtol + atol > 0):
+        raise ValueError(f"accuracy_rtol and accuracy_atol must be finite, >= 0 and not both "
+                         f"0, got {rtol}, {atol}")
+    return rtol, atol
+
+
+#: per dataset, the variables compared element by element within the absolute tolerance
+#: stored beside them: the store of our values (:mod:`debench.reference.values`), each value
+#: with the tolerance its method supports (the thesis values beside their printed-digit
+#: tolerances are literals: compared by the default, i.e. equal)
+TOLERANCE_VARIABLES = {"our_values": {"value": "tolerance"}}
+#: a residual (backward error, Newton residual) of a converged solve is round-off: it
+#: reproduces in size, not in digits (measured: eigen-residuals of ~3e-12 regenerate
+#: within a factor 2). It matches when it stays below RESIDUAL_GROWTH x its curated value
+#: (or REGEN_ATOL): a solve that got worse by an order of magnitude still shows.
+RESIDUAL_GROWTH = 10.0
+
+
+def is_residual(name: str, attrs) -> bool:
+    """Whether a variable is a residual of a solve: quality information
+    (``coverage_content_type``) named a residual."""
+    return (attrs.get("coverage_content_type") == "qualityInformation"
+            and "residual" in name)
+
+
+def _numeric_match(name: str, var: str, new, old) -> bool:
+    a, b = np.asarray(old[var].values, float), np.asarray(new[var].values, float)
+    same_nan = np.array_equal(np.isnan(a), np.isnan(b))
+    ok = ~np.isnan(a)
+    tol_var = TOLERANCE_VARIABLES.get(name, {}).get(var)
+    if tol_var is not None and tol_var in old and old[tol_var].shape == old[var].shape:
+        tol = np.asarray(old[tol_var].values, float)
+        return same_nan and bool(np.all(np.abs(b[ok] - a[ok]) <= tol[ok]))
+    if is_residual(var, old[var].attrs):
+        return same_nan and bool(np.all(np.abs(b[ok]) <= np.maximum(
+            RESIDUAL_GROWTH * np.abs(a[ok]), REGEN_ATOL)))
+    rtol, atol = regeneration_tolerance(old[var].attrs)
+    return bool(np.allclose(b, a, rtol=rtol, atol=atol, equal_nan=True))
+
+
+def compare_with_curated(path: Path, curated_dir: Path) -> str:
+    """One line saying whether a regenerated dataset matches the curated one.
+
+    Numeric variables must agree within the accuracy they state: a variable with a
+    per-element absolute tolerance beside it (the store of our values: ``value`` within
+    ``tolerance``, :data:`TOLERANCE_VARIABLES`) within that tolerance; a residual
+    (:func:`is_residual`) by its size; any other within :func:`regeneration_tolerance`
+    of the curated variable (``|new - old| <= atol + rtol |old|``); NaN where the curated
+    value is NaN. Text variables exactly.
+    """
+    from debench.reference.datasets import DatasetError, read_dataset
+
+    curated = curated_dir / path.name
+    if not curated.exists():
+        return f"{path.name}: no curated counterpart in {curated_dir}"
+    try:
+        new, old = read_dataset(path), read_dataset(curated)
+    except DatasetError as exc:
+        return f"{path.name}: cannot compare ({exc})"
+    if new.attrs.get("parameters") != old.attrs.get("parameters"):
+        return f"{path.name}: not comparable (different parameters, e.g. mesh resolution)"
+    bad = []
+    for var in old.data_vars:
+        if var not in new:
+            bad.append(f"{var} missing")
+        elif np.issubdtype(old[var].dtype, np.number):
+            if old[var].shape != new[var].shape or not _numeric_match(
+                    path.stem, var, new, old):
+                bad.append(var)
+        elif not np.array_equal(new[var].values, old[var].values):
+            bad.append(var)
+    return f"{path.name}: {'matches curated' if not bad else 'DIFFERS in ' + ', '.join(bad)}"
