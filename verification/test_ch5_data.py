@@ -240,7 +240,7 @@ def test_curated_r20_wrinkling_search():
     beyond W_AXISYMMETRIC_LIMIT; at the stated R/t0 = 10 the lowest non-axisymmetric
     eigenvalue stays above DIP_RATIO_R10 of its maximum up to pull-in. Every path reached
     its voltage maximum or says why it stopped."""
-    from debench.reference.producers.ch5 import wrinkling_search
+    from debench.reference.producers.ch5_hypotheses import wrinkling_search
     from debench.reference.studies.ch5 import lowest_nonaxisymmetric
 
     ds = read_dataset("ch5_wrinkling")
@@ -283,7 +283,7 @@ def test_curated_r20_imperfection_sensitivity():
     turns there while on h = 2.5 t0 the voltage still rises; the largest seed passes on
     both meshes; the maxima on h = 2 t0 rise with the seed (no imperfection sensitivity of
     the seeded mode)."""
-    from debench.reference.producers.ch5 import hypothesis_wrinkling_failure
+    from debench.reference.producers.ch5_hypotheses import hypothesis_wrinkling_failure
     from debench.reference.studies.ch5_imperfection import W_SPLIT, wrinkling_governs
 
     ds = read_dataset("ch5_imperfection")

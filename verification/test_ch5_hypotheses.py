@@ -115,7 +115,7 @@ def test_hypothesis_status_flips_with_the_numbers(monkeypatch):
     ratio's mesh error), the combined thickness hypothesis no longer gives 0.012."""
     from dataclasses import replace
 
-    from debench.reference.producers import ch5
+    from debench.reference.producers import ch5_hypotheses as ch5
 
     ids = catalogue.by_id()
     e = ids["ch5.hypothesis.radius_kept_t1_normalisation.critical_voltage_t0p5_ogden"]
@@ -132,7 +132,7 @@ def test_no_offered_hypothesis_leaves_its_target_unmoved():
     and the producer refuses it."""
     from dataclasses import replace
 
-    from debench.reference.producers import ch5
+    from debench.reference.producers import ch5_hypotheses as ch5
 
     offered = [e for e in catalogue.load() if e.producer.endswith(":hypothesis_mu_in_mpa")]
     assert offered
@@ -147,7 +147,7 @@ def test_nominal_field_at_pullin_is_near_the_neo_hookean_field_but_not_the_ogden
     within 0.5 % of the printed 41.6 V/um but outside its printed digits, and the printed
     pull-in voltage 0.268 (mu = 1 MPa) brackets it; the same definition for the Ogden film
     is more than 40 % below the printed 47.6 V/um."""
-    from debench.reference.producers import ch5
+    from debench.reference.producers import ch5_hypotheses as ch5
 
     e = catalogue.by_id()["ch5.hypothesis.nominal_field.field_t1_nh"]
     out = ch5.hypothesis_nominal_field(e)

@@ -14,7 +14,8 @@ import numpy as np
 from debench.reference.catalogue import Entry, Outcome
 from debench.reference.datasets import read_dataset
 from debench.reference.producers import ch5
-from debench.reference.producers.ch5 import _case, _ramps, _wrinkling, wrinkling_search
+from debench.reference.producers.ch5 import _case, _ramps
+from debench.reference.producers.ch5_hypotheses import wrinkling_records, wrinkling_search
 
 #: the accuracy of every value these producers read from the curated datasets (as for
 #: every Chapter 5 dataset value: :data:`debench.reference.producers.ch5.ACCURACY`)
@@ -167,7 +168,7 @@ def axisym_vs_3d_wrinkling(entry: Entry) -> Outcome:
     instability: the same wavenumber, at a deflection within the 3D meshes' difference plus
     the converged error estimate?"""
     got = _first_of("ogden_r20")
-    found = wrinkling_search(_wrinkling())
+    found = wrinkling_search(wrinkling_records())
     w3, w3b = found["w_over_t0"], found["w_over_t0_second"]
     same_n = got["first"] == 1 and found["n"] == got["n_first"]
     agree = bool(same_n and abs(w3 - got["w_first"]) <= abs(w3 - w3b) + got["w_first_error"])
