@@ -23,9 +23,9 @@ Two quantities of one problem at once (here the reference values themselves):
 
 >>> from debench.reference import problems
 >>> prob = problems.get("ch5_pullin")
->>> mine = {q.name: problems.reference_at(prob, q, {"case": "nh_r10"}).value
-...         for q in prob.quantities}
->>> assert_matches("ch5_pullin", None, mine, {"case": "nh_r10"}).quantities
+>>> films = {"case": ["nh_r10", "ogden_r10"]}     # every film: full coverage
+>>> mine = {q.name: problems.reference_at(prob, q, films).value for q in prob.quantities}
+>>> assert_matches("ch5_pullin", None, mine, films).quantities
 ('v_pullin', 'w_pullin')
 """
 

@@ -172,20 +172,21 @@ def test_several_quantities_are_checked_each_against_its_own_reference():
     from debench.reference import problems
 
     p = problems.get("ch5_pullin")
-    ref = {q.name: problems.reference_at(p, q, {"case": "nh_r10"}) for q in p.quantities}
+    films = {"case": ["nh_r10", "ogden_r10"]}      # both films: full coverage
+    ref = {q.name: problems.reference_at(p, q, films) for q in p.quantities}
     half = {n: r.value + 0.5 * r.tolerance for n, r in ref.items()}
-    ok = assert_matches("ch5_pullin", None, half, {"case": "nh_r10"})
+    ok = assert_matches("ch5_pullin", None, half, films)
     assert ok.quantities == ("v_pullin", "w_pullin") and ok.passed
     assert ok["w_pullin"].ratio.max() == pytest.approx(0.5)
     off = {**half, "w_pullin": ref["w_pullin"].value + 2.0 * ref["w_pullin"].tolerance}
     with pytest.raises(AssertionError, match=r"1 of 2 quantities failed \(w_pullin\)"):
-        assert_matches("ch5_pullin", None, off, {"case": "nh_r10"})
-    res = compare("ch5_pullin", None, off, {"case": "nh_r10"}, rtol={"w_pullin": 1e-3})
+        assert_matches("ch5_pullin", None, off, films)
+    res = compare("ch5_pullin", None, off, films, rtol={"w_pullin": 1e-3})
     assert res.passed and res["v_pullin"].tolerance_source.startswith("stated")
     with pytest.raises(ValueError, match="quantity must be None"):
-        compare("ch5_pullin", "v_pullin", half, {"case": "nh_r10"})
+        compare("ch5_pullin", "v_pullin", half, films)
     with pytest.raises(ValueError, match="rtol names quantities"):
-        compare("ch5_pullin", None, half, {"case": "nh_r10"}, rtol={"v_cr": 1e-3})
+        compare("ch5_pullin", None, half, films, rtol={"v_cr": 1e-3})
     with pytest.raises(ValueError, match="do not share their coordinates"):
         compare("ch2_kernel_states", None, {"W": 1.0, "sigma": 1.0},
                 {"material": "x", "state": "y"})

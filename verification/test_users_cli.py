@@ -196,15 +196,24 @@ def test_reproduce_ends_with_a_summary(tmp_path, monkeypatch, capsys):
 
 
 def _pullin_reference():
-    """ch5_pullin's reference value and stated tolerance of each quantity (case nh_r10)."""
+    """ch5_pullin's reference values and stated tolerances of each quantity, both films
+    (PULLIN_FILMS, in that order)."""
     from debench.reference import problems
 
     p = problems.get("ch5_pullin")
-    return {q.name: problems.reference_at(p, q, {"case": "nh_r10"}) for q in p.quantities}
+    return {q.name: problems.reference_at(p, q, {"case": list(PULLIN_FILMS)})
+            for q in p.quantities}
+
+
+#: the cases of ch5_pullin: a file covering both is complete
+PULLIN_FILMS = ("nh_r10", "ogden_r10")
 
 
 def _pullin_csv(path, v, w, header="case,v_pullin [1],w_pullin [1]"):
-    path.write_text(f"{header}\nnh_r10,{v!r},{w!r}\n")
+    """A file of one row per film of PULLIN_FILMS (``v``, ``w``: a value per film)."""
+    rows = "".join(f"{c},{float(a)!r},{float(b)!r}\n"
+                   for c, a, b in zip(PULLIN_FILMS, v, w, strict=True))
+    path.write_text(f"{header}\n{rows}")
     return str(path)
 
 
@@ -213,15 +222,15 @@ def test_check_two_quantities_in_one_file(tmp_path, capsys):
     reference and tolerance (half of each off the reference passes), the per-quantity
     table lists both; w_pullin 2 tolerances off fails (exit 1), the verdict names it."""
     ref = _pullin_reference()
-    v, w = (float(ref[n].value[0] + 0.5 * ref[n].tolerance[0])
-            for n in ("v_pullin", "w_pullin"))
+    v, w = (ref[n].value + 0.5 * ref[n].tolerance for n in ("v_pullin", "w_pullin"))
     assert cli.main(["check", "ch5_pullin", _pullin_csv(tmp_path / "ok.csv", v, w)]) == 0
     out = capsys.readouterr().out
     assert "ch5_pullin MATCHES: all 2 quantities" in out
     table = out.split("per quantity (2):", 1)[1].splitlines()[2:4]
     assert sorted(r.split()[0] for r in table) == ["v_pullin", "w_pullin"]
-    assert out.count("coverage complete (1/1") == 2
-    w_bad = float(ref["w_pullin"].value[0] + 2.0 * ref["w_pullin"].tolerance[0])
+    assert out.count("coverage complete (2/2") == 2
+    w_bad = w.copy()                     # the neo-Hookean film's w_pullin 2 tolerances off
+    w_bad[0] = ref["w_pullin"].value[0] + 2.0 * ref["w_pullin"].tolerance[0]
     bad = _pullin_csv(tmp_path / "bad.csv", v, w_bad)
     assert cli.main(["check", "ch5_pullin", bad]) == 1
     out = capsys.readouterr().out
