@@ -1,7 +1,7 @@
 """Does the wavenumber-n eigenvalue along the axisymmetric path depend on the state the
 deflection-controlled solve starts from?  (The Ogden R/t0 = 20 film of the path study.)
 
-    python tools/probe_crossing_start_dependence.py ORDER LAYERS N
+    python tools/probe_crossing_start_dependence.py ORDER LAYERS N [--tight]
 
 follows the path of ``ogden_r20`` (:func:`debench.reference.studies.ch5_axisym_tasks.path_task`'s
 settings) to w = 9.2 t0 with the eigenvalue of wavenumber N recorded, locates its zero
@@ -23,8 +23,18 @@ this zero by several 1e-3 t0: the crossings of the coarse discretisations are re
 only to that (the curated n = 12 crossings moved by 4.9e-3 t0 at orders 2 and 3 (6 layers),
 3.9e-4 at order 4 with 6 layers and 2e-7 with 4 layers, when the path records and the root
 finder changed).
-Not yet known: whether an almost singular wavenumber-0 direction under deflection control
-(state error = residual / its stiffness) or a neighbouring axisymmetric branch is behind it.
+The cause is the Newton tolerance: at w = 8.633389 the state from above stopped after one
+iteration at a residual of 7.0e-12 of its reference (just inside NEWTON_RTOL = 1e-11), the
+one from below after four at 1.5e-13; their states differ by 3e-6 relative, and the lowest
+wavenumber-0 eigenvalue at fixed voltage there is only 8.7e-4 (a soft direction: state
+error ~ residual / stiffness). One more Newton iteration from each (``rtol=1e-15``: both stop
+at ~1e-16) gives the same state (voltages 1.4e-10 apart) and lambda_12 = -1.50978e-5 and
+-1.51005e-5 (before: -1.412e-5 from below, +3.03e-5 from above). ``--tight`` repeats every
+evaluation with that extra Newton solve: measured (97 s CPU for the path), the two starts
+then agree to 3e-9 in lambda_12 and 1e-9 in v at every deflection, lambda_12 falls
+monotonically, and its zero lies between 8.629389 (+5.31e-7) and 8.631389 (-7.29e-6):
+8.62952 t0 by linear interpolation, the value of the curated file written before the
+path records changed (8.629524), 4.9e-3 t0 below the current one (8.634389).
 """
 
 from __future__ import annotations
@@ -52,7 +62,8 @@ W_STOP = 9.2
 
 def main(argv: list[str]) -> int:
     limit_threads()
-    order, layers, n = (int(a) for a in argv)
+    tight = "--tight" in argv
+    order, layers, n = (int(a) for a in argv if a != "--tight")
     mat_name, t0, aspect, _, w_from, spacing = CASES["ogden_r20"]
     mat = material(mat_name)
     disc = ax.AxisymDiscretisation(order=order, edge_layers=layers, face_layers=layers,
@@ -75,9 +86,12 @@ def main(argv: list[str]) -> int:
     for side, start in (("below", rec[i]), ("above", rec[i + 1])):
         for w in zero.w + OFFSETS:
             deflect_from(model, (start.state, start.v), start.w, float(w))
+            if tight:
+                model.newton_deflection(float(w), rtol=1e-15)
             lam = float(model.spectrum(n, nev=1).lam[0])
             print(f"from the record {side} (w = {start.w:.4f}): w = {w:.6f} "
-                  f"lambda_{n} = {lam:+.6e} v = {float(model.v):.9f}")
+                  f"lambda_{n} = {lam:+.6e} v = {float(model.v):.9f} "
+                  f"(Newton residual {model.last_newton['residual_rel']:.1e} relative)")
     return 0
 
 
