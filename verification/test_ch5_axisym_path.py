@@ -170,6 +170,11 @@ def test_r10_pullin_ratio_and_deflections(ds):
     # the error bound (first order, from the two voltages' estimates: 4.8e-6 in the curated
     # data) is two orders of magnitude below the printed ratio's band (4.4e-3)
     assert 0 < ratio.details["ratio_error"] < entry.implied_tolerance() / 100
+    # ... and it is the first-order bound of the two stored voltage error estimates
+    vo, vn = float(v.sel(case="ogden_r10")), float(v.sel(case="nh_r10"))
+    eo, en = (float(ds.v_max_error.sel(case=c)) for c in ("ogden_r10", "nh_r10"))
+    assert ratio.details["ratio_error"] == pytest.approx(vo / vn * (eo / vo + en / vn),
+                                                         rel=1e-12)
     disp = catalogue.evaluate(catalogue.by_id()["ch5.pullin_displacement.t1"])
     assert disp.value == float(w.sel(case="ogden_r10")) * 1.0     # t0 = 1 mm
     for film in ("nh_r10", "ogden_r10"):
