@@ -292,6 +292,22 @@ def test_3d_eigenvalues_of_wavenumbers_0_and_1_approach_the_axisymmetric_ones():
     assert 0 < e0f < e0c and 0 < e1f < e1c
 
 
+def test_newton_next_to_the_critical_voltage_takes_its_best_iterate_when_it_oscillates():
+    """The Ogden film at order 2 with 2 layers: the secant's trial voltage 0.14730354 lies
+    within 1e-3 of the critical voltage, where the flat state's full Newton steps alternate
+    between ~1e-13 and ~1e-9 of the load (the near-null buckling mode); without the
+    stall rule Newton raised after 40 steps. The critical voltage now converges, between
+    the order-3 value (measured 0.14716) and 0.1 % above it."""
+    d = ax.AxisymDiscretisation(order=2, edge_layers=2, face_layers=2)
+    m = ax.AxisymModel(Plate(thickness=1e-3, aspect=10.0), Ogden(), d,
+                       with_imperfection=False)
+    m.set_voltage(0.14730354)
+    m.newton()
+    assert m.last_newton["residual_rel"] <= ax_model.NEWTON_STAGNATION_RTOL
+    r = ax.critical_voltage(Plate(thickness=1e-3, aspect=10.0), Ogden(), d)
+    assert 0.14716 < r.v < 0.14716 * 1.001
+
+
 def test_coupled_critical_voltage_lies_above_the_frozen_potential_and_initial_stress_ones():
     """Condensing the potential adds a positive semi-definite term to the tangent (the
     enthalpy is a maximum in the potential), so the coupled critical voltage is never below

@@ -10,6 +10,7 @@ reads its point values. Its perturbation analysis (mode forms and spectra per wa
 
 from __future__ import annotations
 
+import math
 import time
 
 import ngsolve as ngs
@@ -46,6 +47,12 @@ NEWTON_STAGNATION_RTOL = 1e-8
 residual relative to its reference: next to a singular tangent (the critical voltage of the
 flat film) the correction is dominated by round-off along the near-null mode and the
 residual stagnates at ~1e-10 .. 1e-9 of the load (measured); above it the step raises."""
+NEWTON_STALL_STEPS = 4
+"""... or when that many full steps of the local phase have not improved on the best
+iterate: next to the singular tangent the residual can alternate between ~1e-13 and
+~1e-10 .. 1e-9 of the load without converging (measured: Ogden, order 2 with 2 layers, at
+v = 0.1473, within 1e-3 of its critical voltage); the best iterate is then taken, under
+the same bound as a step without descent."""
 NEWTON_MAXIT = 40
 NEWTON_LOCAL_RTOL = 1e-4
 """Below this residual (relative to its reference) Newton takes full steps without the
@@ -188,6 +195,7 @@ class AxisymModel(ModeAnalysis):
         r = self._residual()
         rn = float(np.linalg.norm(r[fr]))
         ref = max(ref, rn)
+        best = (math.inf, None, 0)           # (residual, state, step) of the best iterate
         for it in range(maxit + 1):
             K = self._tangent()
             require_finite_step(r[fr], K, f"AxisymModel.newton at v = {self.v:.8g} (step {it})")
@@ -197,6 +205,15 @@ class AxisymModel(ModeAnalysis):
             if rn <= rtol * ref or rn <= floor:
                 self.last_newton = {"iterations": it, "residual": rn,
                                     "residual_rel": rn / ref}
+                return it
+            if rn < best[0]:
+                best = (rn, x, it)
+            elif it - best[2] >= NEWTON_STALL_STEPS and best[0] <= NEWTON_STAGNATION_RTOL * ref:
+                # the local phase oscillates along the near-null mode without improving on
+                # its best iterate: that iterate, as for a step without descent
+                self.set_state(best[1])
+                self.last_newton = {"iterations": it, "residual": best[0],
+                                    "residual_rel": best[0] / ref}
                 return it
             if it == maxit:
                 break
