@@ -420,9 +420,9 @@ def axisym_vs_3d_critical_voltage(entry: Entry) -> Outcome:
 
 
 def axisym_coarse_guards() -> list:
-    """Recompute the axisymmetric model on the coarsest discretisation of ``ch5_axisym.nc``
-    (lowest order and grading of its plan, n = 0, both films: seconds) and from it the
-    reported converged critical voltage: the recomputed coarse value plus the dataset's
+    """Recompute the axisymmetric model on the guard discretisation of ``ch5_axisym.nc``
+    (its parameters guard_order and guard_layers, n = 0, both films: seconds) and from it
+    the reported converged critical voltage: the recomputed coarse value plus the dataset's
     convergence correction (converged minus coarse). Guarded as
     ``ch5.guard.axisym.<case>.v_cr_coarse``, ``..._minus_curated`` (stored as ~0) and
     ``.v_cr_reported`` (the converged value), within the dataset's regeneration accuracy of
@@ -438,7 +438,7 @@ def axisym_coarse_guards() -> list:
 
     ds = _axisym()
     par = dataset_parameters(ds)
-    p, L = int(ds.order.values[0]), int(ds.layers.values[0])
+    p, L = int(par["guard_order"]), int(par["guard_layers"])
     disc = AxisymDiscretisation(order=p, edge_layers=L, face_layers=L, n_r=int(par["n_r"]),
                                 n_z=int(par["n_z"]), edge_zone=float(par["edge_zone"]),
                                 grading=float(par["grading"]),
@@ -449,8 +449,8 @@ def axisym_coarse_guards() -> list:
         case = str(case)
         r = axisym_critical_voltage_of(plate, ch5_axisym_tasks.material(case), disc, n=0)
         c = ds.sel(case=case, n=0)
-        stored = float(c.v_cr.sel(order=p, layers=L))
-        tol = float(c.v_cr.attrs["accuracy_atol"])
+        stored = float(c.v_cr_guard)
+        tol = float(c.v_cr_guard.attrs["accuracy_atol"])
         reason = (f"regeneration accuracy of ch5_axisym v_cr (order {p}, {L} layers): secant "
                   "root of the lowest eigenvalue, 10x the measured spread")
         key = f"ch5.guard.axisym.{case}"
