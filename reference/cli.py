@@ -490,24 +490,16 @@ class _VersionAction(argparse.Action):
         parser.exit()
 
 
-def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
-        prog="debench",
-        description="Verification and reproducibility benchmark for dielectric elastomer "
-                    "actuators (Zeng 2020).")
-    p.add_argument("--debug", action="store_true", help="show tracebacks")
-    p.add_argument("--threads", type=int, default=None, metavar="N",
-                   help="BLAS/OpenMP and NGSolve threads per process (default: "
-                        "$DEBENCH_THREADS or 1)")
-    p.add_argument("--version", action=_VersionAction,
-                   help="print version, git commit and data manifest digest, then exit")
-    sub = p.add_subparsers(dest="command", required=True)
-
+def _add_list(sub) -> None:
+    """The ``debench list`` subcommand."""
     s = sub.add_parser("list", help="list models, datasets and catalogue entries")
     s.add_argument("what", nargs="?", default="all",
                    choices=["all", "models", "datasets", "claims"])
     s.set_defaults(func=cmd_list)
 
+
+def _add_reproduce(sub) -> None:
+    """The ``debench reproduce`` subcommand."""
     s = sub.add_parser("reproduce", help="regenerate datasets, figures and the report")
     s.add_argument("chapters", nargs="*", help=f"subset of {', '.join(CHAPTERS)} or an alias "
                    "ch2 .. ch5 (default: all)")
@@ -529,6 +521,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="overwrite the curated datasets in data/ (explicit by design)")
     s.set_defaults(func=cmd_reproduce)
 
+
+def _add_verify(sub) -> None:
+    """The ``debench verify`` subcommand."""
     s = sub.add_parser("verify", help="check stored data and computed claims against the catalogue")
     s.add_argument("--json", action="store_true", help="JSON array, one object per entry")
     s.add_argument("--no-data", action="store_true",
@@ -537,12 +532,18 @@ def build_parser() -> argparse.ArgumentParser:
                    help="do not regenerate the cheap chapters to compare with data/")
     s.set_defaults(func=cmd_verify)
 
+
+def _add_report(sub) -> None:
+    """The ``debench report`` subcommand."""
     s = sub.add_parser("report", help="write the markdown report (and README table)")
     s.add_argument("--out", default=str(DEFAULT_OUT), help="directory of REPORT.md")
     s.add_argument("--readme", action="store_true", help="also regenerate the README table")
     s.add_argument("--datacard", action="store_true", help="also regenerate data/README.md")
     s.set_defaults(func=cmd_report)
 
+
+def _add_problems(sub) -> None:
+    """The ``debench problems`` subcommand."""
     s = sub.add_parser("problems", help="list reference problems or print one (spec, "
                        "reference values, accuracy)")
     s.add_argument("id", nargs="?", help="problem id (default: list all)")
@@ -552,6 +553,9 @@ def build_parser() -> argparse.ArgumentParser:
                    "everything needed to implement the problem and check it")
     s.set_defaults(func=cmd_problems)
 
+
+def _add_check(sub) -> None:
+    """The ``debench check`` subcommand."""
     s = sub.add_parser("check", help="check your results (CSV or netCDF) against a "
                        "reference problem; exit 0 match, 1 mismatch")
     s.add_argument("problem", nargs="?", help="problem id (debench problems)")
@@ -575,12 +579,31 @@ def build_parser() -> argparse.ArgumentParser:
                    "the table of the worst points is always printed")
     s.set_defaults(func=cmd_check, check_parser=s)
 
+
+def _add_cite(sub) -> None:
+    """The ``debench cite`` subcommand."""
     s = sub.add_parser("cite", help="BibTeX and CSL-JSON for a catalogue entry, dataset "
                        "or reference problem")
     s.add_argument("id", help="catalogue id, dataset name or problem id")
     s.add_argument("--format", choices=["both", "bibtex", "csl"], default="both")
     s.set_defaults(func=cmd_cite)
 
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="debench",
+        description="Verification and reproducibility benchmark for dielectric elastomer "
+                    "actuators (Zeng 2020).")
+    p.add_argument("--debug", action="store_true", help="show tracebacks")
+    p.add_argument("--threads", type=int, default=None, metavar="N",
+                   help="BLAS/OpenMP and NGSolve threads per process (default: "
+                        "$DEBENCH_THREADS or 1)")
+    p.add_argument("--version", action=_VersionAction,
+                   help="print version, git commit and data manifest digest, then exit")
+    sub = p.add_subparsers(dest="command", required=True)
+    for add in (_add_list, _add_reproduce, _add_verify, _add_report, _add_problems,
+                _add_check, _add_cite):
+        add(sub)
     # --debug is accepted after the subcommand too (SUPPRESS keeps a top-level --debug)
     for sp in sub.choices.values():
         sp.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
