@@ -171,9 +171,10 @@ def cmd_reproduce(args) -> int:
 
 
 # --------------------------------------------------------------------------- verify
-def regenerate_and_compare(chapters, *, quiet: bool = False) -> list:
-    """Rebuild cheap chapters in a temporary directory; problems (``DataProblem``
-    records) where data/ differs."""
+def regenerate_and_compare(chapters, *, quiet: bool = False, jobs: int = 1) -> list:
+    """Rebuild cheap chapters (without figures) in a temporary directory, in a pool of
+    ``jobs`` processes when ``jobs`` > 1 (:func:`~debench.reference.builds.
+    build_concurrently`); problems (``DataProblem`` records) where data/ differs."""
     import tempfile
 
     from debench.reference.datasets import DataProblem, data_dir
@@ -181,11 +182,17 @@ def regenerate_and_compare(chapters, *, quiet: bool = False) -> list:
 
     problems = []
     with tempfile.TemporaryDirectory(prefix="debench-verify-") as tmp, not_written():
+        if jobs > 1 and len(chapters) > 1:
+            built = builds.build_concurrently(list(chapters), Path(tmp), False, "serial", jobs,
+                                              figures=False, announce=False)
+        else:
+            built = {}
+            for chapter in chapters:
+                mod = builds.builder(chapter)
+                if mod is not None:
+                    built[chapter] = list(mod.build(Path(tmp) / chapter, full=False))
         for chapter in chapters:
-            mod = builds.builder(chapter)
-            if mod is None:
-                continue
-            for path in mod.build(Path(tmp) / chapter, full=False):
+            for path in built.get(chapter, ()):
                 if path.suffix != ".nc":
                     continue
                 line = regeneration.compare_with_curated(path, data_dir())
@@ -221,7 +228,8 @@ def cmd_verify(args) -> int:
                                      (lambda xs: _progress(xs, "verifying claims")))
     problems = [] if args.no_data else verify_directory()
     if not args.no_data and not args.no_regenerate:
-        problems += regenerate_and_compare(REGENERATED_BY_VERIFY, quiet=args.json)
+        problems += regenerate_and_compare(REGENERATED_BY_VERIFY, quiet=args.json,
+                                           jobs=builds.parse_jobs(args.jobs))
     if not args.no_data:
         from debench.reference.builders.catalogue import thesis_values_problems
 
@@ -530,6 +538,9 @@ def _add_verify(sub) -> None:
                    help="skip the checks of data/ (checksums and regeneration)")
     s.add_argument("--no-regenerate", action="store_true",
                    help="do not regenerate the cheap chapters to compare with data/")
+    s.add_argument("--jobs", type=int, default=None, metavar="N",
+                   help="chapters regenerated at once, one process each (default: the "
+                        "number of cores; 1: one after the other in this process)")
     s.set_defaults(func=cmd_verify)
 
 

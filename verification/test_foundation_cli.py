@@ -6,6 +6,8 @@ import json
 from pathlib import Path
 
 import jsonschema
+import numpy as np
+import pytest
 import yaml
 from debench.reference.cli import main
 
@@ -78,3 +80,27 @@ def test_ci_runs_the_readme_test_command_verbatim():
     block = readme.split("<!-- test-command -->", 1)[1].split("```bash\n", 1)[1].split("```")[0]
     assert "pip install" in block and "pytest" in block
     assert "<!-- test-command -->" in (ROOT / ".ci/run").read_text()
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_verify_regeneration_finds_a_changed_model_output(jobs, monkeypatch):
+    """``debench verify``'s regeneration (one process, or a pool of two processes, which
+    inherit the patched builder): the cheap chapters rebuilt from the models equal the
+    curated files, and a rebuilt value moved by 1e-6 relative (far above its stored
+    accuracy) is reported as DIFFERS, in that file only."""
+    from debench.reference.builders import ch2_appendix
+    from debench.reference.cli import regenerate_and_compare
+
+    chapters = ("ch2_appendix", "ch3_fe")
+    assert regenerate_and_compare(chapters, quiet=True, jobs=jobs) == []
+    original = ch2_appendix.compute
+
+    def moved(*args, **kw):
+        ds = original(*args, **kw)
+        name = next(n for n, v in ds.data_vars.items() if v.dtype == np.float64)
+        return ds.assign({name: ds[name].copy(data=ds[name].values * (1 + 1e-6))})
+
+    monkeypatch.setattr(ch2_appendix, "compute", moved)
+    found = [str(p) for p in regenerate_and_compare(chapters, quiet=True, jobs=jobs)]
+    assert len(found) == 1 and "DIFFERS" in found[0], found
+    assert "ch2_kernel_reference_states" in found[0]
