@@ -167,16 +167,11 @@ def decide(w_max, w_max_err, w_cross, w_cross_err, lam_max, lam_max_err,
     return {"first": first, "n_index": j, "margin": margin, "margin_error": bound}
 
 
-def compute(full: bool = False, scheduler=None, progress: bool = True):
-    from debench.models.numerics import propagated_accuracy
-    from debench.reference.tasks import run_tasks
-
-    p = PLANS[full]
-    cases, discs = p["cases"], p["discs"]
-    tasks = plan(full)
-    res = dict(zip([(t[1], t[2], t[3]) for t in tasks],
-                   run_tasks(tasks, scheduler=scheduler, progress=progress), strict=True))
-    ns = sorted({n for c in cases for n in CASES[c][3] if p["n_max"] is None or n <= p["n_max"]})
+def _collect(res: dict, cases, discs, ns) -> dict:
+    """The tasks' results ``res[(case, order, layers)]`` as arrays over (case, disc, ...):
+    the path records (``path``, ``path_lam``), the per-path scalars (``scal``, ``ndof``)
+    and the per-wavenumber values (``per_n``), NaN where a path has fewer records or a
+    wavenumber was not recorded."""
     nrec = max(len(r["w"]) for r in res.values())
     C, K, N = len(cases), len(discs), len(ns)
 
@@ -203,7 +198,17 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
             ndof[ci, k] = r["ndof"]
             for key in per_n:
                 per_n[key][ci, k, cols] = r[key]
+    return {"path": path, "path_lam": path_lam, "scal": scal, "ndof": ndof, "per_n": per_n,
+            "nrec": nrec}
 
+
+def _converge(scal: dict, per_n: dict, discs) -> tuple[dict, dict]:
+    """Per converged quantity its :func:`converged` sequence values (``conv``) and the
+    regeneration accuracy they carry (``acc``: what REGEN_ATOL of the inputs moves the
+    error estimate by, plus REGEN_ATOL)."""
+    from debench.models.numerics import propagated_accuracy
+
+    K = len(discs)
     conv, acc = {}, {}
     for key, src in (("v_max", scal["v_max"]), ("w_max", scal["w_max"]),
                      ("thickness_max", scal["thickness_max"]),
@@ -216,21 +221,20 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
         acc[key] = float(np.nanmax([np.nan_to_num(propagated_accuracy(
             lambda x: converged(x, discs)["error"], row, atol), nan=0.0)
             for row in flat] + [0.0])) + atol
-    dec = [decide(conv["w_max"]["value"][ci], conv["w_max"]["error"][ci],
-                  conv["w_cross"]["value"][ci], conv["w_cross"]["error"][ci],
-                  conv["lam_at_max"]["value"][ci], conv["lam_at_max"]["error"][ci],
-                  bool(np.any(per_n["w_cross"][ci] < scal["w_max"][ci][:, None])))
-           for ci in range(C)]
+    return conv, acc
+
+
+def _variables(got: dict, conv: dict, acc: dict, dec: list, discs, coarse) -> dict:
+    """The data variables of ``ch5_axisym_path.nc`` with their attributes: the path
+    records, the per-path and per-wavenumber values, their converged values and error
+    estimates, the decision per film and the 3D-like coarse voltage maxima."""
+    path, path_lam, scal, ndof, per_n = (got[k] for k in ("path", "path_lam", "scal",
+                                                          "ndof", "per_n"))
+    ns = got["ns"]
     first = np.array([d["first"] for d in dec], dtype=np.int8)
     n_first = np.array([ns[d["n_index"]] if d["first"] == 1 else (0 if d["first"] == 0 else -1)
                         for d in dec], dtype=np.int64)
     n_lowest = np.array([ns[d["n_index"]] for d in dec], dtype=np.int64)
-
-    h3 = COARSE_3D_H[full]
-    like = [c for c in cases if CASES[c][2] == 10.0]
-    coarse = np.array([[three_d_like(c, h) for h in h3] for c in like]).reshape(
-        len(like), len(h3), 2)
-
     a = variable_attrs
     d3, d4 = ("case", "disc", "record"), ("case", "disc", "record", "n")
     dk, dn, dkn = ("case", "disc"), ("case", "n"), ("case", "disc", "n")
@@ -311,6 +315,33 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
         "voltage maximum at the 3D ramps' resolution (three_d_like)", atol=at["v"]))
     variables["w_max_3d_like"] = (("case_r10", "h_3d_like"), coarse[..., 1], a(
         "deflection / t0 at it", atol=at["w"]))
+    return variables
+
+
+def compute(full: bool = False, scheduler=None, progress: bool = True):
+    from debench.reference.tasks import run_tasks
+
+    p = PLANS[full]
+    cases, discs = p["cases"], p["discs"]
+    tasks = plan(full)
+    res = dict(zip([(t[1], t[2], t[3]) for t in tasks],
+                   run_tasks(tasks, scheduler=scheduler, progress=progress), strict=True))
+    ns = sorted({n for c in cases for n in CASES[c][3] if p["n_max"] is None or n <= p["n_max"]})
+    got = _collect(res, cases, discs, ns) | {"ns": ns}
+    scal, per_n = got["scal"], got["per_n"]
+    conv, acc = _converge(scal, per_n, discs)
+    dec = [decide(conv["w_max"]["value"][ci], conv["w_max"]["error"][ci],
+                  conv["w_cross"]["value"][ci], conv["w_cross"]["error"][ci],
+                  conv["lam_at_max"]["value"][ci], conv["lam_at_max"]["error"][ci],
+                  bool(np.any(per_n["w_cross"][ci] < scal["w_max"][ci][:, None])))
+           for ci in range(len(cases))]
+    h3 = COARSE_3D_H[full]
+    like = [c for c in cases if CASES[c][2] == 10.0]
+    coarse = np.array([[three_d_like(c, h) for h in h3] for c in like]).reshape(
+        len(like), len(h3), 2)
+
+    variables = _variables(got, conv, acc, dec, discs, coarse)
+    a = variable_attrs
     ds = xr.Dataset(variables, coords={
         "case_r10": ("case_r10", like, {"long_name": "the R/t0 = 10 films"}),
         "h_3d_like": ("h_3d_like", np.array(h3), a(
@@ -318,12 +349,12 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
         "case": ("case", list(cases), {"long_name": "film: material and radius/thickness "
                                        "(nh: neo-Hookean, ogden: Ogden (5.26); r10: R/t0 = "
                                        "10 at t0 = 1 mm; r20: R/t0 = 20 at t0 = 0.5 mm)"}),
-        "disc": ("disc", np.arange(K), a("discretisation index")),
+        "disc": ("disc", np.arange(len(discs)), a("discretisation index")),
         "order": ("disc", np.array([o for o, _ in discs]), a("polynomial order of every "
                                                              "field")),
         "layers": ("disc", np.array([L for _, L in discs]), a(
             "geometric layers towards the rim and towards each face")),
-        "record": ("record", np.arange(nrec), a("recorded state along the path")),
+        "record": ("record", np.arange(got["nrec"]), a("recorded state along the path")),
         "n": ("n", np.array(ns), a("angular wavenumber of the perturbation")),
     })
     params = {"full": full, "cases": list(cases), "discs": [list(d) for d in discs],
