@@ -104,10 +104,101 @@ def solve_plan(full: bool = False, progress=None) -> dict:
     return out
 
 
+def _vs_3d(v_ax: np.ndarray) -> dict:
+    """The 3D model's reference critical voltage and in-plane mesh limit
+    (``ch5_critical_voltage.nc``) against the converged n = 0 values ``v_ax`` per case
+    (its lowest mode is axisymmetric): values, errors, biases and whether each 3D
+    error bar contains the axisymmetric value."""
+    from debench.reference.datasets import read_dataset
+
+    ds3 = read_dataset("ch5_critical_voltage").sel(case=list(CASES))
+    v3_ref, e3_ref = ds3.v_cr_reference.values, ds3.v_cr_reference_error.values
+    v3_ext, e3_ext = ds3.v_cr_extrapolated.values, ds3.v_cr_error.values
+    bias_ref, bias_ext = v3_ref - v_ax, v3_ext - v_ax
+    within_ref = (np.abs(bias_ref) <= e3_ref).astype(np.int8)
+    within_ext = (np.abs(bias_ext) <= e3_ext).astype(np.int8)
+    return {"v3_ref": v3_ref, "e3_ref": e3_ref, "v3_ext": v3_ext, "e3_ext": e3_ext,
+            "bias_ref": bias_ref, "bias_ext": bias_ext, "within_ref": within_ref,
+            "within_ext": within_ext}
+
+
+def _variables(fields, ndof, ndof_mode, res, conv, acc, fs, vs3d) -> dict:
+    """The data variables of ``ch5_axisym.nc`` with their attributes."""
+    v = fields["v"]
+    v3_ref, e3_ref, v3_ext, e3_ext = (vs3d[k] for k in ("v3_ref", "e3_ref", "v3_ext",
+                                                        "e3_ext"))
+    bias_ref, bias_ext = vs3d["bias_ref"], vs3d["bias_ext"]
+    within_ref, within_ext = vs3d["within_ref"], vs3d["within_ext"]
+    a = variable_attrs
+    dims4 = ("case", "n", "order", "layers")
+    flag = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "outside inside"}
+    return {
+        "v_cr": (dims4, v, a(
+            "normalised critical voltage Phi/t0 sqrt(eps/mu_ref) of the perfect clamped "
+            "film in angular wavenumber n (axisymmetric FE model, this discretisation)",
+            atol=REGEN_ATOL)),
+        "v_cr_tolerance": (dims4, fields["vtol"], a(
+            "root-finding tolerance of v_cr (inverse quadratic vs secant root)",
+            atol=REGEN_ATOL)),
+        "thickness_centre": (dims4, fields["thickness"], a(
+            "centre thickness / t0 of the flat state at v_cr", atol=REGEN_ATOL)),
+        "e_centre": (dims4, fields["e"], a(
+            "normalised true field at the centre of the flat state at v_cr",
+            atol=REGEN_ATOL)),
+        "eig_residual": (dims4, fields["eig_residual"], a(
+            "backward error of the critical eigenpair", atol=1e-10)),
+        "newton_residual_rel": (dims4, fields["newton_residual_rel"], a(
+            "last Newton residual of the flat state relative to its reference",
+            atol=1e-8)),
+        "cpu_seconds": (dims4, fields["cpu_s"], a(
+            "process CPU time of the critical-voltage solve (one thread)", "s",
+            rtol=TIMING_RTOL)),
+        "ndof": (dims4, ndof, a("degrees of freedom of the state (r, z, potential)")),
+        "ndof_mode": (dims4, ndof_mode, a("degrees of freedom of the wavenumber-n "
+                                          "perturbation problem")),
+        "v_cr_guard": (("case",), np.array([res[(c, "guard")].v for c in CASES]), a(
+            "n = 0 critical voltage on the guard discretisation (parameters guard_order, "
+            "guard_layers), recomputed by debench verify", atol=REGEN_ATOL)),
+        "ndof_guard": (("case",), np.array([res[(c, "guard")].ndof for c in CASES],
+                                           dtype=np.int64),
+                       a("degrees of freedom of the guard solve's state")),
+        "v_cr_converged": (("case", "n"), conv["v"], a(
+            "converged critical voltage: v_cr at the top order and finest grading of "
+            "the plan", atol=acc["v"], accuracy="+- v_cr_error")),
+        "v_cr_error": (("case", "n"), conv["error"], a(
+            "error estimate of v_cr_converged: safety_factor x max(p_step_change, "
+            "grading_change)", atol=acc["error"])),
+        "p_step_change": (("case", "n"), conv["p_step_change"], a(
+            "abs(v_cr(top order) - v_cr(top order - 1)) at the finest grading",
+            atol=acc["p_step_change"])),
+        "grading_change": (("case", "n"), conv["grading_change"], a(
+            "abs(v_cr(finest grading) - v_cr(second finest)) at the top order",
+            atol=acc["grading_change"])),
+        "safety_factor": ((), fs, a(
+            "GCI safety factor (Roache): 1.25 with >= 3 orders in the p-sequence, else 3")),
+        "v_cr_3d_reference": (("case",), v3_ref, a(
+            "3D model's reference critical voltage (ch5_critical_voltage.nc "
+            "v_cr_reference)")),
+        "v_cr_3d_reference_error": (("case",), e3_ref, a(
+            "its error estimate (v_cr_reference_error)")),
+        "v_cr_3d_extrapolated": (("case",), v3_ext, a(
+            "3D model's in-plane mesh limit (v_cr_extrapolated)")),
+        "v_cr_3d_extrapolated_error": (("case",), e3_ext, a(
+            "its error estimate (v_cr_error)")),
+        "bias_3d_reference": (("case",), bias_ref, a(
+            "v_cr_3d_reference - v_cr_converged(n = 0)", atol=acc["v"])),
+        "bias_3d_extrapolated": (("case",), bias_ext, a(
+            "v_cr_3d_extrapolated - v_cr_converged(n = 0)", atol=acc["v"])),
+        "reference_bar_contains_axisym": (("case",), within_ref, a(
+            "abs(bias_3d_reference) <= v_cr_3d_reference_error", **flag)),
+        "extrapolated_bar_contains_axisym": (("case",), within_ext, a(
+            "abs(bias_3d_extrapolated) <= v_cr_3d_extrapolated_error", **flag)),
+    }
+
+
 def compute(full: bool = False, solved: dict | None = None) -> tuple[xr.Dataset, dict]:
     from debench.models.buckling.axisym import AxisymDiscretisation
     from debench.models.numerics import propagated_accuracy
-    from debench.reference.datasets import read_dataset
 
     orders, layers = ORDERS[full], LAYERS[full]
     res = solved if solved is not None else solve_plan(full)
@@ -136,81 +227,10 @@ def compute(full: bool = False, solved: dict | None = None) -> tuple[xr.Dataset,
                                                      v[c, n], REGEN_ATOL))
     acc = {k: float(np.max(x)) for k, x in acc.items()}
 
-    # the 3D model: its lowest mode is axisymmetric, compared with n = 0
-    ds3 = read_dataset("ch5_critical_voltage").sel(case=list(CASES))
-    v_ax = conv["v"][:, WAVENUMBERS.index(0)]
-    v3_ref, e3_ref = ds3.v_cr_reference.values, ds3.v_cr_reference_error.values
-    v3_ext, e3_ext = ds3.v_cr_extrapolated.values, ds3.v_cr_error.values
-    bias_ref, bias_ext = v3_ref - v_ax, v3_ext - v_ax
-    within_ref = (np.abs(bias_ref) <= e3_ref).astype(np.int8)
-    within_ext = (np.abs(bias_ext) <= e3_ext).astype(np.int8)
-
+    vs3d = _vs_3d(conv["v"][:, WAVENUMBERS.index(0)])
     a = variable_attrs
-    dims4 = ("case", "n", "order", "layers")
-    flag = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "outside inside"}
     ds = xr.Dataset(
-        {
-            "v_cr": (dims4, v, a(
-                "normalised critical voltage Phi/t0 sqrt(eps/mu_ref) of the perfect clamped "
-                "film in angular wavenumber n (axisymmetric FE model, this discretisation)",
-                atol=REGEN_ATOL)),
-            "v_cr_tolerance": (dims4, fields["vtol"], a(
-                "root-finding tolerance of v_cr (inverse quadratic vs secant root)",
-                atol=REGEN_ATOL)),
-            "thickness_centre": (dims4, fields["thickness"], a(
-                "centre thickness / t0 of the flat state at v_cr", atol=REGEN_ATOL)),
-            "e_centre": (dims4, fields["e"], a(
-                "normalised true field at the centre of the flat state at v_cr",
-                atol=REGEN_ATOL)),
-            "eig_residual": (dims4, fields["eig_residual"], a(
-                "backward error of the critical eigenpair", atol=1e-10)),
-            "newton_residual_rel": (dims4, fields["newton_residual_rel"], a(
-                "last Newton residual of the flat state relative to its reference",
-                atol=1e-8)),
-            "cpu_seconds": (dims4, fields["cpu_s"], a(
-                "process CPU time of the critical-voltage solve (one thread)", "s",
-                rtol=TIMING_RTOL)),
-            "ndof": (dims4, ndof, a("degrees of freedom of the state (r, z, potential)")),
-            "ndof_mode": (dims4, ndof_mode, a("degrees of freedom of the wavenumber-n "
-                                              "perturbation problem")),
-            "v_cr_guard": (("case",), np.array([res[(c, "guard")].v for c in CASES]), a(
-                "n = 0 critical voltage on the guard discretisation (parameters guard_order, "
-                "guard_layers), recomputed by debench verify", atol=REGEN_ATOL)),
-            "ndof_guard": (("case",), np.array([res[(c, "guard")].ndof for c in CASES],
-                                               dtype=np.int64),
-                           a("degrees of freedom of the guard solve's state")),
-            "v_cr_converged": (("case", "n"), conv["v"], a(
-                "converged critical voltage: v_cr at the top order and finest grading of "
-                "the plan", atol=acc["v"], accuracy="+- v_cr_error")),
-            "v_cr_error": (("case", "n"), conv["error"], a(
-                "error estimate of v_cr_converged: safety_factor x max(p_step_change, "
-                "grading_change)", atol=acc["error"])),
-            "p_step_change": (("case", "n"), conv["p_step_change"], a(
-                "abs(v_cr(top order) - v_cr(top order - 1)) at the finest grading",
-                atol=acc["p_step_change"])),
-            "grading_change": (("case", "n"), conv["grading_change"], a(
-                "abs(v_cr(finest grading) - v_cr(second finest)) at the top order",
-                atol=acc["grading_change"])),
-            "safety_factor": ((), fs, a(
-                "GCI safety factor (Roache): 1.25 with >= 3 orders in the p-sequence, else 3")),
-            "v_cr_3d_reference": (("case",), v3_ref, a(
-                "3D model's reference critical voltage (ch5_critical_voltage.nc "
-                "v_cr_reference)")),
-            "v_cr_3d_reference_error": (("case",), e3_ref, a(
-                "its error estimate (v_cr_reference_error)")),
-            "v_cr_3d_extrapolated": (("case",), v3_ext, a(
-                "3D model's in-plane mesh limit (v_cr_extrapolated)")),
-            "v_cr_3d_extrapolated_error": (("case",), e3_ext, a(
-                "its error estimate (v_cr_error)")),
-            "bias_3d_reference": (("case",), bias_ref, a(
-                "v_cr_3d_reference - v_cr_converged(n = 0)", atol=acc["v"])),
-            "bias_3d_extrapolated": (("case",), bias_ext, a(
-                "v_cr_3d_extrapolated - v_cr_converged(n = 0)", atol=acc["v"])),
-            "reference_bar_contains_axisym": (("case",), within_ref, a(
-                "abs(bias_3d_reference) <= v_cr_3d_reference_error", **flag)),
-            "extrapolated_bar_contains_axisym": (("case",), within_ext, a(
-                "abs(bias_3d_extrapolated) <= v_cr_3d_extrapolated_error", **flag)),
-        },
+        _variables(fields, ndof, ndof_mode, res, conv, acc, fs, vs3d),
         coords={
             "case": ("case", list(CASES), {"long_name": "material and thickness "
                                            "(nh: neo-Hookean, ogden: Ogden (5.26); t1: 1 mm)"}),
