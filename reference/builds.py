@@ -85,7 +85,7 @@ def _process_cpu() -> float:
     return own.ru_utime + own.ru_stime
 
 
-def _init_pool_process() -> None:
+def init_pool_process() -> None:
     """A pool process: BLAS/OpenMP and NGSolve threads as configured for the command
     (:func:`debench.threads.limit_threads` reads ``DEBENCH_THREADS``, which the command
     set), no progress bars."""
@@ -95,13 +95,10 @@ def _init_pool_process() -> None:
     os.environ["TQDM_DISABLE"] = "1"
 
 
-def _build_captured(chapter: str, out: str, full: bool, scheduler: str | None,
-                    figures: bool = True) -> _Built:
+def _build_captured(chapter: str, out: str, full: bool, scheduler: str | None) -> _Built:
     """Build one chapter in a pool process with its output captured (file descriptors 1 and
     2 and ``sys.stdout``/``sys.stderr``), so that the command prints each chapter's lines
-    together; an exception is returned, not raised (with its traceback text).
-    ``figures=False`` builds it inside :func:`debench.reference.figures.not_written`."""
-    import contextlib
+    together; an exception is returned, not raised (with its traceback text)."""
     import pickle
     import tempfile
     import time
@@ -118,15 +115,12 @@ def _build_captured(chapter: str, out: str, full: bool, scheduler: str | None,
         sys.stdout = open(1, "w", encoding="utf-8", errors="replace", closefd=False)  # noqa: SIM115
         sys.stderr = open(2, "w", encoding="utf-8", errors="replace", closefd=False)  # noqa: SIM115
         try:
-            from debench.reference.figures import not_written
-
             mod = builder(chapter)
             if mod is None:
                 built.paths = None
             else:
-                with contextlib.nullcontext() if figures else not_written():
-                    built.paths = list(mod.build(Path(out), full=full,
-                                                 **_scheduler_option(mod, scheduler)))
+                built.paths = list(mod.build(Path(out), full=full,
+                                             **_scheduler_option(mod, scheduler)))
         except Exception as exc:  # noqa: BLE001 - sent back and re-raised by the command
             built.traceback = traceback.format_exc()
             try:
@@ -150,7 +144,7 @@ def _build_captured(chapter: str, out: str, full: bool, scheduler: str | None,
     return built
 
 
-def _pool_context():
+def pool_context():
     """``fork`` where the platform has it (Linux: no re-import of the package in every pool
     process), else ``spawn``."""
     import multiprocessing
@@ -180,7 +174,7 @@ def build_serially(chapters: list[str], out: Path, full: bool,
     return written
 
 
-def _stop_pool(executor) -> None:
+def stop_pool(executor) -> None:
     """Cancel the chapters not started and end the pool processes building the others."""
     import multiprocessing
 
@@ -192,11 +186,8 @@ def _stop_pool(executor) -> None:
 
 
 def build_concurrently(chapters: list[str], out: Path, full: bool, scheduler: str | None,
-                        jobs: int, *, figures: bool = True,
-                        announce: bool = True) -> dict[str, list[Path]]:
+                        jobs: int) -> dict[str, list[Path]]:
     """Build ``chapters`` in a pool of ``jobs`` processes, longest first (:data:`BUILD_CPU_S`).
-    ``figures=False``: without figures (:func:`debench.reference.figures.not_written`);
-    ``announce=False``: without the building/wrote lines (the chapters' own output stays).
 
     Each chapter's output is printed together when it finishes (a progress line per chapter
     on a terminal). Builders that run their own FE tasks run them serially in their pool
@@ -211,26 +202,24 @@ def build_concurrently(chapters: list[str], out: Path, full: bool, scheduler: st
     started = time.monotonic()
     written: dict[str, list[Path]] = {}
     tty = sys.stderr.isatty()
-    executor = ProcessPoolExecutor(max_workers=min(jobs, len(order)), mp_context=_pool_context(),
-                                   initializer=_init_pool_process)
+    executor = ProcessPoolExecutor(max_workers=min(jobs, len(order)), mp_context=pool_context(),
+                                   initializer=init_pool_process)
     try:
-        futures = {executor.submit(_build_captured, c, str(out), full, scheduler or "serial",
-                                   figures): c
+        futures = {executor.submit(_build_captured, c, str(out), full, scheduler or "serial"): c
                    for c in order}
         for k, fut in enumerate(as_completed(futures), 1):
             built = fut.result()
             if built.paths is None:
                 print(f"{built.chapter}: no builder yet (pending)", file=sys.stderr)
                 continue
-            if announce:
-                _announce(built.chapter, full, out)
+            _announce(built.chapter, full, out)
             sys.stdout.write(built.stdout)
             sys.stderr.write(built.stderr)
             if built.error is not None:
                 raise built.error from ChapterTraceback(
                     f"{built.chapter} failed in a pool process:\n{built.traceback}")
             written[built.chapter] = built.paths
-            for p in built.paths if announce else ():
+            for p in built.paths:
                 print(f"  wrote {p}", file=sys.stderr)
             if tty:
                 print(f"[{k}/{len(order)}] {built.chapter} done: {built.cpu:.0f} s CPU, "
@@ -239,7 +228,7 @@ def build_concurrently(chapters: list[str], out: Path, full: bool, scheduler: st
             sys.stderr.flush()
     except BaseException:      # a chapter failed, or an interrupt: nothing else runs on
         sys.stderr.flush()
-        _stop_pool(executor)
+        stop_pool(executor)
         raise
     executor.shutdown(wait=True)
     return {c: written[c] for c in chapters if c in written}

@@ -171,71 +171,55 @@ def cmd_reproduce(args) -> int:
 
 
 # --------------------------------------------------------------------------- verify
-def regenerate_and_compare(chapters, *, quiet: bool = False, jobs: int = 1) -> list:
-    """Rebuild cheap chapters (without figures) in a temporary directory, in a pool of
-    ``jobs`` processes when ``jobs`` > 1 (:func:`~debench.reference.builds.
-    build_concurrently`); problems (``DataProblem`` records) where data/ differs."""
-    import tempfile
-
-    from debench.reference.datasets import DataProblem, data_dir
-    from debench.reference.figures import not_written
-
-    problems = []
-    with tempfile.TemporaryDirectory(prefix="debench-verify-") as tmp, not_written():
-        if jobs > 1 and len(chapters) > 1:
-            built = builds.build_concurrently(list(chapters), Path(tmp), False, "serial", jobs,
-                                              figures=False, announce=False)
-        else:
-            built = {}
-            for chapter in chapters:
-                mod = builds.builder(chapter)
-                if mod is not None:
-                    built[chapter] = list(mod.build(Path(tmp) / chapter, full=False))
-        for chapter in chapters:
-            for path in built.get(chapter, ()):
-                if path.suffix != ".nc":
-                    continue
-                line = regeneration.compare_with_curated(path, data_dir())
-                if not quiet:
-                    print(f"regenerated {line}", file=sys.stderr)
-                if "DIFFERS" in line or "cannot compare" in line:
-                    problems.append(DataProblem.coerce(line))
-    return problems
-
-
-def value_deviations(results, *, models: bool = True, quiet: bool = False):
-    """Recomputed values against the store ``our_values.nc`` (see :mod:`.values`).
-
-    ``models=False`` skips the extra model guards (the Chapter 5 FE recomputation) and
-    checks only the values that were recomputed.
-    """
+def value_deviations(results, extra=None):
+    """Recomputed values against the store ``our_values.nc`` (see :mod:`.values`): the
+    catalogue's ``results`` and, unless ``extra`` is None, the model guards' values
+    ``extra`` (then every stored value must be recomputed)."""
     from debench.reference import values
 
     guards = values.guarded_from_results(results)
-    if models:
-        if not quiet:
-            print("recomputing the model guards (ch5 FE on the coarsest mesh) ...",
-                  file=sys.stderr)
-        guards += values.extra_guards()
-    return values.check(guards, values.read_store(), complete=models)
+    if extra is not None:
+        guards += list(extra)
+    return values.check(guards, values.read_store(), complete=extra is not None)
+
+
+def verify_recomputations(*, regenerate: bool, jobs: int, out: Path):
+    """What ``debench verify`` recomputes beside its catalogue evaluation
+    (:class:`~debench.reference.regeneration.Recomputations`): with ``regenerate`` the
+    chapters of :data:`REGENERATED_BY_VERIFY` and the model guards, else nothing."""
+    from debench.reference.values import EXTRA_GUARDS
+
+    return regeneration.Recomputations(REGENERATED_BY_VERIFY if regenerate else (),
+                                       EXTRA_GUARDS if regenerate else (), jobs=jobs, out=out)
 
 
 def cmd_verify(args) -> int:
-    from debench.reference import catalogue, values
-    from debench.reference.datasets import verify_directory
+    import tempfile
 
-    results = catalogue.evaluate_all(progress=None if args.json else
-                                     (lambda xs: _progress(xs, "verifying claims")))
-    problems = [] if args.no_data else verify_directory()
-    if not args.no_data and not args.no_regenerate:
-        problems += regenerate_and_compare(REGENERATED_BY_VERIFY, quiet=args.json,
-                                           jobs=builds.parse_jobs(args.jobs))
+    from debench.reference import catalogue, values
+    from debench.reference.datasets import DataProblem, verify_directory
+
+    regenerate = not args.no_data and not args.no_regenerate
+    with tempfile.TemporaryDirectory(prefix="debench-verify-") as tmp, verify_recomputations(
+            regenerate=regenerate, jobs=builds.parse_jobs(args.jobs), out=Path(tmp)) as work:
+        results = catalogue.evaluate_all(progress=None if args.json else
+                                         (lambda xs: _progress(xs, "verifying claims")))
+        problems = [] if args.no_data else verify_directory()
+        if regenerate:
+            if not args.json:
+                print("regenerating the cheap chapters and recomputing the model guards ...",
+                      file=sys.stderr)
+            for line in work.lines():
+                if not args.json:
+                    print(f"regenerated {line}", file=sys.stderr)
+                if "DIFFERS" in line or "cannot compare" in line:
+                    problems.append(DataProblem.coerce(line))
+        extra = work.guarded() if regenerate else None
     if not args.no_data:
         from debench.reference.builders.catalogue import thesis_values_problems
 
         problems += thesis_values_problems()
-    deviations = [] if args.no_data else value_deviations(
-        results, models=not args.no_regenerate, quiet=args.json)
+    deviations = [] if args.no_data else value_deviations(results, extra)
     regressed = [r for r in results if r.regressed]
     if args.json:
         from debench.reference.datasets import DataProblem

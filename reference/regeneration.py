@@ -100,3 +100,94 @@ def compare_with_curated(path: Path, curated_dir: Path) -> str:
         elif not np.array_equal(new[var].values, old[var].values):
             bad.append(var)
     return f"{path.name}: {'matches curated' if not bad else 'DIFFERS in ' + ', '.join(bad)}"
+
+
+# --------------------------------------------------------------------------- verify's work
+#: Measured CPU seconds of each recomputation of ``debench verify`` (one thread, 2-core
+#: reference machine): the pool starts the longest first; one not listed counts 10 s.
+VERIFY_CPU_S = {
+    "ch4_fe": 32.8, "ch4": 28.3, "ch4_inplane": 16.9, "ch3": 9.0, "ch3_fe": 7.2,
+    "ch2_appendix": 0.7,
+    "debench.reference.producers.ch5:coarse_guards": 8.0,
+    "debench.reference.producers.ch5_methods:axisym_methods_guards": 9.0,
+    "debench.reference.producers.ch5:axisym_coarse_guards": 3.4,
+}
+
+
+def _regenerate(chapter: str, out: str) -> list[str]:
+    """Rebuild ``chapter`` (default plan, no figures) into ``out`` and compare each dataset
+    with its curated counterpart: one line per dataset (:func:`compare_with_curated`)."""
+    from debench.reference.builds import builder
+    from debench.reference.datasets import data_dir
+    from debench.reference.figures import not_written
+
+    mod = builder(chapter)
+    if mod is None:
+        return []
+    with not_written():
+        paths = list(mod.build(Path(out) / chapter, full=False))
+    return [compare_with_curated(p, data_dir()) for p in paths if p.suffix == ".nc"]
+
+
+def _guard(name: str) -> list:
+    """One extra guard of :data:`debench.reference.values.EXTRA_GUARDS`, run."""
+    from debench.reference.values import extra_guards
+
+    return extra_guards([name])
+
+
+class Recomputations:
+    """The recomputations of ``debench verify``: the cheap chapters rebuilt and compared with
+    data/ (``chapters``), and the model guards (``guards``: names of
+    :data:`debench.reference.values.EXTRA_GUARDS`).
+
+    With ``jobs`` > 1 they start at once in a pool of ``jobs`` processes (longest first,
+    :data:`VERIFY_CPU_S`), so that they run beside the catalogue evaluation of the calling
+    process; with ``jobs`` = 1 each runs in this process when its result is asked for.
+    :meth:`lines` and :meth:`guarded` return the results in the order given; an exception
+    of a job is raised there. Use as a context manager (the pool and the output directory
+    ``out`` are the caller's; the pool is ended on exit)."""
+
+    def __init__(self, chapters, guards, *, jobs: int, out: Path):
+        self.chapters, self.guards, self.out = tuple(chapters), tuple(guards), str(out)
+        self._executor, self._futures = None, {}
+        work = [("chapter", c) for c in self.chapters] + [("guard", g) for g in self.guards]
+        if jobs > 1 and len(work) > 1:
+            from concurrent.futures import ProcessPoolExecutor
+
+            from debench.reference.builds import init_pool_process, pool_context
+
+            self._executor = ProcessPoolExecutor(
+                max_workers=min(jobs, len(work)), mp_context=pool_context(),
+                initializer=init_pool_process)
+            for kind, name in sorted(work, key=lambda w: -VERIFY_CPU_S.get(w[1], 10.0)):
+                fn, args = ((_regenerate, (name, self.out)) if kind == "chapter"
+                            else (_guard, (name,)))
+                self._futures[(kind, name)] = self._executor.submit(fn, *args)
+
+    def _result(self, kind: str, name: str):
+        fut = self._futures.get((kind, name))
+        if fut is not None:
+            return fut.result()
+        return _regenerate(name, self.out) if kind == "chapter" else _guard(name)
+
+    def lines(self) -> list[str]:
+        """The comparison line of every regenerated dataset, chapter by chapter."""
+        return [line for c in self.chapters for line in self._result("chapter", c)]
+
+    def guarded(self) -> list:
+        """The :class:`~debench.reference.values.Guarded` values of every guard."""
+        return [g for name in self.guards for g in self._result("guard", name)]
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        if self._executor is not None:
+            if exc[0] is not None:
+                from debench.reference.builds import stop_pool
+
+                stop_pool(self._executor)
+            else:
+                self._executor.shutdown(wait=True)
+        return False

@@ -82,17 +82,24 @@ def test_ci_runs_the_readme_test_command_verbatim():
     assert "<!-- test-command -->" in (ROOT / ".ci/run").read_text()
 
 
+def _regenerated(chapters, jobs, tmp_path) -> list[str]:
+    from debench.reference.regeneration import Recomputations
+
+    with Recomputations(chapters, (), jobs=jobs, out=tmp_path) as work:
+        return work.lines()
+
+
 @pytest.mark.parametrize("jobs", [1, 2])
-def test_verify_regeneration_finds_a_changed_model_output(jobs, monkeypatch):
-    """``debench verify``'s regeneration (one process, or a pool of two processes, which
-    inherit the patched builder): the cheap chapters rebuilt from the models equal the
-    curated files, and a rebuilt value moved by 1e-6 relative (far above its stored
+def test_verify_regeneration_finds_a_changed_model_output(jobs, tmp_path, monkeypatch):
+    """``debench verify``'s regeneration (in this process, or in a pool of two processes,
+    which inherit the patched builder): the cheap chapters rebuilt from the models equal
+    the curated files, and a rebuilt value moved by 1e-6 relative (far above its stored
     accuracy) is reported as DIFFERS, in that file only."""
     from debench.reference.builders import ch2_appendix
-    from debench.reference.cli import regenerate_and_compare
 
     chapters = ("ch2_appendix", "ch3_fe")
-    assert regenerate_and_compare(chapters, quiet=True, jobs=jobs) == []
+    lines = _regenerated(chapters, jobs, tmp_path / "a")
+    assert lines and not any("DIFFERS" in x or "cannot compare" in x for x in lines), lines
     original = ch2_appendix.compute
 
     def moved(*args, **kw):
@@ -101,6 +108,21 @@ def test_verify_regeneration_finds_a_changed_model_output(jobs, monkeypatch):
         return ds.assign({name: ds[name].copy(data=ds[name].values * (1 + 1e-6))})
 
     monkeypatch.setattr(ch2_appendix, "compute", moved)
-    found = [str(p) for p in regenerate_and_compare(chapters, quiet=True, jobs=jobs)]
-    assert len(found) == 1 and "DIFFERS" in found[0], found
-    assert "ch2_kernel_reference_states" in found[0]
+    found = [x for x in _regenerated(chapters, jobs, tmp_path / "b") if "DIFFERS" in x]
+    assert len(found) == 1 and "ch2_kernel_reference_states" in found[0], found
+
+
+def test_verify_recomputations_raise_a_failing_job(tmp_path, monkeypatch):
+    """A recomputation that raises in a pool process raises in the command."""
+    from debench.reference import values
+
+    def broken():
+        raise RuntimeError("a broken guard")
+
+    monkeypatch.setattr(values, "broken_guard", broken, raising=False)
+    from debench.reference.regeneration import Recomputations
+
+    with pytest.raises(RuntimeError, match="a broken guard"), Recomputations(
+            ("ch2_appendix",), ("debench.reference.values:broken_guard",), jobs=2,
+            out=tmp_path) as work:
+        work.guarded()
