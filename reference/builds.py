@@ -234,22 +234,12 @@ def build_concurrently(chapters: list[str], out: Path, full: bool, scheduler: st
     return {c: written[c] for c in chapters if c in written}
 
 
-def build_catalogue(out: Path, full: bool, results, by_chapter) -> list[Path]:
-    """The catalogue builder with the command's catalogue evaluation ``results``; its Chapter
-    5 model guard takes the coarsest critical voltages from the ``ch5`` dataset this command
-    built, when it built one with the curated dataset's parameters
-    (:func:`debench.reference.producers.ch5.recomputed_in_this_command`)."""
-    import contextlib
-
+def build_catalogue(out: Path, full: bool, results, guards) -> list[Path]:
+    """The catalogue builder with the command's catalogue evaluation ``results`` and model
+    guards ``guards`` (:func:`debench.reference.values.extra_guards`)."""
     mod = builder("catalogue")
     _announce("catalogue", full, out)
-    fresh = [p for p in by_chapter.get("ch5", []) if p.name == "ch5_critical_voltage.nc"]
-    with contextlib.ExitStack() as stack:
-        if fresh:
-            from debench.reference.producers.ch5 import recomputed_in_this_command
-
-            stack.enter_context(recomputed_in_this_command(fresh[0]))
-        paths = list(mod.build(out, full=full, results=results))
+    paths = list(mod.build(out, full=full, results=results, guards=guards))
     for p in paths:
         print(f"  wrote {p}", file=sys.stderr)
     return paths

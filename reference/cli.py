@@ -121,6 +121,29 @@ def _same_directory(a: Path, b: Path) -> bool:
 
 
 
+def _evaluate_with_guards(by_chapter, jobs: int, out: Path):
+    """The catalogue evaluation and, beside it (:class:`~debench.reference.regeneration.
+    Recomputations`), the model guards: ``(results, guards)``. The Chapter 5 guard takes
+    the coarsest critical voltages from the ``ch5`` dataset this command built, when it
+    built one with the curated dataset's parameters
+    (:func:`debench.reference.producers.ch5.recomputed_in_this_command`)."""
+    import contextlib
+
+    from debench.reference import catalogue
+    from debench.reference.values import EXTRA_GUARDS
+
+    fresh = [p for p in by_chapter.get("ch5", []) if p.name == "ch5_critical_voltage.nc"]
+    with contextlib.ExitStack() as stack:
+        if fresh:
+            from debench.reference.producers.ch5 import recomputed_in_this_command
+
+            stack.enter_context(recomputed_in_this_command(fresh[0]))
+        work = stack.enter_context(regeneration.Recomputations((), EXTRA_GUARDS, jobs=jobs,
+                                                               out=out))
+        results = catalogue.evaluate_all(progress=lambda xs: _progress(xs, "verifying claims"))
+        return results, work.guarded()
+
+
 def cmd_reproduce(args) -> int:
     import time
 
@@ -145,9 +168,14 @@ def cmd_reproduce(args) -> int:
         by_chapter = builds.build_concurrently(builders, out, args.full, scheduler, jobs)
     else:
         by_chapter = builds.build_serially(builders, out, args.full, scheduler)
-    results = catalogue.evaluate_all(progress=lambda xs: _progress(xs, "verifying claims"))
     if "catalogue" in chapters:
-        by_chapter["catalogue"] = builds.build_catalogue(out, args.full, results, by_chapter)
+        # the model guards beside the catalogue evaluation (in a pool unless this process
+        # built a chapter itself: no fork after FE work in it)
+        guard_jobs = jobs if len(builders) != 1 else 1
+        results, guards = _evaluate_with_guards(by_chapter, guard_jobs, out)
+        by_chapter["catalogue"] = builds.build_catalogue(out, args.full, results, guards)
+    else:
+        results = catalogue.evaluate_all(progress=lambda xs: _progress(xs, "verifying claims"))
     written = [p for c in chapters for p in by_chapter.get(c, [])]
     compared = []
     if args.write_data:

@@ -213,15 +213,24 @@ def test_jobs_below_one_is_a_usage_error_naming_the_argument(jobs, tmp_path, cap
 def test_the_catalogue_builder_gets_the_commands_evaluation_and_ch5_dataset(
         tmp_path, monkeypatch, capsys, few_results):
     """The catalogue builder runs after the others, in this process, with the one
-    evaluation of the command and the ``ch5`` dataset built before it as the source of the
-    Chapter 5 guard's coarsest critical voltages."""
+    evaluation of the command and the model guards, which ran with the ``ch5`` dataset
+    built before them as the source of the Chapter 5 guard's coarsest critical voltages."""
+    from debench.reference import values
     from debench.reference.producers import ch5 as p5
 
     calls = _stub_catalogue(monkeypatch, few_results)
     seen = {}
 
-    def catalogue_build(out, full=False, results=None):
-        seen["results"], seen["fresh"] = results, p5._RECOMPUTED.get()
+    def probe_guard():
+        fresh = p5._RECOMPUTED.get()
+        return [values.Guarded("probe.fresh_has_v_cr", str(fresh is not None and "v_cr" in fresh),
+                               0.0, "test")]
+
+    monkeypatch.setattr(values, "probe_guard", probe_guard, raising=False)
+    monkeypatch.setattr(values, "EXTRA_GUARDS", ("debench.reference.values:probe_guard",))
+
+    def catalogue_build(out, full=False, results=None, guards=None):
+        seen["results"], seen["guards"] = results, guards
         return []
 
     def ch5_build(out, full=False):
@@ -233,8 +242,8 @@ def test_the_catalogue_builder_gets_the_commands_evaluation_and_ch5_dataset(
     code, _, stderr = _run(["reproduce", "ch5", "catalogue", "--out", str(tmp_path)], capsys)
     assert code == 0, stderr
     assert len(calls) == 1 and seen["results"] == few_results
-    assert seen["fresh"] is not None and "v_cr" in seen["fresh"]
-    assert p5._RECOMPUTED.get() is None                      # only for the catalogue build
+    assert [(g.key, g.value) for g in seen["guards"]] == [("probe.fresh_has_v_cr", "True")]
+    assert p5._RECOMPUTED.get() is None                      # only for the guards
 
 
 def _curated_copy(tmp_path, layers_marker=None, **changed):
@@ -344,3 +353,20 @@ def test_real_chapters_jobs_2_match_jobs_1(tmp_path, capsys):
         if name.endswith(".nc"):
             assert regeneration.compare_with_curated(b / name, a).endswith("matches curated"), name
     assert sum_a == sum_b and sum_a
+
+
+def test_guards_in_a_pool_see_the_commands_ch5_dataset(tmp_path, monkeypatch):
+    """Model guards run in a pool of two processes beside the catalogue evaluation still
+    take the Chapter 5 coarsest critical voltages from the dataset the command built."""
+    from debench.reference import regeneration, values
+    from debench.reference.datasets import data_dir
+    from debench.reference.producers import ch5 as p5
+
+    def probe_guard():
+        return [values.Guarded("probe", str(p5._RECOMPUTED.get() is not None), 0.0, "test")]
+
+    monkeypatch.setattr(values, "probe_guard", probe_guard, raising=False)
+    names = ("debench.reference.values:probe_guard",) * 2
+    with p5.recomputed_in_this_command(data_dir() / "ch5_critical_voltage.nc"), \
+            regeneration.Recomputations((), names, jobs=2, out=tmp_path) as work:
+        assert [g.value for g in work.guarded()] == ["True", "True"]

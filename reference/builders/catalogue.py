@@ -103,9 +103,11 @@ def thesis_values_problems(data_dir: Path | None = None) -> list[str]:
             "`debench reproduce catalogue --write-data`)"] if bad else []
 
 
-def build(out_dir: Path, *, full: bool = False, results=None) -> list[Path]:
-    """Write ``thesis_values.nc`` into ``out_dir`` (``full`` has no effect); ``results``:
-    ``catalogue.evaluate_all()`` when the caller has it (evaluated here otherwise)."""
+def build(out_dir: Path, *, full: bool = False, results=None, guards=None) -> list[Path]:
+    """Write ``thesis_values.nc`` and ``our_values.nc`` into ``out_dir`` (``full`` has no
+    effect); ``results``: ``catalogue.evaluate_all()`` and ``guards``: the values of
+    :func:`debench.reference.values.extra_guards`, when the caller has them (computed here
+    otherwise)."""
     entries = catalogue.load()
     ds = catalogue_dataset(entries)
     path = write_dataset(
@@ -123,7 +125,8 @@ def build(out_dir: Path, *, full: bool = False, results=None) -> list[Path]:
     errors = [r.entry.id for r in results if r.status == "error"]
     if errors:
         raise RuntimeError(f"producers raised for {errors}: fix them before storing values")
-    guards = values.guarded_from_results(results) + values.extra_guards()
+    guards = values.guarded_from_results(results) + (values.extra_guards() if guards is None
+                                                      else list(guards))
     ours = write_dataset(
         values.store_dataset(guards), values.STORE_NAME, out_dir=out_dir, overwrite=True,
         title="debench's computed values with the tolerances their methods support",
