@@ -103,14 +103,14 @@ def compare_with_curated(path: Path, curated_dir: Path) -> str:
 
 
 # --------------------------------------------------------------------------- verify's work
-#: Measured CPU seconds of each recomputation of ``debench verify`` (one thread, 2-core
-#: reference machine): the pool starts the longest first; one not listed counts 10 s.
-VERIFY_CPU_S = {
-    "ch4_fe": 32.8, "ch4": 28.3, "ch4_inplane": 16.9, "ch3": 9.0, "ch3_fe": 7.2,
-    "ch2_appendix": 0.7,
-    "debench.reference.producers.ch5:coarse_guards": 8.0,
-    "debench.reference.producers.ch5_methods:axisym_methods_guards": 9.0,
-    "debench.reference.producers.ch5:axisym_coarse_guards": 3.4,
+#: Measured CPU seconds of each model guard of ``debench verify`` (one thread, profiled on
+#: the 2-core machine at load 3-4); with the chapters' :data:`~debench.reference.builds.
+#: BUILD_CPU_S` the pool starts the longest first; one not listed counts 10 s.
+GUARD_CPU_S = {
+    "debench.reference.producers.ch5_methods:axisym_methods_guards": 8.2,
+    "debench.reference.producers.ch5:coarse_guards": 5.7,
+    "debench.reference.producers.ch5_path:axisym_path_guards": 5.4,
+    "debench.reference.producers.ch5:axisym_coarse_guards": 4.7,
 }
 
 
@@ -142,7 +142,7 @@ class Recomputations:
     :data:`debench.reference.values.EXTRA_GUARDS`).
 
     With ``jobs`` > 1 they start at once in a pool of ``jobs`` processes (longest first,
-    :data:`VERIFY_CPU_S`), so that they run beside the catalogue evaluation of the calling
+    :data:`GUARD_CPU_S`), so that they run beside the catalogue evaluation of the calling
     process; with ``jobs`` = 1 each runs in this process when its result is asked for.
     :meth:`lines` and :meth:`guarded` return the results in the order given; an exception
     of a job is raised there. Use as a context manager (the pool and the output directory
@@ -160,7 +160,10 @@ class Recomputations:
             self._executor = ProcessPoolExecutor(
                 max_workers=min(jobs, len(work)), mp_context=pool_context(),
                 initializer=init_pool_process)
-            for kind, name in sorted(work, key=lambda w: -VERIFY_CPU_S.get(w[1], 10.0)):
+            from debench.reference.builds import BUILD_CPU_S
+
+            cost = BUILD_CPU_S | GUARD_CPU_S
+            for kind, name in sorted(work, key=lambda w: -cost.get(w[1], 10.0)):
                 fn, args = ((_regenerate, (name, self.out)) if kind == "chapter"
                             else (_guard, (name,)))
                 self._futures[(kind, name)] = self._executor.submit(fn, *args)
