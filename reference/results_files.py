@@ -8,9 +8,13 @@ from pathlib import Path
 
 import numpy as np
 
+#: exit codes of ``debench``: 0 ok; 1 a check or verification failed; 2 usage error; 3
+#: runtime error (a computation failed)
+EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_RUNTIME = 0, 1, 2, 3
+
 
 class UsageError(ValueError):
-    """Bad command-line input (exit code 2)."""
+    """Bad command-line input (exit code :data:`EXIT_USAGE`)."""
 
 
 def _unit(spelled: str | None, expected: str, column: str, where: str):
