@@ -3,9 +3,12 @@ within the accuracy it states (``debench reproduce`` and ``debench verify``)."""
 
 from __future__ import annotations
 
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
+from debench.reference import builds
+from debench.reference.figures import not_written
 
 #: Default agreement of a regenerated numeric variable with its curated counterpart, for
 #: variables that state no accuracy of their own: the builders' solvers stop at relative
@@ -117,11 +120,9 @@ GUARD_CPU_S = {
 def _regenerate(chapter: str, out: str) -> list[str]:
     """Rebuild ``chapter`` (default plan, no figures) into ``out`` and compare each dataset
     with its curated counterpart: one line per dataset (:func:`compare_with_curated`)."""
-    from debench.reference.builds import builder
     from debench.reference.datasets import data_dir
-    from debench.reference.figures import not_written
 
-    mod = builder(chapter)
+    mod = builds.builder(chapter)
     if mod is None:
         return []
     with not_written():
@@ -153,16 +154,10 @@ class Recomputations:
         self._executor, self._futures = None, {}
         work = [("chapter", c) for c in self.chapters] + [("guard", g) for g in self.guards]
         if jobs > 1 and len(work) > 1:
-            from concurrent.futures import ProcessPoolExecutor
-
-            from debench.reference.builds import init_pool_process, pool_context
-
             self._executor = ProcessPoolExecutor(
-                max_workers=min(jobs, len(work)), mp_context=pool_context(),
-                initializer=init_pool_process)
-            from debench.reference.builds import BUILD_CPU_S
-
-            cost = BUILD_CPU_S | GUARD_CPU_S
+                max_workers=min(jobs, len(work)), mp_context=builds.pool_context(),
+                initializer=builds.init_pool_process)
+            cost = builds.BUILD_CPU_S | GUARD_CPU_S
             for kind, name in sorted(work, key=lambda w: -cost.get(w[1], 10.0)):
                 fn, args = ((_regenerate, (name, self.out)) if kind == "chapter"
                             else (_guard, (name,)))
@@ -188,9 +183,7 @@ class Recomputations:
     def __exit__(self, *exc):
         if self._executor is not None:
             if exc[0] is not None:
-                from debench.reference.builds import stop_pool
-
-                stop_pool(self._executor)
+                builds.stop_pool(self._executor)
             else:
                 self._executor.shutdown(wait=True)
         return False
