@@ -82,15 +82,13 @@ def limit_in_inverse_k(k_ratios, v) -> tuple[float, float]:
     return float(lim), float(err)
 
 
-def compute(full: bool = False) -> tuple[xr.Dataset, dict]:
-    from debench.models.buckling.analytic import critical_voltage_plate
+def _methods_study(levels, plate, mat) -> dict:
+    """The critical voltage of every linearised buckling method on every mesh level, with
+    each method's mesh limit (convergence fit; NaN with fewer than three levels)."""
     from debench.models.buckling.initial_stress import linearised_critical_voltage
-    from debench.models.buckling.parameters import Discretisation, Plate
-    from debench.models.numerics import convergence_fit, propagated_accuracy
+    from debench.models.buckling.parameters import Discretisation
+    from debench.models.numerics import convergence_fit
 
-    levels = LEVELS[full]
-    plate = Plate(aspect=ASPECT)
-    mat = _nh()
     v = np.zeros((len(METHODS), len(levels)))
     res = np.zeros_like(v)
     ndof = np.zeros_like(v, dtype=np.int64)
@@ -105,8 +103,18 @@ def compute(full: bool = False) -> tuple[xr.Dataset, dict]:
         for i in range(len(METHODS)):
             fit = convergence_fit(np.array(levels), v[i])
             lim[i], err[i] = fit.v_inf, fit.error
+    return {"v": v, "res": res, "ndof": ndof, "lim": lim, "err": err}
 
-    k_levels = K_LEVELS[full]
+
+def _k_study(k_levels, plate, mat) -> dict:
+    """The coupled critical voltage for every bulk modulus of K_RATIOS, order and mesh level,
+    its limit k/mu -> infinity with its error estimate and their regeneration accuracy
+    (``kacc``), and the Kirchhoff plate estimate per bulk modulus."""
+    from debench.models.buckling.analytic import critical_voltage_plate
+    from debench.models.buckling.initial_stress import linearised_critical_voltage
+    from debench.models.buckling.parameters import Discretisation
+    from debench.models.numerics import propagated_accuracy
+
     kr = np.array([mat.k / mat.mu if k is None else k for k in K_RATIOS])
     vk = np.zeros((len(K_RATIOS), len(K_ORDERS), len(k_levels)))
     for a, k in enumerate(K_RATIOS):
@@ -130,6 +138,22 @@ def compute(full: bool = False) -> tuple[xr.Dataset, dict]:
                                 for b in range(len(K_ORDERS))
                                 for c in range(len(k_levels))]))
             for i, name in enumerate(("v_cr_k_limit", "v_cr_k_limit_error"))}
+    return {"kr": kr, "vk": vk, "klim": klim, "kerr": kerr, "plate_k": plate_k, "kacc": kacc}
+
+
+def compute(full: bool = False) -> tuple[xr.Dataset, dict]:
+    from debench.models.buckling.analytic import critical_voltage_plate
+    from debench.models.buckling.parameters import Plate
+
+    levels = LEVELS[full]
+    plate = Plate(aspect=ASPECT)
+    mat = _nh()
+    m = _methods_study(levels, plate, mat)
+    v, res, ndof, lim, err = (m[k] for k in ("v", "res", "ndof", "lim", "err"))
+    k_levels = K_LEVELS[full]
+    ks = _k_study(k_levels, plate, mat)
+    kr, vk, klim, kerr, plate_k, kacc = (ks[k] for k in ("kr", "vk", "klim", "kerr",
+                                                         "plate_k", "kacc"))
 
     def a(ln, u="1", atol=None):
         out = {"long_name": ln, "units": u}
