@@ -36,6 +36,10 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from debench.models.buckling.analytic import critical_voltage_plate
+from debench.models.buckling.initial_stress import linearised_critical_voltage
+from debench.models.buckling.parameters import Discretisation, NeoHookean, Plate
+from debench.models.numerics import convergence_fit, propagated_accuracy
 from debench.reference.datasets import write_dataset
 
 NAME = "ch5_methods"
@@ -58,7 +62,6 @@ MU_IN_MPA_FACTOR = math.sqrt(0.156)
 
 
 def _nh(k_ratio=None):
-    from debench.models.buckling.parameters import NeoHookean
     if k_ratio is None:
         return NeoHookean()
     base = NeoHookean()
@@ -85,10 +88,6 @@ def limit_in_inverse_k(k_ratios, v) -> tuple[float, float]:
 def _methods_study(levels, plate, mat) -> dict:
     """The critical voltage of every linearised buckling method on every mesh level, with
     each method's mesh limit (convergence fit; NaN with fewer than three levels)."""
-    from debench.models.buckling.initial_stress import linearised_critical_voltage
-    from debench.models.buckling.parameters import Discretisation
-    from debench.models.numerics import convergence_fit
-
     v = np.zeros((len(METHODS), len(levels)))
     res = np.zeros_like(v)
     ndof = np.zeros_like(v, dtype=np.int64)
@@ -110,11 +109,6 @@ def _k_study(k_levels, plate, mat) -> dict:
     """The coupled critical voltage for every bulk modulus of K_RATIOS, order and mesh level,
     its limit k/mu -> infinity with its error estimate and their regeneration accuracy
     (``kacc``), and the Kirchhoff plate estimate per bulk modulus."""
-    from debench.models.buckling.analytic import critical_voltage_plate
-    from debench.models.buckling.initial_stress import linearised_critical_voltage
-    from debench.models.buckling.parameters import Discretisation
-    from debench.models.numerics import propagated_accuracy
-
     kr = np.array([mat.k / mat.mu if k is None else k for k in K_RATIOS])
     vk = np.zeros((len(K_RATIOS), len(K_ORDERS), len(k_levels)))
     for a, k in enumerate(K_RATIOS):
@@ -142,9 +136,6 @@ def _k_study(k_levels, plate, mat) -> dict:
 
 
 def compute(full: bool = False) -> tuple[xr.Dataset, dict]:
-    from debench.models.buckling.analytic import critical_voltage_plate
-    from debench.models.buckling.parameters import Plate
-
     levels = LEVELS[full]
     plate = Plate(aspect=ASPECT)
     mat = _nh()
