@@ -21,7 +21,10 @@ while lambda_0, lambda_2, lambda_3, lambda_7 agree to 7 digits. So only wavenumb
 resolution at the axis, and with it its critical voltage keeps falling (by 1.2e-3, 5.3e-4,
 4.7e-4 t0-normalised per 4 layers at p = 5) without a visible limit: the curated n = 1
 values (no axis grading: 0.2978424 at p = 6, error estimate 6.0e-4) and the n = 1
-eigenvalues along the path are too high by more than their estimates. Not explained: the
+eigenvalues along the path are too high by more than their estimates (measured separately on
+the imperfect R/t0 = 10 paths at order 3, 4 layers: lambda_1 at the voltage maximum 1.19076e-2
+-> 1.16083e-2 (NH) and 5.34304e-3 -> 5.21018e-3 (Ogden) with 8 axis layers, -2.5 %, the
+maximum itself and lambda_2, lambda_3 there unchanged). Not explained: the
 n = 1 axis conditions (S = U + V = 0, W = Q = 0, D = U - V free) admit the smooth n = 1
 modes; whether the decrease converges (an axis boundary layer of the physical mode) or not
 (a singular, non-physical minimiser of the discrete condensed tangent) is open.
