@@ -32,6 +32,10 @@ class AxisymDiscretisation:
     ``face_layers`` geometric layers (ratio ``grading``) towards each face, so that the
     elements next to the two clamped corners (R, Z) = (a, 0), (a, t0) shrink geometrically in
     both directions (the hp-refinement of corner singularities, Babuska & Guo 1986).
+    ``axis_layers`` geometric layers (ratio ``grading``) towards the axis inside the first
+    radial element: the wavenumber-1 perturbations need resolution there (their critical
+    voltage falls with every layer added, while every other wavenumber's is unchanged to
+    1e-9: tools/probe_n1_axis_grading.py); 0 (default) keeps the uniform inner mesh.
     ``order``: polynomial order of every field (H1, quadrilaterals). ``ogden_delta``: the
     numerical parameter of the library's Ogden evaluation (error O(delta^2)).
     """
@@ -44,6 +48,7 @@ class AxisymDiscretisation:
     face_layers: int = 6
     grading: float = 0.25
     ogden_delta: float = 1e-3
+    axis_layers: int = 0
 
     def __post_init__(self):
         val.integer_at_least("order", self.order, 1)
@@ -51,7 +56,7 @@ class AxisymDiscretisation:
         val.integer_at_least("n_r", self.n_r, 1)
         val.integer_at_least("n_z", self.n_z, 1)
         val.in_range("edge_zone", self.edge_zone, 0.0, 100.0, lo_open=True)
-        for name in ("edge_layers", "face_layers"):
+        for name in ("edge_layers", "face_layers", "axis_layers"):
             v = getattr(self, name)
             val.integer_at_least(name, v, 0)
             require(v <= MAX_LAYERS, f"{name} = {v} must be <= {MAX_LAYERS}")
@@ -70,6 +75,7 @@ def section_nodes(plate: Plate, disc: AxisymDiscretisation) -> tuple[np.ndarray,
     a, t0 = plate.radius, plate.thickness
     zone = min(disc.edge_zone * t0, 0.5 * a)
     r_in = np.linspace(0.0, a - zone, disc.n_r + 1)
+    r_in = np.concatenate([r_in, r_in[1] * disc.grading ** np.arange(1, disc.axis_layers + 1)])
     r_edge = a - _graded(zone, disc.edge_layers, disc.grading)[::-1]
     r = np.unique(np.concatenate([r_in, r_edge]))
     hz = t0 / disc.n_z
