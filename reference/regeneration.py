@@ -130,13 +130,6 @@ def _regenerate(chapter: str, out: str) -> list[str]:
     return [compare_with_curated(p, data_dir()) for p in paths if p.suffix == ".nc"]
 
 
-def _guard(name: str) -> list:
-    """One extra guard of :data:`debench.reference.values.EXTRA_GUARDS`, run."""
-    from debench.reference.values import extra_guards
-
-    return extra_guards([name])
-
-
 class Recomputations:
     """The recomputations of ``debench verify``: the cheap chapters rebuilt and compared with
     data/ (``chapters``), and the model guards (``guards``: names of
@@ -159,15 +152,20 @@ class Recomputations:
                 initializer=builds.init_pool_process)
             cost = builds.BUILD_CPU_S | GUARD_CPU_S
             for kind, name in sorted(work, key=lambda w: -cost.get(w[1], 10.0)):
-                fn, args = ((_regenerate, (name, self.out)) if kind == "chapter"
-                            else (_guard, (name,)))
-                self._futures[(kind, name)] = self._executor.submit(fn, *args)
+                self._futures[(kind, name)] = self._executor.submit(*self._job(kind, name))
+
+    def _job(self, kind: str, name: str):
+        """The function and arguments of one recomputation."""
+        from debench.reference.values import extra_guards
+
+        return (_regenerate, name, self.out) if kind == "chapter" else (extra_guards, [name])
 
     def _result(self, kind: str, name: str):
         fut = self._futures.get((kind, name))
         if fut is not None:
             return fut.result()
-        return _regenerate(name, self.out) if kind == "chapter" else _guard(name)
+        fn, *args = self._job(kind, name)
+        return fn(*args)
 
     def lines(self) -> list[str]:
         """The comparison line of every regenerated dataset, chapter by chapter."""

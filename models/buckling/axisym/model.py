@@ -328,11 +328,10 @@ class AxisymModel(ModeAnalysis):
         fr, t0 = self.free, self.plate.thickness
         x0, v0 = self.state(), self.v
         try:
-            dx, dv = self._bordered_step(K, r, g, kf, dirv, c)
-            self._step_inside_domain(dx, dv, c)
+            self._step_inside_domain(*self._bordered_step(K, r, g, kf, dirv, c), c)
         except ConvergenceError:
-            dx = None
-        if dx is not None:
+            pass
+        else:
             rt = float(np.linalg.norm(self._residual()[fr]))
             if rt < rn and abs(self.state()[self._centre_dof()] - c * t0) <= 1e-12 * t0:
                 self.stats["newton_steps"] += 1
