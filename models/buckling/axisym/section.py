@@ -33,9 +33,9 @@ class AxisymDiscretisation:
     elements next to the two clamped corners (R, Z) = (a, 0), (a, t0) shrink geometrically in
     both directions (the hp-refinement of corner singularities, Babuska & Guo 1986).
     ``axis_layers`` geometric layers (ratio ``grading``) towards the axis inside the first
-    radial element: the wavenumber-1 perturbations need resolution there (their critical
-    voltage falls with every layer added, while every other wavenumber's is unchanged to
-    1e-9: tools/probe_n1_axis_grading.py); 0 (default) keeps the uniform inner mesh.
+    radial element, a check of the axis regularity conditions (the smooth fields they admit
+    need no resolution there: every wavenumber's critical voltage is unchanged by them to
+    1e-9, tools/probe_n1_axis_grading.py); 0 (default) keeps the uniform inner mesh.
     ``order``: polynomial order of every field (H1, quadrilaterals). ``ogden_delta``: the
     numerical parameter of the library's Ogden evaluation (error O(delta^2)).
     """

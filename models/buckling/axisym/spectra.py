@@ -100,10 +100,10 @@ class ModeAnalysis:
         Y, sizes = self._mode_space(n)
         (a1, a2, W, Q), (b1, b2, bw, _) = Y.TnT()
         g = ngs.grad
-        if n == 1:       # S = U + V, D = U - V
-            U, V = 0.5 * (a1 + a2), 0.5 * (a2 - a1)
-            gU, gV = 0.5 * (g(a1) + g(a2)), 0.5 * (g(a2) - g(a1))
-            Ut, Vt = 0.5 * (b1 + b2), 0.5 * (b2 - b1)
+        if n == 1:       # a1 = S = U + V (zero on the axis), a2 = D = U - V (free)
+            U, V = 0.5 * (a1 + a2), 0.5 * (a1 - a2)
+            gU, gV = 0.5 * (g(a1) + g(a2)), 0.5 * (g(a1) - g(a2))
+            Ut, Vt = 0.5 * (b1 + b2), 0.5 * (b1 - b2)
         else:
             U, V, gU, gV, Ut, Vt = a1, a2, g(a1), g(a2), b1, b2
         R = self.R
