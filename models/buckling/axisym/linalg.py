@@ -22,6 +22,13 @@ REFINEMENTS = 4
 """Most iterative-refinement steps of one solve."""
 REFINE_RTOL = 1e-13
 """Iterative refinement stops below this relative residual (two orders above round-off)."""
+REFINE_STAGNATION = 0.5
+"""Iterative refinement also stops when a step lowers the relative residual by less than
+this factor: the residual has reached the floor the matrix's conditioning sets. Next to a
+critical voltage the shifted tangent is nearly singular and that floor is far above
+REFINE_RTOL (measured, order 4, 6 layers, v = 0.2202: 4.4e-9, 2.4e-9, 2.4e-9, 2.1e-9 over
+four steps, with a normwise backward error ||r||_inf / (||A||_inf ||x||_inf + ||b||_inf) of
+1e-19 already after the first solve), so further steps only repeat solves."""
 
 
 class Factor:
@@ -30,7 +37,9 @@ class Factor:
     SuperLU in symmetric mode (minimum degree on A + A^T, diagonal pivots): 5-10x faster
     than its default column ordering on these saddle-point matrices (measured 0.46 s
     against 3.4 s at 24k DOFs), at the price of a first solve of relative residual ~1e-8
-    that :data:`REFINEMENTS` steps of iterative refinement bring to round-off. A solve whose
+    that iterative refinement (at most :data:`REFINEMENTS` steps, stopped at
+    :data:`REFINE_RTOL` or on stagnation, :data:`REFINE_STAGNATION`) brings to the floor the
+    conditioning sets. A solve whose
     residual stays above :data:`DIRECT_RTOL` raises ConvergenceError (breakdown)."""
 
     def __init__(self, A: sp.spmatrix, what: str):
@@ -43,17 +52,25 @@ class Factor:
             raise ConvergenceError(f"{what}: factorisation failed ({exc})") from exc
 
     def solve(self, b: np.ndarray, *, check: bool = True) -> np.ndarray:
-        """``A^-1 b`` refined to REFINE_RTOL; ``check=False`` skips the breakdown test (for
-        a caller that refines a larger system itself)."""
+        """``A^-1 b`` refined to REFINE_RTOL or until refinement stagnates; ``check=False``
+        skips the breakdown test (for a caller that refines a larger system itself)."""
         b = np.asarray(b, dtype=float)
         x = self.lu.solve(b)
         nb = max(float(np.linalg.norm(b)), 1e-300)
-        res = float(np.linalg.norm(self.A @ x - b)) / nb
+        r = b - self.A @ x
+        res = float(np.linalg.norm(r)) / nb
         for _ in range(REFINEMENTS):
             if not (np.isfinite(res) and res > REFINE_RTOL):
                 break
-            x = x + self.lu.solve(b - self.A @ x)
-            res = float(np.linalg.norm(self.A @ x - b)) / nb
+            x_next = x + self.lu.solve(r)
+            r_next = b - self.A @ x_next
+            res_next = float(np.linalg.norm(r_next)) / nb
+            if not res_next < res:
+                break
+            gain = res_next / res
+            x, r, res = x_next, r_next, res_next
+            if gain > REFINE_STAGNATION:
+                break
         if not np.all(np.isfinite(x)) or (check and not res < DIRECT_RTOL):
             raise ConvergenceError(f"{self.what}: direct solve broke down (relative residual "
                                    f"{res:.2e}): singular matrix")
