@@ -55,6 +55,13 @@ def negative_pivots(A) -> int:
                   options={"SymmetricMode": True})
     except RuntimeError as exc:          # SuperLU: "Factor is exactly singular"
         raise ConvergenceError(f"negative_pivots: {exc} (matrix singular)") from exc
+    return negative_pivots_of(lu)
+
+
+def negative_pivots_of(lu) -> int:
+    """:func:`negative_pivots` of a matrix already factorised by SuperLU in symmetric mode
+    with diagonal pivots (``lu``, as :func:`negative_pivots` factorises it), with the same
+    checks."""
     if not np.array_equal(lu.perm_r, lu.perm_c):
         raise ConvergenceError("negative_pivots: SuperLU pivoted off the diagonal")
     d = lu.U.diagonal()

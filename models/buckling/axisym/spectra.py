@@ -31,7 +31,7 @@ from debench.models.buckling.axisym.kinematics import (
     section_gradient,
 )
 from debench.models.buckling.axisym.linalg import Factor, csr_of, embed_block
-from debench.models.buckling.eigen import negative_pivots
+from debench.models.buckling.eigen import negative_pivots, negative_pivots_of
 from debench.models.buckling.parameters import Ogden
 from debench.models.errors import ConvergenceError, require
 from debench.models.materials import ngsolve_forms as ngf
@@ -260,7 +260,7 @@ class _Pencil:
         if tangent == "coupled":
             Kup, Kpp = K[iu][:, ip], K[ip][:, ip].tocsc()
             lu_pp = Factor(Kpp, "AxisymModel.spectrum (potential block)")
-            npp = negative_pivots(Kpp)
+            npp = negative_pivots_of(lu_pp.lu)
             require(npp == Kpp.shape[0], "AxisymModel.spectrum: the potential block is not "
                                          "negative definite (no dielectric saddle point)")
 
