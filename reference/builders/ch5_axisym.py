@@ -122,9 +122,41 @@ def _vs_3d(v_ax: np.ndarray) -> dict:
             "within_ext": within_ext}
 
 
+def critical_solve_variables(dims: tuple[str, ...], fields: dict, ndof: np.ndarray,
+                             v_cr_of: str) -> dict:
+    """The variables of one critical-voltage solve per entry of ``dims`` (v_cr, its
+    root-finding tolerance, the flat state's centre thickness and field, the residuals, the
+    CPU time, the DOFs), from ``fields`` (keys v, vtol, thickness, e, eig_residual,
+    newton_residual_rel, cpu_s; :func:`~debench.models.buckling.axisym.critical_voltage`'s
+    result fields) and ``ndof``; ``v_cr_of`` ends v_cr's long name (which film, which
+    wavenumber, which operator)."""
+    a = variable_attrs
+    return {
+        "v_cr": (dims, fields["v"], a(
+            "normalised critical voltage Phi/t0 sqrt(eps/mu_ref) of the perfect clamped "
+            f"film {v_cr_of}", atol=REGEN_ATOL)),
+        "v_cr_tolerance": (dims, fields["vtol"], a(
+            "root-finding tolerance of v_cr (inverse quadratic vs secant root)",
+            atol=REGEN_ATOL)),
+        "thickness_centre": (dims, fields["thickness"], a(
+            "centre thickness / t0 of the flat state at v_cr", atol=REGEN_ATOL)),
+        "e_centre": (dims, fields["e"], a(
+            "normalised true field at the centre of the flat state at v_cr",
+            atol=REGEN_ATOL)),
+        "eig_residual": (dims, fields["eig_residual"], a(
+            "backward error of the critical eigenpair", atol=1e-10)),
+        "newton_residual_rel": (dims, fields["newton_residual_rel"], a(
+            "last Newton residual of the flat state relative to its reference",
+            atol=1e-8)),
+        "cpu_seconds": (dims, fields["cpu_s"], a(
+            "process CPU time of the critical-voltage solve (one thread)", "s",
+            rtol=TIMING_RTOL)),
+        "ndof": (dims, ndof, a("degrees of freedom of the state (r, z, potential)")),
+    }
+
+
 def _variables(fields, ndof, ndof_mode, res, conv, acc, fs, vs3d) -> dict:
     """The data variables of ``ch5_axisym.nc`` with their attributes."""
-    v = fields["v"]
     v3_ref, e3_ref, v3_ext, e3_ext = (vs3d[k] for k in ("v3_ref", "e3_ref", "v3_ext",
                                                         "e3_ext"))
     bias_ref, bias_ext = vs3d["bias_ref"], vs3d["bias_ext"]
@@ -133,27 +165,8 @@ def _variables(fields, ndof, ndof_mode, res, conv, acc, fs, vs3d) -> dict:
     dims4 = ("case", "n", "order", "layers")
     flag = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "outside inside"}
     return {
-        "v_cr": (dims4, v, a(
-            "normalised critical voltage Phi/t0 sqrt(eps/mu_ref) of the perfect clamped "
-            "film in angular wavenumber n (axisymmetric FE model, this discretisation)",
-            atol=REGEN_ATOL)),
-        "v_cr_tolerance": (dims4, fields["vtol"], a(
-            "root-finding tolerance of v_cr (inverse quadratic vs secant root)",
-            atol=REGEN_ATOL)),
-        "thickness_centre": (dims4, fields["thickness"], a(
-            "centre thickness / t0 of the flat state at v_cr", atol=REGEN_ATOL)),
-        "e_centre": (dims4, fields["e"], a(
-            "normalised true field at the centre of the flat state at v_cr",
-            atol=REGEN_ATOL)),
-        "eig_residual": (dims4, fields["eig_residual"], a(
-            "backward error of the critical eigenpair", atol=1e-10)),
-        "newton_residual_rel": (dims4, fields["newton_residual_rel"], a(
-            "last Newton residual of the flat state relative to its reference",
-            atol=1e-8)),
-        "cpu_seconds": (dims4, fields["cpu_s"], a(
-            "process CPU time of the critical-voltage solve (one thread)", "s",
-            rtol=TIMING_RTOL)),
-        "ndof": (dims4, ndof, a("degrees of freedom of the state (r, z, potential)")),
+        **critical_solve_variables(dims4, fields, ndof, "in angular wavenumber n "
+                                   "(axisymmetric FE model, this discretisation)"),
         "ndof_mode": (dims4, ndof_mode, a("degrees of freedom of the wavenumber-n "
                                           "perturbation problem")),
         "v_cr_guard": (("case",), np.array([res[(c, "guard")].v for c in CASES]), a(

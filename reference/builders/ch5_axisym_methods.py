@@ -36,6 +36,7 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from debench.reference.builders.ch5_axisym import REGEN_ATOL, critical_solve_variables
 from debench.reference.builders.ch5_axisym_path import converged, safety_factor
 from debench.reference.datasets import variable_attrs, write_dataset
 from debench.reference.studies.ch5_axisym_methods import (
@@ -50,14 +51,6 @@ PLANS = {
     False: {"cases": ("nh_t1",), "discs": ((2, 3), (3, 3), (3, 2))},
     True: {"cases": ("nh_t1",), "discs": ((3, 6), (4, 6), (5, 6), (5, 4))},
 }
-REGEN_ATOL = 1e-8
-"""Regenerations of a critical voltage agree to ~1e-9 (the secant's stopping rule and the
-Newton round-off next to the singular tangent, as in
-:data:`debench.reference.builders.ch5_axisym.REGEN_ATOL`); 10x that."""
-TIMING_RTOL = 1.0
-"""CPU seconds depend on the machine and its load: within a factor two of the curated."""
-
-
 def plan(full: bool = False) -> list[tuple]:
     """The FE tasks ``(critical_task, case, tangent, order, layers)`` of a build."""
     p = PLANS[full]
@@ -96,24 +89,8 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
     a = variable_attrs
     d3, d2 = ("case", "tangent", "disc"), ("case", "tangent")
     variables = {
-        "v_cr": (d3, f["v"], a(
-            "normalised critical voltage Phi/t0 sqrt(eps/mu_ref) of the perfect clamped film "
-            "in wavenumber 0 under the stability operator (this discretisation)",
-            atol=REGEN_ATOL)),
-        "v_cr_tolerance": (d3, f["vtol"], a(
-            "root-finding tolerance of v_cr (inverse quadratic vs secant root)",
-            atol=REGEN_ATOL)),
-        "thickness_centre": (d3, f["thickness"], a("centre thickness / t0 of the flat state "
-                                                   "at v_cr", atol=REGEN_ATOL)),
-        "e_centre": (d3, f["e"], a("normalised true field at the centre of the flat state "
-                                   "at v_cr", atol=REGEN_ATOL)),
-        "eig_residual": (d3, f["eig_residual"], a("backward error of the critical "
-                                                  "eigenpair", atol=1e-10)),
-        "newton_residual_rel": (d3, f["newton_residual_rel"], a(
-            "last Newton residual of the flat state relative to its reference", atol=1e-8)),
-        "cpu_seconds": (d3, f["cpu_s"], a("process CPU time of the critical-voltage solve "
-                                          "(one thread)", "s", rtol=TIMING_RTOL)),
-        "ndof": (d3, ndof, a("degrees of freedom of the state (r, z, potential)")),
+        **critical_solve_variables(d3, f, ndof, "in wavenumber 0 under the stability "
+                                   "operator (this discretisation)"),
         "v_cr_converged": (d2, conv["value"], a(
             "converged critical voltage: v_cr on the top discretisation of the plan",
             atol=acc["value"], accuracy="+- v_cr_error")),
