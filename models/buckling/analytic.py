@@ -34,6 +34,10 @@ from scipy.optimize import brentq
 from scipy.special import jn_zeros
 
 J11_SQ = float(jn_zeros(1, 1)[0] ** 2)   # 14.6820, clamped circular plate coefficient
+KIRCHHOFF_N1_RATIO = float(jn_zeros(2, 1)[0] / jn_zeros(1, 1)[0])
+"""1.34030: ratio of the wavenumber-1 and wavenumber-0 critical voltages of a thin clamped
+circular plate under equibiaxial compression (Kirchhoff; the critical loads j_{n+1,1}^2 D / a^2
+and the voltage ~ sqrt(load)); transverse shear lowers it by O((t0/a)^2)."""
 KAPPA_MINDLIN = 5.0 / 6.0
 S_MIN = 0.3          # smallest thickness stretch of the flat film searched (70 % thinning)
 V_PLATE_MAX = 1.5    # largest normalised voltage searched for the plate-theory estimate

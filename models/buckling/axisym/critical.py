@@ -64,16 +64,18 @@ class AxisymCritical:
 
 def critical_voltage(plate: Plate, material: NeoHookean | Ogden,
                      disc: AxisymDiscretisation | None = None, *, n: int = 0,
-                     v_start: float | None = None, maxit: int = 30,
-                     tangent: str = "coupled") -> AxisymCritical:
+                     v_start: float | None = None, start_step: float = 0.1,
+                     maxit: int = 30, tangent: str = "coupled") -> AxisymCritical:
     """Critical normalised voltage of the perfect clamped film in wavenumber ``n``.
 
     The flat state (rim clamped, the nonlinear pre-buckling state with the rim's
     constraint of the thickness change) is equilibrated at each trial voltage; the
     algebraically smallest eigenvalue of the condensed tangent of wavenumber ``n`` is
     driven to zero by the secant method in ``v^2`` (the prestress grows as v^2), started at
-    0.9 and 1.0 times ``v_start`` (default: the Kirchhoff plate estimate
-    :func:`~debench.models.buckling.analytic.critical_voltage_plate`). The final state is
+    ``1 - start_step`` and 1 times ``v_start`` (default: the Kirchhoff plate estimate
+    :func:`~debench.models.buckling.analytic.critical_voltage_plate`, ``start_step`` 0.1;
+    a start from a neighbouring discretisation's ``v`` with a small step saves one or two
+    of the four or five flat-state solves, the root unchanged to ``vtol``). The final state is
     certified: no eigenvalue of wavenumber ``n`` below the one driven to zero (so ``v`` is
     the first crossing of that wavenumber, not a higher mode's).
 
@@ -90,13 +92,14 @@ def critical_voltage(plate: Plate, material: NeoHookean | Ogden,
     """
     n = val.integer_at_least("n", n, 0)
     maxit = val.integer_at_least("maxit", maxit, 1)
+    start_step = float(val.in_range("start_step", start_step, 0.0, 0.5, lo_open=True))
     val.choice("tangent", tangent, TANGENTS)
     t_cpu = time.process_time()
     model = AxisymModel(plate, material, disc, with_imperfection=False)
     v0 = critical_voltage_plate(material, plate.aspect) if v_start is None else float(
         val.positive("v_start", v_start))
     flat = _FlatFilm(model, n, tangent)
-    x_iqi, x_secant, iterations = _secant_in_v2(flat, v0, maxit)
+    x_iqi, x_secant, iterations = _secant_in_v2(flat, v0, start_step, maxit)
     v = math.sqrt(x_iqi)
     return AxisymCritical(
         n=n, v=v, tangent=tangent, thickness=model.centre_thickness(),
@@ -133,14 +136,15 @@ class _FlatFilm:
         return float(spec.lam[0])
 
 
-def _secant_in_v2(flat: _FlatFilm, v0: float, maxit: int) -> tuple[float, float, int]:
-    """The secant on ``flat(x) = 0`` in ``x = v^2`` from ``(0.9 v0)^2`` and ``v0^2``, until
+def _secant_in_v2(flat: _FlatFilm, v0: float, step: float,
+                  maxit: int) -> tuple[float, float, int]:
+    """The secant on ``flat(x) = 0`` in ``x = v^2`` from ``((1 - step) v0)^2`` and ``v0^2``, until
     its next step is below :data:`CRITICAL_STEP` relative (after three evaluations at
     least): (the inverse-quadratic root through the last three evaluations, that secant
     root, the evaluations before it). ConvergenceError after ``maxit`` steps, on a flat
     secant, or when the secant leaves ``x > 0``."""
     what = f"critical_voltage(n={flat.n})"
-    xs = [(0.9 * v0) ** 2, v0**2]
+    xs = [((1.0 - step) * v0) ** 2, v0**2]
     ls = [flat(x) for x in xs]
     for it in range(maxit):
         if ls[-1] == ls[-2]:
