@@ -251,6 +251,32 @@ def test_bad_inputs_raise_naming_the_argument():
         m.set_voltage(math.nan)
 
 
+def test_a_stalled_deflection_solve_gives_up_after_its_stall_steps(monkeypatch):
+    """With ``stall`` the deflection-controlled Newton solve raises as soon as that many
+    steps in a row have not lowered its best residual (here: every correction zero), not
+    after all ``maxit``; without it, only after ``maxit``."""
+    m = ax.AxisymModel(Plate(), NeoHookean(), COARSE, with_imperfection=True)
+    m.set_voltage(0.1)
+    m.newton()
+    steps = []
+
+    def no_progress(self, K, r, g, kf, dirv, c):
+        steps.append(c)
+        return np.zeros(int(np.count_nonzero(self.free))), 0.0
+
+    monkeypatch.setattr(ax_model.AxisymModel, "_bordered_step", no_progress)
+    target = m.centre_deflection() + 0.1
+    with pytest.raises(ConvergenceError, match="no lower residual .* in 3 steps"):
+        m.newton_deflection(target, stall=3, maxit=30)
+    assert len(steps) == 3
+    steps.clear()
+    with pytest.raises(ConvergenceError, match="after 30 steps"):
+        m.newton_deflection(target, maxit=30)
+    assert len(steps) == 30
+    with pytest.raises(ValueError, match="stall"):
+        m.newton_deflection(target, stall=0)
+
+
 def test_newton_refuses_a_state_outside_the_material_domain_before_factorising(monkeypatch):
     """A state with inverted elements (u_z = -2 Z: F_zz = -1, the energy NaN) makes both Newton
     solvers raise ConvergenceError naming the non-finite residual, without a factorisation: a

@@ -59,6 +59,12 @@ NEWTON_LOCAL_RTOL = 1e-4
 descent test: inside the region of quadratic convergence a step may raise the residual at
 round-off-affected levels and the next one still converges (measured for Ogden: 1.4e-7,
 5.8e-5, 3.3e-9, 1.3e-8, 2.9e-15)."""
+PATH_STALL_STEPS = 8
+"""A deflection-controlled Newton solve of a path step gives up when that many steps have
+not lowered its best residual: a step too long for the damped Newton wanders at ~1e-5 ..
+1e-4 of its first residual for all NEWTON_MAXIT steps (measured near the voltage maximum of
+the neo-Hookean film, order 3), while every converging solve improves at each step or
+two; the path then halves the step."""
 DV_MAX_REL = 0.05
 """Largest voltage correction of one deflection-controlled Newton step, relative to the
 voltage (damped Newton)."""
@@ -263,7 +269,7 @@ class AxisymModel(ModeAnalysis):
         raise RuntimeError("no mesh vertex at the top-surface centre")
 
     def newton_deflection(self, c: float, *, rtol: float = NEWTON_RTOL,
-                          maxit: int = NEWTON_MAXIT) -> int:
+                          maxit: int = NEWTON_MAXIT, stall: int | None = None) -> int:
         """Equilibrate at the prescribed centre deflection ``c`` (units of t0, the top-surface
         centre, :meth:`centre_deflection`), the voltage an unknown: Newton on the bordered
         system ``[[K_ff, K_fd dx_d/dv], [e_c^T, 0]]`` (regular at a voltage maximum, where
@@ -271,10 +277,15 @@ class AxisymModel(ModeAnalysis):
         bordered residual. Once the stopping rule of :meth:`newton` holds it takes one more
         step (:meth:`_polish`), so that the state at a prescribed deflection is independent
         of the start to round-off. Returns the steps to the stopping rule; raises
-        ConvergenceError when it is not reached in ``maxit``."""
+        ConvergenceError when it is not reached in ``maxit``, or (``stall``: a number of
+        steps, e.g. :data:`PATH_STALL_STEPS`) when ``stall`` steps in a row have not lowered
+        the best residual."""
         c = float(val.finite("c", c))
         rtol = val.tolerance("rtol", rtol)
         maxit = val.integer_at_least("maxit", maxit, 1)
+        if stall is not None:
+            stall = val.integer_at_least("stall", stall, 1)
+        best = (math.inf, 0)                  # (residual, step) of the best iterate
         fr = self.free
         k = self._centre_dof()
         kf = int(np.count_nonzero(fr[:k]))
@@ -301,6 +312,12 @@ class AxisymModel(ModeAnalysis):
                 return it
             if it == maxit:
                 break
+            if rn < best[0]:
+                best = (rn, it)
+            elif stall is not None and it - best[1] >= stall:
+                raise ConvergenceError(
+                    f"AxisymModel.newton_deflection: no lower residual than {best[0]:.3e} "
+                    f"(relative {best[0] / ref:.3e}) in {stall} steps at c = {c:.6g}")
             dx, dv = self._bordered_step(K, r, g, kf, dirv, c)
             # damping: a voltage correction above DV_MAX_REL of the voltage is a step
             # outside the linearisation's reach (the deflection responds to the voltage

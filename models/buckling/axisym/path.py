@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from debench.models import validation as val
-from debench.models.buckling.axisym.model import AxisymModel
+from debench.models.buckling.axisym.model import PATH_STALL_STEPS, AxisymModel
 from debench.models.errors import ConvergenceError, require
 
 
@@ -187,6 +187,13 @@ def _illinois(f, ws: list[float], ls: list[float], *, maxit: int,
                            f"{list(zip(ws, ls, strict=True))}")
 
 
+PATH_GROW_AFTER = 4
+"""Easy deflection steps (at most four Newton steps) in a row after which the path lets its
+step grow past the size that last failed (doubling the cap up to ``dw_max``): near the
+voltage maximum a doubled step fails again at once (measured: every second step failed,
+each costing a stalled Newton solve, on the neo-Hookean film at order 3)."""
+
+
 def follow_path(model: AxisymModel, w_end: float, *, v_switch: float, dv: float = 0.01,
                 dw0: float = 0.02, dw_max: float = 0.5, wavenumbers=(0, 1),
                 record_every: float = 0.0, max_points: int = 2000,
@@ -194,8 +201,10 @@ def follow_path(model: AxisymModel, w_end: float, *, v_switch: float, dv: float 
                 all_wavenumbers=()) -> list[PathPoint]:
     """Equilibrium path of the imperfect film: voltage control up to ``v_switch`` (steps
     ``dv``), then centre-deflection control (:meth:`AxisymModel.newton_deflection`) up to
-    ``w_end`` with adaptive steps (from ``dw0``, doubled after an easy step up to
-    ``dw_max``, halved after a failed one, which is undone) and a secant predictor. Every
+    ``w_end`` with adaptive steps (from ``dw0``, doubled after an easy step, halved after a
+    failed one, which is undone; never above ``dw_max`` nor, after a failure, above the
+    halved size until :data:`PATH_GROW_AFTER` easy steps in a row, so that a step that just
+    failed is not tried again at once) and a secant predictor. Every
     converged state of the deflection branch is recorded with the lowest eigenvalue of each
     of ``wavenumbers`` (``record_every`` > 0: only states at least that far in w apart),
     from the deflection ``all_from`` on with those of ``all_wavenumbers`` too.
@@ -215,6 +224,7 @@ def follow_path(model: AxisymModel, w_end: float, *, v_switch: float, dv: float 
     points = [_record(model, wavenumbers)]
     prev = None
     w, dw = model.centre_deflection(), dw0
+    dw_cap, easy = dw_max, 0
     last_w_rec = w
     while w < w_end and len(points) < max_points:
         x0, v0 = model.state(), model.v
@@ -225,7 +235,7 @@ def follow_path(model: AxisymModel, w_end: float, *, v_switch: float, dv: float 
             model.set_state(x0 + f * (x0 - xp))
             model.v = v0 + f * (v0 - vp)
         try:
-            its = model.newton_deflection(target)
+            its = model.newton_deflection(target, stall=PATH_STALL_STEPS)
         except ConvergenceError:
             model.set_state(x0)
             model.v = v0
@@ -240,12 +250,16 @@ def follow_path(model: AxisymModel, w_end: float, *, v_switch: float, dv: float 
                     points.append(last)
                     break
             dw *= 0.5
+            dw_cap, easy = min(dw_cap, dw), 0
             if dw < 1e-6:
                 raise
             continue
         prev, w = (x0, v0, _w_of(x0, model)), target
+        easy = easy + 1 if its <= 4 else 0
+        if easy >= PATH_GROW_AFTER:
+            dw_cap, easy = min(2.0 * dw_cap, dw_max), 0
         if its <= 4:
-            dw = min(2.0 * dw, dw_max)
+            dw = min(2.0 * dw, dw_cap)
         if record_every <= 0 or w - last_w_rec >= record_every or w >= w_end:
             ns = sorted(set(wavenumbers) | (set(all_wavenumbers) if w >= all_from else set()))
             points.append(_record(model, ns))
