@@ -22,9 +22,11 @@ grading towards the rim and its clamped corners (``edge_layers = face_layers = L
   in-plane mesh limit with their error bars, the differences 3D - axisymmetric and
   whether each 3D error bar contains the axisymmetric value (n = 0, the lowest mode).
 
-Plans: default orders 3, 4 and layers 4, 6 (measured: 116 s of CPU on one core);
-``full`` orders 4 .. 6 and layers 6, 8 (the curated plan: converged to ~1e-8, its CPU in
-``cpu_seconds``; the coarser orders and gradings add nothing to the estimate at the top).
+Plans: default orders 3, 4 and layers 4, 6 (measured: 54 s of CPU in the solves, one
+core; error estimates ~1e-5 with the safety factor 3 of two orders); ``full`` orders 4 .. 6
+and layers 6, 8 (the curated plan: converged to the reproducibility floor of 2e-7,
+:data:`REGEN_ATOL`; its CPU in ``cpu_seconds``, 358 s in all; the coarser orders and
+gradings add nothing to the estimate at the top).
 """
 
 from __future__ import annotations

@@ -16,6 +16,7 @@ from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
+from debench.models.buckling.analytic import KIRCHHOFF_N1_RATIO
 from debench.models.materials.constants import (
     EPS_R_ASSUMED,
     TABLE_5_1_NH_SHEAR_MODULUS,
@@ -405,6 +406,9 @@ def axisym_critical_voltage(entry: Entry) -> Outcome:
     other = axisym_converged(_axisym(), case, 1 - n) if n in (0, 1) else None
     if other is not None:
         got[f"v_n{1 - n}"], got[f"v_n{1 - n}_error"] = other["v"], other["error"]
+        v0, v1 = (got["v"], other["v"]) if n == 0 else (other["v"], got["v"])
+        got["ratio_n1_n0"], got["kirchhoff_ratio"] = v1 / v0, KIRCHHOFF_N1_RATIO
+        got["below_kirchhoff"] = bool(v1 / v0 < KIRCHHOFF_N1_RATIO)
     return Outcome(got["v"], status="reproduced" if got["within"] else "not_reproduced",
                    details=got, evidence=f"{EV_AXISYM}::test_axisym_catalogue_values_lie_"
                    "within_the_computed_error")
