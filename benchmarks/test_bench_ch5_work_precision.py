@@ -5,8 +5,9 @@ axisymmetric model (:mod:`debench.models.buckling.axisym`, order p and grading l
 in one benchmark run.
 
 The reference is computed in the same run by the axisymmetric model on its finest
-discretisation here (p = 7, L = 8; the curated full plan puts its error at ~2e-8, far below
-every error in the table). Thread count fixed: one (``benchmarks/conftest.py``).
+discretisation here (p = 7, L = 8; the curated full plan's error estimate at p = 6, L = 8 is
+2e-7, the reproducibility floor of one critical voltage, far below every error in the
+table). Thread count fixed: one (``benchmarks/conftest.py``).
 Run: ``python -m pytest benchmarks/test_bench_ch5_work_precision.py -s`` (the table;
 ``--benchmark-only`` runs the timed pair alone). ``CH5_WP_3D="3,2,1.4"`` sets the 3D mesh
 sizes h/t0, ``CH5_WP_AXISYM="2:4,3:4,4:6,5:6"`` the axisymmetric (p, L). The report prints
