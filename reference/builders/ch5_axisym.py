@@ -25,7 +25,7 @@ grading towards the rim and its clamped corners (``edge_layers = face_layers = L
 Plans: default orders 3, 4 and layers 4, 6 (measured: 54 s of CPU in the solves, one
 core; error estimates ~1e-5 with the safety factor 3 of two orders); ``full`` orders 4 .. 6
 and layers 6, 8 (the curated plan: converged to the reproducibility floor of 2e-7,
-:data:`REGEN_ATOL`; its CPU in ``cpu_seconds``, 358 s in all; the coarser orders and
+:data:`REGEN_ATOL`; its CPU in ``cpu_seconds``, 328 s in all; the coarser orders and
 gradings add nothing to the estimate at the top).
 """
 
