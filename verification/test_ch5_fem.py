@@ -17,6 +17,8 @@ Claims (thesis Zeng 2020, §5.2.3-5.3; Timoshenko & Gere 1961 §9.1):
 
 from __future__ import annotations
 
+import functools
+
 import math
 import os
 
@@ -70,6 +72,14 @@ AXISYM_DOMINANT = 0.5
 # pull-in from two different sets of three path points around the maximum: the parabola's
 # interpolation error over steps <= dc (measured < 1e-3 relative on the coarse mesh)
 PULLIN_BRACKET_RTOL = 1e-3
+
+
+@functools.lru_cache(maxsize=None)
+def coarse_critical(material: str):
+    """The critical voltage of the 1 mm film on COARSE for ``material`` ("nh" or "ogden"),
+    solved once per test process for the tests that read the same solve (read-only)."""
+    mat = {"nh": NeoHookean, "ogden": Ogden}[material]()
+    return critical_voltage(Plate(), mat, COARSE)
 
 
 @pytest.fixture(scope="module")
@@ -129,7 +139,8 @@ def test_eigen_critical_voltage_converges_to_clamped_plate_theory():
     decreases monotonically under in-plane refinement at a measured rate p >= 1, and its
     Richardson limit is within PLATE_THEORY_RTOL of 14.68 D/a^2 (Timoshenko & Gere §9.1)."""
     from debench.models.numerics import richardson
-    v = [critical_voltage(Plate(), NeoHookean(), Discretisation(h_rel=h, layers=1)).v
+    v = [coarse_critical("nh").v if Discretisation(h_rel=h, layers=1) == COARSE
+         else critical_voltage(Plate(), NeoHookean(), Discretisation(h_rel=h, layers=1)).v
          for h in LEVELS]
     assert v[0] > v[1] > v[2]
     v_inf, p = richardson(np.array(LEVELS), np.array(v))
@@ -156,7 +167,7 @@ def test_eigen_critical_voltage_convergence_rate_full():
 def test_element_layers_barely_change_the_critical_voltage():
     """Thesis: 5 layers of bricks; here 1 layer of quadratic prisms suffices: 2 layers
     change v_cr by less than LAYERS_RTOL."""
-    v1 = critical_voltage(Plate(), NeoHookean(), Discretisation(h_rel=3.0, layers=1)).v
+    v1 = coarse_critical("nh").v              # COARSE: h = 3 t0, one layer
     v2 = critical_voltage(Plate(), NeoHookean(), Discretisation(h_rel=3.0, layers=2)).v
     assert v2 == pytest.approx(v1, rel=LAYERS_RTOL)
 
@@ -164,7 +175,7 @@ def test_element_layers_barely_change_the_critical_voltage():
 def test_southwell_agrees_with_eigen_analysis():
     """Two methods for the critical voltage: the Southwell plot of the imperfect ramp
     (mid-plane deflection, P ~ v^2) and the eigen-analysis of the perfect film."""
-    cr = critical_voltage(Plate(), NeoHookean(), COARSE).v
+    cr = coarse_critical("nh").v
     r = voltage_ramp(Plate(), NeoHookean(), COARSE, v_max=0.95 * cr, dv0=0.01, dv_max=0.01)
     assert southwell(r.v, r.w_mid, v_guess=cr) == pytest.approx(cr, rel=SOUTHWELL_RTOL)
 
@@ -174,7 +185,7 @@ def test_normalised_results_are_scale_invariant():
     0.5 mm and 1 mm plates coincide in normalised variables (thesis Table 5.2 reports
     0.012 vs 0.050: erratum ch5.erratum.table5_2_thickness_dependence)."""
     a = critical_voltage(Plate(thickness=0.5e-3), Ogden(), COARSE).v
-    b = critical_voltage(Plate(thickness=1e-3), Ogden(), COARSE).v
+    b = coarse_critical("ogden").v            # Plate() is the 1 mm film
     assert a == pytest.approx(b, rel=SCALE_RTOL)
     ra = voltage_ramp(Plate(thickness=0.5e-3), Ogden(), COARSE, v_max=0.2, v_switch=0.2)
     rb = voltage_ramp(Plate(thickness=1e-3), Ogden(), COARSE, v_max=0.2, v_switch=0.2)
@@ -185,8 +196,8 @@ def test_normalised_results_are_scale_invariant():
 def test_ogden_buckles_lower_than_neo_hookean():
     """Table 5.4: Ogden (initial modulus 69.58 kPa) buckles at a lower normalised voltage
     than neo-Hookean (156 kPa); plate theory predicts the ratio sqrt(mu0_ogden/mu)."""
-    v_nh = critical_voltage(Plate(), NeoHookean(), COARSE).v
-    v_og = critical_voltage(Plate(), Ogden(), COARSE).v
+    v_nh = coarse_critical("nh").v
+    v_og = coarse_critical("ogden").v
     assert v_og < v_nh
     ratio_theory = (analytic.critical_voltage_plate(Ogden(), 10.0)
                     / analytic.critical_voltage_plate(NeoHookean(), 10.0))
@@ -470,7 +481,7 @@ def test_sparse_direct_solvers_agree_on_the_critical_voltage():
     Newton step, subspace iteration) give the same critical voltage within the secant
     tolerance (both within CRITICAL_VTOL of the zero); the chord steps save
     factorisations (every other Newton step has its own)."""
-    new = critical_voltage(Plate(), NeoHookean(), COARSE)
+    new = coarse_critical("nh")
     old = critical_voltage(Plate(), NeoHookean(), COARSE, inverse="umfpack", reuse=False,
                            eigensolver="subspace", chord=False)
     assert abs(new.v - old.v) <= 2 * CRITICAL_VTOL
