@@ -6,6 +6,8 @@ solve of the plan reproduces, the catalogue's values lie within the computed err
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 from debench.reference import catalogue
@@ -184,7 +186,6 @@ def _crossing_3d(model, index: int, v_guess: float) -> float:
     condensed tangent of the flat film crosses zero: a secant in v^2 from 0.97 and 1.03
     v_guess, after a voltage ramp to 0.9 v_guess (the flat state far above the n = 0
     critical voltage, reached continuously), stopped at a step below 1e-7."""
-    import math
 
     def lam(v):
         model.set_voltage(v)

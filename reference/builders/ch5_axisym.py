@@ -113,14 +113,13 @@ def solve_plan(full: bool = False, progress=None) -> dict:
     for case, p, L in (progress(jobs) if progress else jobs):
         disc = AxisymDiscretisation(order=p, edge_layers=L, face_layers=L)
         mat = material(case)
-        if case in seed:
-            r0 = critical_voltage(plate, mat, disc, n=0, v_start=seed[case][0],
-                                  start_step=SEED_STEP)
-            r1 = critical_voltage(plate, mat, disc, n=1, v_start=seed[case][1],
-                                  start_step=SEED_STEP)
-        else:
-            r0 = critical_voltage(plate, mat, disc, n=0)
-            r1 = critical_voltage(plate, mat, disc, n=1, v_start=N1_START * r0.v)
+        # a film's first level starts from the plate estimate (n = 0) and N1_START times
+        # its n = 0 value (n = 1), every later one from the level before
+        v0, v1 = seed.get(case, (None, None))
+        step = {"start_step": SEED_STEP} if case in seed else {}
+        r0 = critical_voltage(plate, mat, disc, n=0, v_start=v0, **step)
+        r1 = critical_voltage(plate, mat, disc, n=1,
+                              v_start=N1_START * r0.v if v1 is None else v1, **step)
         out[(case, 0, p, L)], out[(case, 1, p, L)] = r0, r1
         seed[case] = (r0.v, r1.v)
     for case in CASES:

@@ -59,12 +59,6 @@ NEWTON_LOCAL_RTOL = 1e-4
 descent test: inside the region of quadratic convergence a step may raise the residual at
 round-off-affected levels and the next one still converges (measured for Ogden: 1.4e-7,
 5.8e-5, 3.3e-9, 1.3e-8, 2.9e-15)."""
-PATH_STALL_STEPS = 8
-"""A deflection-controlled Newton solve of a path step gives up when that many steps have
-not lowered its best residual: a step too long for the damped Newton wanders at ~1e-5 ..
-1e-4 of its first residual for all NEWTON_MAXIT steps (measured near the voltage maximum of
-the neo-Hookean film, order 3), while every converging solve improves at each step or
-two; the path then halves the step."""
 DV_MAX_REL = 0.05
 """Largest voltage correction of one deflection-controlled Newton step, relative to the
 voltage (damped Newton)."""
@@ -278,7 +272,7 @@ class AxisymModel(ModeAnalysis):
         step (:meth:`_polish`), so that the state at a prescribed deflection is independent
         of the start to round-off. Returns the steps to the stopping rule; raises
         ConvergenceError when it is not reached in ``maxit``, or (``stall``: a number of
-        steps, e.g. :data:`PATH_STALL_STEPS`) when ``stall`` steps in a row have not lowered
+        steps, e.g. :data:`~debench.models.buckling.axisym.path.PATH_STALL_STEPS`) when ``stall`` steps in a row have not lowered
         the best residual."""
         c = float(val.finite("c", c))
         rtol = val.tolerance("rtol", rtol)

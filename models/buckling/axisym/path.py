@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from debench.models import validation as val
-from debench.models.buckling.axisym.model import PATH_STALL_STEPS, AxisymModel
+from debench.models.buckling.axisym.model import AxisymModel
 from debench.models.errors import ConvergenceError, require
 
 
@@ -187,6 +187,12 @@ def _illinois(f, ws: list[float], ls: list[float], *, maxit: int,
                            f"{list(zip(ws, ls, strict=True))}")
 
 
+PATH_STALL_STEPS = 8
+"""A deflection-controlled Newton solve of a path step gives up when that many steps have
+not lowered its best residual: a step too long for the damped Newton wanders at ~1e-5 ..
+1e-4 of its first residual for all NEWTON_MAXIT steps (measured near the voltage maximum of
+the neo-Hookean film, order 3), while every converging solve improves at each step or
+two; the path then halves the step."""
 PATH_GROW_AFTER = 4
 """Easy deflection steps (at most four Newton steps) in a row after which the path lets its
 step grow past the size that last failed (doubling the cap up to ``dw_max``): near the
@@ -255,10 +261,11 @@ def follow_path(model: AxisymModel, w_end: float, *, v_switch: float, dv: float 
                 raise
             continue
         prev, w = (x0, v0, _w_of(x0, model)), target
-        easy = easy + 1 if its <= 4 else 0
+        easy_step = its <= 4
+        easy = easy + 1 if easy_step else 0
         if easy >= PATH_GROW_AFTER:
             dw_cap, easy = min(2.0 * dw_cap, dw_max), 0
-        if its <= 4:
+        if easy_step:
             dw = min(2.0 * dw, dw_cap)
         if record_every <= 0 or w - last_w_rec >= record_every or w >= w_end:
             ns = sorted(set(wavenumbers) | (set(all_wavenumbers) if w >= all_from else set()))
