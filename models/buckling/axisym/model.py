@@ -197,12 +197,17 @@ class AxisymModel(ModeAnalysis):
         ref = max(ref, rn)
         best = (math.inf, None, 0)           # (residual, state, step) of the best iterate
         for it in range(maxit + 1):
+            if rn <= rtol * ref:
+                # converged on the residual alone: no tangent is needed to decide
+                self.last_newton = {"iterations": it, "residual": rn,
+                                    "residual_rel": rn / ref}
+                return it
             K = self._tangent()
             require_finite_step(r[fr], K, f"AxisymModel.newton at v = {self.v:.8g} (step {it})")
             x = self.state()
             floor = NEWTON_FLOOR_FACTOR * np.finfo(float).eps * float(
                 np.linalg.norm((abs(K) @ np.abs(x))[fr]))
-            if rn <= rtol * ref or rn <= floor:
+            if rn <= floor:
                 self.last_newton = {"iterations": it, "residual": rn,
                                     "residual_rel": rn / ref}
                 return it
