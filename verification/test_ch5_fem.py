@@ -18,7 +18,6 @@ Claims (thesis Zeng 2020, §5.2.3-5.3; Timoshenko & Gere 1961 §9.1):
 from __future__ import annotations
 
 import functools
-
 import math
 import os
 
@@ -74,7 +73,7 @@ AXISYM_DOMINANT = 0.5
 PULLIN_BRACKET_RTOL = 1e-3
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def coarse_critical(material: str):
     """The critical voltage of the 1 mm film on COARSE for ``material`` ("nh" or "ogden"),
     solved once per test process for the tests that read the same solve (read-only)."""
@@ -621,8 +620,8 @@ def test_energy_compiler_is_found_beside_the_interpreter(monkeypatch, tmp_path):
     (fake / "python").write_text("")
     monkeypatch.setattr(sys, "executable", str(fake / "python"))
     monkeypatch.setenv("PATH", str(tmp_path / "empty"))
-    assert energy._ngscxx() is False
+    assert energy.compiler_available() is False
     (fake / "ngscxx").write_text("#!/bin/sh\n")
     (fake / "ngscxx").chmod(0o755)
-    assert energy._ngscxx() is True
+    assert energy.compiler_available() is True
     assert os.environ["PATH"].split(os.pathsep)[0] == str(fake)

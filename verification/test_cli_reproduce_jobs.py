@@ -31,6 +31,7 @@ import numpy as np
 import pytest
 import xarray as xr
 from debench.reference import builds, catalogue, cli, regeneration, report
+from debench.reference.datasets import read_dataset
 
 pytestmark = pytest.mark.skipif(
     not sys.platform.startswith("linux"),
@@ -222,7 +223,7 @@ def test_the_catalogue_builder_gets_the_commands_evaluation_and_ch5_dataset(
     seen = {}
 
     def probe_guard():
-        fresh = p5._RECOMPUTED.get()
+        fresh = p5.recomputed_dataset()
         return [values.Guarded("probe.fresh_has_v_cr", str(fresh is not None and "v_cr" in fresh),
                                0.0, "test")]
 
@@ -243,7 +244,7 @@ def test_the_catalogue_builder_gets_the_commands_evaluation_and_ch5_dataset(
     assert code == 0, stderr
     assert len(calls) == 1 and seen["results"] == few_results
     assert [(g.key, g.value) for g in seen["guards"]] == [("probe.fresh_has_v_cr", "True")]
-    assert p5._RECOMPUTED.get() is None                      # only for the guards
+    assert p5.recomputed_dataset() is None                      # only for the guards
 
 
 def _curated_copy(tmp_path, layers_marker=None, **changed):
@@ -272,7 +273,7 @@ def test_coarse_guard_takes_the_commands_ch5_dataset_instead_of_solving(tmp_path
         raise AssertionError("solved although the command's ch5 dataset has the level")
 
     monkeypatch.setattr(solver, "critical_voltage", no_solve)
-    crit = p5._crit()
+    crit = read_dataset("ch5_critical_voltage")
     with p5.recomputed_in_this_command(_curated_copy(tmp_path)):
         guards = {g.key: g.value for g in p5.coarse_guards()}
     for case in ("nh_t1", "ogden_t1"):
@@ -298,7 +299,7 @@ def test_coarse_guard_solves_when_the_commands_dataset_has_other_parameters(tmp_
     monkeypatch.setattr(solver, "critical_voltage", sentinel)
     from debench.reference.datasets import dataset_parameters
 
-    layers = int(dataset_parameters(p5._crit())["layers"])
+    layers = int(dataset_parameters(read_dataset("ch5_critical_voltage"))["layers"])
     with p5.recomputed_in_this_command(_curated_copy(tmp_path, layers=layers + 1)):
         guards = {g.key: g.value for g in p5.coarse_guards(cases=["nh_t1"])}
     assert len(solved) == 1 and solved[0].layers == layers
@@ -319,7 +320,7 @@ def test_coarse_guard_takes_the_layer_study_point_of_its_discretisation(tmp_path
         raise AssertionError("solved although the layer study holds the discretisation")
 
     monkeypatch.setattr(solver, "critical_voltage", no_solve)
-    crit = p5._crit()
+    crit = read_dataset("ch5_critical_voltage")
     layers, h0 = int(dataset_parameters(crit)["layers"]), float(crit.h_rel.values[0])
     fresh = _curated_copy(tmp_path, layers_marker=True, layers=layers - 1,
                           layer_study_h_rel=h0)
@@ -363,7 +364,7 @@ def test_guards_in_a_pool_see_the_commands_ch5_dataset(tmp_path, monkeypatch):
     from debench.reference.producers import ch5 as p5
 
     def probe_guard():
-        return [values.Guarded("probe", str(p5._RECOMPUTED.get() is not None), 0.0, "test")]
+        return [values.Guarded("probe", str(p5.recomputed_dataset() is not None), 0.0, "test")]
 
     monkeypatch.setattr(values, "probe_guard", probe_guard, raising=False)
     names = ("debench.reference.values:probe_guard",) * 2

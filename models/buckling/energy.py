@@ -11,6 +11,11 @@ enthalpy of the ideal dielectric.  The energy is compiled to C++
 
 from __future__ import annotations
 
+import os
+import shutil
+import sys
+from pathlib import Path
+
 import ngsolve as ngs
 import numpy as np
 from debench.models.buckling.parameters import MU_REF, NeoHookean, Ogden
@@ -39,7 +44,7 @@ def compile_energy(cf, mode: str, ndof: int):
     """Compile an energy CF: C++ (``realcompile``) when asked or, with ``"auto"``, when
     the problem is large; falls back to the interpreted compiled tree when no compiler
     works.  Returns (cf, how)."""
-    if (mode is True or (mode == "auto" and ndof >= REALCOMPILE_MIN_DOFS)) and _ngscxx():
+    if (mode is True or (mode == "auto" and ndof >= REALCOMPILE_MIN_DOFS)) and compiler_available():
         try:
             return cf.Compile(realcompile=True, wait=True), "realcompile"
         except Exception:  # noqa: BLE001 - a failed build: fall back
@@ -47,17 +52,12 @@ def compile_energy(cf, mode: str, ndof: int):
     return cf.Compile(), "compiled-tree"
 
 
-def _ngscxx() -> bool:
+def compiler_available() -> bool:
     """Whether NGSolve's compiler wrapper ``ngscxx`` (which ``realcompile`` runs through
     the shell) can be found. The wheel installs it beside the Python interpreter; when the
     environment is used without being activated that directory is not on ``PATH``, so it
     is put first there (as activation would). False when it is nowhere: compile as a tree
     without a failed shell call."""
-    import os
-    import shutil
-    import sys
-    from pathlib import Path
-
     if shutil.which("ngscxx"):
         return True
     here = Path(sys.executable).parent

@@ -18,8 +18,11 @@ CS_STEP = 1e-30
 FD_STEP = 1e-4
 
 
-def _grad_cs(F, D_L, A, numbering):
-    """``(dI/dF (6,3,3), dI/dD (6,3))`` by complex step."""
+def complex_step_gradients(F, D_L, A=None, *, numbering: str = "iso"):
+    """``(dI/dF (6,3,3), dI/dD (6,3))``, the first derivatives of the invariants by the
+    complex step (step :data:`CS_STEP`: exact to rounding, no subtractive cancellation);
+    layout of :mod:`debench.models.invariants`."""
+    F, D_L, A = validate_state(F, D_L, A, numbering=numbering)
     F = np.asarray(F, dtype=complex)
     D_L = np.asarray(D_L, dtype=complex)
     dF = np.zeros((6, 3, 3))
@@ -46,7 +49,7 @@ def derivatives(F, D_L, A=None, *, numbering: str = "iso", h2: float = FD_STEP) 
     F = np.asarray(F, dtype=float)
     D_L = np.asarray(D_L, dtype=float)
     I = invariants(F, D_L, A, numbering=numbering)
-    dF, dD = _grad_cs(F, D_L, A, numbering)
+    dF, dD = complex_step_gradients(F, D_L, A, numbering=numbering)
     dFF = np.zeros((6, 3, 3, 3, 3))
     dFD = np.zeros((6, 3, 3, 3))
     dDD = np.zeros((6, 3, 3))
@@ -54,14 +57,14 @@ def derivatives(F, D_L, A=None, *, numbering: str = "iso", h2: float = FD_STEP) 
         for b in range(3):
             e = np.zeros((3, 3))
             e[j, b] = h2
-            gp, _ = _grad_cs(F + e, D_L, A, numbering)
-            gm, _ = _grad_cs(F - e, D_L, A, numbering)
+            gp, _ = complex_step_gradients(F + e, D_L, A, numbering=numbering)
+            gm, _ = complex_step_gradients(F - e, D_L, A, numbering=numbering)
             dFF[:, :, :, j, b] = (gp - gm) / (2 * h2)
     for b in range(3):
         e = np.zeros(3)
         e[b] = h2
-        gpF, gpD = _grad_cs(F, D_L + e, A, numbering)
-        gmF, gmD = _grad_cs(F, D_L - e, A, numbering)
+        gpF, gpD = complex_step_gradients(F, D_L + e, A, numbering=numbering)
+        gmF, gmD = complex_step_gradients(F, D_L - e, A, numbering=numbering)
         dFD[:, :, :, b] = (gpF - gmF) / (2 * h2)
         dDD[:, :, b] = (gpD - gmD) / (2 * h2)
     return {"I": I, "dF": dF, "dD": dD, "dFF": dFF, "dFD": dFD, "dDD": dDD}

@@ -60,7 +60,7 @@ def neo_hookean_mechanical(F, *, mu, k):
     return E.neo_hookean(I["I1"], I["J"], mu=mu, k=k)
 
 
-def _sym_eigs(M):
+def symmetric_eigenvalues(M):
     """Closed-form eigenvalues of a symmetric 3x3 CF matrix with distinct eigenvalues
     (trigonometric solution of the characteristic cubic)."""
     m = ng.Trace(M) / 3
@@ -94,7 +94,7 @@ def ogden_mechanical(F, *, alphas, mus, k, delta=OGDEN_DELTA):
     P = ng.CoefficientFunction(tuple(_perturbation_direction().ravel()), dims=(3, 3))
     w = 0
     for sign in (1.0, -1.0):
-        cbar = _sym_eigs(Cb + sign * delta * P)
+        cbar = symmetric_eigenvalues(Cb + sign * delta * P)
         for a, mu in zip(alphas, mus, strict=True):   # 0.5: the mean of the +- delta pair
             w = w + 0.5 * E.ogden_term(cbar, alpha=a, mu=mu)
     return w + E.volumetric(J, k=k)

@@ -266,13 +266,19 @@ def recomputed_in_this_command(path):
         _RECOMPUTED.reset(token)
 
 
+def recomputed_dataset():
+    """The ``ch5_critical_voltage`` dataset of the enclosing
+    :func:`recomputed_in_this_command` block, None outside one."""
+    return _RECOMPUTED.get()
+
+
 def _recomputed(case: str, h_rel: float, layers: int, order: int) -> tuple[float, int] | None:
     """(v_cr, ndof) of ``case`` on the discretisation (h_rel, layers, order) of the default
     plate from the dataset of :func:`recomputed_in_this_command`, None when it holds none."""
     from debench.models.buckling.parameters import Plate
     from debench.reference.datasets import dataset_parameters
 
-    fresh = _RECOMPUTED.get()
+    fresh = recomputed_dataset()
     if fresh is None or case not in fresh.case.values.tolist():
         return None
     par = dataset_parameters(fresh)

@@ -277,8 +277,8 @@ class AxisymModel(ModeAnalysis):
         step (:meth:`_polish`), so that the state at a prescribed deflection is independent
         of the start to round-off. Returns the steps to the stopping rule; raises
         ConvergenceError when it is not reached in ``maxit``, or (``stall``: a number of
-        steps, e.g. :data:`~debench.models.buckling.axisym.path.PATH_STALL_STEPS`) when ``stall`` steps in a row have not lowered
-        the best residual."""
+        steps, e.g. :data:`~debench.models.buckling.axisym.path.PATH_STALL_STEPS`) when
+        ``stall`` steps in a row have not lowered the best residual."""
         c = float(val.finite("c", c))
         rtol = val.tolerance("rtol", rtol)
         maxit = val.integer_at_least("maxit", maxit, 1)
