@@ -228,18 +228,27 @@ def _variables(got: dict, conv: dict, acc: dict, dec: list, discs, coarse) -> di
     """The data variables of ``ch5_axisym_path.nc`` with their attributes: the path
     records, the per-path and per-wavenumber values, their converged values and error
     estimates, the decision per film and the 3D-like coarse voltage maxima."""
+    at, a = REGEN_ATOL, variable_attrs
+    variables = _sequence_variables(got, discs)
+    variables.update(_converged_variables(variables, conv, acc))
+    variables.update(_decision_variables(dec, got["ns"], acc))
+    variables["v_max_3d_like"] = (("case_r10", "h_3d_like"), coarse[..., 0], a(
+        "voltage maximum at the 3D ramps' resolution (three_d_like)", atol=at["v"]))
+    variables["w_max_3d_like"] = (("case_r10", "h_3d_like"), coarse[..., 1], a(
+        "deflection / t0 at it", atol=at["w"]))
+    return variables
+
+
+def _sequence_variables(got: dict, discs) -> dict:
+    """The path records and the per-path and per-wavenumber values of every task
+    (:func:`_collect`) with their attributes."""
     path, path_lam, scal, ndof, per_n = (got[k] for k in ("path", "path_lam", "scal",
                                                           "ndof", "per_n"))
-    ns = got["ns"]
-    first = np.array([d["first"] for d in dec], dtype=np.int8)
-    n_first = np.array([ns[d["n_index"]] if d["first"] == 1 else (0 if d["first"] == 0 else -1)
-                        for d in dec], dtype=np.int64)
-    n_lowest = np.array([ns[d["n_index"]] for d in dec], dtype=np.int64)
     a = variable_attrs
     d3, d4 = ("case", "disc", "record"), ("case", "disc", "record", "n")
-    dk, dn, dkn = ("case", "disc"), ("case", "n"), ("case", "disc", "n")
+    dk, dkn = ("case", "disc"), ("case", "disc", "n")
     at = REGEN_ATOL
-    variables = {
+    return {
         "path_w": (d3, path["w"], a("centre deflection of the top surface / t0", atol=at["w"])),
         "path_v": (d3, path["v"], a("normalised voltage Phi/t0 sqrt(eps/mu_ref)",
                                     atol=at["v"])),
@@ -276,22 +285,42 @@ def _variables(got: dict, conv: dict, acc: dict, dec: list, discs, coarse) -> di
         "safety_factor": ((), safety_factor(discs), a(
             "Roache's GCI safety factor of the plan (1.25 with >= 3 orders, else 3)")),
     }
+
+
+def _converged_variables(sequence: dict, conv: dict, acc: dict) -> dict:
+    """Per converged quantity (:func:`_converge`) its value on the top discretisation, its
+    error estimate and the two changes it rests on; each long name from the quantity's
+    variable in ``sequence``."""
+    a = variable_attrs
+    dn = ("case", "n")
+    out = {}
     for key, dims in (("v_max", ("case",)), ("w_max", ("case",)),
                       ("thickness_max", ("case",)), ("lam_at_max", dn), ("w_cross", dn),
                       ("v_cross", dn)):
-        unit_of = variables[key][2]["long_name"]
-        variables[f"{key}_converged"] = (dims, conv[key]["value"], a(
+        unit_of = sequence[key][2]["long_name"]
+        out[f"{key}_converged"] = (dims, conv[key]["value"], a(
             f"converged: {unit_of}, on the top discretisation", atol=acc[key],
             accuracy=f"+- {key}_error"))
-        variables[f"{key}_error"] = (dims, conv[key]["error"], a(
+        out[f"{key}_error"] = (dims, conv[key]["error"], a(
             f"error estimate of {key}_converged: safety_factor x max(p_change, "
             "grading_change)", atol=acc[key]))
-        variables[f"{key}_p_change"] = (dims, conv[key]["p_change"], a(
+        out[f"{key}_p_change"] = (dims, conv[key]["p_change"], a(
             f"change of {key} from the order below (finest grading)", atol=acc[key]))
-        variables[f"{key}_grading_change"] = (dims, conv[key]["grading_change"], a(
+        out[f"{key}_grading_change"] = (dims, conv[key]["grading_change"], a(
             f"change of {key} from the coarser grading (top order)", atol=acc[key]))
+    return out
+
+
+def _decision_variables(dec: list, ns, acc: dict) -> dict:
+    """The first instability of each film (:func:`decide`) as data variables: which, its
+    wavenumber, the wavenumber the decision rests on, and its margin against its bound."""
+    a = variable_attrs
+    first = np.array([d["first"] for d in dec], dtype=np.int8)
+    n_first = np.array([ns[d["n_index"]] if d["first"] == 1 else (0 if d["first"] == 0 else -1)
+                        for d in dec], dtype=np.int64)
+    n_lowest = np.array([ns[d["n_index"]] for d in dec], dtype=np.int64)
     margin_atol = acc["w_max"] + acc["w_cross"] + acc["lam_at_max"]
-    variables.update({
+    return {
         "first_instability": (("case",), first, a(
             "first instability along the path: 1 wrinkling (a wavenumber n >= 1 crosses "
             "zero before the voltage maximum by more than the error estimates), 0 pull-in "
@@ -310,12 +339,7 @@ def _variables(got: dict, conv: dict, acc: dict, dec: list, discs, coarse) -> di
         "margin_error": (("case",), np.array([d["margin_error"] for d in dec]), a(
             "the bound the margin is held against: the sum of the two error estimates, or "
             "the eigenvalue's error estimate", atol=margin_atol)),
-    })
-    variables["v_max_3d_like"] = (("case_r10", "h_3d_like"), coarse[..., 0], a(
-        "voltage maximum at the 3D ramps' resolution (three_d_like)", atol=at["v"]))
-    variables["w_max_3d_like"] = (("case_r10", "h_3d_like"), coarse[..., 1], a(
-        "deflection / t0 at it", atol=at["w"]))
-    return variables
+    }
 
 
 def compute(full: bool = False, scheduler=None, progress: bool = True):
