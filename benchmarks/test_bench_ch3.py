@@ -26,7 +26,7 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
-from debench.models.circular import collocation, shooting  # noqa: E402
+from debench.models.circular import collocation, integrator, shooting  # noqa: E402
 from debench.models.circular._chapter_pass import clear_memo  # noqa: E402
 from debench.models.circular.actuator import branch, branches, curves  # noqa: E402
 from debench.models.circular.params import Annulus  # noqa: E402
@@ -133,8 +133,8 @@ def test_bench_rk4_term_by_term_two_calls(benchmark):
     an = {m: Annulus(2.0, equilibrium="membrane" if m else "printed") for m in (0, 1)}
 
     def run():
-        return [shooting._integrate_inward_reference(an[m], GRID_Q[GRID_MEM == m] + 1e-30j,
-                                                     lamP=GRID_LAMP[GRID_MEM == m])
+        return [integrator.integrate_reference(an[m], GRID_Q[GRID_MEM == m] + 1e-30j,
+                                               lamP=GRID_LAMP[GRID_MEM == m])
                 for m in (0, 1)]
 
     out = benchmark.pedantic(run, rounds=3, iterations=1)
@@ -144,7 +144,7 @@ def test_bench_rk4_term_by_term_two_calls(benchmark):
 @pytest.mark.benchmark(group="ch3-rk4-4800-trajectories-complex-1thread")
 def test_bench_rk4_factored_one_mixed_call(benchmark):
     """The current integrator: factored right-hand side, both variants in one call."""
-    l1, l2 = benchmark.pedantic(shooting._integrate_inward,
+    l1, l2 = benchmark.pedantic(integrator.integrate,
                                 args=(Annulus(2.0), GRID_Q + 1e-30j),
                                 kwargs={"lamP": GRID_LAMP, "membrane": GRID_MEM}, rounds=3,
                                 iterations=1)

@@ -57,6 +57,16 @@ EXCLUDED_MODULES = {
     "debench.models.materials.ngsolve_forms": (
         "NGSolve CoefficientFunction builders (symbolic, no numbers in or out); owned "
         "with the Chapter 5 FE model"),
+    "debench.models.circular.integrator": (
+        "the shooting method's RK4 kernels (stresses, right-hand sides, the batched "
+        "integration), unchecked by design (NaN marks an inadmissible trajectory) and called "
+        "in every solver round: the inputs are validated by debench.models.circular.shooting's "
+        "public functions, fuzzed here; the kernels are checked against the term-by-term "
+        "transcription and the sympy re-derivation in verification/test_ch3_solvers.py"),
+    "debench.models.circular.lockstep": (
+        "plumbing of the Chapter 3 iterative solvers (generators in, their results out; no "
+        "numbers from users): running side by side equals running alone, bit for bit, and a "
+        "solver's error propagates (verification/test_ch3_chapter.py)"),
     "debench.models.circular.fe": (
         "NGSolve FE cross-check of Chapter 3 (seconds per call): validates at its boundary "
         "(ValueError naming the bound, ConvergenceError); bad inputs tested in "

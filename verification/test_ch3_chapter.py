@@ -9,7 +9,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from debench.models.circular import analysis, shooting
+from debench.models.circular import analysis, integrator, lockstep, shooting
 from debench.models.circular._chapter_pass import ChapterSpec, chapter, current_constants
 from debench.models.circular.actuator import branch, branches, curves
 from debench.models.circular.params import Annulus
@@ -115,10 +115,10 @@ def test_integration_in_pieces_equals_one_piece(monkeypatch, cplx):
     mem = np.arange(100) % 3 == 0
     q = q + 1e-30j if cplx else q
     an = Annulus(3.0)
-    one = shooting._integrate_inward(an, q, lamP=lamP, membrane=mem)
+    one = integrator.integrate(an, q, lamP=lamP, membrane=mem)
     # pieces of at most 40 (three of 33-34 trajectories, above the scalar batch size)
-    monkeypatch.setattr(shooting, "CHUNK_BYTES", 2 * 40 * q.dtype.itemsize)
-    pieces = shooting._integrate_inward(an, q, lamP=lamP, membrane=mem)
+    monkeypatch.setattr(integrator, "CHUNK_BYTES", 2 * 40 * q.dtype.itemsize)
+    pieces = integrator.integrate(an, q, lamP=lamP, membrane=mem)
     for a, b in zip(one, pieces, strict=True):
         np.testing.assert_array_equal(a, b)
 
@@ -142,8 +142,8 @@ def test_lockstep_solvers_equal_each_run_alone():
         from debench.models.circular.actuator import _branches_gen
         return _branches_gen([printed, membrane], [40, 30], shooting.DEFAULT_STEPS)
 
-    together = shooting._lockstep(solvers())
-    alone = [shooting._run(s) for s in solvers()]
+    together = lockstep.lockstep(solvers())
+    alone = [lockstep.run(s) for s in solvers()]
     for a, b in zip(together[:3], alone[:3], strict=True):
         for name in ("lam", "lam1", "T1", "dlam", "dT1"):
             np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
@@ -155,9 +155,9 @@ def test_lockstep_solvers_equal_each_run_alone():
 
 def test_lockstep_propagates_a_solver_error():
     def failing():
-        yield shooting._Request.of(Annulus(3.0), np.linspace(3.0, 2.5, 20), 200)
+        yield lockstep.Request.of(Annulus(3.0), np.linspace(3.0, 2.5, 20), 200)
         raise ValueError("solver failed")
 
     with pytest.raises(ValueError, match="solver failed"):
-        shooting._lockstep([shooting._interface_state_gen(Annulus(3.0), [3.0, 2.9]),
+        lockstep.lockstep([shooting._interface_state_gen(Annulus(3.0), [3.0, 2.9]),
                            failing()])

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import sympy as sp
 from debench.models.circular import _generated as gen
-from debench.models.circular import collocation, shooting
+from debench.models.circular import collocation, integrator, shooting
 from debench.models.circular.actuator import branch, curves, locate
 from debench.models.circular.params import Annulus, CircularActuator, locking_stretch_equibiaxial
 from debench.models.errors import ConvergenceError
@@ -35,7 +35,7 @@ RK4_ORDER, ORDER_TOL = 4.0, 0.3
 CSTEP_VS_FD_RTOL = 1e-6
 #: generated code vs re-derived sympy expressions: same formula, rounding only
 GENERATED_RTOL = 1e-11
-#: the rearranged integrator (shooting._integrate_inward: factored right-hand side, small
+#: the rearranged integrator (integrator.integrate: factored right-hand side, small
 #: batches in scalar arithmetic) vs the term-by-term RK4 transcription: same steps, so
 #: they differ by rounding amplified along 200 steps (measured <= 8e-13 relative, values
 #: and complex-step derivatives); 1e-10 keeps a 100x margin
@@ -130,21 +130,21 @@ def test_generated_rhs_and_jacobian_match_rederivation():
         jr = np.array([J[name](a, b, 1 / 120)[0] for a, b in zip(l1, l2, strict=True)]).T
         np.testing.assert_allclose(jg, jr, rtol=1e-9, atol=1e-12)
         # the shooting module's hand-written right-hand side too
-        hs = shooting._rhs(l1, l2, 1 / 120, name == "membrane")[0]
+        hs = integrator.rhs(l1, l2, 1 / 120, name == "membrane")[0]
         np.testing.assert_allclose(hs, f[name](l1, l2, 1 / 120), rtol=GENERATED_RTOL)
 
 
 @pytest.mark.parametrize("Jm", [120.0, 30.0, float("inf")])
 @pytest.mark.parametrize("equilibrium", ["printed", "membrane"])
-@pytest.mark.parametrize("n", [1, shooting.SCALAR_BATCH + 1, 300])
+@pytest.mark.parametrize("n", [1, integrator.SCALAR_BATCH + 1, 300])
 def test_fast_integrator_equals_term_by_term_rk4(Jm, equilibrium, n):
     """The rearranged RK4 (scalar path for small batches, arrays otherwise) gives the
     discrete solution of the term-by-term transcription of (3.34)-(3.37): same admissible
     set (NaN pattern), values and complex-step derivatives equal to rounding."""
     an = Annulus(3.0, 15.0, Jm, equilibrium)
     q = np.linspace(2.999, 0.5, n) + 1j * shooting.CSTEP
-    new = shooting._integrate_inward(an, q)
-    ref = shooting._integrate_inward_reference(an, q)
+    new = integrator.integrate(an, q)
+    ref = integrator.integrate_reference(an, q)
     for a, b in zip(new, ref, strict=True):
         ok = np.isfinite(b.real)
         np.testing.assert_array_equal(np.isfinite(a.real), ok)
@@ -153,7 +153,7 @@ def test_fast_integrator_equals_term_by_term_rk4(Jm, equilibrium, n):
         np.testing.assert_allclose(a.imag[ok], b.imag[ok], rtol=KERNEL_RTOL)
 
 
-@pytest.mark.parametrize("n", [3, shooting.SCALAR_BATCH + 5, 200])
+@pytest.mark.parametrize("n", [3, integrator.SCALAR_BATCH + 5, 200])
 def test_mixed_equilibrium_batch_equals_separate_batches(n):
     """A batch mixing both equilibrium variants and several pre-stretches (one
     integration) gives each trajectory the solution of its own annulus to rounding."""
@@ -163,10 +163,10 @@ def test_mixed_equilibrium_batch_equals_separate_batches(n):
     mem[:2] = [True, False]
     q = lamP * (1 - rng.uniform(0.0, 0.3, n)) + 1j * shooting.CSTEP
     an = Annulus(3.0)
-    mixed = shooting._integrate_inward(an, q, lamP=lamP, membrane=mem)
+    mixed = integrator.integrate(an, q, lamP=lamP, membrane=mem)
     for k in range(n):
         own = Annulus(float(lamP[k]), equilibrium="membrane" if mem[k] else "printed")
-        ref = shooting._integrate_inward_reference(own, q[k:k + 1])
+        ref = integrator.integrate_reference(own, q[k:k + 1])
         for a, b in zip(mixed, ref, strict=True):
             assert np.isfinite(a[k].real) == np.isfinite(b[0].real)
             if np.isfinite(b[0].real):

@@ -8,7 +8,7 @@ the loss-of-tension stretches, the pull-in c thresholds (Fig. 3.5) and the suppr
 pre-stretches (Sec. 3.5.2) -- is computed by :func:`chapter` from a :class:`ChapterSpec`
 alone: one scan and one grid integration for every branch of every variant (the grids of
 the c thresholds and the suppression search's bracket ends included), then the iterative
-solvers side by side (:func:`~debench.models.circular.shooting._lockstep`: the location of
+solvers side by side (:func:`~debench.models.circular.lockstep.lockstep`: the location of
 every event of every curve, the Newton iterations of the states and stretches and the
 suppression searches share one integration per round), then the profiles and the
 branches up to loss of tension of the c thresholds. The dataset builder and the catalogue
@@ -29,8 +29,9 @@ import numpy as np
 
 from . import analysis, circle_a, params
 from .actuator import _curves_many_solver, branches, curves_many
+from .integrator import integrate
+from .lockstep import lockstep
 from .params import Annulus
-from .shooting import _integrate_inward, _lockstep
 
 VARIANTS = params.EQUILIBRIUM_VARIANTS
 #: the pre-stretches that bracket the suppression pre-stretch (those of
@@ -197,7 +198,7 @@ def _compute(spec: ChapterSpec) -> Chapter:
         float(c), VARIANTS, radius_ratio=spec.radius_ratio, Jm=spec.Jm,
         bracket=SUPPRESSION_BRACKET, n=spec.suppression_n, xtol=spec.suppression_xtol,
         bracket_branches=sp_branches) for c in spec.suppression_cs]
-    res = _lockstep(solvers)
+    res = lockstep(solvers)
     curves = {k: cv for ks, cvs in zip(groups.values(), res[0], strict=True)
               for k, cv in zip(ks, cvs, strict=True)}
     k = 1
@@ -234,7 +235,7 @@ def _state_rows(spec: ChapterSpec, family: dict) -> list[tuple]:
 def _profiles(spec: ChapterSpec, rows, sts) -> dict:
     """The annulus profiles of the states at a voltage, in one integration."""
     an0 = Annulus(rows[0][0], float(spec.radius_ratio), float(spec.Jm), rows[0][3])
-    _, _, t, P1, P2 = _integrate_inward(
+    _, _, t, P1, P2 = integrate(
         an0, np.array([s["q"] for s in sts]), profile=True, steps=spec.steps,
         lamP=np.array([r[0] for r in rows]),
         membrane=np.array([r[3] == "membrane" for r in rows]))

@@ -40,16 +40,10 @@ from debench.models.errors import ConvergenceError
 from scipy.interpolate import PchipInterpolator
 
 from . import circle_a
+from .integrator import stresses
+from .lockstep import Request, run
 from .params import Annulus, CircularActuator, locking_stretch_equibiaxial
-from .shooting import (
-    DEFAULT_STEPS,
-    _interface_state,
-    _interface_state_gen,
-    _Request,
-    _run,
-    _stresses,
-    q_for_stretch,
-)
+from .shooting import DEFAULT_STEPS, _interface_state, _interface_state_gen, q_for_stretch
 
 #: relative tolerance on the shooting parameter q for event location: machine precision
 #: level (q ~ 1, |d lambda/dq| ~ 1e2, so lambda is located to ~1e-12)
@@ -92,17 +86,17 @@ def _scan_state(annulus: Annulus, q, steps: int, lamP, membrane=None):
     """Interface stretch and T1 for shooting parameters q, without sensitivities (a real
     integration: the real parts of the complex-step one up to rounding, measured
     < 1e-13 relative; the scan only places the grid, whose points are exact solutions)."""
-    return _run(_scan_state_gen(annulus, q, steps, lamP, membrane))
+    return run(_scan_state_gen(annulus, q, steps, lamP, membrane))
 
 
 def _scan_state_gen(annulus: Annulus, q, steps: int, lamP, membrane=None):
-    """:func:`_scan_state` as a :func:`~debench.models.circular.shooting._lockstep`
+    """:func:`_scan_state` as a :func:`~debench.models.circular.lockstep.lockstep`
     solver."""
     q = np.asarray(q, float)
-    l1, l2 = yield _Request.of(annulus, q, steps, lamP, membrane)
+    l1, l2 = yield Request.of(annulus, q, steps, lamP, membrane)
     l1, l2 = l1.reshape(q.shape), l2.reshape(q.shape)
     with np.errstate(all="ignore"):  # NaN marks inadmissible trajectories, by design
-        s1, *_ = _stresses(l1, l2, annulus.kappa)
+        s1, *_ = stresses(l1, l2, annulus.kappa)
         return l2, s1 / l1
 
 
@@ -197,12 +191,12 @@ def branches(annuli, *, n=300, steps: int = DEFAULT_STEPS) -> list[Branch]:
     a0 = annuli[0]
     if any((a.radius_ratio, a.Jm) != (a0.radius_ratio, a0.Jm) for a in annuli):
         raise ValueError("branches(): annuli must differ only in lamP and equilibrium")
-    return _run(_branches_gen(annuli, ns, steps))
+    return run(_branches_gen(annuli, ns, steps))
 
 
 def _branches_gen(annuli, ns, steps):
     """:func:`branches` (checked arguments, ``ns`` one grid size per annulus) as a
-    :func:`~debench.models.circular.shooting._lockstep` solver: a real scan, then the grid
+    :func:`~debench.models.circular.lockstep.lockstep` solver: a real scan, then the grid
     integration."""
     a0 = annuli[0]
     scanned = list(dict.fromkeys(annuli))          # each distinct annulus scanned once
@@ -303,12 +297,12 @@ def _event_function(kinds, annulus, q, c, eps_r, mu, steps, lamP=None):
 def _event_values(kinds, annulus, q, c, eps_r, mu, steps, lamP=None, membrane=None):
     """:func:`_event_function` and the interface state (lam, T1) it was computed from
     (``lamP``, ``membrane``: per-event overrides of the annulus, see
-    :func:`~debench.models.circular.shooting._integrate_inward`)."""
-    return _run(_event_values_gen(kinds, annulus, q, c, eps_r, mu, steps, lamP, membrane))
+    :func:`~debench.models.circular.integrator.integrate`)."""
+    return run(_event_values_gen(kinds, annulus, q, c, eps_r, mu, steps, lamP, membrane))
 
 
 def _event_values_gen(kinds, annulus, q, c, eps_r, mu, steps, lamP=None, membrane=None):
-    """:func:`_event_values` as a :func:`~debench.models.circular.shooting._lockstep`
+    """:func:`_event_values` as a :func:`~debench.models.circular.lockstep.lockstep`
     solver."""
     kinds = np.asarray(kinds)
     bad = ~np.isin(kinds, EVENT_KINDS)
@@ -355,13 +349,13 @@ def _locate(kinds, annulus, qa, qb, c, eps_r, mu, **kw):
     the interface state of the iterate returned, kept from the iteration (no extra
     integration). ``sa``/``sb``: the states (lam, T1) at the bracket ends, when known
     with ``fa``/``fb``; ``membrane``: per-event equilibrium (bool array), as ``lamP``."""
-    return _run(_locate_gen(kinds, annulus, qa, qb, c, eps_r, mu, **kw))
+    return run(_locate_gen(kinds, annulus, qa, qb, c, eps_r, mu, **kw))
 
 
 def _locate_gen(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
                 xtol=EVENT_XTOL, maxiter=100, lamP=None, fa=None, fb=None, x0=None,
                 sa=None, sb=None, membrane=None):
-    """:func:`_locate` as a :func:`~debench.models.circular.shooting._lockstep` solver."""
+    """:func:`_locate` as a :func:`~debench.models.circular.lockstep.lockstep` solver."""
     a = np.array(qa, float)
     b = np.array(qb, float)
     kinds = np.broadcast_to(np.asarray(kinds), a.shape)
@@ -498,11 +492,11 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
     beyond it (NaN in ``phibar``); if no other failure occurs first, the curve ends there
     with the failure kind ``"permittivity"``.
     """
-    return _run(_curves_many_solver(jobs, mu=mu, steps=steps))
+    return run(_curves_many_solver(jobs, mu=mu, steps=steps))
 
 
 def _curves_many_solver(jobs, *, mu: float | None = None, steps: int | None = None):
-    """:func:`curves_many` as a :func:`~debench.models.circular.shooting._lockstep`
+    """:func:`curves_many` as a :func:`~debench.models.circular.lockstep.lockstep`
     solver (arguments checked here, at the call)."""
     from .params import EPS_R_ASSUMED, MU_VHB
     mu = MU_VHB if mu is None else v.positive("mu", mu)
@@ -531,7 +525,7 @@ def _curves_many_solver(jobs, *, mu: float | None = None, steps: int | None = No
 
 def _curves_many_gen(jobs, actuators, mu, steps):
     """:func:`curves_many` after its checks (``actuators``: the validated actuator of
-    every curve) as a :func:`~debench.models.circular.shooting._lockstep` solver."""
+    every curve) as a :func:`~debench.models.circular.lockstep.lockstep` solver."""
     from .params import EPS_R_ASSUMED
     results = [None] * len(jobs)
     pending = []  # (job index, curve index, kind, qa, qb, c, eps_r, lamP)

@@ -22,14 +22,9 @@ from scipy.interpolate import CubicHermiteSpline
 
 from . import circle_a, params
 from .actuator import Branch, _branches_gen, branch, curves
+from .lockstep import run
 from .params import Annulus, CircularActuator
-from .shooting import (
-    DEFAULT_STEPS,
-    _interface_state,
-    _interface_state_gen,
-    _run,
-    q_for_stretch,
-)
+from .shooting import DEFAULT_STEPS, _interface_state, _interface_state_gen, q_for_stretch
 
 DEFINITIONS = ("before_loss_of_tension", "monotonic")
 #: absolute tolerance of the outer brentq searches over lamP or c (values printed to
@@ -96,12 +91,12 @@ def _states_at_voltage_many(brs, cs, phibars) -> list[dict]:
     """
     if not brs:
         return []
-    return _run(_states_at_voltage_gen(brs, cs, phibars))
+    return run(_states_at_voltage_gen(brs, cs, phibars))
 
 
 def _states_at_voltage_gen(brs, cs, phibars):
     """:func:`_states_at_voltage_many` (non-empty ``brs``) as a
-    :func:`~debench.models.circular.shooting._lockstep` solver."""
+    :func:`~debench.models.circular.lockstep.lockstep` solver."""
     an0, steps = brs[0].annulus, brs[0].steps
     if any((b.annulus.radius_ratio, b.annulus.Jm, b.steps) != (an0.radius_ratio, an0.Jm, steps)
            for b in brs):
@@ -254,11 +249,11 @@ def _branches_at(brs, lams, maxiter: int = 30) -> list[Branch]:
     tolerance. Stretches must lie
     in ``[lamP, br.lam_end]`` (ValueError); ConvergenceError otherwise.
     """
-    return _run(_branches_at_gen(brs, lams, maxiter))
+    return run(_branches_at_gen(brs, lams, maxiter))
 
 
 def _branches_at_gen(brs, lams, maxiter: int = 30):
-    """:func:`_branches_at` as a :func:`~debench.models.circular.shooting._lockstep`
+    """:func:`_branches_at` as a :func:`~debench.models.circular.lockstep.lockstep`
     solver."""
     an0, steps = brs[0].annulus, brs[0].steps
     if any((b.annulus.radius_ratio, b.annulus.Jm, b.steps) != (an0.radius_ratio, an0.Jm, steps)
@@ -373,7 +368,7 @@ SUPPRESSION_CERTIFY = 0.45
 def _suppression_prestretches(c: float, equilibria, **kw) -> list[float]:
     """:func:`pullin_suppression_prestretch` for several equilibrium variants at once (see
     :func:`_suppression_solver`)."""
-    return _run(_suppression_solver(c, equilibria, **kw))
+    return run(_suppression_solver(c, equilibria, **kw))
 
 
 def _suppression_solver(c: float, equilibria, *, radius_ratio: float = 15.0,
@@ -381,7 +376,7 @@ def _suppression_solver(c: float, equilibria, *, radius_ratio: float = 15.0,
                         bracket=(2.0, 3.2), n: int = 800,
                         xtol: float = 1e-6, bracket_branches=None):
     """:func:`pullin_suppression_prestretch` for several equilibrium variants at once, as a
-    :func:`~debench.models.circular.shooting._lockstep` solver (arguments checked here).
+    :func:`~debench.models.circular.lockstep.lockstep` solver (arguments checked here).
 
     The same function of lamP (minimum slope on the branch of ``n`` points) is solved for
     every variant in lockstep by a vectorised Anderson-Bjorck iteration (regula falsi
@@ -411,7 +406,7 @@ def _suppression_solver(c: float, equilibria, *, radius_ratio: float = 15.0,
 def _suppression_gen(c, eqs, radius_ratio, Jm, definition, lo, hi, n, xtol, bracket,
                      bracket_branches):
     """:func:`_suppression_prestretches` after its checks, as a
-    :func:`~debench.models.circular.shooting._lockstep` solver."""
+    :func:`~debench.models.circular.lockstep.lockstep` solver."""
 
     def f(lamPs, which):
         ans = [Annulus(float(x), radius_ratio, Jm, eqs[k])

@@ -17,6 +17,7 @@ from functools import lru_cache
 import numpy as np
 from debench.models.circular import analysis, params
 from debench.models.circular.actuator import branches, curves_many
+from debench.models.circular.integrator import integrate
 from debench.models.circular.params import Annulus
 from debench.reference.studies import ch3 as study
 
@@ -142,8 +143,6 @@ def profiles(lamP, c, phibar, equilibrium) -> tuple:
     """Stretch profiles (lambda_1, lambda_2 from R_A outwards) of the states at Phibar for
     c = 0 and ``c``: the chapter pass's, or both equilibrium variants in one integration
     on demand (cached, keyed on the arguments and :func:`model_key`)."""
-    from debench.models.circular.shooting import _integrate_inward
-
     ch = chapter()
     rows = [(float(lamP), float(phibar), ci, equilibrium) for ci in (0.0, float(c))]
     if all(r in ch.profiles for r in rows):
@@ -154,7 +153,7 @@ def profiles(lamP, c, phibar, equilibrium) -> tuple:
         rows = [(eq, ci) for eq in VARIANTS for ci in (0.0, float(c))]
         q = np.array([state(lamP, eq, ci, phibar)["q"] for eq, ci in rows])
         an = branch(lamP, VARIANTS[0]).annulus
-        _, _, _, P1, P2 = _integrate_inward(
+        _, _, _, P1, P2 = integrate(
             an, q, profile=True, lamP=np.full(q.size, an.lamP),
             membrane=np.array([eq == "membrane" for eq, _ in rows]))
         if not (np.all(np.isfinite(P1)) and np.all(np.isfinite(P2))):
