@@ -420,7 +420,15 @@ def _material_cases():
 
 
 def _circular_cases():
-    from debench.models.circular import actuator, analysis, circle_a, collocation, params, shooting
+    from debench.models.circular import (
+        actuator,
+        analysis,
+        circle_a,
+        collocation,
+        events,
+        params,
+        shooting,
+    )
 
     c = "debench.models.circular"
     an = _annulus
@@ -504,7 +512,13 @@ def _circular_cases():
         Case(f"{c}.actuator.branches", actuator.branches,
              {"annuli": [params.Annulus(2.0), params.Annulus(2.5)], "n": 20, "steps": 40},
              {"annuli": "obj", "n": "count", "steps": "count"}),
-        Case(f"{c}.actuator.locate", actuator.locate,
+        Case(f"{c}.events.event_function", events.event_function,
+             {"kinds": np.array(["loss_of_tension"]), "annulus": params.Annulus(2.0),
+              "q": np.array([1.9]), "c": [0.0], "eps_r": [4.7], "mu": 51e3, "steps": 20},
+             {"kinds": "choice", "annulus": "obj", "q": "lam_array", "c": "real",
+              "eps_r": "pos", "mu": "pos", "steps": "count", "lamP": "lam_array"},
+             allowed={"lamP": [None]}, extra={"q": [np.array([1e-3])]}),
+        Case(f"{c}.events.locate", events.locate,
              {"kinds": np.array(["loss_of_tension"]), "annulus": params.Annulus(2.0),
               "qa": [float(_branch().q[0])], "qb": [float(_branch().q[-1])], "c": [0.0],
               "eps_r": [4.7], "mu": 51e3, "steps": 200, "xtol": 1e-12, "maxiter": 100},

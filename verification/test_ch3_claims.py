@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 import pytest
-from debench.models.circular import analysis, circle_a, params
+from debench.models.circular import analysis, circle_a, events, params
 from debench.models.circular.actuator import branch, curves
 from debench.models.circular.params import Annulus
 from debench.reference import catalogue
@@ -252,13 +252,13 @@ def test_failure_events_satisfy_their_definitions(c, lamP):
     (pull-in: d Phibar^2/d lambda = 0; loss of tension: sigma1^(A) = 0; breakdown:
     Phibar = Phibar_B), precedes every other event, and loss of tension is independent
     of c (Sec. 3.6)."""
-    from debench.models.circular.actuator import _event_function
     br = model.branch(lamP)
     cv, c0 = curves(br, [c, 0.0])
     f = cv.failure
     assert f is not None
-    res = _event_function(np.array([f.kind]), br.annulus, np.array([f.q]), np.array([c]),
-                          np.array([params.EPS_R_ASSUMED]), params.MU_VHB, br.steps)
+    res = events.event_function(np.array([f.kind]), br.annulus, np.array([f.q]),
+                                np.array([c]), np.array([params.EPS_R_ASSUMED]),
+                                params.MU_VHB, br.steps)
     scale = 1.0 if f.kind != "pullin" else max(1.0, abs(float(np.max(
         analysis._dphibar2_dlam(br, c)[np.isfinite(analysis._dphibar2_dlam(br, c))]))))
     assert abs(res[0]) < EVENT_RESIDUAL * scale

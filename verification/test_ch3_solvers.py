@@ -11,7 +11,8 @@ import pytest
 import sympy as sp
 from debench.models.circular import _generated as gen
 from debench.models.circular import collocation, integrator, shooting
-from debench.models.circular.actuator import branch, curves, locate
+from debench.models.circular.actuator import branch, curves
+from debench.models.circular.events import locate
 from debench.models.circular.params import Annulus, CircularActuator, locking_stretch_equibiaxial
 from debench.models.errors import ConvergenceError
 from hypothesis import given, settings

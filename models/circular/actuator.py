@@ -8,7 +8,8 @@ c and every eps_r: ``Phibar^2 = (s(lam) - lam T1B)/(lam^4 K(lam))`` (see
 (:mod:`debench.models.circular.shooting`), parametrised by the radial stretch at the frame.
 
 Failure events on a curve (each located by a safeguarded secant (Illinois) iteration on
-the shooting parameter, to ``EVENT_XTOL`` relative, with exact complex-step derivatives):
+the shooting parameter, to :data:`~debench.models.circular.events.EVENT_XTOL` relative,
+with exact complex-step derivatives, :mod:`debench.models.circular.events`):
 
 * ``pullin``: a local maximum of Phibar(lambda) -- the electromechanical instability;
 * ``minimum``: the local minimum that follows it (Gent stiffening, Zhao, Hong & Suo 2007);
@@ -39,21 +40,13 @@ from debench.models import validation as v
 from debench.models.errors import ConvergenceError
 from scipy.interpolate import PchipInterpolator
 
-from . import circle_a
+from . import circle_a, params
+from .events import EVENT_KINDS, _locate_gen
 from .integrator import stresses
 from .lockstep import Request, run
 from .params import Annulus, CircularActuator, locking_stretch_equibiaxial
 from .shooting import DEFAULT_STEPS, _interface_state, _interface_state_gen, q_for_stretch
 
-#: relative tolerance on the shooting parameter q for event location: machine precision
-#: level (q ~ 1, |d lambda/dq| ~ 1e2, so lambda is located to ~1e-12)
-EVENT_XTOL = 1e-14
-#: event location: once the last secant step is below CERTIFY_AFTER |q| (superlinear
-#: convergence puts the next iterate far below xtol), the iterate x is replaced by the
-#: pair x -+ CERTIFY xtol |x| whose signs certify the root within xtol
-CERTIFY_AFTER = 1e-5
-CERTIFY = 0.45
-EVENT_KINDS = ("pullin", "minimum", "loss_of_tension", "breakdown")
 #: the events that end a curve (the film fails there)
 FAILURE_KINDS = ("pullin", "loss_of_tension", "breakdown")
 
@@ -285,191 +278,6 @@ class Curve:
         return p is None or (lot is not None and p.lam >= lot.lam)
 
 
-def _event_function(kinds, annulus, q, c, eps_r, mu, steps, lamP=None):
-    """Functions whose zeros are the events, vectorised over (kind, q, c, eps_r).
-
-    ``pullin``/``minimum``: d(Phibar^2)/d lambda (exact, complex step through the
-    integrator); ``loss_of_tension``: T1^(B)(R_A); ``breakdown``: Phibar^2 - Phibar_B^2.
-    """
-    return _event_values(kinds, annulus, q, c, eps_r, mu, steps, lamP)[0]
-
-
-def _event_values(kinds, annulus, q, c, eps_r, mu, steps, lamP=None, membrane=None):
-    """:func:`_event_function` and the interface state (lam, T1) it was computed from
-    (``lamP``, ``membrane``: per-event overrides of the annulus, see
-    :func:`~debench.models.circular.integrator.integrate`)."""
-    return run(_event_values_gen(kinds, annulus, q, c, eps_r, mu, steps, lamP, membrane))
-
-
-def _event_values_gen(kinds, annulus, q, c, eps_r, mu, steps, lamP=None, membrane=None):
-    """:func:`_event_values` as a :func:`~debench.models.circular.lockstep.lockstep`
-    solver."""
-    kinds = np.asarray(kinds)
-    bad = ~np.isin(kinds, EVENT_KINDS)
-    if bad.any():
-        raise ValueError(f"unknown event kind {kinds[bad][0]!r}; expected one of {EVENT_KINDS}")
-    st = yield from _interface_state_gen(annulus, q, steps=steps, lamP=lamP,
-                                         membrane=membrane)
-    p2c = circle_a._p2(st.lam_c, st.T1_c, c, annulus.kappa)
-    deriv = (p2c.imag / 1e-30) / st.dlam
-    brk = p2c.real - circle_a._breakdown(st.lam, eps_r, mu) ** 2
-    f = np.where(kinds == "loss_of_tension", st.T1,
-                 np.where(kinds == "breakdown", brk, deriv))
-    return f, st.lam, st.T1
-
-
-def locate(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
-           xtol=EVENT_XTOL, maxiter=100, lamP=None, fa=None, fb=None, x0=None):
-    """Vectorised Illinois iteration for zeros bracketed in [qa, qb]; raises if it fails.
-
-    All events (any kinds, any c, any lamP) of compatible annuli are located together: one
-    shooting integration per iteration. ``fa``/``fb`` (the event functions at the bracket
-    ends, if already known) and ``x0`` (an interpolated estimate of the root) save
-    iterations: the bracket is first shrunk to [x0 - d, x0 + d] when it contains the root.
-    Converged when ``|b - a| <= xtol |b|`` (``xtol`` a finite tolerance in (0, 1)) or the
-    event function vanishes exactly; else ConvergenceError (with the bracket reached).
-    """
-    v.instance("annulus", annulus, Annulus)
-    v.integer_at_least("steps", steps, 4)
-    v.tolerance("xtol", xtol)
-    v.integer_at_least("maxiter", maxiter, 1)
-    v.positive("mu", mu)
-    v.finite("c", c)
-    v.positive("eps_r", eps_r)
-    v.positive("qa", qa)
-    v.positive("qb", qb)
-    if np.any(~np.isin(np.asarray(kinds), EVENT_KINDS)):
-        raise ValueError(f"kinds must be among {EVENT_KINDS}, got {kinds!r}")
-    return _locate(kinds, annulus, qa, qb, c, eps_r, mu, steps=steps, xtol=xtol,
-                   maxiter=maxiter, lamP=lamP, fa=fa, fb=fb, x0=x0)[0]
-
-
-def _locate(kinds, annulus, qa, qb, c, eps_r, mu, **kw):
-    """:func:`locate` without argument checks, returning ``(q, lam, T1)`` at the roots:
-    the interface state of the iterate returned, kept from the iteration (no extra
-    integration). ``sa``/``sb``: the states (lam, T1) at the bracket ends, when known
-    with ``fa``/``fb``; ``membrane``: per-event equilibrium (bool array), as ``lamP``."""
-    return run(_locate_gen(kinds, annulus, qa, qb, c, eps_r, mu, **kw))
-
-
-def _locate_gen(kinds, annulus, qa, qb, c, eps_r, mu, *, steps=DEFAULT_STEPS,
-                xtol=EVENT_XTOL, maxiter=100, lamP=None, fa=None, fb=None, x0=None,
-                sa=None, sb=None, membrane=None):
-    """:func:`_locate` as a :func:`~debench.models.circular.lockstep.lockstep` solver."""
-    a = np.array(qa, float)
-    b = np.array(qb, float)
-    kinds = np.broadcast_to(np.asarray(kinds), a.shape)
-    c = np.broadcast_to(c, a.shape).astype(float)
-    eps_r = np.broadcast_to(eps_r, a.shape).astype(float)
-    lp = None if lamP is None else np.broadcast_to(np.asarray(lamP, float), a.shape)
-    mb = None if membrane is None else np.broadcast_to(np.asarray(membrane, bool), a.shape)
-    cat = np.concatenate
-
-    def F2(x, y):
-        """Event values and states at two points per event, in one integration."""
-        f, lam, T1 = yield from _event_values_gen(
-            cat([kinds, kinds]), annulus, cat([x, y]), cat([c, c]), cat([eps_r, eps_r]), mu,
-            steps, None if lp is None else cat([lp, lp]), None if mb is None else cat([mb, mb]))
-        n = a.size
-        return f[:n], f[n:], (lam[:n], T1[:n]), (lam[n:], T1[n:])
-
-    if fa is None or fb is None:
-        fa, fb, sa, sb = yield from F2(a, b)
-    nan = np.full(a.shape, np.nan)
-    sa = (nan, nan) if sa is None else sa   # unknown states: computed at the end if needed
-    sb = (nan, nan) if sb is None else sb
-    fa = np.array(fa, float)
-    fb = np.array(fb, float)
-    la, Ta = (np.array(z, float) for z in sa)
-    lb, Tb = (np.array(z, float) for z in sb)
-    if np.any(np.sign(fa) * np.sign(fb) > 0) or not np.all(np.isfinite(fa * fb)):
-        raise ConvergenceError(f"events {sorted(set(kinds))}: not bracketed for {annulus}")
-    if x0 is not None:
-        x0 = np.clip(np.asarray(x0, float), np.minimum(a, b), np.maximum(a, b))
-        d = 1e-4 * np.abs(b - a)
-        lo = np.clip(x0 - d, np.minimum(a, b), np.maximum(a, b))
-        hi = np.clip(x0 + d, np.minimum(a, b), np.maximum(a, b))
-        flo, fhi, slo, shi = yield from F2(lo, hi)
-        ok = np.isfinite(flo) & np.isfinite(fhi) & (np.sign(flo) * np.sign(fhi) <= 0)
-        # shrink to the tight bracket where it holds the root (keeps a as 'lo' side)
-        a, fa = np.where(ok, lo, a), np.where(ok, flo, fa)
-        la, Ta = np.where(ok, slo[0], la), np.where(ok, slo[1], Ta)
-        b, fb = np.where(ok, hi, b), np.where(ok, fhi, fb)
-        lb, Tb = np.where(ok, shi[0], lb), np.where(ok, shi[1], Tb)
-    side = np.zeros(a.shape, int)
-    step = np.full(a.shape, np.inf)     # size of each element's last secant step
-    for _ in range(maxiter):
-        done = (np.abs(b - a) <= xtol * np.abs(b)) | (fa == 0) | (fb == 0)
-        if done.all():
-            break
-        x = np.where(done, b, b - fb * (b - a) / (fb - fa))
-        x = np.clip(x, np.minimum(a, b), np.maximum(a, b))
-        m = ~done
-        # once the secant steps are small, the next iterate is accurate to far below
-        # xtol: evaluate x -+ eps instead of x (eps = CERTIFY xtol |x|), whose signs
-        # certify the root within xtol in the same integration (else the inner one is
-        # the iterate)
-        cert = m & (step <= CERTIFY_AFTER * np.abs(b))
-        eps = CERTIFY * xtol * np.abs(x)
-        xm = np.clip(x - eps, np.minimum(a, b), np.maximum(a, b))
-        xp = np.clip(x + eps, np.minimum(a, b), np.maximum(a, b))
-        plain = m & ~cert
-        ip, ic = np.nonzero(plain)[0], np.nonzero(cert)[0]
-        idx = np.concatenate([ip, ic, ic])
-        f_, l_, T_ = yield from _event_values_gen(
-            kinds[idx], annulus, np.concatenate([x[ip], xm[ic], xp[ic]]), c[idx],
-            eps_r[idx], mu, steps, None if lp is None else lp[idx],
-            None if mb is None else mb[idx])
-        if not np.all(np.isfinite(f_)):
-            raise ConvergenceError(f"events: non-finite residual during location for {annulus}")
-        fx, lx, Tx = np.zeros_like(x), lb.copy(), Tb.copy()
-        n1, n2 = ip.size, ip.size + ic.size
-        fx[ip], lx[ip], Tx[ip] = f_[:n1], l_[:n1], T_[:n1]
-        if ic.size:
-            fm, fp = f_[n1:n2], f_[n2:]
-            split = np.sign(fm) != np.sign(fp)
-            # certified: the bracket becomes [x - eps, x + eps]
-            ks = ic[split]
-            a[ks], fa[ks], la[ks], Ta[ks] = xm[ks], fm[split], l_[n1:n2][split], \
-                T_[n1:n2][split]
-            b[ks], fb[ks], lb[ks], Tb[ks] = xp[ks], fp[split], l_[n2:][split], \
-                T_[n2:][split]
-            m[ks] = False
-            # not certified: both on one side; the iterate is the one nearer the root
-            keep = ~split
-            kn = ic[keep]
-            toward_a = (np.sign(fm[keep]) == np.sign(fb[kn])) == (a[kn] < b[kn])
-            pick = np.where(toward_a, 0, 1)     # 0: x - eps, 1: x + eps
-            x[kn] = np.where(pick == 0, xm[kn], xp[kn])
-            fx[kn] = np.where(pick == 0, fm[keep], fp[keep])
-            lx[kn] = np.where(pick == 0, l_[n1:n2][keep], l_[n2:][keep])
-            Tx[kn] = np.where(pick == 0, T_[n1:n2][keep], T_[n2:][keep])
-        step = np.where(m, np.abs(x - b), step)
-        upd = m
-        same = np.sign(fx) == np.sign(fb)
-        # Illinois: keep the bracket, halve the stale end's function value
-        new_a = np.where(same, a, b)
-        new_fa = np.where(same, np.where(side == 1, fa / 2, fa), fb)
-        new_la, new_Ta = np.where(same, la, lb), np.where(same, Ta, Tb)
-        side = np.where(upd, np.where(same, 1, -1), side)
-        a, fa = np.where(upd, new_a, a), np.where(upd, new_fa, fa)
-        la, Ta = np.where(upd, new_la, la), np.where(upd, new_Ta, Ta)
-        b, fb = np.where(upd, x, b), np.where(upd, fx, fb)
-        lb, Tb = np.where(upd, lx, lb), np.where(upd, Tx, Tb)
-    else:
-        raise ConvergenceError(f"events: Illinois did not reach xtol={xtol} in {maxiter} "
-                               f"iterations (max bracket {np.max(np.abs(b - a)):.3g})")
-    use_a = np.abs(fa) < np.abs(fb)
-    q, lam, T1 = np.where(use_a, a, b), np.where(use_a, la, lb), np.where(use_a, Ta, Tb)
-    miss = ~np.isfinite(lam)
-    if miss.any():    # a root at a bracket end given without its state
-        st = yield from _interface_state_gen(annulus, q[miss], steps=steps,
-                                             lamP=None if lp is None else lp[miss],
-                                             membrane=None if mb is None else mb[miss])
-        lam[miss], T1[miss] = st.lam, st.T1
-    return q, lam, T1
-
-
 def curves(br: Branch, cs, *, eps_r=None, mu: float | None = None,
            steps: int | None = None) -> list[Curve]:
     """Voltage-stretch curves for several c on one annulus branch, events located.
@@ -498,8 +306,7 @@ def curves_many(jobs, *, mu: float | None = None, steps: int | None = None):
 def _curves_many_solver(jobs, *, mu: float | None = None, steps: int | None = None):
     """:func:`curves_many` as a :func:`~debench.models.circular.lockstep.lockstep`
     solver (arguments checked here, at the call)."""
-    from .params import EPS_R_ASSUMED, MU_VHB
-    mu = MU_VHB if mu is None else v.positive("mu", mu)
+    mu = params.MU_VHB if mu is None else v.positive("mu", mu)
     if steps is not None:
         v.integer_at_least("steps", steps, 4)
     if isinstance(jobs, str | bytes) or not hasattr(jobs, "__iter__"):
@@ -514,7 +321,7 @@ def _curves_many_solver(jobs, *, mu: float | None = None, steps: int | None = No
             raise TypeError(f"cs must be a sequence of numbers, got {cs!r}")
         cs = list(cs)
         cs_ = np.atleast_1d(v.finite("cs", cs)) if cs else []
-        eps_r_ = EPS_R_ASSUMED if eps_r is None else eps_r
+        eps_r_ = params.EPS_R_ASSUMED if eps_r is None else eps_r
         eps_rs = np.broadcast_to(v.positive("eps_r", eps_r_), (len(cs_),))
         # validated once here; the curves below carry these actuators
         actuators.append([CircularActuator(br.annulus, c=float(c), eps_r=float(e), mu=mu)
@@ -526,62 +333,87 @@ def _curves_many_solver(jobs, *, mu: float | None = None, steps: int | None = No
 def _curves_many_gen(jobs, actuators, mu, steps):
     """:func:`curves_many` after its checks (``actuators``: the validated actuator of
     every curve) as a :func:`~debench.models.circular.lockstep.lockstep` solver."""
-    from .params import EPS_R_ASSUMED
-    results = [None] * len(jobs)
     pending = []  # (job index, curve index, kind, qa, qb, c, eps_r, lamP)
     located = {}
-    prepared = []
-    for jb, (br, cs, eps_r) in enumerate(jobs):
-        eps_r = EPS_R_ASSUMED if eps_r is None else eps_r
-        an = br.annulus
-        kappa = an.kappa
-        cs = [float(c) for c in cs]
-        eps_rs = [float(e) for e in np.broadcast_to(np.asarray(eps_r, float), (len(cs),))]
-        lam = br.lam
-        # every curve of this branch at once: rows are the c (and eps_r) values
-        cc = np.array(cs, float)[:, None]
-        PB = circle_a._breakdown(lam, np.array(eps_rs, float)[:, None], mu)
-        K = circle_a._K(lam, cc)
-        valid = K > 0
-        Ks = np.where(valid, K, 1.0)  # Phibar is undefined where K <= 0 (masked below)
-        P2 = np.where(valid, circle_a._p2(lam, br.T1, cc, kappa) * K / Ks, np.nan)
-        h = 1e-30
-        with np.errstate(divide="ignore", invalid="ignore"):
-            p2c = circle_a._p2(lam + 1j * h * br.dlam, br.T1 + 1j * h * br.dT1, cc, kappa)
-        DP2 = np.where(valid, (p2c.imag / h) / br.dlam, np.nan)
-        fun = {"pullin": DP2, "minimum": DP2, "loss_of_tension": br.T1[None, :],
-               "breakdown": P2 - PB**2}
-        first = {}
+    prepared = [_grid_events(jb, br, cs, eps_r, mu, pending, located)
+                for jb, (br, cs, eps_r) in enumerate(jobs)]
+    pending, copies = _shared_events(jobs, pending)
+    pending = _cubic_estimates(pending)
+    roots = yield from _locate_groups(jobs, pending, mu, steps, located)
+    for row, rep in copies:
+        ev = located[(rep[0], rep[1], rep[2])]
+        if row[5] != rep[5]:      # loss of tension shared across c: Phibar at this c
+            lam_, T1_ = roots[(rep[0], rep[1], rep[2])]
+            p2 = circle_a._p2(lam_, T1_, row[5], jobs[row[0]][0].annulus.kappa)
+            ev = Event(ev.kind, ev.lam, float(np.sqrt(max(p2, 0.0))), ev.q)
+        located[(row[0], row[1], row[2])] = ev
+    return [[_curve(actuators[jb][i], c, br, data[i], {k: located.get((jb, i, k))
+                                                        for k in EVENT_KINDS})
+             for i, c in enumerate(cs)]
+            for jb, (br, cs, data) in enumerate(prepared)]
+
+
+def _grid_events(jb, br: Branch, cs, eps_r, mu, pending, located):
+    """The curves of job ``jb`` (branch ``br``, the values ``cs`` and ``eps_r``) on the
+    branch grid: ``(br, cs, data)`` with ``data[i]`` = (Phibar, Phibar_B, sigma1^(A)) of
+    curve i. Every event crossed between two grid points is appended to ``pending`` (its
+    bracket, the event values at both ends, a secant estimate and the 4 grid values
+    around it); an event known exactly is put in ``located``."""
+    eps_r = params.EPS_R_ASSUMED if eps_r is None else eps_r
+    an = br.annulus
+    kappa = an.kappa
+    cs = [float(c) for c in cs]
+    eps_rs = [float(e) for e in np.broadcast_to(np.asarray(eps_r, float), (len(cs),))]
+    lam = br.lam
+    # every curve of this branch at once: rows are the c (and eps_r) values
+    cc = np.array(cs, float)[:, None]
+    PB = circle_a._breakdown(lam, np.array(eps_rs, float)[:, None], mu)
+    K = circle_a._K(lam, cc)
+    valid = K > 0
+    Ks = np.where(valid, K, 1.0)  # Phibar is undefined where K <= 0 (masked below)
+    P2 = np.where(valid, circle_a._p2(lam, br.T1, cc, kappa) * K / Ks, np.nan)
+    h = 1e-30
+    with np.errstate(divide="ignore", invalid="ignore"):
+        p2c = circle_a._p2(lam + 1j * h * br.dlam, br.T1 + 1j * h * br.dT1, cc, kappa)
+    DP2 = np.where(valid, (p2c.imag / h) / br.dlam, np.nan)
+    fun = {"pullin": DP2, "minimum": DP2, "loss_of_tension": br.T1[None, :],
+           "breakdown": P2 - PB**2}
+    first = {}
+    for kind in EVENT_KINDS:
+        f = fun[kind]
+        if kind in ("minimum", "breakdown"):   # crossing from below
+            cross = (f[:, :-1] < 0) & (f[:, 1:] >= 0)
+        else:                                   # crossing from above
+            cross = (f[:, :-1] > 0) & (f[:, 1:] <= 0)
+        first[kind] = np.where(cross.any(axis=1), cross.argmax(axis=1), -1)
+    PHI = np.sqrt(np.maximum(P2, 0.0))
+    SIG = circle_a._s(lam, kappa) - PHI**2 * lam**4 * K
+    data = []
+    for i, c in enumerate(cs):
         for kind in EVENT_KINDS:
-            f = fun[kind]
-            if kind in ("minimum", "breakdown"):   # crossing from below
-                cross = (f[:, :-1] < 0) & (f[:, 1:] >= 0)
-            else:                                   # crossing from above
-                cross = (f[:, :-1] > 0) & (f[:, 1:] <= 0)
-            first[kind] = np.where(cross.any(axis=1), cross.argmax(axis=1), -1)
-        PHI = np.sqrt(np.maximum(P2, 0.0))
-        SIG = circle_a._s(lam, kappa) - PHI**2 * lam**4 * K
-        data = []
-        for i, c in enumerate(cs):
-            for kind in EVENT_KINDS:
-                if kind == "loss_of_tension" and an.lamP == 1.0:
-                    # unstretched membrane: T1 = 0 at lamP exactly (rounding leaves
-                    # ~1e-56, which no bracketing can resolve), compressive beyond it
-                    located[(jb, i, kind)] = Event(kind, 1.0, 0.0, 1.0)
-                    continue
-                j = int(first[kind][i if first[kind].size > 1 else 0])
-                if j >= 0:
-                    f = fun[kind][i if fun[kind].shape[0] > 1 else 0]
-                    # root estimate: the secant in the cell, refined below on the cubic
-                    # through the 4 grid values around the crossing
-                    x0 = br.q[j] - f[j] * (br.q[j + 1] - br.q[j]) / (f[j + 1] - f[j])
-                    lo_ = min(max(j - 1, 0), f.size - 4)
-                    pending.append((jb, i, kind, br.q[j], br.q[j + 1], c, eps_rs[i],
-                                    an.lamP, f[j], f[j + 1], x0, (br.lam[j], br.T1[j]),
-                                    (br.lam[j + 1], br.T1[j + 1]),
-                                    (br.q[lo_:lo_ + 4], f[lo_:lo_ + 4])))
-            data.append((PHI[i], PB[i], SIG[i]))
-        prepared.append((br, cs, eps_rs, data))
+            if kind == "loss_of_tension" and an.lamP == 1.0:
+                # unstretched membrane: T1 = 0 at lamP exactly (rounding leaves
+                # ~1e-56, which no bracketing can resolve), compressive beyond it
+                located[(jb, i, kind)] = Event(kind, 1.0, 0.0, 1.0)
+                continue
+            j = int(first[kind][i if first[kind].size > 1 else 0])
+            if j >= 0:
+                f = fun[kind][i if fun[kind].shape[0] > 1 else 0]
+                # root estimate: the secant in the cell, refined below on the cubic
+                # through the 4 grid values around the crossing
+                x0 = br.q[j] - f[j] * (br.q[j + 1] - br.q[j]) / (f[j + 1] - f[j])
+                lo_ = min(max(j - 1, 0), f.size - 4)
+                pending.append((jb, i, kind, br.q[j], br.q[j + 1], c, eps_rs[i],
+                                an.lamP, f[j], f[j + 1], x0, (br.lam[j], br.T1[j]),
+                                (br.lam[j + 1], br.T1[j + 1]),
+                                (br.q[lo_:lo_ + 4], f[lo_:lo_ + 4])))
+        data.append((PHI[i], PB[i], SIG[i]))
+    return br, cs, data
+
+
+def _shared_events(jobs, pending):
+    """The rows of ``pending`` to locate, and ``(row, representative)`` for each row whose
+    event another row locates."""
     # an event that does not depend on eps_r (all but breakdown) is located once per
     # (branch, c) and shared by the curves of every eps_r; loss of tension (T1 = 0) does
     # not depend on c either: once per branch (its Phibar is evaluated per c)
@@ -594,8 +426,13 @@ def _curves_many_gen(jobs, actuators, mu, steps):
             copies.append((row, unique[key]))
         else:
             unique[key] = row
-    pending = list(unique.values())
-    pending = _cubic_estimates(pending)
+    return list(unique.values()), copies
+
+
+def _locate_groups(jobs, pending, mu, steps, located):
+    """Locate the events ``pending``, one vectorised location per group of compatible
+    annuli (same R_B/R_A, Jm and steps; a lockstep solver), into ``located``; returns the
+    interface states (lam, T1) at the roots."""
     # one location per group of compatible annuli
     roots = {}
     groups = {}
@@ -621,38 +458,30 @@ def _curves_many_gen(jobs, actuators, mu, steps):
                                                 float(np.sqrt(max(p2, 0.0))),
                                                 float(qroot[k]))
             roots[(r[0], r[1], r[2])] = (lam_r[k], T1_r[k])
-    for row, rep in copies:
-        ev = located[(rep[0], rep[1], rep[2])]
-        if row[5] != rep[5]:      # loss of tension shared across c: Phibar at this c
-            lam_, T1_ = roots[(rep[0], rep[1], rep[2])]
-            p2 = circle_a._p2(lam_, T1_, row[5], jobs[row[0]][0].annulus.kappa)
-            ev = Event(ev.kind, ev.lam, float(np.sqrt(max(p2, 0.0))), ev.q)
-        located[(row[0], row[1], row[2])] = ev
-    for jb, (br, cs, _eps_rs, data) in enumerate(prepared):
-        out = []
-        for i, c in enumerate(cs):
-            act = actuators[jb][i]
-            phibar, pb, sigma1A = data[i]
-            events = {k: located.get((jb, i, k)) for k in EVENT_KINDS}
-            cands = [e for k, e in events.items() if k in FAILURE_KINDS and e is not None]
-            failure = min(cands, key=lambda e: e.lam) if cands else None
-            lam_K = _zero_of_K(c)
-            if failure is None and lam_K < br.lam_end:
-                # the permittivity factor K of (3.30) reaches 0 on the branch before any
-                # other failure: Phibar is undefined beyond, the model ends there
-                failure = Event("permittivity", lam_K, math.nan, math.nan)
-            if failure is None:
-                # nothing before the end of the traced branch: Gent locking of circle A
-                # (3.23) if the branch reaches it (Phibar -> inf there), else the end of
-                # the admissible annulus branch
-                lock = locking_stretch_equibiaxial(br.annulus.Jm)
-                kind = "locking" if br.lam_end >= 0.999 * lock * (1 - 1e-12) else "end"
-                failure = Event(kind, float(lock if kind == "locking" else br.lam_end),
-                                float("nan"), float("nan"))
-            out.append(Curve(actuator=act, lam=br.lam, phibar=phibar, sigma1A=sigma1A,
-                             phibar_breakdown=pb, events=events, failure=failure))
-        results[jb] = out
-    return results
+    return roots
+
+
+def _curve(act: CircularActuator, c: float, br: Branch, data, events: dict) -> Curve:
+    """The curve of ``act`` (its ``c``) on ``br`` (``data``: its Phibar, Phibar_B and
+    sigma1^(A) on the grid) with its located ``events`` and its failure."""
+    phibar, pb, sigma1A = data
+    cands = [e for k, e in events.items() if k in FAILURE_KINDS and e is not None]
+    failure = min(cands, key=lambda e: e.lam) if cands else None
+    lam_K = _zero_of_K(c)
+    if failure is None and lam_K < br.lam_end:
+        # the permittivity factor K of (3.30) reaches 0 on the branch before any
+        # other failure: Phibar is undefined beyond, the model ends there
+        failure = Event("permittivity", lam_K, math.nan, math.nan)
+    if failure is None:
+        # nothing before the end of the traced branch: Gent locking of circle A
+        # (3.23) if the branch reaches it (Phibar -> inf there), else the end of
+        # the admissible annulus branch
+        lock = locking_stretch_equibiaxial(br.annulus.Jm)
+        kind = "locking" if br.lam_end >= 0.999 * lock * (1 - 1e-12) else "end"
+        failure = Event(kind, float(lock if kind == "locking" else br.lam_end),
+                        float("nan"), float("nan"))
+    return Curve(actuator=act, lam=br.lam, phibar=phibar, sigma1A=sigma1A,
+                 phibar_breakdown=pb, events=events, failure=failure)
 
 
 def _cubic_estimates(rows):

@@ -26,7 +26,8 @@ import numpy as np
 import xarray as xr
 from debench.models.circular import circle_a, params
 from debench.models.circular._chapter_pass import Chapter
-from debench.models.circular.actuator import EVENT_KINDS, Event
+from debench.models.circular.actuator import Event
+from debench.models.circular.events import EVENT_KINDS
 from debench.reference import figures as figure_io
 from debench.reference.datasets import write_dataset
 from debench.reference.figures import LABELS as L
