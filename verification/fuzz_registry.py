@@ -71,6 +71,11 @@ EXCLUDED_MODULES = {
         "NGSolve FE cross-check of Chapter 3 (seconds per call): validates at its boundary "
         "(ValueError naming the bound, ConvergenceError); bad inputs tested in "
         "verification/test_ch3_fe.py"),
+    "debench.models.circular.fe_continuation": (
+        "the bordered continuation and its linear algebra shared by the two NGSolve FE "
+        "cross-checks of Chapter 3 (debench.models.circular.fe, fe_solid), which validate "
+        "at their boundary; its solves are tested against round-off in "
+        "verification/test_ch3_fe_roundoff.py"),
     "debench.models.circular.fe_solid": (
         "NGSolve thin-solid (r, z) FE cross-check of Chapter 3 (seconds per call): "
         "validates at its boundary (ValueError naming the bound, ConvergenceError); bad "

@@ -17,7 +17,7 @@ from functools import lru_cache
 import numpy as np
 import pytest
 import scipy.sparse as sp
-from debench.models.circular import fe as FE
+from debench.models.circular import fe_continuation as FC
 from debench.models.circular.fe_solid import CircularSolidFE, SolidMesh
 from debench.models.errors import ConvergenceError
 from debench.reference.producers import ch3_fe as producers
@@ -46,15 +46,15 @@ def _with_explicit_zeros(model, M):
 
 def _variants(model, M, b, rng):
     """Solutions of ``M z = b`` under round-off perturbations of the same system."""
-    out = {"explicit zeros": FE._solve(_with_explicit_zeros(model, M), b, 3.2)}
+    out = {"explicit zeros": FC.solve_bordered(_with_explicit_zeros(model, M), b, 3.2)}
     pr, pc = rng.permutation(M.shape[0]), rng.permutation(M.shape[1])
-    y = FE._solve(sp.csc_matrix(M)[pr][:, pc], b[pr], 3.2)
+    y = FC.solve_bordered(sp.csc_matrix(M)[pr][:, pc], b[pr], 3.2)
     z = np.empty_like(y)
     z[pc] = y
     out["permuted unknowns"] = z
     Mp = sp.csc_matrix(M, copy=True)
     Mp.data = Mp.data * (1 + PERTURBATION * rng.standard_normal(Mp.nnz))
-    out["perturbed values"] = FE._solve(Mp, b, 3.2)
+    out["perturbed values"] = FC.solve_bordered(Mp, b, 3.2)
     return out
 
 
@@ -65,14 +65,14 @@ def test_solid_bordered_solve_does_not_depend_on_round_off():
     values perturbed by PERTURBATION."""
     model = CircularSolidFE(3.0, 0.2, mesh=SMALL_MESH)
     s = model.solve(3.2)
-    M, col = model._bordered(s.x, s.phibar2)
+    M, col = model.bordered(s.x, s.phibar2)
     rng = np.random.default_rng(7)
     # a residual like a Newton start's: the predictor's error over a step 0.05
     x = s.x.copy()
     x[model._F] += 0.05 * s.tangent[:-1]
     res = model._system(x, s.phibar2 + 0.05 * s.tangent[-1])[0][model._E]
     for b in (-col, -res):
-        z0 = FE._solve(M, b, 3.2)
+        z0 = FC.solve_bordered(M, b, 3.2)
         for name, z in _variants(model, M, b, rng).items():
             err = np.max(np.abs(z - z0)) / np.max(np.abs(z0))
             assert err <= SOLVE_RTOL, (name, err)
@@ -85,23 +85,23 @@ def _reference_phibar() -> float:
 
 def _perturbed_starts(monkeypatch, rng):
     """Every Newton start of the continuation perturbed by PERTURBATION (relative)."""
-    inner = FE.BorderedContinuation._newton
+    inner = FC.BorderedContinuation._newton
 
     def newton(self, x, p, lam, *a, **k):
         return inner(self, x * (1 + PERTURBATION * rng.standard_normal(x.shape)),
                      p * (1 + PERTURBATION), lam, *a, **k)
 
-    monkeypatch.setattr(FE.BorderedContinuation, "_newton", newton)
+    monkeypatch.setattr(FC.BorderedContinuation, "_newton", newton)
 
 
 def _explicit_zeros(monkeypatch):
-    inner = CircularSolidFE._bordered
+    inner = CircularSolidFE.bordered
 
     def bordered(self, x, p):
         M, col = inner(self, x, p)
         return _with_explicit_zeros(self, M), col
 
-    monkeypatch.setattr(CircularSolidFE, "_bordered", bordered)
+    monkeypatch.setattr(CircularSolidFE, "bordered", bordered)
 
 
 @pytest.mark.parametrize("how", ["perturbed starts", "explicit zeros"])
@@ -144,8 +144,8 @@ def test_solid_continuation_does_not_jump_a_fold():
 
     def smallest(lam):
         s = model.solve(lam)
-        M, _ = model._bordered(s.x, s.phibar2)
-        r, c = FE.equilibrate(M)
+        M, _ = model.bordered(s.x, s.phibar2)
+        r, c = FC.equilibrate(M)
         sv = np.linalg.svd((sp.diags(r) @ M @ sp.diags(c)).toarray(), compute_uv=False)
         return sv[-1] / sv[0]
 

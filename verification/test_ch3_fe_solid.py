@@ -102,7 +102,7 @@ def test_solid_bordered_tangent_is_the_derivative_of_the_residual():
     model = CircularSolidFE(3.0, 0.2, mesh=SMALL_MESH)
     s = model.solve(3.2)
     assert s.phibar2 > 0
-    M, col = model._bordered(s.x, s.phibar2)
+    M, col = model.bordered(s.x, s.phibar2)
     E, F, i = model._E, model._F, model._i
     rng = np.random.default_rng(0)
     v = rng.standard_normal(len(F) + 1)

@@ -100,7 +100,7 @@ from debench.models.materials import ngsolve_forms as forms
 from netgen.meshing import Element1D, Element2D, MeshPoint, Pnt
 from netgen.meshing import Mesh as NetgenMesh
 
-from .fe import LAM_STEP, BorderedContinuation
+from .fe_continuation import LAM_STEP, BorderedContinuation
 from .params import JM_VHB, locking_stretch_equibiaxial
 
 #: augmented-Lagrangian factor kappa/mu of the consistent term kappa/2 (J - 1)^2 (zero with
@@ -328,7 +328,7 @@ class CircularSolidFE(BorderedContinuation):
         dp[self._psi] = 0.0
         return res, dp
 
-    def _bordered(self, x, p):
+    def bordered(self, x, p):
         """The bordered matrix ``[J[E, F], dR/dPhibar^2[E]]`` (sparse, CSC) and the load
         column ``J[E, i]`` of the tangent ``J`` (mechanical rows ``J_m + Phibar^2 J_e``,
         potential rows ``J_e``), scattered straight from the two forms' COO values into
@@ -389,7 +389,7 @@ class CircularSolidFE(BorderedContinuation):
         return lam - 1.0          # u_R(R_A, 0) = (lam - 1) R_A
 
     def _load_column(self, J):
-        return J                  # _bordered returns the load column itself
+        return J                  # bordered returns the load column itself
 
     def _admissible(self, x) -> bool:
         self.gf.vec.FV().NumPy()[:] = x
