@@ -108,7 +108,7 @@ def test_off_grid_points_near_the_ends_meet_the_stated_accuracy(problem_id, lamP
     pick = np.r_[mid[:6], mid[last - 12:last]]
     eq = "membrane" if problem_id == "ch3_voltage_stretch" else "printed"
     br = branch(Annulus(lamP, 15.0, equilibrium=eq), lam=pick, steps=1600)
-    exact = np.sqrt(circle_a._p2(br.lam, br.T1, c, 1.0 / params.JM_VHB))
+    exact = np.sqrt(circle_a.phibar_squared(br.lam, br.T1, c, 1.0 / params.JM_VHB))
     res = compare(problem_id, "phibar", exact, {"lamP": lamP, "c": c, "lambda_a": pick},
                   coverage="partial")
     assert res.passed, res.table()

@@ -65,7 +65,7 @@ def test_curve_interpolated_between_grid_points_matches_an_independent_solve(pro
 
     lam = np.linspace(2.01, 4.0, 23)
     br = branch(Annulus(2.0, 15.0, equilibrium=equilibrium), lam=lam, steps=1600)
-    phibar = np.sqrt(circle_a._p2(br.lam, br.T1, -0.053, 1.0 / params.JM_VHB))
+    phibar = np.sqrt(circle_a.phibar_squared(br.lam, br.T1, -0.053, 1.0 / params.JM_VHB))
     coords = {"lamP": 2.0, "c": -0.053, "lambda_a": lam}
     assert_matches(problem, "phibar", phibar, coords, coverage="partial")
     with pytest.raises(AssertionError):
