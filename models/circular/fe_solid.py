@@ -42,7 +42,8 @@ Boundary conditions: axis ``u_R = 0``; mid-plane ``u_Z = 0, psi = 0``; frame (3.
 Load: pre-stretch first (the homogeneous state ``u = ((lamP - 1) R, (lamP^-2 - 1) Z)``
 at Phibar = 0), then the stretch ``lam = 1 + u_R(R_A, 0)`` of the mid-plane at the electrode
 edge is prescribed and ``Phibar^2`` is an unknown (bordered Newton,
-:class:`debench.models.circular.fe.BorderedContinuation`), so that pull-in can be passed.
+:class:`debench.models.circular.fe_continuation.BorderedContinuation`), so that pull-in can
+be passed.
 Reported stretch of circle A: ``lam_centre`` = lambda_theta at the axis (mid-plane), the
 homogeneous stretch of the membrane theory (:meth:`CircularSolidFE.at_centre_stretch`
 finds the state at a given one); loss of tension: the thickness-averaged radial Cauchy
@@ -70,7 +71,7 @@ an LU solve would be round-off and depend on SuperLU's pivot order (explicit zer
 in the structure, another column ordering). It is equilibrated by powers of two before
 the factorisation (condition ~1e6, :func:`debench.models.circular.fe._factor`), and
 Newton takes only steps that pass the natural monotonicity test
-(:meth:`~debench.models.circular.fe.BorderedContinuation._newton`), so that a step
+(:meth:`~debench.models.circular.fe_continuation.BorderedContinuation._newton`), so that a step
 converges to the solution next to its predictor or is refused and shortened.
 
 Limits: on under-resolved edge layers the branch folds in the edge stretch before loss
