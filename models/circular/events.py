@@ -42,7 +42,7 @@ def event_function(kinds, annulus, q, c, eps_r, mu, steps=DEFAULT_STEPS, lamP=No
 
     ``pullin``/``minimum``: d(Phibar^2)/d lambda (exact, complex step through the
     integrator); ``loss_of_tension``: T1^(B)(R_A); ``breakdown``: Phibar^2 - Phibar_B^2.
-    ``kinds`` among :data:`EVENT_KINDS`, ``q > 0`` finite, ``c`` finite, ``eps_r > 0``,
+    ``kinds`` among ``EVENT_KINDS``, ``q > 0`` finite, ``c`` finite, ``eps_r > 0``,
     ``mu > 0``, ``steps >= 4``, ``lamP`` (per-event pre-stretch, else the annulus') > 0;
     ValueError when a trajectory is inadmissible (no annulus state for that q).
     """

@@ -69,7 +69,7 @@ block is the mass matrix over the penalty: unscaled its condition is ~1e18 (~kap
 1.7e14, 1.7e18, 1.7e22 at kappa = 1e3, 1e5, 1e7, H = 0.2), so that the pressure part of
 an LU solve would be round-off and depend on SuperLU's pivot order (explicit zeros kept
 in the structure, another column ordering). It is equilibrated by powers of two before
-the factorisation (condition ~1e6, :func:`debench.models.circular.fe._factor`), and
+the factorisation (condition ~1e6, :func:`debench.models.circular.fe_continuation._factor`), and
 Newton takes only steps that pass the natural monotonicity test
 (:meth:`~debench.models.circular.fe_continuation.BorderedContinuation._newton`), so that a step
 converges to the solution next to its predictor or is refused and shortened.
