@@ -12,7 +12,7 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
-from debench.models.invariants import _generated, closed_form  # noqa: E402
+from debench.models.invariants import closed_form, generated  # noqa: E402
 from debench.models.materials import MATERIALS  # noqa: E402
 
 F = np.array([[1.2, 0.1, 0.05], [0.0, 0.9, 0.1], [0.02, 0.0, 1 / 1.08]])
@@ -27,7 +27,7 @@ def test_bench_invariant_derivatives(benchmark, path):
     if path == "closed_form":
         out = benchmark(lambda: closed_form.derivatives(F, D, A, numbering="ti").dFF)
     else:
-        out = benchmark(lambda: _generated.ti(F, D, A)["dFF"])
+        out = benchmark(lambda: generated.ti(F, D, A)["dFF"])
     assert out.shape == (6, 3, 3, 3, 3)
 
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env python
 """Derive the invariants I1..I6 and their first/second derivatives w.r.t. F and D_L with
-sympy, in both thesis numberings, and write ``models/invariants/_generated.py``.
+sympy, in both thesis numberings, and write ``models/invariants/generated.py``.
 
 Usage::
 
@@ -23,7 +23,7 @@ from pathlib import Path
 
 import sympy as sp
 
-OUT = Path(__file__).resolve().parents[1] / "models" / "invariants" / "_generated.py"
+OUT = Path(__file__).resolve().parents[1] / "models" / "invariants" / "generated.py"
 KINDS = ("I", "dF", "dD", "dFF", "dFD", "dDD")
 
 
@@ -157,7 +157,7 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     if args.check:
         import numpy as np
-        from debench.models.invariants import _generated
+        from debench.models.invariants import generated
 
         rng = np.random.default_rng(1)
         F = np.eye(3) + 0.3 * rng.standard_normal((3, 3))
@@ -167,7 +167,7 @@ def main(argv=None) -> int:
         worst = 0.0
         for numbering in ("iso", "ti"):
             fresh = derive(numbering)(F, D, A)
-            gen = getattr(_generated, numbering)(F, D, A)
+            gen = getattr(generated, numbering)(F, D, A)
             for k in KINDS:
                 worst = max(worst, float(np.max(np.abs(fresh[k] - gen[k]))))
         print(f"max |fresh - generated| = {worst:.3e}")

@@ -57,6 +57,11 @@ EXCLUDED_MODULES = {
     "debench.models.materials.ngsolve_forms": (
         "NGSolve CoefficientFunction builders (symbolic, no numbers in or out); owned "
         "with the Chapter 5 FE model"),
+    "debench.models.invariants.generated": (
+        "sympy-generated code (tools/derive_invariants.py): the derivatives of the invariants "
+        "as straight-line arithmetic, no validation by design; the independent path the "
+        "closed forms and the numerical derivatives are compared with, on validated states, "
+        "in verification/test_invariants_paths.py (which also re-derives it with sympy)"),
     "debench.models.circular.integrator": (
         "the shooting method's RK4 kernels (stresses, right-hand sides, the batched "
         "integration), unchecked by design (NaN marks an inadmissible trajectory) and called "

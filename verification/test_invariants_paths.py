@@ -1,7 +1,7 @@
 """Three (four) evaluations of the invariant derivatives agree; printed formulas are statused.
 
 Paths: closed form (:mod:`debench.models.invariants.closed_form`, used by the materials),
-sympy-generated (:mod:`debench.models.invariants._generated`, from ``tools/derive_invariants.py``),
+sympy-generated (:mod:`debench.models.invariants.generated`, from ``tools/derive_invariants.py``),
 numerical (complex step + central differences, :mod:`debench.models.invariants.numerical`), and
 the thesis formulas as printed (:mod:`debench.models.invariants.printed`), eqs (2.75)-(2.92),
 (4.35)-(4.51), (A.1)-(A.35).
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from debench.models.invariants import _generated, closed_form, numerical
+from debench.models.invariants import closed_form, generated, numerical
 from debench.models.invariants.printed import PRINTED_DERIVATIVES, SAME_FORMULA
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -51,7 +51,7 @@ def _as_dict(d):
 def test_closed_form_equals_sympy_generated(numbering, F, D, A):
     """Closed forms (2.75)-(2.92), (4.35)-(4.51) corrected = sympy derivation, all orders."""
     cf = _as_dict(closed_form.derivatives(F, D, A, numbering=numbering))
-    gen = getattr(_generated, numbering)(F, D, A)
+    gen = getattr(generated, numbering)(F, D, A)
     for k in KINDS:
         assert _close(cf[k], gen[k], EXACT_RTOL), k
 
@@ -62,7 +62,7 @@ def test_closed_form_equals_sympy_generated(numbering, F, D, A):
 def test_numerical_derivatives_equal_sympy_generated(numbering, F, D, A):
     """Complex-step / central-difference derivatives = sympy derivation."""
     num = numerical.derivatives(F, D, A, numbering=numbering)
-    gen = getattr(_generated, numbering)(F, D, A)
+    gen = getattr(generated, numbering)(F, D, A)
     assert _close(num["dF"], gen["dF"], EXACT_RTOL)
     assert _close(num["dD"], gen["dD"], EXACT_RTOL)
     for k in ("dFF", "dFD", "dDD"):
@@ -83,7 +83,7 @@ def fresh_derivation():
 def test_generated_module_matches_fresh_sympy_derivation(fresh_derivation, numbering, F, D, A):
     """The checked-in generated module equals a fresh derivation, numerically."""
     fresh = fresh_derivation[numbering](F, D, A)
-    gen = getattr(_generated, numbering)(F, D, A)
+    gen = getattr(generated, numbering)(F, D, A)
     for k in KINDS:
         assert _close(gen[k], fresh[k], EXACT_RTOL), k
 
@@ -99,7 +99,7 @@ def test_printed_derivative_formula_agrees(label, F, D, A):
     """The printed component formula (label) = sympy = numerical derivative."""
     numbering, kind, n, func = PRINTED_DERIVATIVES[label]
     printed = func(F, D, A)
-    gen = getattr(_generated, numbering)(F, D, A)["d" + kind][n - 1]
+    gen = getattr(generated, numbering)(F, D, A)["d" + kind][n - 1]
     assert _close(printed, gen, EXACT_RTOL)
     if kind in ("F", "D"):
         grads = numerical.complex_step_gradients(F, D, A, numbering=numbering)
@@ -115,7 +115,7 @@ def test_printed_dI4_dF_of_eq4_38_is_identically_zero_and_differs(label, F, D, A
     ``2 a_a F_ik a_k`` (closed form, sympy and complex step agree). Printed form differs."""
     numbering, kind, n, func = PRINTED_DERIVATIVES[label]
     printed = func(F, D, A)
-    gen = _generated.ti(F, D, A)["dF"][3]
+    gen = generated.ti(F, D, A)["dF"][3]
     num = numerical.complex_step_gradients(F, D, A, numbering="ti")[0][3]
     corrected = 2 * np.outer(F @ A, A)
     assert np.all(printed == 0.0)

@@ -3,7 +3,7 @@ closed forms of the electroelastic kernel, checked against independent derivatio
 
 Every producer evaluates at :data:`N_STATES` seeded pseudo-random states (deformation
 gradients with stretches in [0.6, 2], unit-scale D_L, unit fibre A) and compares the
-printed formula with the sympy-generated derivative (:mod:`debench.models.invariants._generated`)
+printed formula with the sympy-generated derivative (:mod:`debench.models.invariants.generated`)
 or the chain rule (:mod:`debench.models.materials`). Agreement means max relative difference
 <= :data:`EXACT_RTOL`; errata are ``confirmed`` when the printed form differs *and* the
 corrected form agrees, ``refuted`` otherwise.
@@ -14,7 +14,7 @@ from __future__ import annotations
 from functools import cache
 
 import numpy as np
-from debench.models.invariants import _generated
+from debench.models.invariants import generated
 from debench.models.invariants import printed as pr
 from debench.models.invariants.numerical import central_difference_F
 from debench.models.materials import (
@@ -81,7 +81,7 @@ def _exact_derivatives(numbering: str) -> tuple:
     """(F, D, A, sympy derivatives) at every state of :func:`_states`, for the invariant
     numbering ``numbering``: shared by the printed-formula producers (one evaluation of
     the generated code per state and numbering instead of one per printed formula)."""
-    return tuple((F, D, A, getattr(_generated, numbering)(F, D, A)) for F, D, A in _states())
+    return tuple((F, D, A, getattr(generated, numbering)(F, D, A)) for F, D, A in _states())
 
 
 def printed_derivative_agrees(entry: Entry) -> Outcome:
