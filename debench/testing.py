@@ -22,9 +22,10 @@ True
 Two quantities of one problem at once (here the reference values themselves):
 
 >>> from debench.reference import problems
+>>> from debench.reference.problems_reference import reference_at
 >>> prob = problems.get("ch5_pullin")
 >>> films = {"case": ["nh_r10", "ogden_r10"]}     # every film: full coverage
->>> mine = {q.name: problems.reference_at(prob, q, films).value for q in prob.quantities}
+>>> mine = {q.name: reference_at(prob, q, films).value for q in prob.quantities}
 >>> assert_matches("ch5_pullin", None, mine, films).quantities
 ('v_pullin', 'w_pullin')
 """
@@ -55,8 +56,8 @@ class Comparison:
     reference: np.ndarray
     tolerance: np.ndarray
     tolerance_source: str
-    #: :class:`debench.reference.problems.Coverage` of the addressed reference (None: not
-    #: assessed)
+    #: :class:`debench.reference.problems_coverage.Coverage` of the addressed reference
+    #: (None: not assessed)
     coverage: Any = None
 
     @property
@@ -219,11 +220,12 @@ def compare(problem: str, quantity: str | None, values, coords: Mapping[str, Any
         estimate, applies.
     coverage
         ``"full"`` (default): your points must cover every reference curve or value they
-        address (:func:`debench.reference.problems.coverage`: every grid value of a
-        selector without a default, the values you give of one with a default; each curve
-        at least as densely as the stored grid over its whole range), else
-        :class:`~debench.reference.problems.CoverageError`; ``"partial"``: any subset,
-        reported in :attr:`Comparison.coverage`. Repeated coordinates raise ValueError.
+        address (:func:`debench.reference.problems_coverage.coverage`: every grid value
+        of a selector without a default, the values you give of one with a default; each
+        curve at least as densely as the stored grid over its whole range), else
+        :class:`~debench.reference.problems_coverage.CoverageError`; ``"partial"``: any
+        subset, reported in :attr:`Comparison.coverage`. Repeated coordinates raise
+        ValueError.
 
     Returns
     -------
@@ -232,7 +234,7 @@ def compare(problem: str, quantity: str | None, values, coords: Mapping[str, Any
         when ``values`` is a mapping. ``rtol`` and ``atol`` may then be mappings quantity
         name -> tolerance too (a quantity not named gets the stated accuracy alone).
     """
-    from debench.reference import problems
+    from debench.reference import problems, problems_coverage, problems_reference
 
     if coverage not in ("full", "partial"):
         raise ValueError(f"coverage must be 'full' or 'partial', got {coverage!r}")
@@ -246,15 +248,16 @@ def compare(problem: str, quantity: str | None, values, coords: Mapping[str, Any
             raise ValueError(f"{name} must be finite and >= 0, got {x}")
     prob = problems.get(problem)
     q = prob.quantity(quantity)
-    ref = problems.reference_at(prob, q, coords)
-    dup = problems.duplicates(q, coords)
+    ref = problems_reference.reference_at(prob, q, coords)
+    dup = problems_coverage.duplicates(q, coords)
     if dup:
         raise ValueError(f"{prob.id}:{q.name}: repeated coordinates ({len(dup)}): "
                          + "; ".join(dup[:3]))
-    cov = problems.coverage(prob, q, coords, declared="declared" if coverage == "partial"
-                            else "not declared")
+    cov = problems_coverage.coverage(prob, q, coords,
+                                     declared="declared" if coverage == "partial"
+                                     else "not declared")
     if coverage == "full" and not cov.complete:
-        raise problems.CoverageError(
+        raise problems_coverage.CoverageError(
             f"{prob.id}:{q.name}: {cov.describe()}. Cover every reference point of what "
             "you address, or declare partial coverage (coverage='partial', "
             "debench check --partial)")

@@ -11,7 +11,7 @@ from debench.reference.results_files import EXIT_FAILED, EXIT_OK, UsageError, re
 
 
 def cmd_problems(args) -> int:
-    from debench.reference import problems
+    from debench.reference import problems, problems_reference
 
     if args.id is None:
         items = problems.load_all()
@@ -28,7 +28,7 @@ def cmd_problems(args) -> int:
     except problems.ProblemError as exc:
         raise UsageError(str(exc)) from None
     if args.json:
-        print(json.dumps(problems.reference_json(p), ensure_ascii=False))
+        print(json.dumps(problems_reference.reference_json(p), ensure_ascii=False))
         return 0
     if args.markdown:
         from debench.reference import consensus

@@ -170,12 +170,12 @@ def markdown(table: Table) -> str:
 
 
 def problem_page(problem) -> str:
-    """The page of a reference problem (:func:`debench.reference.problems.render_markdown`)
-    with its consensus of codes (:func:`problem_section`), as ``debench problems ID
-    --markdown`` prints it."""
-    from debench.reference import problems
+    """The page of a reference problem
+    (:func:`debench.reference.problems_markdown.render_markdown`) with its consensus of
+    codes (:func:`problem_section`), as ``debench problems ID --markdown`` prints it."""
+    from debench.reference.problems_markdown import render_markdown
 
-    return problems.render_markdown(problem, extra=problem_section(problem.id))
+    return render_markdown(problem, extra=problem_section(problem.id))
 
 
 def problem_section(problem_id: str, root=None) -> list[str]:

@@ -13,7 +13,7 @@ import tomllib
 from pathlib import Path
 
 import pytest
-from debench.reference import consensus, problems, submissions
+from debench.reference import consensus, problems, problems_reference, submissions
 
 REPO = Path(__file__).resolve().parent.parent
 CURATED = submissions.discover(REPO / "submissions")
@@ -152,7 +152,7 @@ def test_template_adapter_yields_a_valid_submission(tmp_path):
 
     run = _run_module()
     pj = tmp_path / "problem.json"
-    pj.write_text(json.dumps(problems.reference_json(problems.get("ch3_free_membrane_nh"))))
+    pj.write_text(json.dumps(problems_reference.reference_json(problems.get("ch3_free_membrane_nh"))))
     work = tmp_path / "work"
     work.mkdir()
     subprocess.run([sys.executable, str(REPO / "peers" / "template" / "adapter.py"),
@@ -172,7 +172,7 @@ def test_template_refuses_a_problem_it_does_not_know(tmp_path):
     import sys
 
     pj = tmp_path / "problem.json"
-    pj.write_text(json.dumps(problems.reference_json(problems.get("ch5_critical_voltage"))))
+    pj.write_text(json.dumps(problems_reference.reference_json(problems.get("ch5_critical_voltage"))))
     proc = subprocess.run([sys.executable, str(REPO / "peers" / "template" / "adapter.py"),
                            "--problem-json", str(pj), "--out", str(tmp_path)],
                           capture_output=True, text=True)

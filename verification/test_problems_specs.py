@@ -11,7 +11,7 @@ from pathlib import Path
 import jsonschema
 import numpy as np
 import pytest
-from debench.reference import cli, problems
+from debench.reference import cli, problems, problems_coverage, problems_reference
 from debench.reference.datasets import read_dataset
 
 from debench.testing import compare
@@ -183,7 +183,7 @@ def test_free_membrane_closed_forms_against_40_digits(problem_id, Jm):
     p = problems.get(problem_id)
     q = p.quantity()
     lam = np.linspace(q.grid["start"], q.grid["stop"], int(q.grid["num"]))
-    ref = problems.reference_at(p, q, {"lam": lam})
+    ref = problems_reference.reference_at(p, q, {"lam": lam})
     with mpmath.workdps(40):
         exact = []
         for x in lam:
@@ -232,9 +232,10 @@ def test_ch4_reference_matches_40_digit_roots(xi, D, kH_near, root):
     assert np.isfinite(y[i]), "the reference misses this root"
     exact = float(plate.root_near(kH[i], xi, D, y[i]))
     assert abs(y[i] - exact) <= MP_ROOT_RTOL * exact
-    tol = problems.reference_at(problems.get("ch4_plate_critical_stretch"),
-                                problems.get("ch4_plate_critical_stretch").quantity(),
-                                {"xi": xi, "Dhat": D, "root": root, "kH": [kH[i]]}).tolerance
+    tol = problems_reference.reference_at(
+        problems.get("ch4_plate_critical_stretch"),
+        problems.get("ch4_plate_critical_stretch").quantity(),
+        {"xi": xi, "Dhat": D, "root": root, "kH": [kH[i]]}).tolerance
     assert abs(y[i] - exact) <= 1e-3 * tol[0]
 
 
@@ -386,9 +387,9 @@ def test_coverage_of_a_curve_needs_the_whole_range_as_densely_as_the_grid():
     p = problems.get("ch3_free_membrane_nh")
     q = p.quantity()
     grid = np.linspace(1.0, 5.0, 401)
-    assert not problems.coverage(p, q, {"lam": [1.0, 3.0, 5.0]}).complete
-    assert not problems.coverage(p, q, {"lam": grid[::2]}).complete
-    assert problems.coverage(p, q, {"lam": grid}).complete
+    assert not problems_coverage.coverage(p, q, {"lam": [1.0, 3.0, 5.0]}).complete
+    assert not problems_coverage.coverage(p, q, {"lam": grid[::2]}).complete
+    assert problems_coverage.coverage(p, q, {"lam": grid}).complete
 
 
 @pytest.mark.parametrize("xi, Vhat", [(0.0, 0.25), (0.0, 1.0), (5.0, 0.5), (5.0, 1.0)])
@@ -422,7 +423,7 @@ def test_gent_kappa_of_every_reference_is_one_over_the_stated_Jm(problem):
 @pytest.mark.parametrize("dataset, selector", [("ch4_fig4_2_curves", "Dhat"),
                                                ("ch4_voltage_control", "Vhat")])
 def test_ch4_curves_jump_only_where_the_number_of_roots_changes(dataset, selector):
-    """The jump rule (problems.JUMP_FACTOR) splits a stored root curve only between two
+    """The jump rule (problems_reference.JUMP_FACTOR) splits a stored root curve only between two
     kH with different numbers of roots in the window (a root entering or leaving shifts
     the numbers), never inside a smooth part; and it finds such jumps."""
     ds = read_dataset(dataset)
@@ -434,7 +435,7 @@ def test_ch4_curves_jump_only_where_the_number_of_roots_changes(dataset, selecto
                 lam = ds.lam_cr.sel(variant=v, xi=xi, **{selector: s}).values
                 count = np.isfinite(lam).sum(axis=1)
                 for r in range(lam.shape[1]):
-                    pieces = problems._pieces(t, lam[:, r])
+                    pieces = problems_reference.curve_pieces(t, lam[:, r])
                     for (_, b), (c, _) in zip(pieces, pieces[1:], strict=False):
                         if c == b + 1:
                             jumps += 1

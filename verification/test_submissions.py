@@ -14,7 +14,7 @@ import tomllib
 
 import numpy as np
 import pytest
-from debench.reference import problems, submissions
+from debench.reference import problems, problems_reference, submissions
 from debench.reference.cli import EXIT_FAILED, EXIT_OK, EXIT_USAGE, main
 
 PROBLEM = "ch5_critical_voltage"
@@ -56,7 +56,7 @@ def _results_csv(values) -> str:
 
 
 def _reference_values():
-    ref = problems.reference_json(problems.get(PROBLEM))["reference"]["v_cr"]
+    ref = problems_reference.reference_json(problems.get(PROBLEM))["reference"]["v_cr"]
     assert ref["coords"]["case"] == ["nh_t1", "ogden_t1"]
     return [float(x) for x in ref["values"]]
 

@@ -169,11 +169,11 @@ def test_several_quantities_are_checked_each_against_its_own_reference():
     reference and stated accuracy; the failure message names the quantity that failed;
     a tolerance may be given per quantity; a mapping with a quantity named, or naming
     quantities that do not share their coordinates, is refused."""
-    from debench.reference import problems
+    from debench.reference import problems, problems_reference
 
     p = problems.get("ch5_pullin")
     films = {"case": ["nh_r10", "ogden_r10"]}      # both films: full coverage
-    ref = {q.name: problems.reference_at(p, q, films) for q in p.quantities}
+    ref = {q.name: problems_reference.reference_at(p, q, films) for q in p.quantities}
     half = {n: r.value + 0.5 * r.tolerance for n, r in ref.items()}
     ok = assert_matches("ch5_pullin", None, half, films)
     assert ok.quantities == ("v_pullin", "w_pullin") and ok.passed

@@ -198,10 +198,10 @@ def test_reproduce_ends_with_a_summary(tmp_path, monkeypatch, capsys):
 def _pullin_reference():
     """ch5_pullin's reference values and stated tolerances of each quantity, both films
     (PULLIN_FILMS, in that order)."""
-    from debench.reference import problems
+    from debench.reference import problems, problems_reference
 
     p = problems.get("ch5_pullin")
-    return {q.name: problems.reference_at(p, q, {"case": list(PULLIN_FILMS)})
+    return {q.name: problems_reference.reference_at(p, q, {"case": list(PULLIN_FILMS)})
             for q in p.quantities}
 
 

@@ -7,9 +7,9 @@ Connected to ``builder-inited`` (before Sphinx looks for source files), this wri
   (:func:`debench.reference.report.write_report`: the verdict per chapter, the
   cross-check matrix, every table, the figures of ``data/figures``);
 * ``problems/`` -- one page per reference problem: the page ``debench problems ID
-  --markdown`` prints (:func:`debench.reference.problems.render_markdown`), its reference
-  figures (the thesis figures and tables its spec names, as curated in ``data/figures``)
-  and its variants;
+  --markdown`` prints (:func:`debench.reference.problems_markdown.render_markdown`), its
+  reference figures (the thesis figures and tables its spec names, as curated in
+  ``data/figures``) and its variants;
 * ``datasets/`` -- one page per curated dataset, from the netCDF attributes of the file
   itself (read verified by :func:`debench.reference.datasets.read_dataset`);
 * ``errata.md`` -- the errata of the catalogue and their root causes;
@@ -302,10 +302,11 @@ def dataset_pages() -> list[str]:
 USER_MODULES = {
     "debench.testing": None,
     "debench.pytest_plugin": None,
-    "debench.reference.problems": ("Problem", "Quantity", "ReferenceAccuracy", "Coverage",
-                                   "ProblemError", "CoverageError", "load_all", "get",
-                                   "render_markdown", "reference_at", "reference_json",
-                                   "coverage"),
+    "debench.reference.problems": ("Problem", "Quantity", "ReferenceAccuracy",
+                                   "ProblemError", "load_all", "get"),
+    "debench.reference.problems_reference": ("Reference", "reference_at", "reference_json"),
+    "debench.reference.problems_coverage": ("Coverage", "CoverageError", "coverage"),
+    "debench.reference.problems_markdown": ("render_markdown",),
     "debench.reference.datasets": ("read_dataset", "data_dir", "read_manifest"),
     "debench.reference.cite": ("citation", "render"),
     "debench.reference.standards": ("acdd_attributes",),
