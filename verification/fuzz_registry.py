@@ -603,10 +603,11 @@ def _check_padded(res) -> None:
 
 def _inplane_cases():
     """The in-plane fibre model (beyond the thesis): small discretisations and scans."""
-    from debench.models.plate import inplane
+    from debench.models.plate import inplane, inplane_fe
     from debench.models.plate.coefficients import PlateParams
 
     p = "debench.models.plate.inplane"
+    pfe = "debench.models.plate.inplane_fe"
     PD = PlateParams(xi=5.0, Dhat=0.0, variant="derived")
     th = {"theta": "real"}
     bad_theta = {"theta": [-1.0, 91.0]}
@@ -626,10 +627,10 @@ def _inplane_cases():
         Case(f"{p}.boundary_singularity", inplane.boundary_singularity,
              {"lam": 0.97, "kH": 2.0, "theta": 30.0, "params": PD},
              {**common, "kH": "pos"}, extra=bad_theta),
-        Case(f"{p}.fe_stiffness", inplane.fe_stiffness,
+        Case(f"{pfe}.fe_stiffness", inplane_fe.fe_stiffness,
              {"lam": 0.97, "kH": 2.0, "theta": 30.0, "params": PD, "n": 4},
              {**common, "kH": "pos", "n": "count"}, extra=bad_theta),
-        Case(f"{p}.fe_eigenvalues", inplane.fe_eigenvalues,
+        Case(f"{pfe}.fe_eigenvalues", inplane_fe.fe_eigenvalues,
              {"lam": 0.97, "kH": 2.0, "theta": 30.0, "params": PD, "n": 4, "count": 3},
              {**common, "kH": "pos", "n": "count", "count": "count"}, extra=bad_theta),
         Case(f"{p}.critical_stretches_det", inplane.critical_stretches_det,
@@ -640,7 +641,7 @@ def _inplane_cases():
              {"scans": [(2.0, 30.0, PD, {"n_scan": 30})]}, {"scans": "obj"},
              extra={"scans": [[(2.0, 30.0, PD)], [(2.0, 30.0, PD, None)],
                               [(-1.0, 30.0, PD, {})], [(2.0, 30.0, PD, {"window": (2.0, 1.0)})]]}),
-        Case(f"{p}.critical_stretches_fe", inplane.critical_stretches_fe,
+        Case(f"{pfe}.critical_stretches_fe", inplane_fe.critical_stretches_fe,
              {"kH": 2.0, "theta": 30.0, "params": PD, "n_scan": 12, "n": 4},
              {"kH": "pos", **th, "params": "obj", "window": "window", "n_scan": "count",
               "n": "count", "max_index": "count"}, extra=bad_theta),

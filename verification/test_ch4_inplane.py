@@ -12,6 +12,7 @@ from debench.models.errors import ConvergenceError
 from debench.models.plate import PlateParams
 from debench.models.plate import _generated_inplane as gen
 from debench.models.plate import inplane as ip
+from debench.models.plate import inplane_fe as ipfe
 from debench.reference.catalogue import by_id, evaluate
 from debench.reference.producers import ch4_inplane as prod
 from debench.reference.studies import ch4_inplane as prod_study
@@ -193,15 +194,15 @@ def test_close_root_pair_is_not_hidden():
     p = PlateParams(xi=5.0)
     kh = float(np.geomspace(0.2, 8.0, 9)[3])
     det = ip.critical_stretches_det(kh, 30.0, p, window=(0.935, 0.999), n_scan=40)
-    fe = ip.critical_stretches_fe(kh, 30.0, p, window=(0.935, 0.999), n_scan=40)
+    fe = ipfe.critical_stretches_fe(kh, 30.0, p, window=(0.935, 0.999), n_scan=40)
     assert det.size == fe.size == 1 and abs(det[0] - fe[0]) <= prod_study.TOL_AGREE
 
 
 def test_fe_refuses_crossings_within_round_off():
     """Thin plate in tension (kH = 0.1, lam > 3): the FE eigenvalue is below eps ||K||."""
     with pytest.raises(ConvergenceError, match="round-off"):
-        ip.critical_stretches_fe(0.1, 0.0, PlateParams(xi=5.0, Dhat=2.0),
-                                 window=(3.0, 4.0), n_scan=30)
+        ipfe.critical_stretches_fe(0.1, 0.0, PlateParams(xi=5.0, Dhat=2.0),
+                                   window=(3.0, 4.0), n_scan=30)
 
 
 def test_fe_accepts_a_grid_point_on_a_resolved_root():
@@ -212,15 +213,15 @@ def test_fe_accepts_a_grid_point_on_a_resolved_root():
     w = (0.7753712659110396, 1.5)   # lam_E (1 + LAM_E_MARGIN) of the builder
     p = PlateParams(xi=5.0)
     g = np.geomspace(*w, 40)
-    e = ip.fe_eigenvalues(g[15], 0.25, 60.0, _on_voltage_path(p, 0.1, g[15]))
-    K = ip.fe_stiffness(g[15], 0.25, 60.0, _on_voltage_path(p, 0.1, g[15]))
-    assert np.min(np.abs(e)) < ip.ROUNDOFF_FACTOR * np.finfo(float).eps * np.linalg.norm(K, 1)
-    fe = ip.critical_stretches_fe(0.25, 60.0, p, window=w, n_scan=40, Vhat=0.1)
+    e = ipfe.fe_eigenvalues(g[15], 0.25, 60.0, _on_voltage_path(p, 0.1, g[15]))
+    K = ipfe.fe_stiffness(g[15], 0.25, 60.0, _on_voltage_path(p, 0.1, g[15]))
+    assert np.min(np.abs(e)) < ipfe.ROUNDOFF_FACTOR * np.finfo(float).eps * np.linalg.norm(K, 1)
+    fe = ipfe.critical_stretches_fe(0.25, 60.0, p, window=w, n_scan=40, Vhat=0.1)
     det = ip.critical_stretches_det(0.25, 60.0, p, window=w, n_scan=40, Vhat=0.1)
     assert det.size == fe.size == 1 and abs(det[0] - fe[0]) <= prod_study.TOL_AGREE
     with pytest.raises(ConvergenceError, match="round-off"):
-        ip.critical_stretches_fe(0.5, 80.0, PlateParams(xi=5.0, Dhat=3.0),
-                                 window=(1.0005, 2.0), n_scan=40)
+        ipfe.critical_stretches_fe(0.5, 80.0, PlateParams(xi=5.0, Dhat=3.0),
+                                   window=(1.0005, 2.0), n_scan=40)
 
 
 def _on_voltage_path(p, Vhat, lam):
@@ -246,9 +247,9 @@ def test_compression_window_clears_the_fe_round_off_at_lam_E():
     assert lo == lam_e * (1 + ip.LAM_E_MARGIN)
 
     def nearest_and_guard(lam):
-        e = ip.fe_eigenvalues(lam, kh, 0.0, p)
-        noise = np.finfo(float).eps * np.linalg.norm(ip.fe_stiffness(lam, kh, 0.0, p), 1)
-        return np.min(np.abs(e)), ip.ROUNDOFF_FACTOR * noise
+        e = ipfe.fe_eigenvalues(lam, kh, 0.0, p)
+        noise = np.finfo(float).eps * np.linalg.norm(ipfe.fe_stiffness(lam, kh, 0.0, p), 1)
+        return np.min(np.abs(e)), ipfe.ROUNDOFF_FACTOR * noise
 
     e, guard = nearest_and_guard(lam_e * (1 + 1e-9))
     assert e < guard
@@ -257,7 +258,7 @@ def test_compression_window_clears_the_fe_round_off_at_lam_E():
     p = PlateParams(xi=1.0, Dhat=0.0)
     _, lo = builder._lo(0.0, p)
     det = ip.critical_stretches_det(kh, 0.0, p, window=(lo, 0.999), n_scan=builder.N_SCAN)
-    fe = ip.critical_stretches_fe(kh, 0.0, p, window=(lo, 0.999), n_scan=builder.N_SCAN)
+    fe = ipfe.critical_stretches_fe(kh, 0.0, p, window=(lo, 0.999), n_scan=builder.N_SCAN)
     assert det.size == fe.size >= 1 and np.max(np.abs(det - fe)) <= prod_study.TOL_AGREE
 
 
@@ -265,7 +266,7 @@ def test_voltage_control_needs_zero_dhat():
     with pytest.raises(ValueError, match="Dhat"):
         ip.critical_stretches_det(2.0, 45.0, PlateParams(xi=5.0, Dhat=1.0), Vhat=0.5)
     with pytest.raises(ValueError, match="Vhat"):
-        ip.critical_stretches_fe(2.0, 45.0, PlateParams(xi=5.0), Vhat=-0.5)
+        ipfe.critical_stretches_fe(2.0, 45.0, PlateParams(xi=5.0), Vhat=-0.5)
 
 
 def _check_builder(paths, full):
@@ -338,7 +339,7 @@ def test_collision_of_characteristic_roots_is_not_a_bifurcation():
     # the producers' window, whose scan brackets the touch point with a sign change
     args, kw = prod_study.voltage_case(60.0, kH=0.5)._args()
     det = ip.critical_stretches_det(*args, **kw)
-    fe = ip.critical_stretches_fe(*args, **kw)
+    fe = ipfe.critical_stretches_fe(*args, **kw)
     assert np.all(np.abs(det - 1.0) > 1e-3)
     assert det.size == fe.size
     np.testing.assert_allclose(det, fe, rtol=0, atol=prod_study.TOL_AGREE)

@@ -37,6 +37,7 @@ import numpy as np
 import xarray as xr
 from debench.models.plate import PlateParams
 from debench.models.plate import inplane as ip
+from debench.models.plate import inplane_fe as ipfe
 from debench.reference.datasets import variable_attrs as _attrs
 from debench.reference.datasets import write_dataset
 from debench.reference.figures import written
@@ -76,7 +77,7 @@ N_SCAN = study.N_SCAN
 COMMON = {"alpha": 0.0, "beta": 0.5, "mu": 1.0, "eps": 1.0,
           "fibre": "A = (cos theta, 0, sin theta), in the plane of the plate",
           "units": "mu = eps = 1, Dhat = D2/sqrt(mu eps), Vhat = V sqrt(eps/mu)/H",
-          "n_elements": ip.N_ELEMENTS}
+          "n_elements": ipfe.N_ELEMENTS}
 
 
 def _coord(name, values, long_name, units="1"):
@@ -233,7 +234,7 @@ def roots_dataset() -> xr.Dataset:
 
     acc = study.ACCURACY
     tol = {"accuracy_rtol": acc.rtol, "accuracy_atol": acc.atol,
-           "accuracy_reason": acc.reason, "fe_root_roundoff": ip.FE_ROOT_ROUNDOFF,
+           "accuracy_reason": acc.reason, "fe_root_roundoff": ipfe.FE_ROOT_ROUNDOFF,
            "agreement_tolerance": study.TOL_AGREE}
     return xr.Dataset(
         {"lam_det": (("case", "root"), padded(det), _attrs(

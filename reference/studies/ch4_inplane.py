@@ -29,6 +29,7 @@ from functools import lru_cache
 import numpy as np
 from debench.models.plate import PlateParams
 from debench.models.plate import inplane as ip
+from debench.models.plate import inplane_fe as ipfe
 from debench.reference.catalogue import Accuracy
 from debench.reference.datasets import read_dataset
 
@@ -46,7 +47,7 @@ TOL_AGREE = 1e-5
 #: polynomials in lam evaluated in double precision (entries O(10)); 1e-12 is > 100x
 #: their round-off
 TOL_MATRIX = 1e-12
-ACCURACY = Accuracy(rtol=1e-7, atol=2 * ip.FE_ROOT_ROUNDOFF,
+ACCURACY = Accuracy(rtol=1e-7, atol=2 * ipfe.FE_ROOT_ROUNDOFF,
                     reason="in-plane fibre roots: brentq to 1e-14 on fixed grids; a "
                     "determinant root moves by round-off only (< 1e-10), an FE root by up to "
                     "eps ||K||_1 / |de/dlam| <= FE_ROOT_ROUNDOFF (1e-6) on another BLAS; 2x")
@@ -147,7 +148,7 @@ def det_roots_many(cases) -> list[tuple[float, ...]]:
 def fe_roots(case: Case) -> tuple[float, ...]:
     """Every through-thickness FE root of ``case`` (method 2) solved now, memoised."""
     args, kw = case._args()
-    return tuple(float(x) for x in ip.critical_stretches_fe(*args, **kw))
+    return tuple(float(x) for x in ipfe.critical_stretches_fe(*args, **kw))
 
 
 def producer_cases() -> tuple[Case, ...]:

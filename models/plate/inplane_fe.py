@@ -1,0 +1,175 @@
+"""Fibre in the plane of the plate, method 2: finite elements through the thickness.
+
+The incremental problem of :mod:`debench.models.plate.inplane` (fields exp(i k x1) g(x2),
+unknowns the stream function psi, the antiplane displacement u3 and the electric stream
+function phi) discretised by Galerkin's method on the Hermitian energy through the
+thickness (Hermite cubic psi, quadratic u3 and phi, the meshes and Gram matrices of
+:mod:`debench.models.plate.fem`); traction-free faces and equipotential electrodes are
+natural conditions. lam_cr is where an eigenvalue of K crosses zero
+(:func:`critical_stretches_fe`); method 1, the boundary determinant, is
+:func:`debench.models.plate.inplane.critical_stretches_det`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg as sla
+from debench.models import validation as v
+from debench.models.errors import ConvergenceError
+from debench.models.plate.coefficients import PlateParams
+from debench.models.plate.fem import _gram, grading
+from debench.models.plate.inplane import _S, XTOL_ROOT, _check, _elliptic_grid, _path
+from scipy.optimize import brentq
+
+#: elements through the thickness (default)
+N_ELEMENTS = 24
+
+_C_PSI = np.zeros((3, 8), complex)   # z from D^m Psi
+_C_PSI[1, 0] = 1j                     # L11 = i Psi'
+_C_PSI[2, 1] = 1.0                    # L12 = Psi''
+_C_PSI[0, 2] = 1.0                    # L21 = Psi
+_C_PSI[1, 3] = -1j                    # L22 = -i Psi'
+_C_U = np.zeros((2, 8), complex)
+_C_U[0, 4] = 1j                       # L31 = i U3
+_C_U[1, 5] = 1.0                      # L32 = U3'
+_C_PHI = np.zeros((2, 8), complex)
+_C_PHI[1, 6] = 1.0                    # Dd1 = Phi'
+_C_PHI[0, 7] = -1j                    # Dd2 = -i Phi
+
+
+def fe_stiffness(lam: float, kH: float, theta: float, params: PlateParams,
+                 n: int = N_ELEMENTS) -> np.ndarray:
+    """Method 2: Hermitian stiffness K(lam, kH), dofs [Psi (2(n+1)), U3, Phi (2n+1 each)]."""
+    lam, theta = _check(lam, theta, params)
+    kH = v.positive("kH", kH)
+    v.integer_at_least("n", n, 2)
+    return _K(lam, kH, theta, params, n)
+
+
+def _K(lam, kH, theta, p, n):
+    S = _S(lam, theta, p)
+    t = kH * lam**-2
+    Gpp, Gpf, Gff = _gram(n, grading(t))
+    npsi, nq = Gpp.shape[2], Gff.shape[2]
+    sl = {"psi": slice(0, npsi), "u": slice(npsi, npsi + nq),
+          "phi": slice(npsi + nq, npsi + 2 * nq)}
+    C = {"psi": _C_PSI, "u": _C_U, "phi": _C_PHI}
+    K = np.zeros((npsi + 2 * nq, npsi + 2 * nq), complex)
+    for a in C:
+        for b in C:
+            # c[m, k] = C_a[m]^H S C_b[k]; eta = t zeta: D_eta^m = t^-m D_zeta^m,
+            # d eta = t d zeta
+            c = C[a].conj() @ S @ C[b].T
+            c = c * t ** (1.0 - np.add.outer(np.arange(c.shape[0]), np.arange(c.shape[1])))
+            if a == "psi" and b == "psi":
+                G = Gpp
+            elif a == "psi":
+                G = Gpf
+            elif b == "psi":
+                G = Gpf.transpose(1, 0, 3, 2)
+            else:
+                G = Gff
+            K[sl[a], sl[b]] = np.tensordot(c, G, axes=([0, 1], [0, 1]))
+    return 0.5 * (K + K.conj().T)
+
+
+def fe_eigenvalues(lam: float, kH: float, theta: float, params: PlateParams,
+                   n: int = N_ELEMENTS, count: int = 6) -> np.ndarray:
+    """The ``count`` lowest eigenvalues of K (ascending)."""
+    K = fe_stiffness(lam, kH, theta, params, n)
+    v.integer_at_least("count", count, 1)
+    return sla.eigh(K, eigvals_only=True, subset_by_index=(0, count - 1))
+
+
+def critical_stretches_fe(kH: float, theta: float, params: PlateParams, *,
+                          window=(0.45, 0.999), n_scan: int = 120, n: int = N_ELEMENTS,
+                          max_index: int = 6, Vhat: float | None = None) -> np.ndarray:
+    """Method 2: every lam in ``window`` where an eigenvalue of K crosses zero.
+
+    ``window`` and ``Vhat`` as in :func:`~.inplane.critical_stretches_det`. The inertia of
+    K is counted on the grid; a crossing is refined by brentq on the eigenvalue that
+    changes sign, to its round-off (eigenvalue round-off eps ||K||_1 over its secant slope
+    on the bracket) or :data:`~.inplane.XTOL_ROOT`, whichever is larger. ConvergenceError
+    where that eigenvalue is within :data:`ROUNDOFF_FACTOR` x the round-off of K at a
+    bracket end and the root's round-off (eigenvalue round-off over its slope) exceeds
+    :data:`FE_ROOT_ROUNDOFF`: thin plates in tension (t = kH lam^-2 small) make K so
+    ill-conditioned (||K|| ~ n^3 t^-3) that the membrane eigenvalue drowns in round-off
+    (measured at kH = 0.1, lam > 3); the determinant has no such limit.
+    """
+    kH = v.positive("kH", kH)
+    lo, hi = v.window("window", window)
+    _check(lo, theta, params)
+    _check(hi, theta, params)
+    path = _path(params, Vhat)
+    g = np.geomspace(lo, hi, v.integer_at_least("n_scan", n_scan, 2))
+
+    seen = {}
+
+    def ev(x, j=None):
+        """(lowest eigenvalues, their round-off) at x, or eigenvalue j; each stretch's
+        eigenvalues are computed once per scan (brentq starts from grid points)."""
+        x = float(x)
+        if x not in seen:
+            K = _K(x, kH, theta, path(x), n)
+            e = sla.eigh(K, eigvals_only=True, subset_by_index=(0, max_index - 1))
+            seen[x] = (e, np.finfo(float).eps * np.linalg.norm(K, 1))
+        return seen[x] if j is None else seen[x][0][j]
+
+    def split(a, b, ea, eb, depth=0):
+        """Brackets of single crossings in [a, b] (bisect where several eigenvalues
+        cross: close pairs of modes of thick plates)."""
+        na, nb = int(np.sum(ea[0] < 0)), int(np.sum(eb[0] < 0))
+        if na == nb:
+            return []
+        if abs(na - nb) == 1:
+            return [(a, b, ea, eb, min(na, nb))]
+        if depth >= MAX_SPLIT:
+            raise ConvergenceError(f"{abs(na - nb)} eigenvalues cross zero in [{a}, {b}] at "
+                                   f"kH={kH}, theta={theta} after {depth} bisections")
+        m = 0.5 * (a + b)
+        em = ev(m)
+        return split(a, m, ea, em, depth + 1) + split(m, b, em, eb, depth + 1)
+
+    ell = _elliptic_grid(g, theta, path)
+    evs = [ev(x) if e else None for x, e in zip(g, ell, strict=True)]
+    out = []
+    for i in range(len(g) - 1):
+        if not (ell[i] and ell[i + 1]):
+            continue
+        for a, b, ea, eb, j in split(g[i], g[i + 1], evs[i], evs[i + 1]):
+            noise = max(ea[1], eb[1])
+            # root round-off: eigenvalue round-off over its secant slope on the bracket
+            spread = noise * (b - a) / max(abs(eb[0][j] - ea[0][j]), np.finfo(float).tiny)
+            for e in (ea, eb):
+                # an end inside the round-off band: refused unless the end merely lies
+                # near the root and the slope resolves the root (grid point on the root)
+                if abs(e[0][j]) < ROUNDOFF_FACTOR * e[1] and spread > FE_ROOT_ROUNDOFF:
+                    raise ConvergenceError(
+                        f"eigenvalue crossing in [{a:.6g}, {b:.6g}] at kH={kH}, "
+                        f"theta={theta} is within round-off of K (|e| = {abs(e[0][j]):.2e}, "
+                        f"eps ||K|| = {e[1]:.2e}, root round-off {spread:.1e}): the FE "
+                        "cannot resolve this thin plate")
+            # located to the root's round-off (a narrower bracket only picks one of the
+            # random sign changes inside it), or to XTOL_ROOT where that is smaller
+            out.append(brentq(ev, a, b, args=(j,), xtol=max(XTOL_ROOT, spread), rtol=1e-15))
+    return np.asarray(out)
+
+
+#: bisections of a scan interval in which several eigenvalues cross zero (modes of a
+#: thick plate come in close pairs, ~exp(-kH) apart): 30 halvings reach 1e-9 x the
+#: interval
+MAX_SPLIT = 30
+
+
+#: an eigenvalue sign change counts as a crossing only where the eigenvalue at both
+#: bracket ends exceeds this multiple of eps ||K||_1 (its round-off); genuine crossings
+#: measured >= 1e3 x above it on the windows of the datasets
+ROUNDOFF_FACTOR = 100.0
+
+
+#: largest round-off of an FE root, eps ||K||_1 / |de/dlam| (secant slope on the bracket),
+#: accepted when a bracket end lies inside the ROUNDOFF_FACTOR band (a grid point within
+#: ~1e-5 of the root): a tenth of the 1e-5 to which the two methods must agree, and eps
+#: ||K||_1 overstates the measured eigenvalue round-off ~3x. Resolved roots measured
+#: <= 1e-7 (kH = 0.25), drowned ones (thin plates in tension) >= 1e-4
+FE_ROOT_ROUNDOFF = 1e-6
