@@ -334,31 +334,10 @@ def critical_stretches_det_many(scans) -> list[np.ndarray]:
                          f"a dict, got {scans!r}")
     jobs, out = [], []
     for kH, theta, params, kw in scans:
-        kw = {"window": (0.45, 0.999), "n_scan": 120, "Vhat": None, **kw}
-        kH = v.positive("kH", kH)
-        lo, hi = v.window("window", kw["window"])
-        _check(lo, theta, params)
-        _check(hi, theta, params)
-        path = _path(params, kw["Vhat"])
-        if params.xi == 0.0 or theta == 90.0:
-            # u3 decouples and (psi, phi) is the isotropic plate of the thesis, whose
-            # roots coincide (s = +-1 twice): the Vandermonde normalisation is undefined
-            # there and the parity-split determinant of debench.models.plate.ansatz is
-            # used instead
-            iso = PlateParams(xi=0.0, Dhat=params.Dhat, beta=params.beta, alpha=params.alpha)
-            if kw["Vhat"] is None:
-                r = critical_stretches(kH, iso, window=(lo, hi)).lam
-            else:
-                r = critical_stretches_at_voltage(kH, kw["Vhat"], iso, window=(lo, hi))[0]
-            out.append(np.sort(np.asarray(r, float)))
-            continue
-        g = np.geomspace(lo, hi, v.integer_at_least("n_scan", kw["n_scan"], 2))
-        ell = _elliptic_grid(g, theta, path)
-        g, ell = (g[np.argmax(ell):], ell[np.argmax(ell):]) if ell.any() else (g[:0],
-                                                                             ell[:0])
-        out.append([])
-        if g.size >= 2 and ell[-1]:
-            jobs.append((len(out) - 1, kH, float(theta), path, g, ell))
+        roots, job = _det_scan(kH, theta, params, kw)
+        out.append(roots)
+        if job is not None:
+            jobs.append((len(out) - 1, *job))
     if not jobs:
         return [np.sort(np.asarray(r, float)) for r in out]
     # the roots and adjugates of every grid point of every scan in stacked calls; they
@@ -368,51 +347,101 @@ def critical_stretches_det_many(scans) -> list[np.ndarray]:
                               [j[2] for j, _ in pts], [j[3] for j, _ in pts])
     ends = np.cumsum([0] + [int(job[5].sum()) for job in jobs])
     for w in _WS:
-        vals_all = _det_weighted(parts, w)
-        brackets = []   # (job, phase, a, b, fa, fb)
-        for k, (io, *_, g, ell) in enumerate(jobs):
-            vals = np.full(g.size, np.nan, complex)
-            vals[ell] = vals_all[ends[k]:ends[k + 1]]
-            vals = np.where(ell, vals, vals[ell][0])
-            phase = vals[np.argmax(np.abs(vals))]
-            phase /= abs(phase)
-            rot = vals * np.conj(phase)
-            if np.max(np.abs(rot.imag)) > PHASE_TOL * np.max(np.abs(rot)):
-                raise ConvergenceError("determinant phase not constant along the scan "
-                                       f"(max |Im|/max|det| = "
-                                       f"{np.max(np.abs(rot.imag)) / np.max(np.abs(rot)):.2e})")
-            f = rot.real
-            idx = np.nonzero(ell[:-1] & ell[1:]
-                             & ((f[:-1] == 0.0) | (np.sign(f[:-1]) != np.sign(f[1:]))))[0]
-            # a bracket holding a root the first weight vector already gave is that
-            # root's sign change (one root per scan interval, as everywhere in the scan):
-            # its refinement would land within SAME_ROOT of it and be dropped, so it is
-            # skipped
-            brackets += [(k, phase, g[i], g[i + 1], f[i], f[i + 1]) for i in idx
-                         if not any(g[i] <= q <= g[i + 1] for q in out[io])]
-        if not brackets:
-            continue
-        job_of = np.array([br[0] for br in brackets])
-        phases = np.array([br[1] for br in brackets])
-
-        def f(x, active, w=w, job_of=job_of, phases=phases):
-            js = [jobs[k] for k in job_of[active]]
-            dets = _det_weighted(_det_parts_points(x, [j[1] for j in js], [j[2] for j in js],
-                                                   [j[3] for j in js]), w)
-            return (dets * np.conj(phases[active])).real
-
-        # every bracket of every scan refined at once (vectorised Illinois iteration,
-        # the stopping rule of brentq with xtol = XTOL_ROOT)
-        roots = regula_falsi_many(f, *(np.array([br[i] for br in brackets]) for i in (2, 3, 4, 5)),
-                        xtol=XTOL_ROOT)
-        for k, r in zip(job_of, roots, strict=True):
-            io, kH, theta, path = jobs[k][:4]
-            r = float(r)
-            sing, sep = _singularity_and_separation(r, kH, theta, path(r))
-            if (sing < SINGULAR_TOL and sep > COLLISION_TOL
-                    and not any(abs(r - q) <= SAME_ROOT for q in out[io])):
-                out[io].append(r)
+        brackets = _det_brackets(jobs, _det_weighted(parts, w), ends, out)
+        if brackets:
+            _refine_det_brackets(jobs, brackets, w, out)
     return [np.sort(np.asarray(r, float)) for r in out]
+
+
+def _det_scan(kH, theta, params, kw):
+    """One scan of :func:`critical_stretches_det_many`, its arguments validated:
+    ``(roots, None)`` when it is solved here (the isotropic plate), else ``([], job)``
+    with ``job = (kH, theta, path, g, ell)``: the scan's grid ``g`` from its first
+    strongly elliptic point on, ``ell`` the ellipticity at each point, ``path`` its
+    parameters along the scan; ``job`` None when there is nothing to search (fewer than
+    two such points, or the window's upper end not elliptic)."""
+    kw = {"window": (0.45, 0.999), "n_scan": 120, "Vhat": None, **kw}
+    kH = v.positive("kH", kH)
+    lo, hi = v.window("window", kw["window"])
+    _check(lo, theta, params)
+    _check(hi, theta, params)
+    path = _path(params, kw["Vhat"])
+    if params.xi == 0.0 or theta == 90.0:
+        # u3 decouples and (psi, phi) is the isotropic plate of the thesis, whose
+        # roots coincide (s = +-1 twice): the Vandermonde normalisation is undefined
+        # there and the parity-split determinant of debench.models.plate.ansatz is
+        # used instead
+        iso = PlateParams(xi=0.0, Dhat=params.Dhat, beta=params.beta, alpha=params.alpha)
+        if kw["Vhat"] is None:
+            r = critical_stretches(kH, iso, window=(lo, hi)).lam
+        else:
+            r = critical_stretches_at_voltage(kH, kw["Vhat"], iso, window=(lo, hi))[0]
+        return np.sort(np.asarray(r, float)), None
+    g = np.geomspace(lo, hi, v.integer_at_least("n_scan", kw["n_scan"], 2))
+    ell = _elliptic_grid(g, theta, path)
+    g, ell = (g[np.argmax(ell):], ell[np.argmax(ell):]) if ell.any() else (g[:0],
+                                                                         ell[:0])
+    if g.size >= 2 and ell[-1]:
+        return [], (kH, float(theta), path, g, ell)
+    return [], None
+
+
+def _det_brackets(jobs, vals_all, ends, out):
+    """The scan intervals where the determinant of one weight vector changes sign:
+    ``(job, phase, a, b, fa, fb)`` each, ``f`` the determinant rotated by the scan's
+    phase (taken from its largest value, ConvergenceError where the phase is not constant
+    to :data:`PHASE_TOL`). ``vals_all``: the determinant at the elliptic grid points of
+    every job of ``jobs``, job k's in ``vals_all[ends[k]:ends[k + 1]]``; ``out``: the
+    roots found so far, per scan."""
+    brackets = []   # (job, phase, a, b, fa, fb)
+    for k, (io, *_, g, ell) in enumerate(jobs):
+        vals = np.full(g.size, np.nan, complex)
+        vals[ell] = vals_all[ends[k]:ends[k + 1]]
+        vals = np.where(ell, vals, vals[ell][0])
+        phase = vals[np.argmax(np.abs(vals))]
+        phase /= abs(phase)
+        rot = vals * np.conj(phase)
+        if np.max(np.abs(rot.imag)) > PHASE_TOL * np.max(np.abs(rot)):
+            raise ConvergenceError("determinant phase not constant along the scan "
+                                   f"(max |Im|/max|det| = "
+                                   f"{np.max(np.abs(rot.imag)) / np.max(np.abs(rot)):.2e})")
+        f = rot.real
+        idx = np.nonzero(ell[:-1] & ell[1:]
+                         & ((f[:-1] == 0.0) | (np.sign(f[:-1]) != np.sign(f[1:]))))[0]
+        # a bracket holding a root the first weight vector already gave is that
+        # root's sign change (one root per scan interval, as everywhere in the scan):
+        # its refinement would land within SAME_ROOT of it and be dropped, so it is
+        # skipped
+        brackets += [(k, phase, g[i], g[i + 1], f[i], f[i + 1]) for i in idx
+                     if not any(g[i] <= q <= g[i + 1] for q in out[io])]
+    return brackets
+
+
+def _refine_det_brackets(jobs, brackets, w, out):
+    """Refine the ``brackets`` of :func:`_det_brackets` (weight vector ``w``) and append
+    each root to its scan's list in ``out`` when it is a bifurcation: the boundary matrix
+    singular (:data:`SINGULAR_TOL`), the characteristic roots apart
+    (:data:`COLLISION_TOL`), and no root of that scan within :data:`SAME_ROOT`."""
+    job_of = np.array([br[0] for br in brackets])
+    phases = np.array([br[1] for br in brackets])
+
+    def f(x, active):
+        js = [jobs[k] for k in job_of[active]]
+        dets = _det_weighted(_det_parts_points(x, [j[1] for j in js], [j[2] for j in js],
+                                               [j[3] for j in js]), w)
+        return (dets * np.conj(phases[active])).real
+
+    # every bracket of every scan refined at once (vectorised Illinois iteration,
+    # the stopping rule of brentq with xtol = XTOL_ROOT)
+    roots = regula_falsi_many(f, *(np.array([br[i] for br in brackets]) for i in (2, 3, 4, 5)),
+                    xtol=XTOL_ROOT)
+    for k, r in zip(job_of, roots, strict=True):
+        io, kH, theta, path = jobs[k][:4]
+        r = float(r)
+        sing, sep = _singularity_and_separation(r, kH, theta, path(r))
+        if (sing < SINGULAR_TOL and sep > COLLISION_TOL
+                and not any(abs(r - q) <= SAME_ROOT for q in out[io])):
+            out[io].append(r)
 
 
 #: root tolerance of the determinant roots (|b - a| <= XTOL_ROOT + 4 eps |b| at
