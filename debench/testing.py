@@ -234,33 +234,12 @@ def compare(problem: str, quantity: str | None, values, coords: Mapping[str, Any
         when ``values`` is a mapping. ``rtol`` and ``atol`` may then be mappings quantity
         name -> tolerance too (a quantity not named gets the stated accuracy alone).
     """
-    from debench.reference import problems, problems_coverage, problems_reference
-
     if coverage not in ("full", "partial"):
         raise ValueError(f"coverage must be 'full' or 'partial', got {coverage!r}")
     if isinstance(values, Mapping):
         return _compare_several(problem, quantity, values, coords, rtol, atol, coverage)
-    for name, x in (("rtol", rtol), ("atol", atol)):
-        if isinstance(x, Mapping):
-            raise ValueError(f"{name} is a mapping per quantity, but values is not: pass "
-                             "values as a mapping quantity name -> values")
-        if x is not None and not (np.isfinite(x) and x >= 0):
-            raise ValueError(f"{name} must be finite and >= 0, got {x}")
-    prob = problems.get(problem)
-    q = prob.quantity(quantity)
-    ref = problems_reference.reference_at(prob, q, coords)
-    dup = problems_coverage.duplicates(q, coords)
-    if dup:
-        raise ValueError(f"{prob.id}:{q.name}: repeated coordinates ({len(dup)}): "
-                         + "; ".join(dup[:3]))
-    cov = problems_coverage.coverage(prob, q, coords,
-                                     declared="declared" if coverage == "partial"
-                                     else "not declared")
-    if coverage == "full" and not cov.complete:
-        raise problems_coverage.CoverageError(
-            f"{prob.id}:{q.name}: {cov.describe()}. Cover every reference point of what "
-            "you address, or declare partial coverage (coverage='partial', "
-            "debench check --partial)")
+    _check_tolerances(rtol, atol)
+    prob, q, ref, cov = _covered_reference(problem, quantity, coords, coverage)
     given = {**q.defaults, **dict(coords)}
     arrays = np.broadcast_arrays(np.asarray(values, dtype=float),
                                  *[np.asarray(given[n]) for n in q.coordinates])
@@ -278,6 +257,45 @@ def compare(problem: str, quantity: str | None, values, coords: Mapping[str, Any
                                                            strict=True)},
                       values=vals, reference=ref.value, tolerance=tol,
                       tolerance_source=source, coverage=cov)
+
+
+def _check_tolerances(rtol, atol) -> None:
+    """The user's ``rtol`` and ``atol`` of :func:`compare` for one quantity: each None or a
+    finite number >= 0 (a mapping per quantity only goes with a mapping of values);
+    ValueError naming the argument otherwise."""
+    for name, x in (("rtol", rtol), ("atol", atol)):
+        if isinstance(x, Mapping):
+            raise ValueError(f"{name} is a mapping per quantity, but values is not: pass "
+                             "values as a mapping quantity name -> values")
+        if x is not None and not (np.isfinite(x) and x >= 0):
+            raise ValueError(f"{name} must be finite and >= 0, got {x}")
+
+
+def _covered_reference(problem: str, quantity: str | None, coords: Mapping[str, Any],
+                       coverage: str):
+    """``(problem, quantity, reference, coverage)`` of :func:`compare` for one quantity:
+    the reference at ``coords`` and the :class:`~debench.reference.problems_coverage.Coverage`
+    of the points; ValueError on repeated coordinates, and
+    :class:`~debench.reference.problems_coverage.CoverageError` when ``coverage`` is
+    ``"full"`` and the points do not cover what they address."""
+    from debench.reference import problems, problems_coverage, problems_reference
+
+    prob = problems.get(problem)
+    q = prob.quantity(quantity)
+    ref = problems_reference.reference_at(prob, q, coords)
+    dup = problems_coverage.duplicates(q, coords)
+    if dup:
+        raise ValueError(f"{prob.id}:{q.name}: repeated coordinates ({len(dup)}): "
+                         + "; ".join(dup[:3]))
+    cov = problems_coverage.coverage(prob, q, coords,
+                                     declared="declared" if coverage == "partial"
+                                     else "not declared")
+    if coverage == "full" and not cov.complete:
+        raise problems_coverage.CoverageError(
+            f"{prob.id}:{q.name}: {cov.describe()}. Cover every reference point of what "
+            "you address, or declare partial coverage (coverage='partial', "
+            "debench check --partial)")
+    return prob, q, ref, cov
 
 
 def _compare_several(problem, quantity, values, coords, rtol, atol, coverage) -> Comparisons:
