@@ -25,9 +25,10 @@ from debench.models.plate import PlateParams, ellipticity_limit_stretch, strongl
 from debench.models.plate.analysis import biot_equibiaxial_closed_form, half_space_limit, thin_limit
 from debench.models.plate.ansatz import LAM_WINDOW, critical_stretches, curves_vectorised
 from debench.models.plate.fem import eigenvalues, elements_for, refine_root
+from debench.reference import figures as figure_io
 from debench.reference.datasets import variable_attrs as _attrs
 from debench.reference.datasets import write_dataset
-from debench.reference.figures import written
+from debench.reference.figures import LABELS, pyplot, written
 from debench.reference.studies import ch4 as study
 from tqdm import tqdm
 
@@ -257,33 +258,45 @@ def _shade_unstable(ax, ds, v, xi, D, **style):
 
 def figures(out: Path, c42: xr.Dataset, c45: xr.Dataset, lim: xr.Dataset, ar: xr.Dataset,
             crit: xr.Dataset) -> list[Path]:
-    from debench.reference.figures import LABELS as L
-    from debench.reference.figures import pyplot, save
-
+    """Figs 4.2-4.6 from the datasets :func:`build` writes (PNG and SVG each, in ``out``)."""
     plt = pyplot()
-    paths = []
+    paths = []   # figure_io.save, a module attribute: tests replace it
     for v in VARIANTS:
-        fig, axs = plt.subplots(3, 3, figsize=(11, 10), sharex=True)
-        for ax, D, tag in zip(axs.flat, FIG42_D, "abcdefghi", strict=True):
-            _shade_unstable(ax, c42, v, 5.0, D, colors=["0.8"], alpha=0.6)
-            _shade_unstable(ax, c42, v, 0.0, D, hatches=["////"])
-            _plot_curves(ax, c42, v, 5.0, D, ".", r"TI $\xi$ = 5")
-            _plot_curves(ax, c42, v, 0.0, D, "x", "isotropic")
-            lamE = float(c42.lam_ellipticity.sel(variant=v, xi=5.0))
-            if np.isfinite(lamE):
-                ax.axhline(lamE, color="k", lw=0.6, ls=":", label="loss of ellipticity (TI)")
-            ax.set_title(rf"({tag}) $\hat D$ = {D:g}")
-            ax.set_ylim(0.4, 4.0 if v != "literal" else 5.5)
-        axs[0, 0].legend(fontsize=8)
-        for ax in axs[-1]:
-            ax.set_xlabel(L["kH"])
-        for ax in axs[:, 0]:
-            ax.set_ylabel(L["lam_cr"])
-        fig.suptitle(rf"Fig. 4.2 ({v}): blue $\psi$-even (flexural), red $\psi$-odd; "
-                     r"dots TI $\xi$ = 5, crosses isotropic;" "\n"
-                     r"unstable region $\det < 0$ shaded grey (TI), hatched (isotropic)")
-        paths += save(fig, out / f"fig4_2_curves_{v}")
-    # Fig 4.3
+        paths += figure_io.save(_fig4_2(plt, c42, v), out / f"fig4_2_curves_{v}")
+    for draw, ds, name in ((_fig4_3, ar, "fig4_3_areas"), (_fig4_4, lim, "fig4_4_thin_limit"),
+                           (_fig4_5, c45, "fig4_5_anisotropy"),
+                           (_fig4_6, crit, "fig4_6_critical_D")):
+        paths += figure_io.save(draw(plt, ds), out / name)
+    return paths
+
+
+def _fig4_2(plt, c42: xr.Dataset, v: str):
+    """Fig. 4.2 of the coefficient variant ``v``: lam_cr(kH) of the nine Dhat cases, TI
+    (xi = 5) and isotropic, with the unstable regions {det < 0} shaded."""
+    fig, axs = plt.subplots(3, 3, figsize=(11, 10), sharex=True)
+    for ax, D, tag in zip(axs.flat, FIG42_D, "abcdefghi", strict=True):
+        _shade_unstable(ax, c42, v, 5.0, D, colors=["0.8"], alpha=0.6)
+        _shade_unstable(ax, c42, v, 0.0, D, hatches=["////"])
+        _plot_curves(ax, c42, v, 5.0, D, ".", r"TI $\xi$ = 5")
+        _plot_curves(ax, c42, v, 0.0, D, "x", "isotropic")
+        lamE = float(c42.lam_ellipticity.sel(variant=v, xi=5.0))
+        if np.isfinite(lamE):
+            ax.axhline(lamE, color="k", lw=0.6, ls=":", label="loss of ellipticity (TI)")
+        ax.set_title(rf"({tag}) $\hat D$ = {D:g}")
+        ax.set_ylim(0.4, 4.0 if v != "literal" else 5.5)
+    axs[0, 0].legend(fontsize=8)
+    for ax in axs[-1]:
+        ax.set_xlabel(LABELS["kH"])
+    for ax in axs[:, 0]:
+        ax.set_ylabel(LABELS["lam_cr"])
+    fig.suptitle(rf"Fig. 4.2 ({v}): blue $\psi$-even (flexural), red $\psi$-odd; "
+                 r"dots TI $\xi$ = 5, crosses isotropic;" "\n"
+                 r"unstable region $\det < 0$ shaded grey (TI), hatched (isotropic)")
+    return fig
+
+
+def _fig4_3(plt, ar: xr.Dataset):
+    """Fig. 4.3: the areas of the unstable regions per Dhat case (thesis definition)."""
     fig, ax = plt.subplots(figsize=(8, 4))
     x = np.arange(len(FIG42_D))
     for k, (v, xi, off, hatch) in enumerate((("printed", 0.0, -0.3, ""), ("printed", 5.0, -0.1, ""),
@@ -300,8 +313,11 @@ def figures(out: Path, c42: xr.Dataset, c45: xr.Dataset, lim: xr.Dataset, ar: xr
     ax.set_title("Fig. 4.3: unstable-region areas, assumed window "
                  rf"$kH \in$ [0.01, 10], $\lambda \in$ [{lam_lo:g}, {lam_hi:g}]"
                  "\n(the thesis' areas are in its figure image only)")
-    paths += save(fig, out / "fig4_3_areas")
-    # Fig 4.4
+    return fig
+
+
+def _fig4_4(plt, lim: xr.Dataset):
+    """Fig. 4.4: the thin-plate limit kH -> 0 of lam_cr (root of a - c)."""
     fig, ax = plt.subplots(figsize=(7, 4))
     for k, (v, xi) in enumerate((vv, xx) for vv in VARIANTS for xx in (0.0, 5.0)):
         y = lim.lam_cr_thin.sel(variant=v, xi=xi).values[:3]
@@ -313,8 +329,12 @@ def figures(out: Path, c42: xr.Dataset, c45: xr.Dataset, lim: xr.Dataset, ar: xr
     ax.legend(fontsize=8, ncol=2)
     ax.set_title(r"Fig. 4.4: thin-plate limit $kH \to 0$ (root of $a - c$)" "\n"
                  "(the thesis' values are in its figure image only)")
-    paths += save(fig, out / "fig4_4_thin_limit")
-    # Fig 4.5
+    return fig
+
+
+def _fig4_5(plt, c45: xr.Dataset):
+    """Fig. 4.5: lam_cr(kH) at Dhat = 2 for each anisotropy xi, one panel per variant,
+    with each xi's loss of ellipticity."""
     fig, axs = plt.subplots(1, 3, figsize=(13, 4), sharey=True)
     for ax, v in zip(axs, VARIANTS, strict=True):
         for k, xi in enumerate(FIG45_XI):
@@ -327,26 +347,28 @@ def figures(out: Path, c42: xr.Dataset, c45: xr.Dataset, lim: xr.Dataset, ar: xr
                            label=r"loss of ellipticity (per $\xi$)" if k == len(FIG45_XI) - 1
                            else None)
         ax.set_title(rf"Fig. 4.5 ({v}), $\hat D$ = 2")
-        ax.set_xlabel(L["kH"])
+        ax.set_xlabel(LABELS["kH"])
         ax.set_ylim(0.4, 3.0)
-    axs[0].set_ylabel(L["lam_cr"])
+    axs[0].set_ylabel(LABELS["lam_cr"])
     axs[0].legend(fontsize=8, markerscale=5)
-    paths += save(fig, out / "fig4_5_anisotropy")
+    return fig
+
+
+def _fig4_6(plt, crit: xr.Dataset):
+    """Fig. 4.6: the critical Dhat against xi, for both candidate definitions."""
     names = {"max_area": r"$\hat D$ of the largest unstable area",
              "thin_extensional": r"first extensional mode as $kH \to 0$"}
-    # Fig 4.6
     fig, ax = plt.subplots(figsize=(6, 4))
     for v, m in (("printed", "o-"), ("literal", "s--")):
         for c in crit.candidate.values:
             ax.plot(crit.xi, crit.Dhat_critical.sel(variant=v, candidate=c), m,
                     label=f"{v}: {names.get(str(c), c)}")
-    ax.set_xlabel(L["xi"])
+    ax.set_xlabel(LABELS["xi"])
     ax.set_ylabel(r"critical $\hat D$")
     ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=1)
     ax.set_title(r"Fig. 4.6: critical $\hat D$ vs $\xi$ (two candidate definitions;" "\n"
                  "the thesis' values are in its figure image only)")
-    paths += save(fig, out / "fig4_6_critical_D")
-    return paths
+    return fig
 
 
 def build(out_dir: Path, *, full: bool = False, progress: bool = True) -> list[Path]:
