@@ -224,7 +224,7 @@ def load(directory: Path = CATALOGUE_DIR) -> list[Entry]:
                                  for name, text in files))
     cached = _LOADED.get(key)
     if cached is None:
-        cached = _parse(files)
+        cached = parse_files(files)
         _LOADED.clear()   # one content per directory and process is all that is reused
         _LOADED[key] = cached
     return list(cached)
@@ -234,8 +234,9 @@ def load(directory: Path = CATALOGUE_DIR) -> list[Entry]:
 _LOADED: dict[tuple, tuple[Entry, ...]] = {}
 
 
-def _parse(files: tuple[tuple[str, bytes], ...]) -> tuple[Entry, ...]:
-    """Entries of the catalogue files given as (name, bytes), validated."""
+def parse_files(files: tuple[tuple[str, bytes], ...]) -> tuple[Entry, ...]:
+    """Entries of the catalogue files given as (name, bytes), validated; parsed on every
+    call (:func:`load` memoises it on the files' content)."""
     entries: list[Entry] = []
     seen: dict[str, str] = {}
     for name, text in files:

@@ -78,7 +78,9 @@ def resolve_chapter(name: str) -> str:
     return hits[0]
 
 
-def _progress(iterable, desc: str, **kw):
+def progress_bar(iterable, desc: str, **kw):
+    """``iterable`` wrapped in a tqdm bar labelled ``desc`` on stderr, drawn only when
+    stderr is a terminal (never in logs); ``kw`` goes to tqdm."""
     from tqdm.auto import tqdm
 
     return tqdm(iterable, desc=desc, file=sys.stderr, leave=False,
@@ -145,7 +147,7 @@ def _evaluate_with_guards(by_chapter, jobs: int, out: Path):
             stack.enter_context(recomputed_in_this_command(fresh[0]))
         work = stack.enter_context(regeneration.Recomputations((), EXTRA_GUARDS, jobs=jobs,
                                                                out=out))
-        results = catalogue.evaluate_all(progress=lambda xs: _progress(xs, "verifying claims"))
+        results = catalogue.evaluate_all(progress=lambda xs: progress_bar(xs, "verifying claims"))
         return results, work.guarded()
 
 
@@ -180,7 +182,7 @@ def cmd_reproduce(args) -> int:
         results, guards = _evaluate_with_guards(by_chapter, guard_jobs, out)
         by_chapter["catalogue"] = builds.build_catalogue(out, args.full, results, guards)
     else:
-        results = catalogue.evaluate_all(progress=lambda xs: _progress(xs, "verifying claims"))
+        results = catalogue.evaluate_all(progress=lambda xs: progress_bar(xs, "verifying claims"))
     written = [p for c in chapters for p in by_chapter.get(c, [])]
     compared = []
     if args.write_data:
@@ -236,7 +238,7 @@ def cmd_verify(args) -> int:
     with tempfile.TemporaryDirectory(prefix="debench-verify-") as tmp, verify_recomputations(
             regenerate=regenerate, jobs=builds.parse_jobs(args.jobs), out=Path(tmp)) as work:
         results = catalogue.evaluate_all(progress=None if args.json else
-                                         (lambda xs: _progress(xs, "verifying claims")))
+                                         (lambda xs: progress_bar(xs, "verifying claims")))
         problems = [] if args.no_data else verify_directory()
         if regenerate:
             if not args.json:
@@ -290,7 +292,7 @@ def cmd_verify(args) -> int:
 def cmd_report(args) -> int:
     from debench.reference import catalogue, report
 
-    results = catalogue.evaluate_all(progress=lambda xs: _progress(xs, "verifying claims"))
+    results = catalogue.evaluate_all(progress=lambda xs: progress_bar(xs, "verifying claims"))
     if args.datacard:
         from debench.reference import datacard
 

@@ -36,7 +36,11 @@ CHAPTER_TITLES = {
 }
 
 
-def _fmt(value, unit: str = "") -> str:
+def format_value(value, unit: str = "") -> str:
+    """A value as the report's tables print it: None as a dash, a bool as holds / does not
+    hold, a float to 5 significant digits, a mapping as ``key = value`` pairs, a sequence
+    comma-separated; whitespace collapsed, ``unit`` appended unless it is 1, empty or
+    already ends the text, and ``|`` escaped for a markdown table."""
     if value is None:
         return "—"
     if isinstance(value, bool):
@@ -44,9 +48,9 @@ def _fmt(value, unit: str = "") -> str:
     if isinstance(value, float):
         text = f"{value:.5g}"
     elif isinstance(value, dict):  # never a raw Python dict: "key = value" pairs
-        text = "; ".join(f"{k} = {_fmt(v)}" for k, v in value.items())
+        text = "; ".join(f"{k} = {format_value(v)}" for k, v in value.items())
     elif isinstance(value, list | tuple):
-        text = ", ".join(_fmt(v) for v in value)
+        text = ", ".join(format_value(v) for v in value)
     else:
         text = str(value)
     text = " ".join(text.split())
@@ -72,9 +76,9 @@ def results_table(results: Iterable[Result], kinds=("claim", "literature")) -> s
         e = r.entry
         if e.kind not in kinds:
             continue
-        thesis = _fmt(e.printed or e.value, e.unit)
+        thesis = format_value(e.printed or e.value, e.unit)
         rows.append(f"| `{e.id}` | {_cell(e.quantity, 70)} | {thesis} | "
-                    f"{_fmt(r.value, e.unit)} | {STATUS_MARK.get(r.status, r.status)} |")
+                    f"{format_value(r.value, e.unit)} | {STATUS_MARK.get(r.status, r.status)} |")
     return "\n".join(rows)
 
 
@@ -227,12 +231,12 @@ def diagnosis_table(results: Iterable[Result]) -> str:
             continue
         c = diagnosis_comparison(r, ids)
         t = ids.get(e.parameters.get("target", ""))
-        shown = (_fmt(t.printed or t.value, t.unit) if c.against == "target" and t
-                 else _fmt(c.compared, c.compared_unit))
+        shown = (format_value(t.printed or t.value, t.unit) if c.against == "target" and t
+                 else format_value(c.compared, c.compared_unit))
         if c.against != "target":
             shown += f" ({r.details.get('compared_as', 'criterion')})"
         rows.append(f"| `{e.id}` | `{e.parameters.get('target', '')}` | {shown} | "
-                    f"{_fmt(c.predicted, c.predicted_unit)} | {c.predicted_kind} | "
+                    f"{format_value(c.predicted, c.predicted_unit)} | {c.predicted_kind} | "
                     f"{STATUS_MARK.get(r.status, r.status)} |")
     return "\n".join(rows)
 
@@ -327,8 +331,9 @@ def chapter_verdict(prefix: str, chunk: list[Result]) -> str:
     misses = [r for r in numeric if r.status == "not_reproduced"]
     if misses:
         parts.append("Not reproduced: " + "; ".join(
-            f"`{r.entry.id}` printed {_fmt(r.entry.printed or r.entry.value, r.entry.unit)}, "
-            f"ours {_fmt(r.value, r.entry.unit)}" for r in misses) + ".")
+            f"`{r.entry.id}` printed "
+            f"{format_value(r.entry.printed or r.entry.value, r.entry.unit)}, "
+            f"ours {format_value(r.value, r.entry.unit)}" for r in misses) + ".")
     errata = [r for r in chunk if r.entry.kind == "erratum"]
     if errata:
         roots = {r.entry.root_cause or r.entry.id for r in errata}
@@ -341,7 +346,7 @@ def chapter_verdict(prefix: str, chunk: list[Result]) -> str:
         parts.append(f"Diagnoses: {counts['explained']} of {len(diag)} hypotheses explain the "
                      "printed number (" + "; ".join(
                          f"`{r.entry.id}` {STATUS_MARK.get(r.status, r.status)}, predicts "
-                         f"{_fmt(r.value, r.entry.unit)}" for r in diag) + ").")
+                         f"{format_value(r.value, r.entry.unit)}" for r in diag) + ").")
     if counts["error"]:
         parts.append(f"{counts['error']} producer(s) failed: see the table.")
     return " ".join(parts)
@@ -427,7 +432,7 @@ def write_report(out_dir: Path, results: list[Result], *, data_problems: list[st
         assumptions = [r for r in chunk if r.entry.kind == "assumption"]
         if assumptions:
             lines += ["Assumptions (the thesis does not state these):", ""]
-            lines += [f"- `{r.entry.id}` = {_fmt(r.entry.value, r.entry.unit)}: "
+            lines += [f"- `{r.entry.id}` = {format_value(r.entry.value, r.entry.unit)}: "
                       f"{_cell(r.entry.diagnosis or r.entry.notes, 300)}" for r in assumptions]
             lines.append("")
         figs = [f for f in figures if _chapter_of(f.name) == prefix]

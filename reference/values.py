@@ -87,15 +87,18 @@ TABLE_HEADER = ("| value | what | stored | recomputed | difference | tolerance |
 
 
 # --------------------------------------------------------------------------- flattening
-def _flatten(prefix: str, obj: Any) -> Iterable[tuple[str, Any]]:
+def flatten(prefix: str, obj: Any) -> Iterable[tuple[str, Any]]:
+    """The leaves of nested mappings, sequences and arrays as ``(path, leaf)`` pairs:
+    ``path`` the dotted keys and indices below ``prefix`` (mapping keys in sorted order,
+    an array as its nested list), ``leaf`` any other object."""
     if isinstance(obj, Mapping):
         for k in sorted(obj, key=str):
-            yield from _flatten(f"{prefix}.{k}" if prefix else str(k), obj[k])
+            yield from flatten(f"{prefix}.{k}" if prefix else str(k), obj[k])
     elif isinstance(obj, list | tuple):
         for i, x in enumerate(obj):
-            yield from _flatten(f"{prefix}.{i}" if prefix else str(i), x)
+            yield from flatten(f"{prefix}.{i}" if prefix else str(i), x)
     elif isinstance(obj, np.ndarray):
-        yield from _flatten(prefix, obj.tolist())
+        yield from flatten(prefix, obj.tolist())
     else:
         yield prefix, obj
 
@@ -126,7 +129,7 @@ def guarded_from_results(results: Iterable[Result]) -> list[Guarded]:
         if main is None:
             main = "None"
         out.append(_guard(r.entry.id, main, acc, r.status))
-        for path, x in _flatten("", r.details):
+        for path, x in flatten("", r.details):
             v = _scalar(x)
             if v is None or (isinstance(v, str) and v not in ("True", "False")):
                 continue

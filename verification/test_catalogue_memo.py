@@ -16,13 +16,13 @@ ENTRY = ('[[entry]]\nid = "ch3.memo.a"\nkind = "claim"\nquantity = "q"\nvalue = 
 
 def _counting_parse(monkeypatch):
     calls = []
-    parse = catalogue._parse
+    parse = catalogue.parse_files
 
     def counted(files):
         calls.append(tuple(name for name, _ in files))
         return parse(files)
 
-    monkeypatch.setattr(catalogue, "_parse", counted)
+    monkeypatch.setattr(catalogue, "parse_files", counted)
     return calls
 
 

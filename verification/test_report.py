@@ -52,9 +52,9 @@ def test_errata_are_never_truncated(results):
 
 
 def test_fmt_renders_dicts_as_pairs_and_never_doubles_the_unit():
-    assert report._fmt({"x": 1.5, "y": "a"}) == "x = 1.5; y = a"
-    assert report._fmt("3.64 mm", "mm") == "3.64 mm"
-    assert report._fmt(3.64, "mm") == "3.64 mm"
+    assert report.format_value({"x": 1.5, "y": "a"}) == "x = 1.5; y = a"
+    assert report.format_value("3.64 mm", "mm") == "3.64 mm"
+    assert report.format_value(3.64, "mm") == "3.64 mm"
 
 
 def test_every_crosscheck_names_an_existing_test_and_agrees_within_its_tolerance():

@@ -113,10 +113,10 @@ def test_progress_bars_only_on_a_terminal(monkeypatch):
             return True
 
     monkeypatch.setattr("sys.stderr", io.StringIO())
-    list(cli._progress(range(3), "x"))
+    list(cli.progress_bar(range(3), "x"))
     assert cli.sys.stderr.getvalue() == ""
     monkeypatch.setattr("sys.stderr", Tty())
-    list(cli._progress(range(3), "x"))
+    list(cli.progress_bar(range(3), "x"))
     assert "x:" in cli.sys.stderr.getvalue()
 
 

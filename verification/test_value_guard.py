@@ -89,7 +89,7 @@ def test_store_holds_every_entry_and_its_tolerance_reason():
 def test_diagnoses_quote_our_numbers_only_through_placeholders():
     """A catalogue diagnosis never holds our computed value as a literal (it would drift
     silently): numbers of ours enter through ``{value}``/``{details[...]}`` placeholders."""
-    from debench.reference.values import _flatten
+    from debench.reference.values import flatten
 
     offenders = []
     for e in catalogue.load():
@@ -99,7 +99,7 @@ def test_diagnoses_quote_our_numbers_only_through_placeholders():
         if r is None or r.status == "error":
             continue
         # details named thesis* carry the printed number a diagnosis compares with
-        ours = [r.value] + [x for path, x in _flatten("", r.details)
+        ours = [r.value] + [x for path, x in flatten("", r.details)
                             if not path.startswith("thesis")]
         for x in ours:
             if isinstance(x, float) and abs(x) > 1e-3 and x != e.value:
