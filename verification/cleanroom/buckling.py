@@ -258,8 +258,9 @@ def _block_form(a: int, b: int) -> BilinearForm:
 
     @BilinearForm
     def form(u, v, w):
-        R = w.x[0]
-        H = w.H
+        # plain arrays: indexing a DiscreteField copies the whole field each time
+        R = np.asarray(w.x)[0]
+        H = np.asarray(w.H)
         out = 0.0
         for k in FIELD_G[a]:
             vk = _component(v, G_MAP[k][1], R)
@@ -273,8 +274,8 @@ def _block_form(a: int, b: int) -> BilinearForm:
 def _residual_form(a: int) -> LinearForm:
     @LinearForm
     def form(v, w):
-        R = w.x[0]
-        d = w.dO
+        R = np.asarray(w.x)[0]
+        d = np.asarray(w.dO)
         out = 0.0
         for k in FIELD_G[a]:
             out = out + d[k] * _component(v, G_MAP[k][1], R)
