@@ -20,7 +20,7 @@ FD_STEP = 1e-4
 
 def complex_step_gradients(F, D_L, A=None, *, numbering: str = "iso"):
     """``(dI/dF (6,3,3), dI/dD (6,3))``, the first derivatives of the invariants by the
-    complex step (step :data:`CS_STEP`: exact to rounding, no subtractive cancellation);
+    complex step (step ``CS_STEP`` = 1e-30: exact to rounding, no subtractive cancellation);
     layout of :mod:`debench.models.invariants`."""
     F, D_L, A = validate_state(F, D_L, A, numbering=numbering)
     F = np.asarray(F, dtype=complex)
