@@ -36,19 +36,19 @@ def test_converged_value_and_error_follow_the_gci_rule_on_synthetic_sequences():
     (fewer) times the larger of the last p-step change and the finest grading change."""
     v = np.array([[1.0, 0.9], [0.8, 0.75]])            # 2 orders: factor 3
     got = builder.converged(v)
-    assert got["v"] == 0.75
-    assert got["p_step_change"] == pytest.approx(0.15)
-    assert got["grading_change"] == pytest.approx(0.05)
-    assert got["error"] == pytest.approx(3 * 0.15)
+    assert got.value == 0.75
+    assert got.p_change == pytest.approx(0.15)
+    assert got.grading_change == pytest.approx(0.05)
+    assert got.error == pytest.approx(3 * 0.15)
     v3 = np.array([[1.0, 0.9], [0.8, 0.75], [0.7, 0.74]])   # 3 orders: factor 1.25
     got = builder.converged(v3)
-    assert got["safety_factor"] == 1.25
-    assert got["error"] == pytest.approx(1.25 * max(0.01, 0.04))
+    assert got.safety_factor == 1.25
+    assert got.error == pytest.approx(1.25 * max(0.01, 0.04))
     with pytest.raises(ValueError, match="need >= 2 orders"):
         builder.converged(np.array([[1.0, 0.9]]))
     # the floor: a sequence that does not change has the floor as its error estimate
     flat = builder.converged(np.full((3, 2), 0.5), floor=2e-7)
-    assert flat["error"] == 2e-7 and flat["p_step_change"] == 0.0
+    assert flat.error == 2e-7 and flat.p_change == 0.0
 
 
 def test_curated_converged_values_follow_from_the_stored_sequences(ds):
@@ -63,10 +63,10 @@ def test_curated_converged_values_follow_from_the_stored_sequences(ds):
         for n in ds.n.values:
             c = ds.sel(case=case, n=n)
             got = builder.converged(c.v_cr.values, floor)
-            for var, key in (("v_cr_converged", "v"), ("v_cr_error", "error"),
-                             ("p_step_change", "p_step_change"),
+            for var, key in (("v_cr_converged", "value"), ("v_cr_error", "error"),
+                             ("p_step_change", "p_change"),
                              ("grading_change", "grading_change")):
-                assert abs(float(c[var]) - got[key]) <= EXACT, (case, n, var)
+                assert abs(float(c[var]) - getattr(got, key)) <= EXACT, (case, n, var)
     assert float(ds.safety_factor) == builder.safety_factor(ds.sizes["order"])
 
 

@@ -7,46 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from debench.models.numerics import p_grading_estimate
 from debench.reference.builders import ch5_axisym_path as path
-
-FULL = path.PLANS[True]["discs"]
-
-
-def test_converged_takes_the_top_discretisation_and_both_changes():
-    """Exponential p-convergence 1e-3 * 10^-p plus a grading term: the value is the top
-    (order 4, 6 layers) entry, the changes are exactly the two differences, and the safety
-    factor is 1.25 (three orders at 6 layers)."""
-    vals = {(2, 6): 1.0 + 1e-5, (3, 6): 1.0 + 1e-6, (4, 6): 1.0 + 1e-7, (4, 4): 1.0 + 3e-7}
-    x = np.array([vals[d] for d in FULL])
-    got = path.converged(x, FULL)
-    assert got["value"] == x[FULL.index((4, 6))]
-    # the differences of numbers near 1: exact to a few ulps of 1
-    assert got["p_change"] == pytest.approx(9e-7, abs=1e-15)
-    assert got["grading_change"] == pytest.approx(2e-7, abs=1e-15)
-    assert path.safety_factor(FULL) == 1.25
-    assert got["error"] == pytest.approx(1.25 * 9e-7, abs=1e-15)
-
-
-def test_converged_with_two_orders_uses_the_larger_safety_factor():
-    discs = ((2, 3), (3, 3), (3, 2))
-    assert path.safety_factor(discs) == 3.0
-    got = path.converged(np.array([2.0, 1.0, 1.5]), discs)
-    assert got["value"] == 1.0 and got["error"] == 3.0 * 1.0
-
-
-def test_converged_is_nan_where_a_discretisation_has_no_value():
-    """A crossing found on some discretisations only has no error estimate."""
-    x = np.array([[1.0, 1.1, 1.2, 1.3], [np.nan, 1.0, 1.0, 1.0]])
-    got = path.converged(x, FULL)
-    assert np.isfinite(got["error"][0])
-    assert np.isfinite(got["error"][1])      # the NaN is at order 2, not used
-    x[1, 1] = np.nan
-    assert np.isnan(path.converged(x, FULL)["error"][1])
-
-
-def test_converged_refuses_a_plan_without_a_lower_order():
-    with pytest.raises(ValueError, match="no lower order"):
-        path.converged(np.ones(2), ((3, 4), (3, 6)))
 
 
 @pytest.mark.parametrize("w_cross, err, before, expected", [
@@ -86,14 +48,15 @@ def ds():
 
 
 def test_curated_converged_values_and_decisions_follow_from_the_stored_sequences(ds):
-    """Every *_converged / *_error is :func:`converged` of the stored per-discretisation
+    """Every *_converged / *_error is the p- and grading estimate of the stored per-discretisation
     values, and first_instability is :func:`decide` of them."""
     discs = [tuple(int(x) for x in d) for d in zip(ds.order.values, ds.layers.values,
                                                    strict=True)]
     for key in ("v_max", "w_max", "thickness_max", "lam_at_max", "w_cross", "v_cross"):
-        got = path.converged(np.moveaxis(ds[key].values, 1, -1), discs)
+        got = p_grading_estimate(np.moveaxis(ds[key].values, 1, -1), discs)
         for suffix, k in (("converged", "value"), ("error", "error")):
-            np.testing.assert_array_equal(ds[f"{key}_{suffix}"].values, got[k], err_msg=key)
+            np.testing.assert_array_equal(ds[f"{key}_{suffix}"].values, getattr(got, k),
+                                          err_msg=key)
     for case in ds.case.values:
         c = ds.sel(case=case)
         before = bool(np.any(c.w_cross.values < c.w_max.values[:, None]))

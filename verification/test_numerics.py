@@ -15,6 +15,8 @@ from debench.models.numerics import (
     convergence_fit,
     gci,
     level_fit,
+    p_grading_estimate,
+    p_grading_safety,
     reference_fit,
     regula_falsi_many,
     richardson,
@@ -269,3 +271,54 @@ def test_two_term_limits_refuse_too_few_or_mismatched_levels():
         two_term_limits(TWO_TERM_H[:3], TWO_TERM_H[:3], 1.2)
     with pytest.raises(ValueError, match="one length"):
         two_term_limits(TWO_TERM_H, TWO_TERM_H[:5], 1.2)
+
+
+# ---------------------------------------------------------- p- and grading-sequences
+#: a plan of three orders at the finest grading and a coarser grading at the top order
+PG_PLAN = ((2, 6), (3, 6), (4, 6), (4, 4))
+
+
+def test_p_grading_estimate_takes_the_top_discretisation_and_both_changes():
+    """Exponential p-convergence 1e-3 * 10^-p plus a grading term: the value is the top
+    (order 4, 6 layers) entry, the changes are exactly the two differences, and the safety
+    factor is 1.25 (three orders at 6 layers)."""
+    vals = {(2, 6): 1.0 + 1e-5, (3, 6): 1.0 + 1e-6, (4, 6): 1.0 + 1e-7, (4, 4): 1.0 + 3e-7}
+    x = np.array([vals[d] for d in PG_PLAN])
+    got = p_grading_estimate(x, PG_PLAN)
+    assert got.value == x[PG_PLAN.index((4, 6))]
+    # the differences of numbers near 1: exact to a few ulps of 1
+    assert got.p_change == pytest.approx(9e-7, abs=1e-15)
+    assert got.grading_change == pytest.approx(2e-7, abs=1e-15)
+    assert p_grading_safety(PG_PLAN) == got.safety_factor == 1.25
+    assert got.error == pytest.approx(1.25 * 9e-7, abs=1e-15)
+
+
+def test_p_grading_estimate_with_two_orders_uses_the_larger_safety_factor():
+    discs = ((2, 3), (3, 3), (3, 2))
+    assert p_grading_safety(discs) == 3.0
+    got = p_grading_estimate(np.array([2.0, 1.0, 1.5]), discs)
+    assert got.value == 1.0 and got.error == 3.0 * 1.0
+
+
+def test_p_grading_estimate_is_nan_where_a_discretisation_has_no_value():
+    """A crossing found on some discretisations only has no error estimate."""
+    x = np.array([[1.0, 1.1, 1.2, 1.3], [np.nan, 1.0, 1.0, 1.0]])
+    got = p_grading_estimate(x, PG_PLAN)
+    assert np.isfinite(got.error[0])
+    assert np.isfinite(got.error[1])      # the NaN is at order 2, not used
+    x[1, 1] = np.nan
+    assert np.isnan(p_grading_estimate(x, PG_PLAN).error[1])
+
+
+def test_p_grading_estimate_has_its_floor_and_refuses_what_it_cannot_judge():
+    """A sequence that does not change has the floor as its error estimate; a plan without
+    a lower order at the top grading, values that do not match the plan and a negative
+    floor raise ValueError."""
+    flat = p_grading_estimate(np.full(4, 0.5), PG_PLAN, floor=2e-7)
+    assert flat.error == 2e-7 and flat.p_change == 0.0 and flat.grading_change == 0.0
+    with pytest.raises(ValueError, match="no lower order"):
+        p_grading_estimate(np.ones(2), ((3, 4), (3, 6)))
+    with pytest.raises(ValueError, match="last axis"):
+        p_grading_estimate(np.ones(3), PG_PLAN)
+    with pytest.raises(ValueError, match="floor"):
+        p_grading_estimate(np.ones(4), PG_PLAN, floor=-1.0)

@@ -12,12 +12,16 @@ estimate, and Roache's grid convergence index.
   the finest level and its last change;
 * :func:`gci` -- Roache's grid convergence index (observed order and safety factor 1.25,
   or 3 with the theoretical order when the observed one is off);
+* :func:`p_grading_estimate` -- the value on the top discretisation of a plan of
+  polynomial orders and geometric gradings, with its error estimate from the last p-step
+  and the last grading change;
 * :func:`propagated_accuracy` -- how far a derived value moves when its inputs move;
 * :func:`two_term_limits` -- the limits of two-term expansions ``v_inf + C1 h^q1 + C2 h^q``
   over a range of second exponents q: what a single-term fit's assumption costs.
 
 The fits return :class:`LimitFit` (:func:`richardson`: :class:`ThreePointFit`;
-:func:`gci`: :class:`GCI`), which state what was achieved.
+:func:`gci`: :class:`GCI`; :func:`p_grading_estimate`: :class:`PGradingEstimate`), which
+state what was achieved.
 
 Roache, P. J. (1994), "Perspective: a method for uniform reporting of grid refinement
 studies", J. Fluids Eng. 116, 405-413 (doi:10.1115/1.2910291); Roache (1998),
@@ -355,6 +359,80 @@ def gci(h, v, theoretical_order: float | None = None, *,
     rel = band / abs(v[-1]) if v[-1] != 0 else float("inf")
     return GCI(float(v[-1]), v_inf, p_obs, float(p), safety, r, float(band), float(rel),
                reason)
+
+
+@dataclass(frozen=True)
+class PGradingEstimate:
+    """The converged value of a p- and grading-sequence and its error estimate.
+
+    ``value`` the value on the top discretisation (highest order, then most layers);
+    ``p_change`` its change from the order below at the same grading; ``grading_change``
+    its change from the next coarser grading at the top order (0 when the plan has none);
+    ``safety_factor`` Roache's factor of the p-sequence at the top grading
+    (:func:`gci_safety`); ``error`` ``safety_factor x max(p_change, grading_change)``, at
+    least the ``floor`` the estimate was asked for (what each value is reproducible to).
+    Arrays over the leading axes of the values (floats for a single sequence); NaN where a
+    value the estimate uses is NaN."""
+
+    value: np.ndarray | float
+    error: np.ndarray | float
+    p_change: np.ndarray | float
+    grading_change: np.ndarray | float
+    safety_factor: float
+
+
+def p_grading_top(discs) -> tuple[int, int, int | None]:
+    """Indices into the plan ``discs`` (``(order, layers)`` pairs) of the top
+    discretisation (highest order, then most layers), of the order below it at the same
+    grading, and of the next coarser grading at the top order (None when the plan has
+    none). ValueError when the plan has no lower order at the top grading."""
+    discs = [(int(p), int(L)) for p, L in discs]
+    require(len(set(discs)) == len(discs) and len(discs) >= 2,
+            f"discs must be >= 2 distinct (order, layers) pairs, got {discs}")
+    p_top = max(p for p, _ in discs)
+    l_top = max(L for p, L in discs if p == p_top)
+    i_top = discs.index((p_top, l_top))
+    lower = [p for p, L in discs if L == l_top and p < p_top]
+    if not lower:
+        raise ValueError(f"converged: the plan {discs} has no lower order at {l_top} layers")
+    i_p = discs.index((max(lower), l_top))
+    coarser = [L for p, L in discs if p == p_top and L < l_top]
+    i_l = discs.index((p_top, max(coarser))) if coarser else None
+    return i_top, i_p, i_l
+
+
+def p_grading_safety(discs) -> float:
+    """Roache's safety factor of the p-sequence at the top grading of the plan ``discs``
+    (:func:`gci_safety` of its number of orders: 1.25 with >= 3, else 3)."""
+    discs = [(int(p), int(L)) for p, L in discs]
+    l_top = max(L for p, L in discs if p == max(q for q, _ in discs))
+    return gci_safety(len({p for p, L in discs if L == l_top}))
+
+
+def p_grading_estimate(values, discs, *, floor: float = 0.0) -> PGradingEstimate:
+    """The converged value of ``values[..., k]``, computed on the discretisations
+    ``discs[k] = (order, layers)`` of a p- and grading-sequence, and its error estimate
+    (:class:`PGradingEstimate`): the value on the top discretisation, the larger of the
+    last p-step and the last grading change times Roache's safety factor
+    (:func:`p_grading_safety`), at least ``floor`` (>= 0).
+
+    Regular p-convergence makes the p-step an upper bound of the remaining p-error to
+    higher order; the grading change bounds what the geometric grading towards a singular
+    corner leaves; the safety factor covers an unobserved rate (3 with two orders)."""
+    x = np.asarray(values, float)
+    discs = list(discs)
+    require(x.ndim >= 1 and x.shape[-1] == len(discs),
+            f"values must have a last axis of len(discs) = {len(discs)}, got shape {x.shape}")
+    floor = float(floor)
+    require(math.isfinite(floor) and floor >= 0.0, f"floor = {floor!r} must be finite and >= 0")
+    i_top, i_p, i_l = p_grading_top(discs)
+    dp = np.abs(x[..., i_top] - x[..., i_p])
+    dl = np.abs(x[..., i_top] - x[..., i_l]) if i_l is not None else np.zeros_like(dp)
+    fs = p_grading_safety(discs)
+    err = np.maximum(fs * np.maximum(dp, dl), floor)
+    if x.ndim == 1:
+        return PGradingEstimate(float(x[i_top]), float(err), float(dp), float(dl), fs)
+    return PGradingEstimate(x[..., i_top], err, dp, dl, fs)
 
 
 def two_term_limits(h, v, q1: float, correction: float = 0.0) -> dict[float, float]:

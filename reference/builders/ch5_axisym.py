@@ -35,6 +35,12 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from debench.models.numerics import (
+    PGradingEstimate,
+    gci_safety,
+    p_grading_estimate,
+    propagated_accuracy,
+)
 from debench.reference.datasets import variable_attrs, write_dataset
 from debench.reference.studies.ch5_axisym_tasks import material
 
@@ -81,25 +87,21 @@ within a factor two of the curated timing."""
 def safety_factor(n_orders: int) -> float:
     """Roache's GCI safety factor for a p-sequence of ``n_orders`` orders
     (:func:`~debench.models.numerics.gci_safety`: 1.25 with >= 3 orders, else 3)."""
-    from debench.models.numerics import gci_safety
     return gci_safety(n_orders)
 
 
-def converged(v, floor: float = 0.0) -> dict[str, float]:
+def converged(v, floor: float = 0.0) -> PGradingEstimate:
     """Converged value and error estimate from ``v[order, layers]`` (orders and layers
-    ascending): the value at the top order and finest grading; the error estimate is
-    :func:`safety_factor` times the larger of the last p-step change at the finest grading
-    and the change between the two finest gradings at the top order, and at least
-    ``floor`` (what each value is reproducible to, :data:`REGEN_ATOL` in the dataset)."""
+    ascending, every pair computed): the value at the top order and finest grading; the
+    error estimate is :func:`safety_factor` times the larger of the last p-step change at
+    the finest grading and the change between the two finest gradings at the top order,
+    and at least ``floor`` (what each value is reproducible to, :data:`REGEN_ATOL` in the
+    dataset): :func:`~debench.models.numerics.p_grading_estimate` on the grid."""
     v = np.asarray(v, float)
     if v.ndim != 2 or v.shape[0] < 2 or v.shape[1] < 2:
         raise ValueError(f"converged: need >= 2 orders and >= 2 gradings, got shape {v.shape}")
-    dp = abs(v[-1, -1] - v[-2, -1])
-    dl = abs(v[-1, -1] - v[-1, -2])
-    fs = safety_factor(v.shape[0])
-    return {"v": float(v[-1, -1]), "error": float(max(fs * max(dp, dl), floor)),
-            "p_step_change": float(dp),
-            "grading_change": float(dl), "safety_factor": fs}
+    grid = [(p, L) for p in range(v.shape[0]) for L in range(v.shape[1])]
+    return p_grading_estimate(v.reshape(-1), grid, floor=floor)
 
 
 def solve_plan(full: bool = False, progress=None) -> dict:
@@ -237,7 +239,6 @@ def _variables(fields, ndof, ndof_mode, res, conv, acc, fs, vs3d) -> dict:
 
 def compute(full: bool = False, solved: dict | None = None) -> tuple[xr.Dataset, dict]:
     from debench.models.buckling.axisym import AxisymDiscretisation
-    from debench.models.numerics import propagated_accuracy
 
     orders, layers = ORDERS[full], LAYERS[full]
     res = solved if solved is not None else solve_plan(full)
@@ -253,17 +254,21 @@ def compute(full: bool = False, solved: dict | None = None) -> tuple[xr.Dataset,
             arr[idx] = getattr(r, k)
         ndof[idx], ndof_mode[idx] = r.ndof, r.ndof_mode
     v = fields["v"]
-    conv = {k: np.zeros(shape[:2]) for k in ("v", "error", "p_step_change", "grading_change")}
-    acc = {k: np.zeros(shape[:2]) for k in ("v", "error", "p_step_change", "grading_change")}
+    # the dataset's names of the estimate's fields
+    fields_of = {"v": "value", "error": "error", "p_step_change": "p_change",
+                 "grading_change": "grading_change"}
+    conv = {k: np.zeros(shape[:2]) for k in fields_of}
+    acc = {k: np.zeros(shape[:2]) for k in fields_of}
     fs = safety_factor(len(orders))
     for c, n in np.ndindex(shape[:2]):
         got = converged(v[c, n], REGEN_ATOL)
-        for k in conv:
-            conv[k][c, n] = got[k]
+        for k, field in fields_of.items():
+            conv[k][c, n] = getattr(got, field)
             # regenerations move each input by up to REGEN_ATOL: the derived values by
             # what that moves them
             acc[k][c, n] = float(propagated_accuracy(
-                lambda x, k=k: converged(x, REGEN_ATOL)[k], v[c, n], REGEN_ATOL))
+                lambda x, field=field: getattr(converged(x, REGEN_ATOL), field), v[c, n],
+                REGEN_ATOL))
     acc = {k: float(np.max(x)) for k, x in acc.items()}
 
     vs3d = _vs_3d(conv["v"][:, WAVENUMBERS.index(0)])

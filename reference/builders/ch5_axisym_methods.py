@@ -19,7 +19,7 @@ mechanics (initial stress / Mindlin) and the electromechanical coupling of the m
 disc)`` with its secant tolerance, CPU seconds and degrees of freedom; per (case, tangent)
 the converged value (top discretisation) and its error estimate (Roache's safety factor
 times the larger of the change from the order below and from the coarser grading:
-:func:`debench.reference.builders.ch5_axisym_path.converged`); the plate estimates.
+:func:`debench.models.numerics.p_grading_estimate`); the plate estimates.
 
 Plans: ``full`` the neo-Hookean film (the one the catalogue's coupling diagnosis is about)
 on (p, L) = (3, 6), (4, 6), (5, 6), (5, 4) (three orders: safety factor 1.25); default the
@@ -36,8 +36,8 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from debench.models.numerics import p_grading_estimate, p_grading_safety, propagated_accuracy
 from debench.reference.builders.ch5_axisym import REPEAT_ATOL, critical_solve_variables
-from debench.reference.builders.ch5_axisym_path import converged, safety_factor
 from debench.reference.datasets import variable_attrs, write_dataset
 from debench.reference.studies.ch5_axisym_methods import (
     ASPECT,
@@ -60,7 +60,6 @@ def plan(full: bool = False) -> list[tuple]:
 
 def compute(full: bool = False, scheduler=None, progress: bool = True):
     from debench.models.buckling.analytic import critical_voltage_plate
-    from debench.models.numerics import propagated_accuracy
     from debench.reference.studies.ch5_axisym_tasks import material
     from debench.reference.tasks import run_tasks
 
@@ -78,9 +77,9 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
         for key in keys:
             f[key][c, t, k] = r[key]
         ndof[c, t, k] = r["ndof"]
-    conv = converged(f["v"], discs)
+    conv = p_grading_estimate(f["v"], discs)
     acc = {key: float(np.max([propagated_accuracy(
-        lambda x, key=key: converged(x, discs)[key], row, REPEAT_ATOL)
+        lambda x, key=key: getattr(p_grading_estimate(x, discs), key), row, REPEAT_ATOL)
         for row in f["v"].reshape(-1, len(discs))])) + REPEAT_ATOL
         for key in ("value", "error", "p_change", "grading_change")}
     plates = np.array([[critical_voltage_plate(material(c), ASPECT, mindlin=m)
@@ -91,18 +90,18 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
     variables = {
         **critical_solve_variables(d3, f, ndof, "in wavenumber 0 under the stability "
                                    "operator (this discretisation)", REPEAT_ATOL),
-        "v_cr_converged": (d2, conv["value"], a(
+        "v_cr_converged": (d2, conv.value, a(
             "converged critical voltage: v_cr on the top discretisation of the plan",
             atol=acc["value"], accuracy="+- v_cr_error")),
-        "v_cr_error": (d2, conv["error"], a(
+        "v_cr_error": (d2, conv.error, a(
             "error estimate of v_cr_converged: safety_factor x max(p_change, "
             "grading_change)", atol=acc["error"])),
-        "v_cr_p_change": (d2, conv["p_change"], a(
+        "v_cr_p_change": (d2, conv.p_change, a(
             "change of v_cr from the order below (finest grading)", atol=acc["p_change"])),
-        "v_cr_grading_change": (d2, conv["grading_change"], a(
+        "v_cr_grading_change": (d2, conv.grading_change, a(
             "change of v_cr from the coarser grading (top order)",
             atol=acc["grading_change"])),
-        "safety_factor": ((), safety_factor(discs), a(
+        "safety_factor": ((), p_grading_safety(discs), a(
             "Roache's GCI safety factor of the plan (1.25 with >= 3 orders, else 3)")),
         "v_cr_mindlin": (("case",), plates[:, 0], a(
             "clamped Mindlin plate estimate of the critical voltage (shear-corrected)",

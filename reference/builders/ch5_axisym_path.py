@@ -21,11 +21,12 @@ Converged values and their error estimates: the value on the top discretisation 
 plan (highest order at the finest grading); the error estimate is Roache's safety factor
 (1.25 with >= 3 orders at the finest grading, else 3) times the larger of the change from
 the order below (at the finest grading) and the change from the coarser grading (at the
-top order) (:func:`converged`). The decision per film (:func:`decide`): the first
-instability is wrinkling when the smallest converged w_cross lies below the converged
-w_max by more than the sum of their error estimates; pull-in when no wavenumber's
-eigenvalue crosses zero before the maximum on any discretisation and the smallest
-converged eigenvalue at the maximum exceeds its error estimate; otherwise undecided.
+top order) (:func:`~debench.models.numerics.p_grading_estimate`). The decision per film
+(:func:`decide`): the first instability is wrinkling when the smallest converged w_cross
+lies below the converged w_max by more than the sum of their error estimates; pull-in when
+no wavenumber's eigenvalue crosses zero before the maximum on any discretisation and the
+smallest converged eigenvalue at the maximum exceeds its error estimate; otherwise
+undecided.
 
 Plans: ``full`` the neo-Hookean and Ogden films at R/t0 = 10 and the Ogden film at
 R/t0 = 20 on (p, L) = (2, 6), (3, 6), (4, 6), (4, 4) (the Ogden paths cost more than ten
@@ -47,6 +48,7 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from debench.models.numerics import p_grading_estimate, p_grading_safety, propagated_accuracy
 from debench.reference.datasets import variable_attrs, write_dataset
 from debench.reference.studies.ch5_axisym_tasks import (
     CASES,
@@ -84,44 +86,6 @@ def plan(full: bool = False, cases=None) -> list[tuple]:
     p = PLANS[full]
     return [(path_task, c, order, layers, p["n_max"]) for c in (cases or p["cases"])
             for order, layers in p["discs"]]
-
-
-def _top(discs) -> tuple[int, int, int | None]:
-    """Indices of the top discretisation (highest order, then most layers), of the order
-    below it at the same grading, and of the coarser grading at the top order (None if
-    the plan has none)."""
-    discs = list(discs)
-    p_top = max(p for p, _ in discs)
-    l_top = max(L for p, L in discs if p == p_top)
-    i_top = discs.index((p_top, l_top))
-    lower = [p for p, L in discs if L == l_top and p < p_top]
-    if not lower:
-        raise ValueError(f"converged: the plan {discs} has no lower order at {l_top} layers")
-    i_p = discs.index((max(lower), l_top))
-    coarser = [L for p, L in discs if p == p_top and L < l_top]
-    i_l = discs.index((p_top, max(coarser))) if coarser else None
-    return i_top, i_p, i_l
-
-
-def safety_factor(discs) -> float:
-    """Roache's safety factor for the p-sequence at the top grading of ``discs``
-    (:func:`~debench.models.numerics.gci_safety`: 1.25 with >= 3 orders, else 3)."""
-    from debench.models.numerics import gci_safety
-
-    l_top = max(L for p, L in discs if p == max(q for q, _ in discs))
-    return gci_safety(len({p for p, L in discs if L == l_top}))
-
-
-def converged(values, discs) -> dict[str, np.ndarray]:
-    """Converged value and error estimate of ``values[..., disc]`` over the plan ``discs``
-    (see the module docstring); NaN where a value is NaN on one of the discretisations
-    used (a crossing found on some discretisations only has no estimate)."""
-    x = np.asarray(values, float)
-    i_top, i_p, i_l = _top(discs)
-    dp = np.abs(x[..., i_top] - x[..., i_p])
-    dl = np.abs(x[..., i_top] - x[..., i_l]) if i_l is not None else np.zeros_like(dp)
-    return {"value": x[..., i_top], "p_change": dp, "grading_change": dl,
-            "error": safety_factor(discs) * np.maximum(dp, dl)}
 
 
 def three_d_like(case: str, h: float) -> tuple[float, float]:
@@ -203,23 +167,22 @@ def _collect(res: dict, cases, discs, ns) -> dict:
 
 
 def _converge(scal: dict, per_n: dict, discs) -> tuple[dict, dict]:
-    """Per converged quantity its :func:`converged` sequence values (``conv``) and the
-    regeneration accuracy they carry (``acc``: what REGEN_ATOL of the inputs moves the
-    error estimate by, plus REGEN_ATOL)."""
-    from debench.models.numerics import propagated_accuracy
-
+    """Per converged quantity its estimate from the p- and grading-sequence
+    (:func:`~debench.models.numerics.p_grading_estimate`, ``conv``) and the regeneration
+    accuracy it carries (``acc``: what REGEN_ATOL of the inputs moves the error estimate by,
+    plus REGEN_ATOL)."""
     K = len(discs)
     conv, acc = {}, {}
     for key, src in (("v_max", scal["v_max"]), ("w_max", scal["w_max"]),
                      ("thickness_max", scal["thickness_max"]),
                      ("lam_at_max", per_n["lam_at_max"]), ("w_cross", per_n["w_cross"]),
                      ("v_cross", per_n["v_cross"])):
-        conv[key] = converged(np.moveaxis(src, 1, -1), discs)
+        conv[key] = p_grading_estimate(np.moveaxis(src, 1, -1), discs)
         kind = key.split("_")[0] if key.split("_")[0] in REGEN_ATOL else "v"
         atol = REGEN_ATOL["lam" if key == "lam_at_max" else kind]
         flat = np.moveaxis(src, 1, -1).reshape(-1, K)
         acc[key] = float(np.nanmax([np.nan_to_num(propagated_accuracy(
-            lambda x: converged(x, discs)["error"], row, atol), nan=0.0)
+            lambda x: p_grading_estimate(x, discs).error, row, atol), nan=0.0)
             for row in flat] + [0.0])) + atol
     return conv, acc
 
@@ -282,7 +245,7 @@ def _sequence_variables(got: dict, discs) -> dict:
         "newton_residual_rel": (dk, scal["newton_residual_rel"], a(
             "largest Newton residual of the recorded states relative to its reference",
             atol=1e-8)),
-        "safety_factor": ((), safety_factor(discs), a(
+        "safety_factor": ((), p_grading_safety(discs), a(
             "Roache's GCI safety factor of the plan (1.25 with >= 3 orders, else 3)")),
     }
 
@@ -298,15 +261,15 @@ def _converged_variables(sequence: dict, conv: dict, acc: dict) -> dict:
                       ("thickness_max", ("case",)), ("lam_at_max", dn), ("w_cross", dn),
                       ("v_cross", dn)):
         unit_of = sequence[key][2]["long_name"]
-        out[f"{key}_converged"] = (dims, conv[key]["value"], a(
+        out[f"{key}_converged"] = (dims, conv[key].value, a(
             f"converged: {unit_of}, on the top discretisation", atol=acc[key],
             accuracy=f"+- {key}_error"))
-        out[f"{key}_error"] = (dims, conv[key]["error"], a(
+        out[f"{key}_error"] = (dims, conv[key].error, a(
             f"error estimate of {key}_converged: safety_factor x max(p_change, "
             "grading_change)", atol=acc[key]))
-        out[f"{key}_p_change"] = (dims, conv[key]["p_change"], a(
+        out[f"{key}_p_change"] = (dims, conv[key].p_change, a(
             f"change of {key} from the order below (finest grading)", atol=acc[key]))
-        out[f"{key}_grading_change"] = (dims, conv[key]["grading_change"], a(
+        out[f"{key}_grading_change"] = (dims, conv[key].grading_change, a(
             f"change of {key} from the coarser grading (top order)", atol=acc[key]))
     return out
 
@@ -354,9 +317,9 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
     got = _collect(res, cases, discs, ns) | {"ns": ns}
     scal, per_n = got["scal"], got["per_n"]
     conv, acc = _converge(scal, per_n, discs)
-    dec = [decide(conv["w_max"]["value"][ci], conv["w_max"]["error"][ci],
-                  conv["w_cross"]["value"][ci], conv["w_cross"]["error"][ci],
-                  conv["lam_at_max"]["value"][ci], conv["lam_at_max"]["error"][ci],
+    dec = [decide(conv["w_max"].value[ci], conv["w_max"].error[ci],
+                  conv["w_cross"].value[ci], conv["w_cross"].error[ci],
+                  conv["lam_at_max"].value[ci], conv["lam_at_max"].error[ci],
                   bool(np.any(per_n["w_cross"][ci] < scal["w_max"][ci][:, None])))
            for ci in range(len(cases))]
     h3 = COARSE_3D_H[full]
