@@ -1,7 +1,7 @@
 """Symbolic derivation of the Chapter 4 incremental plate problem from the energy (4.22).
 
 Run ``python tools/derive_ch4.py`` to re-derive everything and regenerate
-``models/plate/_generated.py``; ``python tools/derive_ch4.py --check`` only prints the
+``models/plate/generated.py``; ``python tools/derive_ch4.py --check`` only prints the
 comparison with the printed equations (no file written).
 
 What is derived (units: mu = eps = 1, so D_hat = D2 / sqrt(mu eps) is simply D2):
@@ -33,7 +33,7 @@ from pathlib import Path
 
 import sympy as sp
 
-OUT = Path(__file__).resolve().parents[1] / "models" / "plate" / "_generated.py"
+OUT = Path(__file__).resolve().parents[1] / "models" / "plate" / "generated.py"
 
 lam, xi, al, be, Dh = sp.symbols("lam xi alpha beta Dhat", positive=True)
 s, A, B = sp.symbols("s A B")

@@ -1,7 +1,7 @@
 """Symbolic derivation of the incremental plate problem with the fibre in the plane.
 
 Run ``python tools/derive_ch4_inplane.py`` to re-derive and regenerate
-``models/plate/_generated_inplane.py`` (``--check`` prints only).
+``models/plate/generated_inplane.py`` (``--check`` prints only).
 
 Beyond the thesis (which puts the fibre A through the thickness, A = e2): here
 A = (cos theta, 0, sin theta) lies in the plane of the plate, at the angle theta to the
@@ -32,7 +32,7 @@ from pathlib import Path
 
 import sympy as sp
 
-OUT = Path(__file__).resolve().parents[1] / "models" / "plate" / "_generated_inplane.py"
+OUT = Path(__file__).resolve().parents[1] / "models" / "plate" / "generated_inplane.py"
 
 lam, xi, al, be, Dh = sp.symbols("lam xi alpha beta Dhat", positive=True)
 ct, st = sp.symbols("ct st", real=True)   # cos theta, sin theta

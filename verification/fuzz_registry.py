@@ -85,6 +85,17 @@ EXCLUDED_MODULES = {
         "NGSolve thin-solid (r, z) FE cross-check of Chapter 3 (seconds per call): "
         "validates at its boundary (ValueError naming the bound, ConvergenceError); bad "
         "inputs tested in verification/test_ch3_fe_solid.py"),
+    "debench.models.plate.generated": (
+        "sympy-generated code (tools/derive_ch4.py): the coefficients a..g of (4.52)-(4.53) "
+        "and the base state as straight-line arithmetic of scalars or arrays, no validation "
+        "by design; called on validated inputs by debench.models.plate.coefficients (whose "
+        "public functions are fuzzed here) and re-derived with sympy in "
+        "verification/test_ch4_derivation.py"),
+    "debench.models.plate.generated_inplane": (
+        "sympy-generated code (tools/derive_ch4_inplane.py): the in-plane fibre energy "
+        "matrix and base state as straight-line arithmetic, no validation by design; called "
+        "on validated inputs by debench.models.plate.inplane (whose public functions are "
+        "fuzzed here) and re-derived with sympy in verification/test_ch4_inplane.py"),
     "debench.models.plate.strip_fe": (
         "NGSolve strip FE cross-check of Chapter 4 (seconds per call): validates at its "
         "boundary (require, ConvergenceError); bad inputs tested in "

@@ -2,7 +2,7 @@
 the printed (4.38), (4.54)-(4.66), (4.75)-(4.82). Evidence tests of the ch4 errata.
 
 Three independent routes to the incremental energy matrix S (debench.models.plate.coefficients):
-the sympy derivation (tools/derive_ch4.py -> _generated.py), central finite differences
+the sympy derivation (tools/derive_ch4.py -> generated.py), central finite differences
 of a numpy transcription of (4.22) written here, and the constitutive kernel
 debench.models.materials (TransverselyIsotropicNeoHookean + push_forward).
 """
@@ -114,7 +114,7 @@ def test_energy_matrix_agrees_with_models_materials_kernel():
 
 
 def test_generated_code_matches_fresh_sympy_derivation():
-    """Re-derive with tools/derive_ch4.py and compare with _generated.py numerically."""
+    """Re-derive with tools/derive_ch4.py and compare with generated.py numerically."""
 
     import sympy as sp
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from debench.models.errors import ConvergenceError
 from debench.models.plate import PlateParams
-from debench.models.plate import _generated_inplane as gen
+from debench.models.plate import generated_inplane as gen
 from debench.models.plate import inplane as ip
 from debench.models.plate import inplane_fe as ipfe
 from debench.reference.catalogue import by_id, evaluate

@@ -10,7 +10,7 @@ can be shown:
 
 ``"derived"``
     a, 2b, c, d, e, f, g derived symbolically from the energy (4.22)
-    (``tools/derive_ch4.py`` -> ``_generated.py``). Differs from print by
+    (``tools/derive_ch4.py`` -> :mod:`debench.models.plate.generated`). Differs from print by
     -2 xi lam^-4 in 2b and c (errata ``ch4.erratum.eq4_55_b`` / ``eq4_56_c``).
 ``"printed"``
     (4.54)-(4.60) as printed, used in a *consistent* formulation (roots, amplitude
@@ -30,8 +30,8 @@ from dataclasses import dataclass
 import numpy as np
 from debench.models import validation as v
 from debench.models.errors import require
-from debench.models.plate._generated import base_state as _base_state
-from debench.models.plate._generated import derived_coefficients
+from debench.models.plate.generated import base_state as _base_state
+from debench.models.plate.generated import derived_coefficients
 
 #: forms of the equations: derived from (4.22), the printed coefficients (4.54)-(4.60) used
 #: consistently, the literal printed equations (4.64)-(4.66), (4.75)-(4.82) (module docstring)
@@ -156,8 +156,8 @@ def energy_matrix(lam, params: PlateParams) -> np.ndarray:
 def base_state(lam, params: PlateParams):
     """Base pressure p (from tau22 = 0) and lateral total Cauchy stress tau11 / mu.
 
-    Derived from (4.22) (``_generated.base_state``): for the ``"derived"`` energy
-    tau11 = lam^2 - lam^-4 - beta Dhat^2 + 2 xi lam^-4 (1 - lam^-4).
+    Derived from (4.22) (:func:`debench.models.plate.generated.base_state`): for the
+    ``"derived"`` energy tau11 = lam^2 - lam^-4 - beta Dhat^2 + 2 xi lam^-4 (1 - lam^-4).
     """
     lam = _check_lam(lam)
     _check_params(params)

@@ -46,7 +46,7 @@ import numpy as np
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError
 from debench.models.numerics.roots import regula_falsi_many
-from debench.models.plate import _generated_inplane as gen
+from debench.models.plate import generated_inplane as gen
 from debench.models.plate.ansatz import critical_stretches
 from debench.models.plate.coefficients import PlateParams
 from debench.models.plate.voltage import critical_stretches_at_voltage, dhat_at_voltage
