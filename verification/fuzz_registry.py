@@ -666,6 +666,23 @@ def _inplane_cases():
     ]
 
 
+def _determinants_and_ellipticity(lam, kH, params, parities=("E", "O")):
+    """ansatz.determinants with the strong ellipticity of ``lam``, for
+    :func:`_check_nan_where_not_elliptic` (NaN is its answer where not elliptic)."""
+    from debench.models.plate import ansatz
+    from debench.models.plate.coefficients import strongly_elliptic
+
+    return ansatz.determinants(lam, kH, params, parities), strongly_elliptic(lam, params)
+
+
+def _check_nan_where_not_elliptic(res):
+    dets, elliptic = res
+    for det in dets:
+        ell = np.broadcast_to(elliptic, det.shape)
+        assert np.all(np.isfinite(det[ell])), f"non-finite at elliptic points: {det!r:.200}"
+        assert np.all(np.isnan(det[~ell])), f"a value where not elliptic: {det!r:.200}"
+
+
 def _plate_cases():
     from debench.models.plate import analysis, ansatz, fem, voltage
 
@@ -701,6 +718,14 @@ def _plate_cases():
         Case(f"{p}.ansatz.determinant", ansatz.determinant,
              {"lam": 1.2, "kH": 1.0, "params": P0, "parity": "E"},
              {"lam": "lam", "kH": "pos", "params": "obj", "parity": "choice"}),
+        Case(f"{p}.ansatz.determinants", _determinants_and_ellipticity,
+             {"lam": 1.2, "kH": 1.0, "params": P0},
+             {"lam": "lam", "kH": "pos", "params": "obj", "parities": "obj"},
+             check=_check_nan_where_not_elliptic),
+        Case(f"{p}.ansatz.row_coefficients", ansatz.row_coefficients,
+             {"lam": 1.2, "params": P0}, {"lam": "lam", **pk}),
+        Case(f"{p}.ansatz.quartic_roots", ansatz.quartic_roots,
+             {"lam": 1.2, "params": P0}, {"lam": "lam", **pk}),
         Case(f"{p}.ansatz.scan_grid", ansatz.scan_grid,
              {"window": (0.4, 8.0), "n": 10}, {"window": "window", "n": "count"},
              extra={"n": [1]}),

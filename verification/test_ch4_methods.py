@@ -11,7 +11,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from debench.models.plate import PlateParams
-from debench.models.plate.ansatz import PARITIES, _quartic_roots, critical_stretches, determinant
+from debench.models.plate.ansatz import (
+    PARITIES,
+    critical_stretches,
+    determinant,
+    quartic_roots,
+    row_coefficients,
+)
 from debench.models.plate.fem import eigenvalues, elements_for, refine_root
 from scipy.optimize import brentq
 
@@ -156,7 +162,7 @@ def test_no_spurious_root_at_lam_one_where_quartic_roots_coincide(parity, D):
     determinant continuous and nonzero there (no artificial root at lam = 1)."""
     p = PlateParams(0.0, D)
     for kH in (0.5, 3.0):
-        s2, s3 = _quartic_roots(np.array([1.0]), p)
+        s2, s3 = quartic_roots(np.array([1.0]), p)
         assert abs(s2[0] - s3[0]) < 1e-12
         vals = determinant(np.array([1 - 1e-6, 1.0, 1 + 1e-6]), kH, p, parity)
         assert np.all(np.isfinite(vals))
@@ -165,13 +171,21 @@ def test_no_spurious_root_at_lam_one_where_quartic_roots_coincide(parity, D):
         assert abs(vals[2] - vals[0]) < 1e-3 * np.abs(vals).max()
 
 
+def _rows(s, A, B, rc):
+    """Boundary rows (4.69)-(4.71) for one exponential, (k = 1, common factors dropped):
+    the unsplit rows, which method 1 uses only through its parity columns."""
+    c, b2, d, e, f = rc
+    r1 = c * (1 + s**2) * A - d * s * B
+    r2 = (b2 + c - c * s**2) * s * A - (e - d * s**2) * B
+    r3 = d * (1 + s**2) * A - f * s * B
+    return np.stack([r1, r2, r3], axis=-1)
+
+
 def _det6(lam, kH, p):
     """Unsplit 6x6 determinant of (4.69)-(4.74), faces at 0 and h, six roots +-s."""
-    from debench.models.plate.ansatz import _row_coefficients, _rows
-
-    rc = [float(x) for x in _row_coefficients(np.array(lam), p)]
+    rc = [float(x) for x in row_coefficients(np.array(lam), p)]
     kappa = rc[2] / rc[4]
-    s2, s3 = (complex(x[()]) for x in _quartic_roots(np.array(lam), p))
+    s2, s3 = (complex(x[()]) for x in quartic_roots(np.array(lam), p))
     t = kH * lam**-2
     cols = []
     for s, A, B in ((1.0, 0.0, 1.0), (-1.0, 0.0, 1.0), (s2, 1.0, kappa * s2),

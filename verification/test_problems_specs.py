@@ -268,7 +268,7 @@ def test_ch4_every_root_inside_the_window_is_found(xi, D):
     """Completeness: at every 25th stored kH, a sign scan of both parity determinants on
     FINE_SCAN stretches (plus the approach to lam_E) finds exactly the stored roots."""
     from debench.models.plate import PlateParams
-    from debench.models.plate.ansatz import _determinants, scan_grid
+    from debench.models.plate.ansatz import determinants, scan_grid
 
     ds = read_dataset("ch4_fig4_2_curves")
     p = PlateParams(xi=xi, Dhat=D)
@@ -277,7 +277,7 @@ def test_ch4_every_root_inside_the_window_is_found(xi, D):
         stored = ds.lam_cr.sel(variant="derived", xi=xi, Dhat=D, kH=kH).values
         stored = stored[np.isfinite(stored)]
         found = []
-        for det in _determinants(grid, kH, p):
+        for det in determinants(grid, kH, p):
             ok = np.isfinite(det[:-1]) & np.isfinite(det[1:])
             j = np.flatnonzero(ok & (np.sign(det[:-1]) * np.sign(det[1:]) < 0))
             found += list(0.5 * (grid[j] + grid[j + 1]))

@@ -30,6 +30,7 @@ cosh(k s h / 2) so nothing overflows for thick plates. h = H lam^-2, so k h = kH
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -38,6 +39,7 @@ from debench.models.errors import ConvergenceError, require
 from debench.models.numerics.roots import regula_falsi_many
 from debench.models.plate.coefficients import (
     PlateParams,
+    _check_lam,
     _coefficients,
     _reduced_quartic,
     _strongly_elliptic,
@@ -59,6 +61,18 @@ _STENCIL = ((-2, 1 / 12), (-1, -8 / 12), (1, 8 / 12), (2, -1 / 12))
 _ELLIPTIC_APPROACH = tuple(10.0**-k for k in range(2, 11))
 
 
+@v.finite_result
+def row_coefficients(lam, params: PlateParams):
+    """Coefficients (c, 2b, d, e, f) of the boundary rows (4.69)-(4.71) at ``lam``.
+
+    For ``"derived"`` and ``"printed"`` they are those of
+    :func:`~debench.models.plate.coefficients.coefficients`; for ``"literal"`` the ones
+    the rows (4.75)-(4.77) imply taken literally (beta absent, 6 xi lam^-8 in (4.76)).
+    Vectorised over ``lam`` (finite, > 0); each coefficient has the shape of ``lam``.
+    """
+    return _row_coefficients(_check_lam(lam), v.instance("params", params, PlateParams))
+
+
 def _row_coefficients(lam, p: PlateParams, coef=None):
     """Coefficients (c, 2b, d, e, f) entering the boundary rows (4.69)-(4.71); ``coef``:
     :func:`_coefficients` of ``(lam, p)`` when the caller holds them."""
@@ -70,15 +84,6 @@ def _row_coefficients(lam, p: PlateParams, coef=None):
         return C1, K2 - C1, p.Dhat * one, 2 * p.Dhat * one, one
     a, b2, c, d, e, f, g = _coefficients(lam, p) if coef is None else coef
     return c, b2, d, e, f
-
-
-def _rows(s, A, B, rc):
-    """Boundary rows (4.69)-(4.71) for one exponential, (k = 1, common factors dropped)."""
-    c, b2, d, e, f = rc
-    r1 = c * (1 + s**2) * A - d * s * B
-    r2 = (b2 + c - c * s**2) * s * A - (e - d * s**2) * B
-    r3 = d * (1 + s**2) * A - f * s * B
-    return np.stack([r1, r2, r3], axis=-1)
 
 
 def _column(s, t, parity, kind, rc, kappa):
@@ -144,6 +149,22 @@ def _pair_det(ra, rb, r1, tha, thb, th1, parity):
     return thb * th1 * wa + tha * th1 * wb + tha * thb * w1
 
 
+@v.finite_result
+def quartic_roots(lam, params: PlateParams):
+    """The two quartic roots (s2, s3) of the characteristic equation (4.63), Re s >= 0.
+
+    With alpha = 0, (4.63) is (s^2 - 1) [qc s^4 - qb s^2 + qa] = 0
+    (:func:`~debench.models.plate.coefficients.reduced_quartic`). s2^2 and s3^2 are the
+    roots of qc sigma^2 - qb sigma + qa = 0, computed without cancellation:
+    s2^2 = (qb +- sqrt(qb^2 - 4 qa qc)) / (2 qc) with the sign of Re qb, and
+    s3^2 = qa / (qc s2^2); s2, s3 are their principal square roots. With s = 1 they are
+    the decay rates s of the modes exp(-k s x2) of (4.61)-(4.62): real, or a
+    complex-conjugate pair, and both 1 at xi = 0, lam = 1. Vectorised over ``lam``
+    (finite, > 0); two complex arrays of the shape of ``lam``.
+    """
+    return _quartic_roots(_check_lam(lam), v.instance("params", params, PlateParams))
+
+
 def _quartic_roots(lam, p, quartic=None):
     """The two quartic roots (s2, s3) with Re >= 0; ``quartic``: :func:`_reduced_quartic`
     of ``(lam, p)`` when the caller holds it."""
@@ -181,6 +202,34 @@ def _determinant(lam, kH, params, parity):
     """:func:`determinant` without checks: NaN where the model is not strongly elliptic."""
     require(parity in PARITIES, f"parity must be 'E' or 'O', got {parity!r}")
     return _determinants(lam, kH, params, (parity,))[0]
+
+
+def determinants(lam, kH, params: PlateParams, parities=PARITIES) -> list[np.ndarray]:
+    """The scaled determinant of each parity of ``parities`` (a sequence of "E", "O"),
+    NaN where the model is not strongly elliptic, sharing the work the parities have in
+    common: the scan of :func:`critical_stretches` and :func:`curves_vectorised`.
+
+    The values are those of :func:`determinant`, which raises where this returns NaN.
+    ``lam`` and ``kH`` (finite, > 0) broadcast against each other, and the result of each
+    parity has their broadcast shape; on a tensor grid pass ``lam`` of shape (1, n) and
+    ``kH`` of shape (m, 1) (the lam-only work is then done n times, not m n times).
+    Method 1 is implemented for alpha = 0 (ValueError otherwise).
+    """
+    v.instance("params", params, PlateParams)
+    lam = v.positive("lam", lam)
+    kH = v.positive("kH", kH)
+    return _determinants(lam, kH, params, _check_parities(parities))
+
+
+def _check_parities(parities) -> tuple[str, ...]:
+    """``parities`` as a tuple: a non-empty sequence of entries of :data:`PARITIES`."""
+    if not isinstance(parities, Iterable):
+        raise TypeError(f"parities must be a sequence of {PARITIES}, got {parities!r}")
+    if isinstance(parities, str) or not all(
+            isinstance(x, str) and x in PARITIES for x in parities) or not len(parities):
+        raise ValueError(f"parities must be a non-empty sequence of {PARITIES}, "
+                         f"got {parities!r}")
+    return tuple(parities)
 
 
 def _determinants(lam, kH, params, parities=PARITIES):
@@ -301,10 +350,7 @@ def critical_stretches(kH: float, params: PlateParams, *, window=LAM_WINDOW,
     kH = v.finite("kH", kH)
     require(kH > 0, f"kH must be finite and > 0, got {kH}")
     _check_scan(kH, params, window, n_scan)
-    if isinstance(parities, str) or not all(
-            isinstance(x, str) and x in PARITIES for x in parities) or not len(parities):
-        raise ValueError(f"parities must be a non-empty sequence of {PARITIES}, "
-                         f"got {parities!r}")
+    _check_parities(parities)
     grid = scan_grid(window, n_scan, params)
     lams, pars = [], []
     for par, vals in zip(parities, _determinants(grid, kH, params, tuple(parities)),

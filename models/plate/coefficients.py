@@ -113,7 +113,7 @@ def coefficients(lam, params: PlateParams):
     """Coefficients (a, 2b, c, d, e, f, g) of (4.52)-(4.53) for the chosen variant.
 
     For ``"literal"`` these are the coefficients the literal rows (4.75)-(4.77) imply
-    with beta = 1 in the rows (see :func:`~debench.models.plate.ansatz._row_coefficients`);
+    with beta = 1 in the rows (see :func:`~debench.models.plate.ansatz.row_coefficients`);
     the interior equations are those of ``"printed"``.
     """
     return _coefficients(_check_lam(lam), _check_params(params))

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from debench.models.plate import PlateParams, coefficients
-from debench.models.plate.ansatz import _row_coefficients, critical_stretches
+from debench.models.plate.ansatz import critical_stretches, row_coefficients
 from debench.models.plate.coefficients import printed_coefficients, reduced_quartic
 
 #: exact algebra in floating point on O(10) numbers: rounding ~1e-15, 100x margin
@@ -150,8 +150,8 @@ def eq4_75_80_beta() -> ErratumCheck:
 
 def normal_traction_xi_term(lam: float, xi: float = 5.0) -> float:
     """(2b + c) from the printed (4.55)-(4.56) minus the literal (4.76) coefficient."""
-    c, b2, *_ = _row_coefficients(np.array(lam), PlateParams(xi, 0.0, 1.0, variant="printed"))
-    c_l, b2_l, *_ = _row_coefficients(np.array(lam), PlateParams(xi, 0.0, variant="literal"))
+    c, b2, *_ = row_coefficients(np.array(lam), PlateParams(xi, 0.0, 1.0, variant="printed"))
+    c_l, b2_l, *_ = row_coefficients(np.array(lam), PlateParams(xi, 0.0, variant="literal"))
     return float(b2 + c) - float(b2_l + c_l)
 
 
