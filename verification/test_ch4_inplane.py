@@ -51,7 +51,7 @@ def test_symbol_hermitian_and_decoupled_at_0_and_90():
         assert np.all(S[4:6, :4] == 0) and np.all(S[4:6, 6:] == 0)
     S = ip.energy_matrix(0.9, 45.0, p)
     assert S[0, 4] != 0  # the fibre couples L31 to L11 at intermediate angles
-    P = ip._symbol(S, np.array([0.3j, 1.1j]))  # real q2: Hermitian
+    P = ip.symbol(0.9, 45.0, p, np.array([0.3j, 1.1j]))  # real q2: Hermitian
     assert np.allclose(P, np.conj(np.swapaxes(P, -1, -2)), atol=1e-12)
 
 

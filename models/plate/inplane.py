@@ -123,6 +123,22 @@ def _B(q1, q2):
     return B
 
 
+@v.finite_result
+def symbol(lam: float, theta: float, params: PlateParams, s) -> np.ndarray:
+    """The symbol P(1, i s) of the incremental Euler-Lagrange operator in the unknowns
+    (psi, u3, phi), for each entry of ``s``: shape ``np.shape(s) + (3, 3)``.
+
+    P(q) = B(-q)^T S B(q), with S the energy matrix (:func:`energy_matrix`) and B(q) the
+    map from the amplitudes (Psi, U3, Phi) of fields exp(i (q1 x1 + q2 x2)) to z; q = (1, i s)
+    are the fields exp(i k x1 - s k x2) (k = 1). det P(1, i s) = 0 is the characteristic
+    equation of :func:`characteristic_roots`; where q is real (``s`` imaginary), P is
+    Hermitian. ``theta`` in degrees [0, 90]; ``s`` finite, complex allowed.
+    """
+    lam, theta = _check(lam, theta, params)
+    s = v.finite("s", s, complex_ok=True)
+    return _symbol(_S(lam, theta, params), s)
+
+
 def _symbol(S, s):
     """P(1, i s) = B(-q)^T S B(q), q = (1, i s), for an array of s."""
     s = np.asarray(s, complex)
