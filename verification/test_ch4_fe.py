@@ -23,6 +23,7 @@ from debench.models.errors import ConvergenceError
 from debench.models.numerics import roots
 from debench.models.plate import PlateParams, base_state, energy_matrix
 from debench.models.plate import strip_fe as sfe
+from debench.reference.datasets import read_dataset
 from debench.reference.studies import ch4_fe as S
 
 #: coarse-mesh agreement by kH class (the producers' check uses the same constants; their
@@ -123,18 +124,16 @@ def test_curated_euler_limit_is_the_live_one():
     assert abs(curated.lam_fe - live.lam_fe) <= S.ACCURACY.tolerance(live.lam_fe)
 
 
-def test_a_stale_limit_row_raises(monkeypatch):
+def test_a_stale_limit_row_raises():
     """A curated limit row whose determinant root is not the live one (here: moved by
     1e-6), or a missing limit, is a LookupError naming the regeneration."""
-    ds = S._limits_data()
+    ds = read_dataset("ch4_fe_limits")
     moved = ds.copy(deep=True)
     moved["lam_det"].values[:] += 1e-6
-    monkeypatch.setattr(S, "_limits_data", lambda: moved)
     with pytest.raises(LookupError, match="regenerate"):
-        S.curated_limit("euler")
-    monkeypatch.setattr(S, "_limits_data", lambda: ds.isel(limit=[0]))
+        S.curated_limit("euler", data=moved)
     with pytest.raises(LookupError, match="regenerate"):
-        S.curated_limit("euler")
+        S.curated_limit("euler", data=ds.isel(limit=[0]))
 
 
 @pytest.mark.slow
@@ -232,7 +231,7 @@ def test_strip_root_from_the_determinant_root_is_the_bracketed_one():
     zero a search of the whole bracket finds, to the root tolerance, in fewer eigen-solves
     (thin isotropic case of Fig. 4.2(c), coarse mesh)."""
     xi, D, kH = 0.0, 2.0, 0.3
-    lam, par = next(zip(*S._determinant_roots(xi, D, kH, "charge"), strict=True))
+    lam, par = next(zip(*S.determinant_roots(xi, D, kH, "charge"), strict=True))
     br = (lam * (1 - S.BRACKET), lam * (1 + S.BRACKET))
     kw = dict(Dhat=D, mesh=sfe.default_mesh(kH))
     mat = sfe.material_for(xi)

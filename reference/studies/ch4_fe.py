@@ -48,6 +48,8 @@ CASES_FULL = tuple((xi, D, kH) for D in FIG42_D for xi in (0.0, 5.0)
     (xi, 2.0, kH) for xi in (3.0, 10.0) for kH in (0.3, 2.0, 10.0))
 #: voltage control (beyond the thesis): isotropic and TI at Vhat = 0.5
 VOLTAGE_CASES = ((0.0, 0.5, 2.0), (5.0, 0.5, 10.0))
+#: the two controls of the plate: fixed Dhat (charge) or fixed Vhat (voltage)
+CONTROLS = ("charge", "voltage")
 #: kH of the thick (Biot) and thin (Euler) limits
 KH_BIOT = 20.0
 KH_EULER = 0.05
@@ -117,7 +119,7 @@ def compare(xi: float, load: float, kH: float, *, level: int = 0,
 
     if parity is not None and parity not in strip_fe.PARITIES:
         raise ValueError(f"parity must be one of {strip_fe.PARITIES} or None, got {parity!r}")
-    lams, pars = _determinant_roots(xi, load, kH, control)
+    lams, pars = determinant_roots(xi, load, kH, control)
     mat = strip_fe.material_for(xi)
     mesh = strip_fe.default_mesh(kH, level=level)
     strip = strip_fe._Strip(mesh)  # assembled once for the roots of this case
@@ -150,8 +152,17 @@ def _agreement_data():
     return read_dataset("ch4_fe_agreement")
 
 
-def _determinant_roots(xi: float, load: float, kH: float, control: str):
-    """(lam, parity) of the ``"derived"`` determinant at (xi, load, kH)."""
+def determinant_roots(xi: float, load: float, kH: float, control: str):
+    """(lam, parity) of the ``"derived"`` determinant (method 1) at (xi, load, kH): the
+    roots, sorted, every FE root of this study is searched next to.
+
+    ``control`` one of :data:`CONTROLS`: ``"charge"`` (``load`` is Dhat,
+    :func:`~debench.models.plate.ansatz.critical_stretches`) or ``"voltage"`` (``load`` is
+    Vhat, :func:`~debench.models.plate.voltage.critical_stretches_at_voltage`), both on
+    their default window and scan.
+    """
+    if control not in CONTROLS:
+        raise ValueError(f"control must be one of {CONTROLS}, got {control!r}")
     params = PlateParams(xi=xi, Dhat=load if control == "charge" else 0.0, variant="derived")
     if control == "charge":
         r = critical_stretches(kH, params)
@@ -172,7 +183,7 @@ def curated_comparisons(cases, control: str = "charge") -> list[Comparison]:
                                      "lam_fe", "ndof", "level")}
     out = []
     for xi, load, kH in cases:
-        lams, pars = _determinant_roots(xi, load, kH, control)
+        lams, pars = determinant_roots(xi, load, kH, control)
         for lam, par in zip(lams, pars, strict=True):
             hit = np.nonzero((col["xi"] == xi) & (col["load"] == load) & (col["kH"] == kH)
                              & (col["control"] == control) & (col["parity"] == par)
@@ -257,15 +268,16 @@ def _limits_data():
     return read_dataset("ch4_fe_limits")
 
 
-def curated_limit(name: str) -> Comparison:
+def curated_limit(name: str, *, data=None) -> Comparison:
     """The FE root of limit ``name`` from the curated ``ch4_fe_limits.nc`` beside the
     flexural determinant root recomputed now.
 
-    Raises ``LookupError`` when the dataset lacks the limit or its determinant root is not
-    the live one within :data:`SAME_DET_ROOT` (the determinant moved or the dataset is
-    stale).
+    ``data``: the limits dataset to read instead (a regenerated or edited copy of
+    ``ch4_fe_limits.nc``); by default the curated file, read once per process. Raises
+    ``LookupError`` when the dataset lacks the limit or its determinant root is not the
+    live one within :data:`SAME_DET_ROOT` (the determinant moved or the dataset is stale).
     """
-    ds = _limits_data()
+    ds = _limits_data() if data is None else data
     names = [str(x) for x in ds["limit"].values]
     if name not in names:
         raise LookupError(f"ch4_fe_limits.nc lacks the {name} limit; regenerate it "
@@ -273,7 +285,7 @@ def curated_limit(name: str) -> Comparison:
     row = ds.isel(limit=names.index(name))
     kH = KH_BIOT if name == "biot" else KH_EULER
     lam = (_biot_det_root() if name == "biot" else
-           next(x for x, p in zip(*_determinant_roots(0.0, 0.0, kH, "charge"), strict=True)
+           next(x for x, p in zip(*determinant_roots(0.0, 0.0, kH, "charge"), strict=True)
                 if p == "E"))
     if (float(row["kH"]) != kH or int(row["level"]) != LIMITS_LEVEL
             or not abs(float(row["lam_det"]) - lam) <= SAME_DET_ROOT):
