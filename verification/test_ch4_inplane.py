@@ -14,6 +14,7 @@ from debench.models.plate import generated_inplane as gen
 from debench.models.plate import inplane as ip
 from debench.models.plate import inplane_fe as ipfe
 from debench.reference.catalogue import by_id, evaluate
+from debench.reference.datasets import read_dataset
 from debench.reference.producers import ch4_inplane as prod
 from debench.reference.studies import ch4_inplane as prod_study
 
@@ -154,15 +155,15 @@ def test_curated_fe_roots_are_the_live_ones():
             assert abs(a - b) <= prod_study.ACCURACY.tolerance(a), (case, a, b)
 
 
-def test_a_case_missing_from_the_curated_roots_raises(monkeypatch):
+def test_a_case_missing_from_the_curated_roots_raises():
     """A window the curated dataset lacks (here: the dataset without its first case) is a
     LookupError naming the regeneration, never a silent pass."""
-    ds = prod_study._roots_data()
-    monkeypatch.setattr(prod_study, "_roots_data", lambda: ds.isel(case=slice(1, None)))
+    short = read_dataset("ch4_inplane_roots").isel(case=slice(1, None))
     with pytest.raises(LookupError, match="regenerate"):
-        prod_study.curated_fe_roots(prod_study.producer_cases()[0])
+        prod_study.curated_fe_roots(prod_study.producer_cases()[0], data=short)
     case = prod_study.producer_cases()[1]
-    assert prod_study.curated_fe_roots(case) == prod_study.curated_fe_roots(case)
+    assert (prod_study.curated_fe_roots(case, data=short)
+            == prod_study.curated_fe_roots(case, data=short))
     with pytest.raises(ValueError, match="fe_source"):
         prod_study.max_disagreement(fe_source="cache")
 
@@ -243,7 +244,7 @@ def test_compression_window_clears_the_fe_round_off_at_lam_E():
 
     kh = min(builder.KH_FULL)
     p = PlateParams(xi=1.0, Dhat=2.0)
-    lam_e, lo = builder._lo(0.0, p)
+    lam_e, lo = builder.window_start(0.0, p)
     assert lo == lam_e * (1 + ip.LAM_E_MARGIN)
 
     def nearest_and_guard(lam):
@@ -256,7 +257,7 @@ def test_compression_window_clears_the_fe_round_off_at_lam_E():
     e, guard = nearest_and_guard(lo)
     assert e > 10 * guard
     p = PlateParams(xi=1.0, Dhat=0.0)
-    _, lo = builder._lo(0.0, p)
+    _, lo = builder.window_start(0.0, p)
     det = ip.critical_stretches_det(kh, 0.0, p, window=(lo, 0.999), n_scan=builder.N_SCAN)
     fe = ipfe.critical_stretches_fe(kh, 0.0, p, window=(lo, 0.999), n_scan=builder.N_SCAN)
     assert det.size == fe.size >= 1 and np.max(np.abs(det - fe)) <= prod_study.TOL_AGREE

@@ -88,10 +88,13 @@ def _largest(roots):
     return max(roots, default=np.nan)
 
 
-def _lo(theta, p, Vhat=None):
-    """(lam_E, lower end of the compression window): above LAM_LO and a relative
-    :data:`debench.models.plate.inplane.LAM_E_MARGIN` above the ellipticity limit lam_E."""
-    lam_e = ip.ellipticity_limit(theta, p, window=(0.45, 0.999), Vhat=Vhat)
+def window_start(theta, params, Vhat=None):
+    """(lam_E, lo) of the compression and voltage-control windows of the datasets at the
+    fibre angle ``theta`` (degrees): lam_E the ellipticity limit
+    (:func:`debench.models.plate.inplane.ellipticity_limit` on (0.45, 0.999), along the
+    voltage path when ``Vhat`` is given) and lo, the window's lower end,
+    max(lam_E (1 + :data:`debench.models.plate.inplane.LAM_E_MARGIN`), :data:`LAM_LO`)."""
+    lam_e = ip.ellipticity_limit(theta, params, window=(0.45, 0.999), Vhat=Vhat)
     return lam_e, max(LAM_LO, lam_e * (1 + ip.LAM_E_MARGIN))
 
 
@@ -108,7 +111,7 @@ def lam_cr_dataset(full: bool) -> xr.Dataset:
         for b, D in enumerate(ds_):
             p = PlateParams(xi=xi, Dhat=D)
             for c, th in enumerate(thetas):
-                lam_e[a, b, c], lo = _lo(th, p)
+                lam_e[a, b, c], lo = window_start(th, p)
                 for d, kh in enumerate(khs):
                     cases[a, b, c, d] = Case("charge", th, xi, D, 0.0, kh, lo, 0.999)
     study.det_roots_many(list(cases.values()))   # every window's determinant roots at once
@@ -138,7 +141,7 @@ def curves_dataset(full: bool) -> xr.Dataset:
     for a, xi in enumerate(xis):
         p = PlateParams(xi=xi)
         for c, th in enumerate(thetas):
-            _, lo = _lo(th, p)
+            _, lo = window_start(th, p)
             for d, kh in enumerate(khs):
                 cases[a, c, d] = Case("charge", th, xi, 0.0, 0.0, kh, lo, 0.999)
     for idx, r in zip(cases, study.det_roots_many(list(cases.values())), strict=True):
@@ -196,7 +199,7 @@ def voltage_dataset(full: bool) -> xr.Dataset:
     cases = {}
     for b, V in enumerate(vs):
         for c, th in enumerate(thetas):
-            _, lo = _lo(th, p, Vhat=V)
+            _, lo = window_start(th, p, Vhat=V)
             for d, kh in enumerate(khs):
                 cases[b, c, d] = Case("voltage", th, xi, 0.0, V, kh, lo, V_HI)
     study.det_roots_many(list(cases.values()))   # every window's determinant roots at once

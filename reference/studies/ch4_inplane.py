@@ -170,14 +170,15 @@ def _roots_data():
     return read_dataset("ch4_inplane_roots")
 
 
-def curated_fe_roots(case: Case) -> tuple[float, ...]:
+def curated_fe_roots(case: Case, *, data=None) -> tuple[float, ...]:
     """The FE roots of ``case`` in the curated ``ch4_inplane_roots.nc``.
 
-    Raises ``LookupError`` when the dataset lacks the case (same control and parameters,
-    window within :data:`SAME_WINDOW`): the producers' cases changed or the dataset is
-    stale.
+    ``data``: the roots dataset to read instead (a regenerated or edited copy of
+    ``ch4_inplane_roots.nc``); by default the curated file, read once per process. Raises
+    ``LookupError`` when the dataset lacks the case (same control and parameters, window
+    within :data:`SAME_WINDOW`): the producers' cases changed or the dataset is stale.
     """
-    ds = _roots_data()
+    ds = _roots_data() if data is None else data
     col = {k: ds[k].values for k in ("control", "theta", "xi", "Dhat", "Vhat", "kH",
                                      "lam_lo", "lam_hi")}
     hit = np.nonzero((col["control"] == case.control) & (col["theta"] == case.theta)
