@@ -20,8 +20,6 @@ def _modules_with_examples() -> list[str]:
     for name in PACKAGES:
         pkg = importlib.import_module(name)
         for info in pkgutil.walk_packages(pkg.__path__, prefix=f"{name}."):
-            if info.name.split(".")[-1].startswith("_generated"):
-                continue
             spec = importlib.util.find_spec(info.name)
             if spec is None or spec.origin is None or not spec.origin.endswith(".py"):
                 continue
