@@ -32,7 +32,7 @@ def test_batched_states_at_voltage_equal_one_branch_each(pair):
     equal :func:`analysis.state_at_voltage` on each branch."""
     brs = [pair[0], pair[0], pair[1], pair[1]]
     cs = [0.0, -0.053, 0.0, -0.053]
-    got = analysis._states_at_voltage_many(brs, cs, [0.2] * 4)
+    got = analysis.states_at_voltage_many(brs, cs, [0.2] * 4)
     for br, c, st in zip(brs, cs, got, strict=True):
         ref = analysis.state_at_voltage(br, c, 0.2)
         for key in ("lam", "lam1B", "q"):
@@ -45,7 +45,7 @@ def test_batched_branches_at_stretches_equal_branch(pair):
     """Branch points at given stretches of both variants in one Newton iteration equal
     :func:`branch` with ``lam=`` (its own scan and Newton start) for each annulus."""
     lams = [np.linspace(3.0, 6.0, 40), np.linspace(3.0, 5.5, 30)]
-    got = analysis._branches_at(pair, lams)
+    got = analysis.branches_at(pair, lams)
     for br, lam, g in zip(pair, lams, got, strict=True):
         ref = branch(br.annulus, lam=lam)
         np.testing.assert_allclose(g.lam, lam, rtol=BATCH_RTOL)
@@ -56,7 +56,7 @@ def test_batched_branches_at_stretches_equal_branch(pair):
 
 def test_branches_at_rejects_stretches_off_the_branch(pair):
     with pytest.raises(ValueError, match="stretches must lie"):
-        analysis._branches_at(pair[:1], [np.array([2.9, 3.5])])
+        analysis.branches_at(pair[:1], [np.array([2.9, 3.5])])
 
 
 def test_producer_profiles_equal_one_integration_each():

@@ -84,12 +84,12 @@ def test_suppression_search_with_given_bracket_branches_equals_its_own_trace():
     it finds when it traces them itself (same function of lamP, same iteration)."""
     eqs = ("printed", "membrane")
     ends = branches([Annulus(x, equilibrium=eq) for x in (2.0, 3.2) for eq in eqs], n=60)
-    given = analysis._suppression_prestretches(0.0, eqs, n=60, xtol=1e-6,
-                                               bracket_branches=ends)
-    own = analysis._suppression_prestretches(0.0, eqs, n=60, xtol=1e-6)
+    given = analysis.pullin_suppression_prestretches(0.0, eqs, n=60, xtol=1e-6,
+                                                     bracket_branches=ends)
+    own = analysis.pullin_suppression_prestretches(0.0, eqs, n=60, xtol=1e-6)
     assert given == own
     with pytest.raises(ValueError, match="bracket_branches"):
-        analysis._suppression_prestretches(0.0, eqs, n=60, bracket_branches=ends[::-1])
+        analysis.pullin_suppression_prestretches(0.0, eqs, n=60, bracket_branches=ends[::-1])
 
 
 def test_branches_with_one_grid_size_per_annulus_equal_separate_traces():

@@ -73,7 +73,7 @@ def test_c_threshold_between_grid_values():
     br = branch(Annulus(1.25), n=800)
 
     def has_max(c):
-        return analysis._min_slope(br, c, "monotonic", None) < 0
+        return analysis.min_slope(br, c, "monotonic") < 0
 
     assert has_max(-0.080) and not has_max(-0.085)
     r = _status("ch3.pullin.c_threshold_lamP_1p25")
@@ -259,8 +259,10 @@ def test_failure_events_satisfy_their_definitions(c, lamP):
     res = events.event_function(np.array([f.kind]), br.annulus, np.array([f.q]),
                                 np.array([c]), np.array([params.EPS_R_ASSUMED]),
                                 params.MU_VHB, br.steps)
-    scale = 1.0 if f.kind != "pullin" else max(1.0, abs(float(np.max(
-        analysis._dphibar2_dlam(br, c)[np.isfinite(analysis._dphibar2_dlam(br, c))]))))
+    scale = 1.0
+    if f.kind == "pullin":
+        slope = analysis.dphibar2_dlam_continued(br, c)
+        scale = max(1.0, abs(float(np.max(slope[np.isfinite(slope)]))))
     assert abs(res[0]) < EVENT_RESIDUAL * scale
     others = [e.lam for k, e in cv.events.items() if e is not None and k != "minimum"]
     assert f.lam == min(others)

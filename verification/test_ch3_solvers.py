@@ -344,8 +344,8 @@ def test_lockstep_suppression_prestretch_equals_brentq_within_xtol():
     from debench.models.circular import analysis
 
     xtol = 1e-6
-    both = analysis._suppression_prestretches(0.0, ("printed", "membrane"), n=200,
-                                              xtol=xtol)
+    both = analysis.pullin_suppression_prestretches(0.0, ("printed", "membrane"), n=200,
+                                                    xtol=xtol)
     for eq, got in zip(("printed", "membrane"), both, strict=True):
         ref = analysis.pullin_suppression_prestretch(0.0, equilibrium=eq, n=200, xtol=xtol)
         assert abs(got - ref) <= xtol

@@ -49,6 +49,23 @@ def dphibar2_dlam(br: Branch, c: float) -> np.ndarray:
     return _dphibar2_dlam(br, c)
 
 
+def dphibar2_dlam_continued(br: Branch, c: float) -> np.ndarray:
+    """d(Phibar^2)/d lambda at every point of the branch grid, including the points where
+    the factor K = 1 + c(5 lam/2 - 2) of (3.30) is not positive.
+
+    Where K > 0 the values are those of :func:`dphibar2_dlam`. Where K <= 0 no real
+    voltage holds circle A (Phibar is undefined, the curves end at the ``permittivity``
+    event) and the values are those of the expression Phibar^2 = (s - lam T1)/(lam^4 K)
+    continued past its pole at K = 0 (inf where K = 0 on a grid point). A test helper,
+    not a physical quantity there: the pull-in residual of the failure-event tests is
+    scaled by the largest finite slope along the whole traced branch. ``c`` finite.
+    """
+    v.instance("br", br, Branch)
+    v.finite("c", c)
+    with np.errstate(divide="ignore", invalid="ignore"):  # K = 0 -> inf, as documented
+        return _dphibar2_dlam(br, c)
+
+
 def _dphibar2_dlam(br: Branch, c: float) -> np.ndarray:
     h = 1e-30
     with np.errstate(divide="ignore", invalid="ignore"):  # K = 0 -> inf, masked by callers
@@ -73,29 +90,53 @@ def state_at_voltage(br: Branch, c: float, phibar: float) -> dict:
 
 def _states_at_voltage(br: Branch, cs, phibar: float) -> list[dict]:
     """:func:`state_at_voltage` for several c on one branch, in one vectorised iteration
-    (see :func:`_states_at_voltage_many`)."""
+    (see :func:`states_at_voltage_many`)."""
     cs = list(cs)
     return _states_at_voltage_many([br] * len(cs), cs, [phibar] * len(cs))
 
 
-def _states_at_voltage_many(brs, cs, phibars) -> list[dict]:
+def _listed(name: str, x) -> list:
+    """``x`` (a sequence, not a string) as a list; TypeError naming ``name`` otherwise."""
+    if isinstance(x, str | bytes) or not hasattr(x, "__iter__"):
+        raise TypeError(f"{name} must be a sequence, got {x!r:.60}")
+    return list(x)
+
+
+@v.finite_result
+def states_at_voltage_many(brs, cs, phibars) -> list[dict]:
     """:func:`state_at_voltage` for the triples ``(brs[k], cs[k], phibars[k])``, in one
     vectorised iteration.
 
     The branches may differ in the pre-stretch and the equilibrium variant (same R_B/R_A,
-    Jm and RK4 steps): their shooting integrations are done together, with per-trajectory
-    pre-stretch and balance. Every triple follows exactly the iteration of
-    :func:`state_at_voltage` (same bracket, same safeguarded Newton steps, same stopping
-    rule). No argument checks (callers validate); ValueError if a Phibar is not reached,
+    Jm and RK4 steps, ValueError otherwise): their shooting integrations are done
+    together, with per-trajectory pre-stretch and balance. Every triple follows exactly
+    the iteration of :func:`state_at_voltage` (same bracket, same safeguarded Newton
+    steps, same stopping rule) and has its argument checks: ``brs``, ``cs``, ``phibars``
+    sequences of one length, every ``cs[k]`` finite with K(lamP) > 0, every
+    ``phibars[k]`` finite and >= 0. ValueError if a Phibar is not reached,
     ConvergenceError if an iteration does not converge.
     """
+    brs, cs, phibars = (_listed(n, x) for n, x in
+                        (("brs", brs), ("cs", cs), ("phibars", phibars)))
+    if not len(brs) == len(cs) == len(phibars):
+        raise ValueError(f"brs, cs and phibars must have one length, got {len(brs)}, "
+                         f"{len(cs)} and {len(phibars)}")
+    for br, c, phibar in zip(brs, cs, phibars, strict=True):
+        v.instance("brs[k]", br, Branch)
+        v.nonnegative("phibars[k]", phibar)
+        CircularActuator(br.annulus, c=v.finite("cs[k]", c))
+    return _states_at_voltage_many(brs, cs, phibars)
+
+
+def _states_at_voltage_many(brs, cs, phibars) -> list[dict]:
+    """:func:`states_at_voltage_many` without its argument checks (callers validate)."""
     if not brs:
         return []
     return run(_states_at_voltage_gen(brs, cs, phibars))
 
 
 def _states_at_voltage_gen(brs, cs, phibars):
-    """:func:`_states_at_voltage_many` (non-empty ``brs``) as a
+    """:func:`states_at_voltage_many` (non-empty ``brs``, checked arguments) as a
     :func:`~debench.models.circular.lockstep.lockstep` solver."""
     an0, steps = brs[0].annulus, brs[0].steps
     if any((b.annulus.radius_ratio, b.annulus.Jm, b.steps) != (an0.radius_ratio, an0.Jm, steps)
@@ -161,7 +202,30 @@ def loss_of_tension_stretch(br: Branch) -> float:
     return ev.lam
 
 
+def min_slope(br: Branch, c: float, definition: str = "before_loss_of_tension",
+              lam_lot: float | None = None) -> float:
+    """The minimum of d(Phibar^2)/d lambda that decides whether pull-in is suppressed on
+    the curve of ``c`` (Sec. 3.5.2): suppressed if and only if it is >= 0.
+
+    Taken over the grid points of ``br`` beyond lamP where the factor
+    K = 1 + c(5 lam/2 - 2) of (3.30) is positive (Phibar defined) and, for
+    ``definition="before_loss_of_tension"``, up to the loss of tension: ``lam_lot``, the
+    located loss-of-tension stretch when the branch is traced up to it, else the grid
+    points before the first T1 <= 0. ``definition="monotonic"`` takes the whole branch
+    (``lam_lot`` unused). :func:`pullin_c_threshold` and
+    :func:`pullin_suppression_prestretch` find its zero in c and in lamP. ``c`` finite,
+    ``lam_lot`` None or finite and > 0; ValueError when no grid point qualifies.
+    """
+    v.instance("br", br, Branch)
+    v.finite("c", c)
+    v.choice("definition", definition, DEFINITIONS)
+    if lam_lot is not None:
+        lam_lot = v.positive("lam_lot", lam_lot)
+    return _min_slope(br, c, definition, lam_lot)
+
+
 def _min_slope(br: Branch, c: float, definition: str, lam_lot: float | None) -> float:
+    """:func:`min_slope` without its argument checks."""
     with np.errstate(divide="ignore", invalid="ignore"):  # K = 0 -> inf, masked below
         d = _dphibar2_dlam(br, c)
     # only where the permittivity factor K of (3.30) is positive (Phibar finite)
@@ -222,17 +286,17 @@ def _c_threshold_on(br: Branch, definition: str, c_range=(-0.2, 0.0),
 def _lot_grids(brs, lam_lots) -> list[Branch]:
     """The branches of the "before_loss_of_tension" c threshold: ``brs[k].lam.size``
     stretches uniform on [lamP, lam_lots[k]], all in one batched Newton iteration
-    (:func:`_branches_at`)."""
-    return _branches_at(brs, [np.linspace(br.annulus.lamP, lot, br.lam.size)
-                              for br, lot in zip(brs, lam_lots, strict=True)])
+    (:func:`branches_at`)."""
+    return run(_branches_at_gen(brs, [np.linspace(br.annulus.lamP, lot, br.lam.size)
+                                      for br, lot in zip(brs, lam_lots, strict=True)]))
 
 
-#: relative Newton tolerance on the shooting parameter of :func:`_branches_at` (that of
+#: relative Newton tolerance on the shooting parameter of :func:`branches_at` (that of
 #: :func:`~debench.models.circular.shooting.q_for_stretch`, which it batches)
 NEWTON_RTOL = 1e-13
 
 
-def _branches_at(brs, lams, maxiter: int = 30) -> list[Branch]:
+def branches_at(brs, lams, maxiter: int = 30) -> list[Branch]:
     """``branch(br.annulus, lam=lams[k])`` for every ``brs[k]``: the branches at given
     stretches, all annuli in one batched Newton iteration on q (per-trajectory pre-stretch
     and equilibrium; same R_B/R_A, Jm and RK4 steps).
@@ -246,15 +310,26 @@ def _branches_at(brs, lams, maxiter: int = 30) -> list[Branch]:
     outputs of the last integration with their exact q-derivatives (lam - dlam dq, ...:
     the neglected terms are O(dq^2), below rounding) instead of integrating again, so the
     points agree with those of :func:`~debench.models.circular.actuator.branch` to that
-    tolerance. Stretches must lie
-    in ``[lamP, br.lam_end]`` (ValueError); ConvergenceError otherwise.
+    tolerance. ``brs`` a sequence of branches and ``lams`` one finite 1-D array of
+    stretches per branch, in ``[lamP, br.lam_end]`` (ValueError); ``maxiter >= 1``;
+    ConvergenceError when the iteration does not converge.
     """
+    brs, lams = _listed("brs", brs), _listed("lams", lams)
+    if len(brs) != len(lams):
+        raise ValueError(f"lams must hold one array per branch ({len(brs)}), got "
+                         f"{len(lams)}")
+    for br, lam in zip(brs, lams, strict=True):
+        v.instance("brs[k]", br, Branch)
+        v.finite("lams[k]", lam)
+    v.integer_at_least("maxiter", maxiter, 1)
+    if not brs:
+        return []
     return run(_branches_at_gen(brs, lams, maxiter))
 
 
 def _branches_at_gen(brs, lams, maxiter: int = 30):
-    """:func:`_branches_at` as a :func:`~debench.models.circular.lockstep.lockstep`
-    solver."""
+    """:func:`branches_at` (non-empty ``brs``) as a
+    :func:`~debench.models.circular.lockstep.lockstep` solver."""
     an0, steps = brs[0].annulus, brs[0].steps
     if any((b.annulus.radius_ratio, b.annulus.Jm, b.steps) != (an0.radius_ratio, an0.Jm, steps)
            for b in brs):
@@ -365,17 +440,34 @@ SUPPRESSION_CERTIFY_AFTER = 1000.0
 SUPPRESSION_CERTIFY = 0.45
 
 
-def _suppression_prestretches(c: float, equilibria, **kw) -> list[float]:
-    """:func:`pullin_suppression_prestretch` for several equilibrium variants at once (see
-    :func:`_suppression_solver`)."""
-    return run(_suppression_solver(c, equilibria, **kw))
+def pullin_suppression_prestretches(c: float, equilibria, *, radius_ratio: float = 15.0,
+                                    Jm: float | None = None,
+                                    definition: str = "before_loss_of_tension",
+                                    bracket=(2.0, 3.2), n: int = 800, xtol: float = 1e-6,
+                                    bracket_branches=None) -> list[float]:
+    """:func:`pullin_suppression_prestretch` for several equilibrium variants at once,
+    one value per entry of ``equilibria`` (a sequence of variant names).
+
+    The same function of lamP (:func:`min_slope` on the branch of ``n`` points) is solved
+    for every variant in lockstep, each iteration tracing the branches of all variants in
+    one batched integration; each root is bracketed to ``xtol`` (default 1e-6, where
+    :func:`pullin_suppression_prestretch` has 1e-8), so both agree within ``xtol``.
+    ``bracket_branches``: the branches of ``n`` points at the bracket ends, when the
+    caller traced them already (every variant at ``bracket[0]``, then every variant at
+    ``bracket[1]``; ValueError if they are not those). The other arguments are checked
+    as in :func:`pullin_suppression_prestretch`; ConvergenceError when a bracket does not
+    hold a sign change or does not shrink.
+    """
+    return run(_suppression_solver(c, equilibria, radius_ratio=radius_ratio, Jm=Jm,
+                                   definition=definition, bracket=bracket, n=n, xtol=xtol,
+                                   bracket_branches=bracket_branches))
 
 
 def _suppression_solver(c: float, equilibria, *, radius_ratio: float = 15.0,
                         Jm: float | None = None, definition: str = "before_loss_of_tension",
                         bracket=(2.0, 3.2), n: int = 800,
                         xtol: float = 1e-6, bracket_branches=None):
-    """:func:`pullin_suppression_prestretch` for several equilibrium variants at once, as a
+    """:func:`pullin_suppression_prestretches` as a
     :func:`~debench.models.circular.lockstep.lockstep` solver (arguments checked here).
 
     The same function of lamP (minimum slope on the branch of ``n`` points) is solved for
@@ -394,10 +486,14 @@ def _suppression_solver(c: float, equilibria, *, radius_ratio: float = 15.0,
     v.integer_at_least("n", n, 4)
     v.tolerance("xtol", xtol)
     Jm = params.JM_VHB if Jm is None else Jm
-    eqs = list(equilibria)
+    eqs = _listed("equilibria", equilibria)
     for eq in eqs:
         CircularActuator(Annulus(lo, radius_ratio, Jm, eq), c=c)
         CircularActuator(Annulus(hi, radius_ratio, Jm, eq), c=c)
+    if bracket_branches is not None:
+        bracket_branches = _listed("bracket_branches", bracket_branches)
+        for b in bracket_branches:
+            v.instance("bracket_branches[k]", b, Branch)
 
     return _suppression_gen(c, eqs, radius_ratio, Jm, definition, lo, hi, n, xtol, bracket,
                             bracket_branches)
@@ -405,7 +501,7 @@ def _suppression_solver(c: float, equilibria, *, radius_ratio: float = 15.0,
 
 def _suppression_gen(c, eqs, radius_ratio, Jm, definition, lo, hi, n, xtol, bracket,
                      bracket_branches):
-    """:func:`_suppression_prestretches` after its checks, as a
+    """:func:`pullin_suppression_prestretches` after its checks, as a
     :func:`~debench.models.circular.lockstep.lockstep` solver."""
 
     def f(lamPs, which):

@@ -86,7 +86,7 @@ def suppression_prestretch(entry: Entry) -> Outcome:
         # both variants in lockstep (one batched branch trace per iteration); the same
         # function of lamP as analysis.pullin_suppression_prestretch, bracketed to the
         # same xtol
-        vals = dict(zip(VARIANTS, analysis._suppression_prestretches(
+        vals = dict(zip(VARIANTS, analysis.pullin_suppression_prestretches(
             c, VARIANTS, definition=d, n=SUPPRESSION_POINTS, xtol=SUPPRESSION_XTOL),
             strict=True))
     acc = Accuracy(rtol=0.0, atol=10 * SUPPRESSION_XTOL,

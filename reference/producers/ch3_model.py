@@ -127,10 +127,8 @@ def _state_cached(lamP, equilibrium, c, phibar, mkey):
                 for ci in dict.fromkeys((0.0, c))
                 if (lamP, eq, ci, phibar, mkey) not in _STATES]
         brs = [branch(lamP, eq) for eq, _ in todo]
-        for br, (_, ci) in zip(brs, todo, strict=True):   # the public function's checks
-            params.CircularActuator(br.annulus, c=ci)
-        sts = analysis._states_at_voltage_many(brs, [ci for _, ci in todo],
-                                               [phibar] * len(todo))
+        sts = analysis.states_at_voltage_many(brs, [ci for _, ci in todo],
+                                              [phibar] * len(todo))
         for (eq, ci), st in zip(todo, sts, strict=True):
             _STATES[(lamP, eq, ci, phibar, mkey)] = st
     return _STATES[key]

@@ -271,7 +271,7 @@ def suppression_support(c: float, mesh: dict, tol: float, n: int = SUPPRESSION_N
     from debench.models.circular import analysis
     from debench.models.circular.fe import FEMesh, pullin_suppression_prestretch
 
-    an = analysis._suppression_prestretches(c, VARIANTS, n=n, xtol=SUPPRESSION_XTOL)
+    an = analysis.pullin_suppression_prestretches(c, VARIANTS, n=n, xtol=SUPPRESSION_XTOL)
     r = pullin_suppression_prestretch(c, mesh=FEMesh(**mesh), xtol=SUPPRESSION_XTOL,
                                       guess=an[VARIANTS.index("membrane")], width=tol)
     out = {"fe": r.lamP, "lam_cusp_fe": r.lam_cusp, "tol": tol}
