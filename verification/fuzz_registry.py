@@ -450,6 +450,7 @@ def _circular_cases():
         circle_a,
         collocation,
         events,
+        lockstep,
         params,
         shooting,
     )
@@ -500,6 +501,12 @@ def _circular_cases():
              {"annulus": params.Annulus(2.0), "q": np.array([1.9]), "steps": 20},
              {"annulus": "obj", "q": "lam_array", "steps": "count"},
              extra={"q": [np.array([1e-3])]}),
+        Case(f"{c}.shooting.interface_state_solver",
+             lambda annulus, q, steps, lamP=None: lockstep.run(
+                 shooting.interface_state_solver(annulus, q, steps=steps, lamP=lamP)),
+             {"annulus": params.Annulus(2.0), "q": np.array([1.9]), "steps": 20},
+             {"annulus": "obj", "q": "lam_array", "steps": "count", "lamP": "lam_array"},
+             allowed={"lamP": [None]}),
         Case(f"{c}.shooting.InterfaceState",
              lambda q: shooting.interface_state(params.Annulus(2.0), q, steps=20),
              {"q": np.array([1.9])}, {"q": "lam_array"}),
@@ -534,6 +541,11 @@ def _circular_cases():
              {"n": 20}, {"n": "count"}),
         Case(f"{c}.actuator.Branch.dT1_dlam", lambda: _branch().dT1_dlam, {}, {}),
         Case(f"{c}.actuator.branches", actuator.branches,
+             {"annuli": [params.Annulus(2.0), params.Annulus(2.5)], "n": 20, "steps": 40},
+             {"annuli": "obj", "n": "count", "steps": "count"}),
+        Case(f"{c}.actuator.branches_solver",
+             lambda annuli, n, steps: lockstep.run(
+                 actuator.branches_solver(annuli, n=n, steps=steps)),
              {"annuli": [params.Annulus(2.0), params.Annulus(2.5)], "n": 20, "steps": 40},
              {"annuli": "obj", "n": "count", "steps": "count"}),
         Case(f"{c}.events.event_function", events.event_function,

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from debench.models.circular import analysis, integrator, lockstep, shooting
 from debench.models.circular._chapter_pass import ChapterSpec, chapter, current_constants
-from debench.models.circular.actuator import branch, branches, curves
+from debench.models.circular.actuator import branch, branches, branches_solver, curves
 from debench.models.circular.params import Annulus
 
 #: batched and one-by-one solves stop on the same relative criteria (events 1e-14 in q,
@@ -133,14 +133,10 @@ def test_lockstep_solvers_equal_each_run_alone():
     wide = Annulus(3.0, radius_ratio=10.0)
 
     def solvers():
-        return [shooting._interface_state_gen(printed, q1),
-                shooting._interface_state_gen(membrane, q2),
-                shooting._interface_state_gen(wide, q1),
-                branches_solver()]
-
-    def branches_solver():
-        from debench.models.circular.actuator import _branches_gen
-        return _branches_gen([printed, membrane], [40, 30], shooting.DEFAULT_STEPS)
+        return [shooting.interface_state_solver(printed, q1),
+                shooting.interface_state_solver(membrane, q2),
+                shooting.interface_state_solver(wide, q1),
+                branches_solver([printed, membrane], n=[40, 30], steps=shooting.DEFAULT_STEPS)]
 
     together = lockstep.lockstep(solvers())
     alone = [lockstep.run(s) for s in solvers()]
@@ -159,5 +155,5 @@ def test_lockstep_propagates_a_solver_error():
         raise ValueError("solver failed")
 
     with pytest.raises(ValueError, match="solver failed"):
-        lockstep.lockstep([shooting._interface_state_gen(Annulus(3.0), [3.0, 2.9]),
+        lockstep.lockstep([shooting.interface_state_solver(Annulus(3.0), [3.0, 2.9]),
                            failing()])

@@ -167,6 +167,14 @@ def branches(annuli, *, n=300, steps: int = DEFAULT_STEPS) -> list[Branch]:
     ``n`` is the number of grid points (>= 4) of every branch, or one such number per
     annulus; an annulus listed several times (with different ``n``) is scanned once.
     """
+    return run(branches_solver(annuli, n=n, steps=steps))
+
+
+def branches_solver(annuli, *, n=300, steps: int = DEFAULT_STEPS):
+    """:func:`branches` as a :func:`~debench.models.circular.lockstep.lockstep` solver,
+    its arguments checked at the call (as :func:`branches`'): a real scan, then the grid
+    integration; it returns the branches. ``lockstep.run(branches_solver(...))`` runs it
+    alone."""
     if isinstance(annuli, str | bytes) or not hasattr(annuli, "__iter__"):
         raise TypeError(f"annuli must be an iterable of Annulus, got {annuli!r}")
     annuli = list(annuli)
@@ -179,18 +187,18 @@ def branches(annuli, *, n=300, steps: int = DEFAULT_STEPS) -> list[Branch]:
     for k in ns:
         v.integer_at_least("n", k, 4)
     v.integer_at_least("steps", steps, 4)
-    if not annuli:
-        return []
-    a0 = annuli[0]
-    if any((a.radius_ratio, a.Jm) != (a0.radius_ratio, a0.Jm) for a in annuli):
-        raise ValueError("branches(): annuli must differ only in lamP and equilibrium")
-    return run(_branches_gen(annuli, ns, steps))
+    if annuli:
+        a0 = annuli[0]
+        if any((a.radius_ratio, a.Jm) != (a0.radius_ratio, a0.Jm) for a in annuli):
+            raise ValueError("branches(): annuli must differ only in lamP and equilibrium")
+    return _branches_gen(annuli, ns, steps)
 
 
 def _branches_gen(annuli, ns, steps):
-    """:func:`branches` (checked arguments, ``ns`` one grid size per annulus) as a
-    :func:`~debench.models.circular.lockstep.lockstep` solver: a real scan, then the grid
-    integration."""
+    """:func:`branches_solver` after its checks (``ns`` one grid size per annulus): a real
+    scan, then the grid integration."""
+    if not annuli:
+        return []
     a0 = annuli[0]
     scanned = list(dict.fromkeys(annuli))          # each distinct annulus scanned once
     mem = np.array([a.equilibrium == "membrane" for a in scanned])

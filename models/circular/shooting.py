@@ -109,6 +109,20 @@ def interface_state(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
     return st
 
 
+def interface_state_solver(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS, lamP=None):
+    """:func:`interface_state` as a :func:`~debench.models.circular.lockstep.lockstep`
+    solver, its arguments checked at the call (as :func:`interface_state`'s).
+
+    The solver yields one (complex-step) integration request and returns the
+    :class:`InterfaceState`; unlike :func:`interface_state` it does not refuse
+    inadmissible trajectories: NaN marks them, so that a solver running side by side with
+    others never stops them. ``lockstep.run(interface_state_solver(...))`` runs it alone.
+    """
+    v.finite("q", q)
+    _check(annulus, q, steps, lamP)
+    return _interface_state_gen(annulus, q, steps=steps, lamP=lamP)
+
+
 def _interface_state(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
                      lamP=None, membrane=None) -> InterfaceState:
     """:func:`interface_state` without checks: NaN marks inadmissible trajectories
