@@ -481,6 +481,12 @@ def _circular_cases():
              {"lam": 2.0, "T1B": 0.5, "c": -0.05, "kappa": 1 / 120},
              {"lam": "lam", "T1B": "real", "c": "real", "kappa": "nonneg"},
              extra={"lam": [12.0], "c": [-10.0]}),
+        Case(f"{c}.circle_a.phibar_squared_where_defined",
+             lambda lam, T1B, c, kappa: (
+                 circle_a.phibar_squared_where_defined(lam, T1B, c, kappa), lam, c),
+             {"lam": np.array([2.0, 3.0]), "T1B": 0.5, "c": -0.2, "kappa": 1 / 120},
+             {"lam": "lam_array", "T1B": "real", "c": "real", "kappa": "nonneg"},
+             check=_check_where_defined, extra={"lam": [np.array([2.0, 12.0])]}),
         Case(f"{c}.circle_a.sigma1_circle_a", circle_a.sigma1_circle_a,
              {"lam": 2.0, "phibar": 0.3, "c": -0.05, "kappa": 1 / 120},
              {"lam": "lam", "phibar": "real", "c": "real", "kappa": "nonneg"},
@@ -640,6 +646,15 @@ def _check_curves(curves) -> None:
         for ev in cv.events.values():
             if ev is not None:
                 all_finite((ev.lam, ev.phibar, ev.q))
+
+
+def _check_where_defined(res) -> None:
+    """(Phibar^2, lam, c): NaN exactly where K = 1 + c(5 lam/2 - 2) <= 0, finite elsewhere."""
+    p2, lam, c = res
+    with np.errstate(all="ignore"):
+        defined = 1 + c * (2.5 * np.asarray(lam) - 2) > 0
+    assert np.array_equal(np.isnan(p2), ~defined), "NaN where K > 0, or a number at K <= 0"
+    all_finite(p2[defined])
 
 
 def _check_padded(res) -> None:

@@ -102,7 +102,8 @@ def _ch3_fine_errors(problem_id, lamPs, cs):
                     lam=lam, steps=CH3_FINE_STEPS)
         for c in cs:
             stored = ds.phibar.sel(lamP=lamP, c=c).values[:lam.size]
-            p2 = circle_a._p2(br.lam, br.T1, float(c), 1.0 / params.JM_VHB)
+            p2 = circle_a.phibar_squared_where_defined(br.lam, br.T1, float(c),
+                                                       1.0 / params.JM_VHB)
             fine = np.sqrt(np.where(p2 >= 0, p2, np.nan))
             worst = max(worst, float(np.nanmax(np.abs(fine - stored))))
     return worst

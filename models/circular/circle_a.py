@@ -19,7 +19,8 @@ Force balance at the interface (3.32) with T1 = sigma1/lambda1 (3.17) gives
 
 Every function is complex-safe (used with complex-step sensitivities). Public functions
 validate their arguments (ValueError naming the bound: lam <= 0, past the Gent locking
-stretch, K <= 0); the models call the private kernels ``_s``, ``_K``, ``_p2``.
+stretch, K <= 0; :func:`phibar_squared_where_defined` marks K <= 0 NaN instead); the models
+call the private kernels ``_s``, ``_K``, ``_p2``.
 """
 
 from __future__ import annotations
@@ -104,6 +105,30 @@ def phibar_squared(lam, T1B, c: float, kappa: float):
     v.finite("T1B", T1B, complex_ok=True)
     _check_K(lam, v.finite("c", c))
     return _p2(lam, T1B, c, kappa)
+
+
+def phibar_squared_where_defined(lam, T1B, c: float, kappa: float):
+    """:func:`phibar_squared` where the factor K = 1 + c(5 lam/2 - 2) of (3.30) is
+    positive, NaN where K <= 0.
+
+    Where K <= 0 no voltage holds circle A: Phibar is undefined there (a voltage-stretch
+    curve ends at its ``permittivity`` event and its ``phibar`` is NaN beyond it). This
+    function marks those stretches NaN instead of refusing them, so that Phibar^2 can be
+    evaluated along a whole traced branch. The arguments are those of
+    :func:`phibar_squared` and checked as there (``lam`` finite, > 0 and below the Gent
+    locking stretch, ``T1B`` and ``c`` finite, ``kappa >= 0``), except that K may be
+    <= 0; every value where K > 0 is finite (ValueError otherwise).
+    """
+    lam = _check_lam(lam, v.nonnegative("kappa", kappa))
+    v.finite("T1B", T1B, complex_ok=True)
+    v.finite("c", c)
+    defined = _K(np.real(lam), c) > 0
+    with np.errstate(all="ignore"):  # K <= 0: replaced by NaN below
+        p2 = np.where(defined, _p2(lam, T1B, c, kappa), np.nan)
+    if not np.all(np.isfinite(p2[defined])):
+        raise ValueError("phibar_squared_where_defined: the result overflows (NaN or inf) "
+                         "at these arguments; they are outside the representable range")
+    return p2
 
 
 @v.finite_result
