@@ -27,8 +27,8 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 from debench.models.circular import collocation, integrator, shooting  # noqa: E402
-from debench.models.circular._chapter_pass import clear_memo  # noqa: E402
 from debench.models.circular.actuator import branch, branches, curves  # noqa: E402
+from debench.models.circular.chapter_pass import clear_memo  # noqa: E402
 from debench.models.circular.params import Annulus  # noqa: E402
 from debench.reference.builders import ch3 as builder  # noqa: E402
 

@@ -6,7 +6,7 @@ seconds measured in the same run.
 equilibrium variants, the eps_r study) and every Chapter 3 catalogue producer (the
 producers of ``reference/catalogue/ch3.toml`` and the Chapter 3 literature entries), each
 from cold caches. The current code computes both in one memoised pass
-(:func:`debench.models.circular._chapter_pass.chapter`), so its builder time holds the
+(:func:`debench.models.circular.chapter_pass.chapter`), so its builder time holds the
 catalogue's plan too and its producers mostly read; the sum is what compares. The
 previous version is read from git history (:data:`PREVIOUS_COMMIT`, by
 :mod:`benchmarks.baseline`; skipped without a git checkout); its values are asserted equal

@@ -447,6 +447,7 @@ def _circular_cases():
     from debench.models.circular import (
         actuator,
         analysis,
+        chapter_pass,
         circle_a,
         collocation,
         events,
@@ -457,7 +458,28 @@ def _circular_cases():
 
     c = "debench.models.circular"
     an = _annulus
+    spec = chapter_pass.ChapterSpec(lamPs=(2.0,), cs=(0.0, -0.05), n=20, steps=40)
     return [
+        # the chapter pass: its specification's values are checked where the pass uses
+        # them (branches, CircularActuator), so a bad field raises naming it
+        Case(f"{c}.chapter_pass.chapter", chapter_pass.chapter, {"spec": spec},
+             {"spec": "obj"},
+             extra={"spec": [dataclasses.replace(spec, n=0),
+                             dataclasses.replace(spec, steps=2),
+                             dataclasses.replace(spec, lamPs=(0.5,)),
+                             dataclasses.replace(spec, states=((2.0, 0.2, -10.0),))]}),
+        Case(f"{c}.chapter_pass.ChapterSpec",
+             lambda n, steps: chapter_pass.chapter(
+                 chapter_pass.ChapterSpec(lamPs=(2.0,), cs=(0.0,), n=n, steps=steps)),
+             {"n": 20, "steps": 40}, {"n": "count", "steps": "count"}),
+        Case(f"{c}.chapter_pass.ChapterSpec.Jm", lambda: spec.Jm, {}, {}),
+        Case(f"{c}.chapter_pass.ChapterSpec.mu", lambda: spec.mu, {}, {}),
+        Case(f"{c}.chapter_pass.ChapterSpec.eps_r", lambda: spec.eps_r, {}, {}),
+        Case(f"{c}.chapter_pass.ChapterSpec.curve_keys", lambda: spec.curve_keys(), {}, {}),
+        Case(f"{c}.chapter_pass.Chapter", lambda: chapter_pass.chapter(spec), {}, {}),
+        Case(f"{c}.chapter_pass.current_constants", chapter_pass.current_constants, {}, {}),
+        # forgets the memo of this process: the next chapter pass is computed again
+        Case(f"{c}.chapter_pass.clear_memo", chapter_pass.clear_memo, {}, {}),
         Case(f"{c}.params.Annulus", params.Annulus,
              {"lamP": 2.0, "radius_ratio": 15.0, "Jm": 120.0, "equilibrium": "printed"},
              {"lamP": "stretch", "radius_ratio": "pos", "Jm": "pos_or_inf",

@@ -10,8 +10,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 from debench.models.circular import analysis, integrator, lockstep, shooting
-from debench.models.circular._chapter_pass import ChapterSpec, chapter, current_constants
 from debench.models.circular.actuator import branch, branches, branches_solver, curves
+from debench.models.circular.chapter_pass import ChapterSpec, chapter, current_constants
 from debench.models.circular.params import Annulus
 
 #: batched and one-by-one solves stop on the same relative criteria (events 1e-14 in q,

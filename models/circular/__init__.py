@@ -11,7 +11,7 @@ Eqs. 3.33-3.38) of a Gent membrane with Zhao-Suo permittivity (3.27).
 * :mod:`.collocation` -- annulus by ``solve_bvp`` (independent cross-check);
 * :mod:`.actuator` -- branches, voltage-stretch curves, failure events;
 * :mod:`.analysis` -- states at a voltage, pull-in thresholds;
-* :mod:`._chapter_pass` -- the whole chapter's results in one batched pass, memoised on its
+* :mod:`.chapter_pass` -- the whole chapter's results in one batched pass, memoised on its
   parameters (shared by the dataset builder and the catalogue producers).
 """
 

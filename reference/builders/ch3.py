@@ -25,8 +25,8 @@ from types import SimpleNamespace
 import numpy as np
 import xarray as xr
 from debench.models.circular import circle_a, params
-from debench.models.circular._chapter_pass import Chapter
 from debench.models.circular.actuator import Event
+from debench.models.circular.chapter_pass import Chapter
 from debench.models.circular.events import EVENT_KINDS
 from debench.reference import figures as figure_io
 from debench.reference.datasets import write_dataset

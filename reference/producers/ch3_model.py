@@ -3,7 +3,7 @@ and the qualitative checks of :mod:`debench.reference.producers.ch3_checks`).
 
 Every branch, curve, state and profile of the catalogue's plan comes from the one memoised
 chapter pass the dataset builder reads too (:func:`chapter`:
-:func:`debench.models.circular._chapter_pass.chapter` for
+:func:`debench.models.circular.chapter_pass.chapter` for
 :func:`debench.reference.studies.ch3.chapter_spec`, keyed on its parameters and the model
 constants). Entries outside the plan are computed on demand, both equilibrium variants
 (:data:`VARIANTS`) in one batched computation, and cached, keyed on the parameters and
@@ -189,7 +189,7 @@ def clear_caches() -> None:
     """Forget every memoised Chapter 3 result: this module's branches, curves, states and
     profiles and the chapter pass's memo (cold caches for benchmarks and for a model
     change within one process)."""
-    from debench.models.circular._chapter_pass import clear_memo
+    from debench.models.circular.chapter_pass import clear_memo
 
     for cache in (_BRANCHES, _CURVES, _STATES, _PROFILES):
         cache.clear()

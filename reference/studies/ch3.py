@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 from debench.models.circular import params
-from debench.models.circular._chapter_pass import Chapter, ChapterSpec, chapter
+from debench.models.circular.chapter_pass import Chapter, ChapterSpec, chapter
 from debench.models.circular.shooting import DEFAULT_STEPS
 
 LAMP_CURVES = (1.1, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0)

@@ -28,8 +28,8 @@ from functools import lru_cache
 
 import numpy as np
 from debench.models.circular import circle_a, params
-from debench.models.circular._chapter_pass import current_constants
 from debench.models.circular.actuator import branch, branches, curves_many
+from debench.models.circular.chapter_pass import current_constants
 from debench.models.circular.params import Annulus
 from debench.models.circular.shooting import integrate_inward, interface_state, q_for_stretch
 from debench.reference.studies.ch3 import RADIUS_RATIO

@@ -118,8 +118,9 @@ class ChapterSpec:
 class Chapter:
     """The results of :func:`chapter` (read-only by convention: shared by every caller).
 
-    ``branches[(lamP, equilibrium)]``: :class:`Branch` of ``spec.n`` points;
-    ``curves[(lamP, c, eps_r, equilibrium)]``: :class:`Curve`;
+    ``branches[(lamP, equilibrium)]``: :class:`~debench.models.circular.actuator.Branch`
+    of ``spec.n`` points;
+    ``curves[(lamP, c, eps_r, equilibrium)]``: :class:`~debench.models.circular.actuator.Curve`;
     ``states[(lamP, phibar, c, equilibrium)]``: dict as
     :func:`~debench.models.circular.analysis.state_at_voltage` (c = 0 included);
     ``profiles[(lamP, phibar, c, equilibrium)]``: (lambda_1, lambda_2) from R_A to R_B and
