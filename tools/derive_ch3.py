@@ -1,4 +1,4 @@
-"""Sympy re-derivation of the Chapter 3 equations; generates ``models/circular/_generated.py``.
+"""Sympy re-derivation of the Chapter 3 equations; generates ``models/circular/generated.py``.
 
 Run ``python tools/derive_ch3.py`` (from the repository root) to re-derive and regenerate.
 ``python tools/derive_ch3.py --check`` only prints the symbolic checks.
@@ -91,6 +91,8 @@ Annulus B right-hand sides in t = ln(R/RA) for the incompressible Gent membrane
 Each returns (dl1/dt, dl2/dt); ``jac_*`` return the 2x2 Jacobian [[df1/dl1, df1/dl2],
 [df2/dl1, df2/dl2]]. Used by the collocation solver only (the shooting solver has its own
 hand-written forms): a test re-derives these expressions and compares them numerically.
+The functions do not check their arguments: :mod:`debench.models.circular.collocation`
+validates its inputs before it evaluates them.
 """
 
 # ruff: noqa: E501  (generated expressions)
@@ -157,7 +159,7 @@ def main(argv: list[str]) -> int:
     resid = sp.simplify((lhs - (s2 - s1 - s1 * r_dh_over_h)).subs(f1, membrane))
     print("membrane form = (3.33) + thickness-gradient term, residual:", resid)
     if "--check" not in argv:
-        target = Path(__file__).resolve().parents[1] / "models" / "circular" / "_generated.py"
+        target = Path(__file__).resolve().parents[1] / "models" / "circular" / "generated.py"
         generate(target)
         print("wrote", target)
     return 0

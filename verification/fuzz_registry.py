@@ -68,6 +68,13 @@ EXCLUDED_MODULES = {
         "in every solver round: the inputs are validated by debench.models.circular.shooting's "
         "public functions, fuzzed here; the kernels are checked against the term-by-term "
         "transcription and the sympy re-derivation in verification/test_ch3_solvers.py"),
+    "debench.models.circular.generated": (
+        "the sympy-generated right-hand sides and Jacobians of the annulus ODE "
+        "(tools/derive_ch3.py; floats or arrays in and out, no validation), evaluated at "
+        "every collocation node: the inputs are validated by "
+        "debench.models.circular.collocation's public functions, fuzzed here; the "
+        "expressions are compared with a fresh sympy re-derivation at drawn points in "
+        "verification/test_ch3_solvers.py"),
     "debench.models.circular.lockstep": (
         "plumbing of the Chapter 3 iterative solvers (generators in, their results out; no "
         "numbers from users): running side by side equals running alone, bit for bit, and a "

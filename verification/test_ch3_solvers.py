@@ -9,8 +9,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy as sp
-from debench.models.circular import _generated as gen
 from debench.models.circular import collocation, integrator, shooting
+from debench.models.circular import generated as gen
 from debench.models.circular.actuator import branch, curves
 from debench.models.circular.events import locate
 from debench.models.circular.params import Annulus, CircularActuator, locking_stretch_equibiaxial
@@ -116,7 +116,7 @@ def _rederived_rhs():
 
 
 def test_generated_rhs_and_jacobian_match_rederivation():
-    """models/circular/_generated.py (tools/derive_ch3.py) equals (3.34)/(membrane) re-derived
+    """models/circular/generated.py (tools/derive_ch3.py) equals (3.34)/(membrane) re-derived
     from (3.23), (3.36)-(3.37), evaluated at drawn points (no text comparison)."""
     f, J = _rederived_rhs()
     rng = np.random.default_rng(3)

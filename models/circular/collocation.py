@@ -1,7 +1,7 @@
 """Annulus B by collocation (``scipy.integrate.solve_bvp``, as the thesis' bvp4c).
 
 Independent of :mod:`debench.models.circular.shooting`: the right-hand sides and their Jacobians
-come from the sympy-generated module :mod:`debench.models.circular._generated`
+come from the sympy-generated module :mod:`debench.models.circular.generated`
 (``tools/derive_ch3.py``), the interface stress from a complex-step derivative of the Gent
 energy (3.23), and the problem is posed as a two-point BVP in ``t = ln(R/R_A)``:
 
@@ -21,7 +21,7 @@ from debench.models import validation as v
 from debench.models.errors import ConvergenceError
 from scipy.integrate import solve_bvp
 
-from . import _generated as gen
+from . import generated as gen
 from .params import Annulus, locking_stretch_equibiaxial
 
 #: solve_bvp tolerance on the relative collocation residual; gives <= ~1e-7 relative

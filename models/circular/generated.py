@@ -9,6 +9,8 @@ Annulus B right-hand sides in t = ln(R/RA) for the incompressible Gent membrane
 Each returns (dl1/dt, dl2/dt); ``jac_*`` return the 2x2 Jacobian [[df1/dl1, df1/dl2],
 [df2/dl1, df2/dl2]]. Used by the collocation solver only (the shooting solver has its own
 hand-written forms): a test re-derives these expressions and compares them numerically.
+The functions do not check their arguments: :mod:`debench.models.circular.collocation`
+validates its inputs before it evaluates them.
 """
 
 # ruff: noqa: E501  (generated expressions)
