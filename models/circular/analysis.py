@@ -62,8 +62,7 @@ def dphibar2_dlam_continued(br: Branch, c: float) -> np.ndarray:
     """
     v.instance("br", br, Branch)
     v.finite("c", c)
-    with np.errstate(divide="ignore", invalid="ignore"):  # K = 0 -> inf, as documented
-        return _dphibar2_dlam(br, c)
+    return _dphibar2_dlam(br, c)     # K = 0 -> inf, as documented
 
 
 def _dphibar2_dlam(br: Branch, c: float) -> np.ndarray:

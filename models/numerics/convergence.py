@@ -381,7 +381,7 @@ class PGradingEstimate:
     safety_factor: float
 
 
-def p_grading_top(discs) -> tuple[int, int, int | None]:
+def _p_grading_top(discs) -> tuple[int, int, int | None]:
     """Indices into the plan ``discs`` (``(order, layers)`` pairs) of the top
     discretisation (highest order, then most layers), of the order below it at the same
     grading, and of the next coarser grading at the top order (None when the plan has
@@ -425,7 +425,7 @@ def p_grading_estimate(values, discs, *, floor: float = 0.0) -> PGradingEstimate
             f"values must have a last axis of len(discs) = {len(discs)}, got shape {x.shape}")
     floor = float(floor)
     require(math.isfinite(floor) and floor >= 0.0, f"floor = {floor!r} must be finite and >= 0")
-    i_top, i_p, i_l = p_grading_top(discs)
+    i_top, i_p, i_l = _p_grading_top(discs)
     dp = np.abs(x[..., i_top] - x[..., i_p])
     dl = np.abs(x[..., i_top] - x[..., i_l]) if i_l is not None else np.zeros_like(dp)
     fs = p_grading_safety(discs)
