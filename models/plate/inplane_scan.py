@@ -1,0 +1,261 @@
+"""Sign-change scans that do not lose a root to its neighbour: adaptive refinement.
+
+A scan of f on a grid brackets a zero only where f changes sign across one grid interval;
+two zeros in one interval cancel. For the boundary determinant of
+:func:`debench.models.plate.inplane.det_function` such pairs occur: a bifurcation beside a
+spurious zero of the normalisation (a zero of prod_j (m_j . w) of the amplitude weights),
+or the two close modes of a thick plate (a pair ~exp(-kH) apart).
+
+The remedy needs a measure m >= 0 of nearness to a zero that the grid samples: |f| for a
+plain function, or, for the determinant, the singularity ratio sigma_min/sigma_max of the
+boundary matrix with unit columns (:func:`debench.models.plate.inplane.boundary_singularity`),
+which is free of the spurious zeros (they scale a column, which the normalisation undoes).
+Near a simple zero m is V-shaped, m ~ c |x - x0|; near a minimum that is not a zero it is
+smooth, m ~ m0 + k (x - xm)^2. The scan is refined where m has a local minimum on the sampled
+points (ends of the window included, against their one neighbour): both intervals beside it
+are halved (:func:`refinement_points`), round after round, until
+
+* the minimum is *resolved*: every neighbour exceeds it by at most the fraction
+  :data:`RESOLVED` (a smooth minimum away from zero: m0 > 0 is sampled finely enough), or
+* the intervals beside it are narrower than ``width`` x (a zero of m, or a tangency, which
+  never resolves: on a V every neighbour is >= 3x the minimum).
+
+The sign changes of f on the refined points (:func:`sign_change_brackets`) are the brackets;
+a zero of f exactly at a sampled point brackets both intervals beside it. A tangency (even
+multiplicity: f touches zero without changing sign) gives no bracket: it is located by the
+refinement, but it is no crossing. :func:`scan_brackets` runs the whole scan for one
+function; :func:`debench.models.plate.inplane.critical_stretches_det_many` runs the same
+rounds for many scans at once.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from debench.models import validation as v
+from debench.models.errors import ConvergenceError
+
+#: a local minimum of the measure is resolved (not refined further) when each neighbour
+#: exceeds it by at most this fraction. Smooth minima resolve within a few halvings
+#: (m0 + k h^2 <= 1.25 m0 once h <= sqrt(m0 / 4k)); a V-shaped zero never does: its
+#: neighbours at spacings h1, h2 (bisection keeps h2/h1 <= 4 beside a minimum) from a
+#: minimum at distance delta <= h/2 of the zero exceed it 3x or more
+RESOLVED = 0.25
+#: refinement rounds of one scan (each halves the intervals beside every unresolved
+#: minimum): from a grid interval of 1.3 % to a width of 1e-10 takes 27; the limit only
+#: guards against a measure that is minimal everywhere (a plateau)
+MAX_ROUNDS = 80
+
+
+def _local_minima(m, usable):
+    """Indices of the unresolved local minima of ``m`` (NaN: not sampled) over the usable
+    intervals (``usable[i]``: the interval (x[i], x[i + 1]) may be refined)."""
+    mm = np.where(np.isnan(m), np.inf, m)
+    inf = np.full(1, np.inf)
+    left = np.concatenate([inf, np.where(usable, mm[:-1], np.inf)])
+    right = np.concatenate([np.where(usable, mm[1:], np.inf), inf])
+    has = np.concatenate([[False], usable]) | np.concatenate([usable, [False]])
+    nb = np.maximum(np.where(np.isfinite(left), left, -np.inf),
+                    np.where(np.isfinite(right), right, -np.inf))
+    is_min = has & np.isfinite(mm) & (mm <= left) & (mm <= right)
+    return np.flatnonzero(is_min & (nb > (1.0 + RESOLVED) * mm))
+
+
+def _refinement_points(x, m, width, usable):
+    """:func:`refinement_points` without the checks (``usable`` a boolean array)."""
+    pts = []
+    for i in _local_minima(m, usable):
+        for j in (i - 1, i):
+            if 0 <= j < len(x) - 1 and usable[j] and x[j + 1] - x[j] > width * abs(x[j + 1]):
+                pts.append(0.5 * (x[j] + x[j + 1]))
+    return np.unique(np.asarray(pts, float))
+
+
+def refinement_points(x, m, *, width: float, usable=None) -> np.ndarray:
+    """The points one refinement round adds to a scan (sorted, possibly none).
+
+    ``x``: the sampled abscissae (strictly increasing, finite); ``m``: the measure of
+    nearness to a zero at each (>= 0; NaN where not sampled, never a minimum); ``width``:
+    relative width below which an interval is not halved (interval x[j + 1] - x[j] <=
+    width |x[j + 1]|); ``usable``: per interval, whether it may be refined and its ends
+    compared (default all). Returns the midpoints of the intervals beside every local
+    minimum of ``m`` that is not resolved (:data:`RESOLVED`).
+    """
+    x, m, width, usable = _checked(x, m, width, usable)
+    return _refinement_points(x, m, width, usable)
+
+
+def _checked(x, m, width, usable):
+    x = v.array("x", x)
+    if x.ndim != 1 or x.size < 2 or not np.all(np.diff(x) > 0):
+        raise ValueError(f"x must be a strictly increasing 1-D array of >= 2 points, got {x!r:.80}")
+    m = _real_array("m", m)
+    if m.shape != x.shape or np.any(m < 0) or np.any(np.isinf(m)):
+        raise ValueError(f"m must have the shape of x with entries >= 0 or NaN, got {m!r:.80}")
+    width = v.in_range("width", width, 0.0, 1.0, lo_open=True)
+    if usable is None:
+        usable = np.ones(x.size - 1, bool)
+    usable = np.asarray(usable)
+    if usable.dtype != bool or usable.shape != (x.size - 1,):
+        raise ValueError(f"usable must be a boolean array of len(x) - 1 = {x.size - 1}, "
+                         f"got {usable!r:.80}")
+    return x, m, float(width), usable
+
+
+def _sign_change_brackets(f, usable):
+    """:func:`sign_change_brackets` without the checks."""
+    return np.flatnonzero(usable & ((f[:-1] == 0.0) | (f[1:] == 0.0)
+                                    | (np.sign(f[:-1]) != np.sign(f[1:]))))
+
+
+def sign_change_brackets(x, f, *, usable=None) -> np.ndarray:
+    """Indices i of the usable intervals (x[i], x[i + 1]) where the real ``f`` changes sign
+    or vanishes at an end (so a zero at a sampled point brackets both intervals beside it;
+    ``f`` NaN: not sampled, no bracket)."""
+    x, _, _, usable = _checked(x, np.zeros(np.shape(x)), 0.5, usable)
+    f = _real_array("f", f)
+    if f.shape != x.shape:
+        raise ValueError(f"f must have the shape of x {x.shape}, got {f.shape}")
+    with np.errstate(invalid="ignore"):
+        return _sign_change_brackets(f, usable & np.isfinite(f[:-1]) & np.isfinite(f[1:]))
+
+
+def _real_array(name, a):
+    """``a`` as a float array (NaN and inf kept for the caller to judge); TypeError when
+    it is not a real numeric array."""
+    if a is None or isinstance(a, str | bytes):
+        raise TypeError(f"{name} must be a real array, got {a!r:.60}")
+    try:
+        a = np.asarray(a)
+    except (ValueError, TypeError) as exc:
+        raise TypeError(f"{name} must be a real array, got {a!r:.60}") from exc
+    if a.dtype.kind not in "iuf":
+        raise TypeError(f"{name} must be a real array, got dtype {a.dtype}")
+    return a.astype(float)
+
+
+def _merge(x, vals, new_x, new_vals):
+    """The samples ``x`` (sorted) with ``vals`` (arrays along the last axis, one per
+    sampled quantity) and the new ones merged, sorted by abscissa: ``(x, vals)``."""
+    order = np.argsort(np.concatenate([x, new_x]), kind="stable")
+    return (np.concatenate([x, new_x])[order],
+            [np.concatenate([a, b], axis=-1)[..., order] for a, b in
+             zip(vals, new_vals, strict=True)])
+
+
+def refine_samples(evaluate, samples, *, width: float) -> None:
+    """Refine several scans together, in place, round by round.
+
+    ``samples``: a list, per scan, of ``[x, vals, m, usable]``: the sampled abscissae
+    (strictly increasing), the sampled quantities (an array whose last axis runs along
+    ``x``), the measure of nearness to a zero (NaN where not sampled) and the usable
+    intervals (:func:`refinement_points`). ``evaluate(scan_index, points)`` returns
+    ``(vals, m)`` at the points of every round (both arrays, last axis along the points;
+    ``scan_index[i]`` the scan of ``points[i]``), so that one call serves all scans.
+    Each round adds :func:`refinement_points` to every scan; the halves of a usable
+    interval are usable. ConvergenceError when a round still adds points after
+    :data:`MAX_ROUNDS` rounds.
+    """
+    if not callable(evaluate):
+        raise TypeError(f"evaluate must be callable, got {evaluate!r:.60}")
+    if not isinstance(samples, list) or not all(
+            isinstance(s, list) and len(s) == 4 for s in samples):
+        raise TypeError("samples must be a list of [x, vals, m, usable] lists")
+    for s in samples:
+        s[0], s[2], width, s[3] = _checked(s[0], s[2], width, s[3])
+        s[1] = np.asarray(s[1])
+        if s[1].shape[-1:] != s[0].shape:
+            raise ValueError(f"vals must run along x on its last axis, got {s[1].shape}")
+    _refine(evaluate, samples, width)
+
+
+def _refine(evaluate, samples, width):
+    """:func:`refine_samples` without the checks."""
+    for _ in range(MAX_ROUNDS):
+        new = [_refinement_points(x, m, width, usable) for x, _, m, usable in samples]
+        if not any(p.size for p in new):
+            return
+        which = np.concatenate([np.full(p.size, k) for k, p in enumerate(new)])
+        vals, m = evaluate(which, np.concatenate(new))
+        at = 0
+        for k, p in enumerate(new):
+            if p.size:
+                x, val, mk, usable = samples[k]
+                halved = np.searchsorted(x, p) - 1          # the interval each point halves
+                x, (val, mk) = _merge(x, [val, mk], p, [vals[..., at:at + p.size],
+                                                        m[at:at + p.size]])
+                samples[k] = [x, val, mk, _split_usable(usable, halved)]
+            at += p.size
+    raise ConvergenceError(f"scan refinement did not settle in {MAX_ROUNDS} rounds")
+
+
+def scan_brackets(evaluate, x, *, width: float, usable=None):
+    """Refine the scan ``x`` of one function and bracket its sign changes.
+
+    ``evaluate(points)`` returns ``(f, m)`` at an array of points: the real function and the
+    measure of nearness to its zeros (``m = |f|`` will do). Refined by
+    :func:`refine_samples` (the rounds of the determinant scans) until no unresolved
+    minimum has an interval wider than ``width`` beside it. Returns ``(brackets, x, f, m)``:
+    the brackets ``(a, b, f(a), f(b))`` of :func:`sign_change_brackets` and the refined
+    samples.
+    """
+    if not callable(evaluate):
+        raise TypeError(f"evaluate must be callable, got {evaluate!r:.60}")
+    x, _, width, usable = _checked(x, np.zeros(np.shape(x)), width, usable)
+    f, m = (_real_array("evaluate(x)", a) for a in evaluate(x))
+    samples = [[x, f, m, usable]]
+    _refine(lambda _, p: tuple(_real_array("evaluate(x)", a) for a in evaluate(p)),
+            samples, width)
+    x, f, m, usable = samples[0]
+    return ([(x[i], x[i + 1], f[i], f[i + 1]) for i in _sign_change_brackets(f, usable)],
+            x, f, m)
+
+
+def _split_usable(usable, halved):
+    """``usable`` after the intervals ``halved`` (indices, sorted, distinct) are split in
+    two: both halves inherit the interval's flag."""
+    return np.insert(usable, np.asarray(halved) + 1, usable[np.asarray(halved, int)])
+
+
+def _grid_samples(grids, oks, evaluate):
+    """``[x, vals, m, usable]`` of each scan (:func:`refine_samples`) on its grid
+    ``grids[k]``, evaluated where ``oks[k]`` (NaN elsewhere; an interval is usable where
+    both ends are), every scan's points in one call ``evaluate(which, x)``."""
+    which = np.concatenate([np.full(int(ok.sum()), k) for k, ok in enumerate(oks)])
+    vals, m = evaluate(which, np.concatenate([g[ok] for g, ok in zip(grids, oks, strict=True)]))
+    samples, at = [], 0
+    for g, ok in zip(grids, oks, strict=True):
+        n = int(ok.sum())
+        d = np.full(vals.shape[:-1] + g.shape, np.nan, vals.dtype)
+        mk = np.full(g.size, np.nan)
+        d[..., ok], mk[ok] = vals[..., at:at + n], m[at:at + n]
+        samples.append([g, d, mk, ok[:-1] & ok[1:]])
+        at += n
+    return samples
+
+
+def _constant_phase(vals, tol, what):
+    """The phase of complex samples ``vals`` of a function of constant phase: that of its
+    largest value; ConvergenceError naming ``what`` where max |Im| / max |f| of the
+    rotated samples exceeds ``tol``."""
+    phase = vals[np.argmax(np.abs(vals))]
+    phase = phase / abs(phase)
+    rot = vals * np.conj(phase)
+    if np.max(np.abs(rot.imag)) > tol * np.max(np.abs(rot)):
+        raise ConvergenceError(f"{what} phase not constant along the scan (max |Im|/max|f| "
+                               f"= {np.max(np.abs(rot.imag)) / np.max(np.abs(rot)):.2e})")
+    return phase
+
+
+def _rotated_brackets(samples, phases, iw, found):
+    """The sampled intervals where the quantity ``iw`` of each scan, rotated by its phase
+    ``phases[k][iw]``, changes sign: ``(k, phase, a, b, fa, fb)`` each. An interval holding
+    a root already in ``found[k]`` is skipped: it is that root's sign change (one root per
+    sampled interval), whose refinement would only find it again."""
+    brackets = []
+    for k, (x, vals, _, usable) in enumerate(samples):
+        phase = phases[k][iw]
+        f = (vals[iw] * np.conj(phase)).real
+        brackets += [(k, phase, x[i], x[i + 1], f[i], f[i + 1])
+                     for i in _sign_change_brackets(f, usable)
+                     if not any(x[i] <= q <= x[i + 1] for q in found[k])]
+    return brackets
