@@ -49,6 +49,12 @@ from debench.models.numerics.roots import regula_falsi_many
 from debench.models.plate import generated_inplane as gen
 from debench.models.plate.ansatz import critical_stretches
 from debench.models.plate.coefficients import PlateParams
+from debench.models.plate.inplane_scan import (
+    _constant_phase,
+    _grid_samples,
+    _refine,
+    _rotated_brackets,
+)
 from debench.models.plate.voltage import critical_stretches_at_voltage, dhat_at_voltage
 from scipy.optimize import brentq
 
@@ -281,16 +287,32 @@ def _det_parts(lam, kH, theta, p):
 def _det_weighted(parts, w):
     """:func:`det_function` from :func:`_det_parts` (one stretch, or stacked along a
     leading axis by :func:`_det_parts_points`) and the weight vector ``w``."""
+    s = parts[1]
+    i, j = np.triu_indices(8, 1)
+    vd = np.prod(s[..., j] - s[..., i], axis=-1)
+    return np.linalg.det(_boundary_matrix(parts, w)) / vd
+
+
+def _boundary_matrix(parts, w):
+    """The 8 x 8 boundary matrix (rows T21, T22, T23, E1 on the faces k x2 = -+ t/2, one
+    column per characteristic root, scaled by exp(-|Re s| t / 2)) from :func:`_det_parts`
+    and the weight vector ``w``; stacked like ``parts``."""
     S, s, adj, t = parts
     rows = _boundary_rows(S, s, w, adj)                     # (..., 4, 8)
     t = np.asarray(t, float)[..., None]
     scale = np.exp(-np.abs(s.real) * t / 2)
     top = rows * (np.exp(-s * t / 2) * scale)[..., None, :]
     bot = rows * (np.exp(s * t / 2) * scale)[..., None, :]
-    M = np.concatenate([top, bot], axis=-2)
-    i, j = np.triu_indices(8, 1)
-    vd = np.prod(s[..., j] - s[..., i], axis=-1)
-    return np.linalg.det(M) / vd
+    return np.concatenate([top, bot], axis=-2)
+
+
+def _singularity_ratio(M):
+    """sigma_min / sigma_max of the boundary matrices ``M`` (stacked) with unit columns: a
+    column scaled by a weight factor prod_j (m_j . w) keeps its direction, so the ratio
+    has none of the spurious zeros of the determinant."""
+    norm = np.linalg.norm(M, axis=-2, keepdims=True)
+    sv = np.linalg.svd(M / np.where(norm > 0, norm, 1.0), compute_uv=False)
+    return sv[..., -1] / sv[..., 0]
 
 
 def _path(params: PlateParams, Vhat):
@@ -324,8 +346,12 @@ def critical_stretches_det(kH: float, theta: float, params: PlateParams, *,
                            Vhat: float | None = None) -> np.ndarray:
     """Method 1: every lam in ``window`` where the determinant changes sign.
 
-    Scanned on a geometric grid (strongly elliptic points only); every sign change
-    is refined at once (vectorised Illinois iteration to :data:`XTOL_ROOT`).
+    Scanned on a geometric grid (strongly elliptic points only), refined down to
+    :data:`W_SCAN` beside every unresolved minimum of :func:`boundary_singularity`
+    (:mod:`~debench.models.plate.inplane_scan`: two zeros in one interval cancel); every
+    sign change of either weight vector is refined at once (vectorised Illinois iteration
+    to :data:`XTOL_ROOT`) and kept where it passes the bifurcation filter
+    (:data:`SINGULAR_TOL`, :data:`COLLISION_TOL`). A tangency is no crossing, no root.
     The phase of :func:`det_function` is taken from the largest value on the grid and
     checked constant (ConvergenceError otherwise). ``window`` may lie below 1
     (equibiaxial compression) or above 1 (tension). ``Vhat`` (>= 0): voltage control,
@@ -354,18 +380,12 @@ def critical_stretches_det_many(scans) -> list[np.ndarray]:
         out.append(roots)
         if job is not None:
             jobs.append((len(out) - 1, *job))
-    if not jobs:
-        return [np.sort(np.asarray(r, float)) for r in out]
-    # the roots and adjugates of every grid point of every scan in stacked calls; they
-    # serve both weight vectors
-    pts = [(job, x) for job in jobs for x in job[4][job[5]]]
-    parts = _det_parts_points([x for _, x in pts], [j[1] for j, _ in pts],
-                              [j[2] for j, _ in pts], [j[3] for j, _ in pts])
-    ends = np.cumsum([0] + [int(job[5].sum()) for job in jobs])
-    for w in _WS:
-        brackets = _det_brackets(jobs, _det_weighted(parts, w), ends, out)
-        if brackets:
-            _refine_det_brackets(jobs, brackets, w, out)
+    if jobs:
+        samples = _refined_samples(jobs)
+        for iw, w in enumerate(_WS):
+            brackets = _rotated_brackets(*samples, iw, [out[j[0]] for j in jobs])
+            if brackets:
+                _refine_det_brackets(jobs, brackets, w, out)
     return [np.sort(np.asarray(r, float)) for r in out]
 
 
@@ -402,39 +422,33 @@ def _det_scan(kH, theta, params, kw):
     return [], None
 
 
-def _det_brackets(jobs, vals_all, ends, out):
-    """The scan intervals where the determinant of one weight vector changes sign:
-    ``(job, phase, a, b, fa, fb)`` each, ``f`` the determinant rotated by the scan's
-    phase (taken from its largest value, ConvergenceError where the phase is not constant
-    to :data:`PHASE_TOL`). ``vals_all``: the determinant at the elliptic grid points of
-    every job of ``jobs``, job k's in ``vals_all[ends[k]:ends[k + 1]]``; ``out``: the
-    roots found so far, per scan."""
-    brackets = []   # (job, phase, a, b, fa, fb)
-    for k, (io, *_, g, ell) in enumerate(jobs):
-        vals = np.full(g.size, np.nan, complex)
-        vals[ell] = vals_all[ends[k]:ends[k + 1]]
-        vals = np.where(ell, vals, vals[ell][0])
-        phase = vals[np.argmax(np.abs(vals))]
-        phase /= abs(phase)
-        rot = vals * np.conj(phase)
-        if np.max(np.abs(rot.imag)) > PHASE_TOL * np.max(np.abs(rot)):
-            raise ConvergenceError("determinant phase not constant along the scan "
-                                   f"(max |Im|/max|det| = "
-                                   f"{np.max(np.abs(rot.imag)) / np.max(np.abs(rot)):.2e})")
-        f = rot.real
-        idx = np.nonzero(ell[:-1] & ell[1:]
-                         & ((f[:-1] == 0.0) | (np.sign(f[:-1]) != np.sign(f[1:]))))[0]
-        # a bracket holding a root the first weight vector already gave is that
-        # root's sign change (one root per scan interval, as everywhere in the scan):
-        # its refinement would land within SAME_ROOT of it and be dropped, so it is
-        # skipped
-        brackets += [(k, phase, g[i], g[i + 1], f[i], f[i + 1]) for i in idx
-                     if not any(g[i] <= q <= g[i + 1] for q in out[io])]
-    return brackets
+def _evaluate_points(jobs, which, x):
+    """(determinant of each weight vector of :data:`_WS` (len(_WS), n), singularity ratio
+    (n,)) at the stretches ``x[i]`` of the scans ``jobs[which[i]]``, in stacked calls."""
+    js = [jobs[k] for k in which]
+    parts = _det_parts_points(x, [j[1] for j in js], [j[2] for j in js], [j[3] for j in js])
+    return (np.stack([_det_weighted(parts, w) for w in _WS]),
+            _singularity_ratio(_boundary_matrix(parts, _W)))
+
+
+def _refined_samples(jobs):
+    """``(samples, phases)`` of the scans of ``jobs``: the samples
+    (:func:`~.inplane_scan.refine_samples`: ``[x, dets (len(_WS), n), ratio, usable]``, NaN
+    where not strongly elliptic) on the grid, refined to :data:`W_SCAN`; the phase of each
+    weight's determinant, from the grid (checked constant to :data:`PHASE_TOL` there:
+    near a collision of characteristic roots refined points carry more round-off)."""
+    def evaluate(which, x):
+        return _evaluate_points(jobs, which, x)
+
+    samples = _grid_samples([j[4] for j in jobs], [j[5] for j in jobs], evaluate)
+    phases = [[_constant_phase(d[ell], PHASE_TOL, "determinant") for d in smp[1]]
+              for smp, (*_, ell) in zip(samples, jobs, strict=True)]
+    _refine(evaluate, samples, W_SCAN)
+    return samples, phases
 
 
 def _refine_det_brackets(jobs, brackets, w, out):
-    """Refine the ``brackets`` of :func:`_det_brackets` (weight vector ``w``) and append
+    """Refine the ``brackets`` of weight vector ``w`` (``(job, phase, a, b, fa, fb)``) and append
     each root to its scan's list in ``out`` when it is a bifurcation: the boundary matrix
     singular (:data:`SINGULAR_TOL`), the characteristic roots apart
     (:data:`COLLISION_TOL`), and no root of that scan within :data:`SAME_ROOT`."""
@@ -458,6 +472,15 @@ def _refine_det_brackets(jobs, brackets, w, out):
         if (sing < SINGULAR_TOL and sep > COLLISION_TOL
                 and not any(abs(r - q) <= SAME_ROOT for q in out[io])):
             out[io].append(r)
+
+
+#: relative width to which the scan is refined around an unresolved minimum of the
+#: singularity ratio (:mod:`~debench.models.plate.inplane_scan`): two zeros of the
+#: determinant closer than W_SCAN lam may share one sampled interval and cancel. Distinct
+#: roots of the datasets are >= 1e-5 apart, a root and a spurious zero of one weight
+#: vector >= 4e-5 (measured): 1e-8 resolves both with a 1e3 margin. The refinement
+#: costs ~50 evaluations per root (2 per halving from a grid interval of ~1 %)
+W_SCAN = 1e-8
 
 
 #: root tolerance of the determinant roots (|b - a| <= XTOL_ROOT + 4 eps |b| at
@@ -489,16 +512,11 @@ def boundary_singularity(lam: float, kH: float, theta: float, params: PlateParam
 def _singularity_and_separation(lam, kH, theta, p):
     """(:func:`boundary_singularity`, smallest distance between two characteristic roots
     over the largest root modulus)."""
-    S = _S(lam, theta, p)
-    s = _roots(S)
-    t = kH * lam**-2
-    rows = _boundary_rows(S, s)
-    scale = np.exp(-np.abs(s.real) * t / 2)
-    M = np.vstack([rows * (np.exp(-s * t / 2) * scale), rows * (np.exp(s * t / 2) * scale)])
-    M = M / np.linalg.norm(M, axis=0)
-    sv = np.linalg.svd(M, compute_uv=False)
+    parts = _det_parts(lam, kH, theta, p)
+    s = parts[1]
     i, j = np.triu_indices(8, 1)
-    return float(sv[-1] / sv[0]), float(np.min(np.abs(s[j] - s[i])) / np.max(np.abs(s)))
+    return (float(_singularity_ratio(_boundary_matrix(parts, _W))),
+            float(np.min(np.abs(s[j] - s[i])) / np.max(np.abs(s))))
 
 
 #: at a collision of two characteristic roots the boundary matrix has two coinciding
