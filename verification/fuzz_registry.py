@@ -747,6 +747,50 @@ def _inplane_cases():
              {"theta": 30.0, "params": PD, "n_scan": 20},
              {**th, "params": "obj", "window": "window", "n_scan": "count"},
              extra=bad_theta),
+    ] + _inplane_scan_cases()
+
+
+def _inplane_scan_cases():
+    """The refinement of sign-change scans (synthetic functions: |x - 0.37| and its V)."""
+    from debench.models.plate import inplane_scan as sc
+
+    p = "debench.models.plate.inplane_scan"
+    x = np.linspace(0.0, 1.0, 5)
+    m = np.abs(x - 0.37)
+    bad_x = [np.array([0.0, 1.0, 0.5, 2.0, 3.0]), np.array([0.0, NAN, 1.0, 2.0, 3.0])]
+    bad_m = [-np.ones(5), np.ones(4), np.array([1.0, INF, 1.0, 1.0, 1.0])]
+    bad_usable = [np.ones(4), np.ones(3, bool)]
+
+    def ev_many(which, pts):
+        return (pts - 0.37)[None], np.abs(pts - 0.37)
+
+    def refine(samples, **kw):
+        # fresh lists: refine_samples refines them in place
+        if isinstance(samples, list):
+            samples = [list(s) if isinstance(s, list) else s for s in samples]
+        return sc.refine_samples(samples=samples, **kw)
+
+    return [
+        Case(f"{p}.refinement_points", sc.refinement_points,
+             {"x": x, "m": m, "width": 1e-3},
+             {"x": "obj", "m": "obj", "width": "tol", "usable": "obj"},
+             extra={"x": bad_x, "m": bad_m, "usable": bad_usable},
+             allowed={"usable": [None]}),
+        Case(f"{p}.sign_change_brackets", sc.sign_change_brackets,
+             {"x": x, "f": x - 0.37}, {"x": "obj", "f": "obj", "usable": "obj"},
+             extra={"x": bad_x, "f": [np.ones(4)], "usable": bad_usable},
+             allowed={"usable": [None]}),
+        Case(f"{p}.refine_samples", refine,
+             {"evaluate": ev_many, "samples": [[x, (x - 0.37)[None], m, None]],
+              "width": 1e-3},
+             {"evaluate": "func", "samples": "obj", "width": "tol"},
+             extra={"samples": [[(x, x, m, None)], [[x, x[:3], m, None]],
+                                [[x, x, -m, None]]]}),
+        Case(f"{p}.scan_brackets", sc.scan_brackets,
+             {"evaluate": lambda pts: (pts - 0.37, np.abs(pts - 0.37)), "x": x,
+              "width": 1e-3},
+             {"evaluate": "func", "x": "obj", "width": "tol", "usable": "obj"},
+             extra={"x": bad_x, "usable": bad_usable}, allowed={"usable": [None]}),
     ]
 
 
