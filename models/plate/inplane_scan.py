@@ -18,7 +18,8 @@ are halved (:func:`refinement_points`), round after round, until
 * the minimum is *resolved*: every neighbour exceeds it by at most the fraction
   :data:`RESOLVED` (a smooth minimum away from zero: m0 > 0 is sampled finely enough), or
 * the intervals beside it are narrower than ``width`` x (a zero of m, or a tangency, which
-  never resolves: on a V every neighbour is >= 3x the minimum).
+  does not resolve: on a V with equal spacings h beside the sampled minimum, at distance
+  delta <= h/2 from the zero, the neighbour away from the zero is at h + delta >= 3 delta).
 
 The sign changes of f on the refined points (:func:`sign_change_brackets`) are the brackets;
 a zero of f exactly at a sampled point brackets both intervals beside it. A tangency (even
@@ -36,12 +37,14 @@ from debench.models.errors import ConvergenceError
 
 #: a local minimum of the measure is resolved (not refined further) when each neighbour
 #: exceeds it by at most this fraction. Smooth minima resolve within a few halvings
-#: (m0 + k h^2 <= 1.25 m0 once h <= sqrt(m0 / 4k)); a V-shaped zero never does: its
-#: neighbours at spacings h1, h2 (bisection keeps h2/h1 <= 4 beside a minimum) from a
-#: minimum at distance delta <= h/2 of the zero exceed it 3x or more
+#: (m0 + k h^2 <= 1.25 m0 once h <= sqrt(m0 / 4k)). A V-shaped zero would need spacings
+#: beside its sampled minimum 9x apart (h1 <= delta/4 on the far side, h2 <= 2.25 delta);
+#: halving both sides keeps them <= 4x apart (measured beside every minimum below 1e-6 in
+#: the full sweep). The square-root cusp of two colliding characteristic roots may resolve
+#: near the width; it is no bifurcation (COLLISION_TOL of the determinant scan)
 RESOLVED = 0.25
 #: refinement rounds of one scan (each halves the intervals beside every unresolved
-#: minimum): from a grid interval of 1.3 % to a width of 1e-10 takes 27; the limit only
+#: minimum): from a grid interval of 1.3 % to a width of 1e-8 takes 21; the limit only
 #: guards against a measure that is minimal everywhere (a plateau)
 MAX_ROUNDS = 80
 
