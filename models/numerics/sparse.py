@@ -82,7 +82,7 @@ class PatternRestriction:
         out = self.slicer(template)
         idx = out.data.astype(np.int64) - 1
         if not (np.array_equal(out.data, idx + 1.0) and np.all((idx >= 0) & (idx < nnz))
-                and (idx.size == 0 or np.bincount(idx, minlength=nnz).max() <= 1)):
+                and np.unique(idx).size == idx.size):
             raise ValueError("PatternRestriction: the slicer combines values (it may only "
                              "select rows and columns and convert formats)")
         self._out = (type(out), out.shape, out.indices, out.indptr, idx)
