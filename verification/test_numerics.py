@@ -8,10 +8,8 @@ import math
 
 import numpy as np
 import pytest
-import scipy.sparse as sp
 from debench.models.errors import ConvergenceError
 from debench.models.numerics import (
-    PatternRestriction,
     asymptotic_fit,
     checked_brentq,
     convergence_fit,
@@ -324,93 +322,3 @@ def test_p_grading_estimate_has_its_floor_and_refuses_what_it_cannot_judge():
         p_grading_estimate(np.ones(3), PG_PLAN)
     with pytest.raises(ValueError, match="floor"):
         p_grading_estimate(np.ones(4), PG_PLAN, floor=-1.0)
-
-
-def _same_matrix(a, b) -> bool:
-    """Entry for entry the same stored matrix: format, shape, structure and values (bitwise,
-    explicit zeros included)."""
-    return (type(a) is type(b) and a.shape == b.shape and np.array_equal(a.indptr, b.indptr)
-            and np.array_equal(a.indices, b.indices)
-            and np.array_equal(a.data.view(np.uint64), b.data.view(np.uint64)))
-
-
-def _random_pattern_matrix(rng, n: int, fmt: str, values=None):
-    A = sp.random(n, n, density=0.2, format=fmt, random_state=np.random.RandomState(1))
-    A.data[::5] = 0.0                                   # explicit zeros stay stored
-    if values is not None:
-        A.data[:] = values(A.data.size)
-        A.data[::5] = 0.0
-    return A
-
-
-@pytest.mark.parametrize("fmt", ["csr", "csc"])
-def test_pattern_restriction_equals_slicing_every_matrix_of_the_pattern(fmt):
-    """PatternRestriction: the gathered restriction of every matrix of one pattern is the
-    directly sliced matrix entry for entry (structure, explicit zeros, bits of every value),
-    for row and column selections and format conversions."""
-    rng = np.random.default_rng(7)
-    rows = rng.random(40) < 0.7
-    cols = rng.random(40) < 0.6
-    slicers = [lambda A: A[rows][:, rows].tocsc(), lambda A: A[rows][:, cols],
-               lambda A: A[:, cols].tocsr(), lambda A: A]
-    for slicer in slicers:
-        restrict = PatternRestriction(slicer)
-        for _ in range(3):                               # new values, same pattern
-            A = _random_pattern_matrix(rng, 40, fmt, values=rng.standard_normal)
-            assert _same_matrix(restrict(A), slicer(A))
-
-
-def test_pattern_restriction_follows_a_new_pattern_and_refuses_arithmetic():
-    """A matrix of another pattern (or format) is restricted by a map built for it; a
-    non-canonical pattern (duplicates: a conversion sums them) is sliced directly; a slicer
-    that combines values is refused with ValueError."""
-    rng = np.random.default_rng(3)
-    keep = rng.random(30) < 0.5
-
-    def slicer(A):
-        return A[keep][:, keep].tocsc()
-
-    restrict = PatternRestriction(slicer)
-    A = _random_pattern_matrix(rng, 30, "csr", values=rng.standard_normal)
-    assert _same_matrix(restrict(A), slicer(A))
-    B = sp.random(30, 30, density=0.3, format="csr", random_state=np.random.RandomState(2))
-    assert _same_matrix(restrict(B), slicer(B))
-    C = sp.csc_matrix(B)
-    assert _same_matrix(restrict(C), slicer(C))
-    dup = sp.csr_matrix((np.array([1.0, 2.0, 3.0]), np.array([0, 0, 1]), np.array([0, 2, 3])),
-                        shape=(2, 2))                   # entry (0, 0) stored twice
-    direct = PatternRestriction(lambda A: A.tocsc())
-    np.testing.assert_array_equal(direct(dup).toarray(), [[3.0, 0.0], [0.0, 3.0]])
-    with pytest.raises(ValueError, match="combines values"):
-        PatternRestriction(lambda A: 0.5 * A)(A)
-
-
-def test_pattern_restriction_of_triplets_equals_converting_and_slicing():
-    """PatternRestriction.coo: the restriction of assembled triplets (unsorted, explicit
-    zeros) is ``slicer(csr_matrix((vals, (rows, cols))))`` entry for entry, for new values
-    on the same triplets; duplicate triplets (summed by the conversion) are converted and
-    sliced directly; triplets of unequal lengths are refused naming them."""
-    rng = np.random.default_rng(11)
-    n = 25
-    A = _random_pattern_matrix(rng, n, "csr", values=rng.standard_normal).tocoo()
-    order = rng.permutation(A.nnz)                         # assembly order, not sorted
-    rows, cols = A.row[order], A.col[order]
-    keep = rng.random(n) < 0.6
-
-    def slicer(M):
-        return M[keep][:, keep].tocsc()
-
-    restrict = PatternRestriction(slicer)
-    for _ in range(3):
-        vals = rng.standard_normal(rows.size)
-        vals[::4] = 0.0
-        direct = slicer(sp.csr_matrix((vals, (rows, cols)), shape=(n, n)))
-        assert _same_matrix(restrict.coo(rows, cols, vals, (n, n)), direct)
-    r2, c2 = np.append(rows, rows[0]), np.append(cols, cols[0])
-    v2 = rng.standard_normal(r2.size)
-    np.testing.assert_array_equal(restrict.coo(r2, c2, v2, (n, n)).toarray(),
-                                  slicer(sp.csr_matrix((v2, (r2, c2)), shape=(n, n))).toarray())
-    with pytest.raises(ValueError, match="rows, cols and vals"):
-        restrict.coo(rows, cols, vals[:-1], (n, n))
-    with pytest.raises(TypeError, match="CSR or CSC"):
-        restrict(np.eye(3))

@@ -161,7 +161,6 @@ class MembraneModel(MembraneStability):
         self._ufree[nu:] = False
         self._pfree = self._free.copy()
         self._pfree[:nu] = False
-        self._restrictions = {}      # block restrictions of the assembled matrices (_scipy)
         self._inv = None
         self._inv_state = None       # id of the assembled tangent the factor belongs to
         self._assembled = None

@@ -36,7 +36,6 @@ from debench.models.buckling.eigen import (
     subspace_iteration,
 )
 from debench.models.errors import ConvergenceError
-from debench.models.numerics import PatternRestriction
 from scipy.sparse.linalg import splu
 
 
@@ -44,18 +43,10 @@ class MembraneStability:
     """The eigen-analysis of the 3D model's current state (module docstring)."""
 
     def _scipy(self, mat, rows_mask, cols_mask):
-        """The block (``rows_mask``, ``cols_mask``) of the assembled NGSolve matrix ``mat``
-        as a SciPy CSR matrix: gathered through a map made once per block and matrix
-        pattern (:class:`~debench.models.numerics.sparse.PatternRestriction`; the forms
-        keep their pattern at every state)."""
         r, c, v = mat.COO()
-        r, c = np.asarray(r), np.asarray(c)
-        restrictions = self._restrictions
-        key = (r.size, np.asarray(rows_mask).tobytes(), np.asarray(cols_mask).tobytes())
-        if key not in restrictions:
-            ir, ic = np.flatnonzero(rows_mask), np.flatnonzero(cols_mask)
-            restrictions[key] = PatternRestriction(lambda A: A[ir][:, ic])
-        return restrictions[key].coo(r, c, v, (self.ndof, self.ndof))
+        A = sp.csr_matrix((np.asarray(v), (np.asarray(r), np.asarray(c))),
+                          shape=(self.ndof, self.ndof))
+        return A[np.flatnonzero(rows_mask)][:, np.flatnonzero(cols_mask)]
 
     def lowest_eigenvalues(self, *, nev: int = 3, iters: int = EIG_MAXIT,
                            rtol: float = EIG_RTOL, seed: int = 0, x0=None,

@@ -1,6 +1,5 @@
-"""Shared numerics of every chapter: bracketed roots (:mod:`.roots`), mesh-convergence
-and limit fits with Roache's grid convergence index (:mod:`.convergence`) and the
-restrictions of sparse matrices of one pattern (:mod:`.sparse`).
+"""Shared numerics of every chapter: bracketed roots (:mod:`.roots`) and mesh-convergence
+and limit fits with Roache's grid convergence index (:mod:`.convergence`).
 
 Each routine is tested once on synthetic problems with known answers, through every method
 (``verification/test_numerics.py``), the way SciPy's ``test_zeros`` runs one collection of
@@ -25,14 +24,12 @@ from debench.models.numerics.convergence import (
     two_term_limits,
 )
 from debench.models.numerics.roots import Memo, checked_brentq, regula_falsi_many, zero_near
-from debench.models.numerics.sparse import PatternRestriction
 
 __all__ = [
     "GCI",
     "LimitFit",
     "Memo",
     "PGradingEstimate",
-    "PatternRestriction",
     "ThreePointFit",
     "asymptotic_fit",
     "checked_brentq",

@@ -27,6 +27,7 @@ from debench.models.buckling.axisym.linalg import (
     REFINE_RTOL,
     REFINEMENTS,
     Factor,
+    PatternRestriction,
     csr_of,
     require_finite_step,
 )
@@ -35,7 +36,6 @@ from debench.models.buckling.axisym.spectra import ModeAnalysis
 from debench.models.buckling.parameters import MU_REF, NeoHookean, Ogden, Plate
 from debench.models.errors import ConvergenceError, require
 from debench.models.materials import ngsolve_forms as ngf
-from debench.models.numerics import PatternRestriction
 from scipy.sparse.linalg import splu
 
 NEWTON_RTOL = 1e-11

@@ -32,6 +32,7 @@ from debench.models.buckling.axisym.kinematics import (
 )
 from debench.models.buckling.axisym.linalg import (
     Factor,
+    PatternRestriction,
     csr_of,
     embed_block,
 )
@@ -39,7 +40,6 @@ from debench.models.buckling.eigen import negative_pivots, negative_pivots_of
 from debench.models.buckling.parameters import Ogden
 from debench.models.errors import ConvergenceError, require
 from debench.models.materials import ngsolve_forms as ngf
-from debench.models.numerics import PatternRestriction
 from scipy.sparse.linalg import LinearOperator, eigsh
 
 EIG_RTOL = 1e-10
@@ -141,7 +141,7 @@ class ModeAnalysis:
         DOFs (``M``), to the displacement DOFs (``Mu``) and embedded back (``M_full``), the
         masks ``iu`` and ``ip`` among the free DOFs, and the restrictions of the assembled
         tangent to the free DOFs and to its displacement and potential blocks
-        (:class:`~debench.models.numerics.sparse.PatternRestriction`: the tangent's
+        (:class:`~debench.models.buckling.axisym.linalg.PatternRestriction`: the tangent's
         pattern is the form's, the same at every state); ``M_full``: the mass in the matrix
         the pencil shifts."""
         key = ("parts", n, tangent)
@@ -215,9 +215,9 @@ class ModeAnalysis:
         t = time.perf_counter()
         zero = ngs.GridFunction(Y)
         k.AssembleLinearization(zero.vec)
-        K = parts["free"].coo(*k.mat.COO(), (Y.ndof, Y.ndof))
+        K = csr_of(k.mat, Y.ndof)
         self.stats["assemble_s"] += time.perf_counter() - t
-        return K, parts["M"], parts["iu"], parts["ip"]
+        return parts["free"](K), parts["M"], parts["iu"], parts["ip"]
 
     def spectrum(self, n: int, nev: int = 3, *, sigma: float | None = None,
                  tangent: str = "coupled") -> ModeSpectrum:
