@@ -277,69 +277,6 @@ def test_a_stalled_deflection_solve_gives_up_after_its_stall_steps(monkeypatch):
         m.newton_deflection(target, stall=0)
 
 
-def _same_matrix(a, b) -> bool:
-    """Entry for entry the same stored matrix: format, shape, structure and values (bitwise,
-    explicit zeros included)."""
-    return (type(a) is type(b) and a.shape == b.shape and np.array_equal(a.indptr, b.indptr)
-            and np.array_equal(a.indices, b.indices)
-            and np.array_equal(a.data.view(np.uint64), b.data.view(np.uint64)))
-
-
-def _random_pattern_matrix(rng, n: int, fmt: str, values=None):
-    import scipy.sparse as sp
-
-    A = sp.random(n, n, density=0.2, format=fmt, random_state=np.random.RandomState(1))
-    A.data[::5] = 0.0                                   # explicit zeros stay stored
-    if values is not None:
-        A.data[:] = values(A.data.size)
-        A.data[::5] = 0.0
-    return A
-
-
-@pytest.mark.parametrize("fmt", ["csr", "csc"])
-def test_pattern_restriction_equals_slicing_every_matrix_of_the_pattern(fmt):
-    """PatternRestriction: the gathered restriction of every matrix of one pattern is the
-    directly sliced matrix entry for entry (structure, explicit zeros, bits of every value),
-    for row and column selections and format conversions."""
-    rng = np.random.default_rng(7)
-    rows = rng.random(40) < 0.7
-    cols = rng.random(40) < 0.6
-    slicers = [lambda A: A[rows][:, rows].tocsc(), lambda A: A[rows][:, cols],
-               lambda A: A[:, cols].tocsr(), lambda A: A]
-    for slicer in slicers:
-        restrict = ax_linalg.PatternRestriction(slicer)
-        for _ in range(3):                               # new values, same pattern
-            A = _random_pattern_matrix(rng, 40, fmt, values=rng.standard_normal)
-            assert _same_matrix(restrict(A), slicer(A))
-
-
-def test_pattern_restriction_follows_a_new_pattern_and_refuses_arithmetic():
-    """A matrix of another pattern (or format) is restricted by a map built for it; a
-    non-canonical pattern (duplicates: a conversion sums them) is sliced directly; a slicer
-    that combines values is refused with ValueError."""
-    import scipy.sparse as sp
-
-    rng = np.random.default_rng(3)
-    keep = rng.random(30) < 0.5
-
-    def slicer(A):
-        return A[keep][:, keep].tocsc()
-
-    restrict = ax_linalg.PatternRestriction(slicer)
-    A = _random_pattern_matrix(rng, 30, "csr", values=rng.standard_normal)
-    assert _same_matrix(restrict(A), slicer(A))
-    B = sp.random(30, 30, density=0.3, format="csr", random_state=np.random.RandomState(2))
-    assert _same_matrix(restrict(B), slicer(B))
-    C = sp.csc_matrix(B)
-    assert _same_matrix(restrict(C), slicer(C))
-    dup = sp.csr_matrix((np.array([1.0, 2.0, 3.0]), np.array([0, 0, 1]), np.array([0, 2, 3])),
-                        shape=(2, 2))                   # entry (0, 0) stored twice
-    direct = ax_linalg.PatternRestriction(lambda A: A.tocsc())
-    np.testing.assert_array_equal(direct(dup).toarray(), [[3.0, 0.0], [0.0, 3.0]])
-    with pytest.raises(ValueError, match="arithmetic"):
-        ax_linalg.PatternRestriction(lambda A: 0.5 * A)(A)
-
-
 def test_newton_refuses_a_state_outside_the_material_domain_before_factorising(monkeypatch):
     """A state with inverted elements (u_z = -2 Z: F_zz = -1, the energy NaN) makes both Newton
     solvers raise ConvergenceError naming the non-finite residual, without a factorisation: a

@@ -1,14 +1,11 @@
 """Sparse linear algebra of the axisymmetric model (:mod:`debench.models.buckling.axisym`).
 
 The symmetric-indefinite factorisation with iterative refinement every Newton step and
-every shift-invert eigen-solve uses (:class:`Factor`), the finiteness check before it, the
-conversions of NGSolve matrices to SciPy's and the restrictions of matrices of one fixed
-sparsity pattern to blocks of their rows and columns (:class:`PatternRestriction`).
+every shift-invert eigen-solve uses (:class:`Factor`), the finiteness check before it, and
+the conversions of NGSolve matrices to SciPy's.
 """
 
 from __future__ import annotations
-
-from collections.abc import Callable
 
 import numpy as np
 import scipy.sparse as sp
@@ -104,50 +101,3 @@ def embed_block(Mu: sp.spmatrix, iu: np.ndarray) -> sp.csc_matrix:
                       shape=(len(iu), int(iu.sum())))
     return (P @ Mu @ P.T).tocsc()
 
-
-
-class PatternRestriction:
-    """``slicer(A)`` for every compressed sparse matrix ``A`` (CSR or CSC) of one sparsity
-    pattern, by a gather of its values.
-
-    NGSolve assembles a form on one fixed matrix graph, and a ``slicer`` that only selects
-    rows and columns and converts formats moves values without arithmetic. Applied once to
-    the template of the pattern whose values are the positions 1 .. nnz, it gives for every
-    stored entry of its result the position of the value it holds: the restriction of a
-    later matrix is its values gathered through that map into the result's structure,
-    identical entry for entry to ``slicer(A)`` (explicit zeros included) without the
-    sorting and copying of SciPy's fancy indexing. The pattern (format, shape, indices,
-    index pointers) of every matrix is compared with the template's; another pattern
-    rebuilds the map. A pattern with duplicate or unsorted entries (where a conversion
-    could sum values) is sliced directly."""
-
-    def __init__(self, slicer: Callable[[sp.spmatrix], sp.spmatrix]):
-        self.slicer = slicer
-        self._pattern = None
-
-    def _same_pattern(self, A) -> bool:
-        p = self._pattern
-        return (p is not None and type(A) is p[0] and A.shape == p[1]
-                and np.array_equal(A.indptr, p[2]) and np.array_equal(A.indices, p[3]))
-
-    def _build(self, A) -> None:
-        nnz = A.indptr[-1]
-        template = type(A)((np.arange(1, nnz + 1, dtype=float), A.indices.copy(),
-                            A.indptr.copy()), shape=A.shape)
-        self._pattern = (type(A), A.shape, A.indptr.copy(), A.indices.copy())
-        self._out = None
-        if not template.has_canonical_format:
-            return
-        out = self.slicer(template)
-        idx = out.data.astype(np.int64) - 1
-        if not (np.array_equal(out.data, idx + 1.0) and np.all((idx >= 0) & (idx < nnz))):
-            raise ValueError("PatternRestriction: the slicer does arithmetic on the values")
-        self._out = (type(out), out.shape, out.indices, out.indptr, idx)
-
-    def __call__(self, A: sp.spmatrix) -> sp.spmatrix:
-        if not self._same_pattern(A):
-            self._build(A)
-        if self._out is None:
-            return self.slicer(A)
-        cls, shape, indices, indptr, idx = self._out
-        return cls((A.data[idx], indices, indptr), shape=shape)

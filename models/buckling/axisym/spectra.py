@@ -30,12 +30,7 @@ from debench.models.buckling.axisym.kinematics import (
     referential_field,
     section_gradient,
 )
-from debench.models.buckling.axisym.linalg import (
-    Factor,
-    PatternRestriction,
-    csr_of,
-    embed_block,
-)
+from debench.models.buckling.axisym.linalg import Factor, csr_of, embed_block
 from debench.models.buckling.eigen import negative_pivots, negative_pivots_of
 from debench.models.buckling.parameters import Ogden
 from debench.models.errors import ConvergenceError, require
@@ -136,33 +131,6 @@ class ModeAnalysis:
         self._forms[(n, tangent)] = out
         return out
 
-    def _mode_parts(self, n: int, tangent: str) -> dict:
-        """What every spectrum of wavenumber ``n`` shares: the mass restricted to the free
-        DOFs (``M``), to the displacement DOFs (``Mu``) and embedded back (``M_full``), the
-        masks ``iu`` and ``ip`` among the free DOFs, and the restrictions of the assembled
-        tangent to the free DOFs and to its displacement and potential blocks
-        (:class:`~debench.models.buckling.axisym.linalg.PatternRestriction`: the tangent's
-        pattern is the form's, the same at every state); ``M_full``: the mass in the matrix
-        the pencil shifts."""
-        key = ("parts", n, tangent)
-        if key in self._forms:
-            return self._forms[key]
-        _, _, M, free, is_u = self._mode_forms(n, tangent)
-        iu = is_u[free]
-        ip = ~iu
-        Mf = M[free][:, free].tocsc()
-        Mu = Mf[iu][:, iu]
-        # the mass in the matrix the pencil shifts: the saddle-point tangent (coupled), else
-        # the displacement block itself
-        shifted = iu if tangent == "coupled" else np.ones(int(iu.sum()), dtype=bool)
-        parts = {"M": Mf, "Mu": Mu, "M_full": embed_block(Mu, shifted), "iu": iu, "ip": ip,
-                 "free": PatternRestriction(lambda A: A[free][:, free].tocsc()),
-                 "uu": PatternRestriction(lambda K: K[iu][:, iu]),
-                 "up": PatternRestriction(lambda K: K[iu][:, ip]),
-                 "pp": PatternRestriction(lambda K: K[ip][:, ip].tocsc())}
-        self._forms[key] = parts
-        return parts
-
     def _initial_stress_energy(self, F0, E0, dFc, dFs):
         """The energy whose Hessian at zero is the initial-stress operator: the material
         stiffness of the unloaded film plus the stress stiffness of the total second
@@ -210,14 +178,15 @@ class ModeAnalysis:
         :meth:`spectrum`)."""
         n = val.integer_at_least("n", n, 0)
         val.choice("tangent", tangent, TANGENTS)
-        Y, k, _, _, _ = self._mode_forms(n, tangent)
-        parts = self._mode_parts(n, tangent)
+        Y, k, M, free, is_u = self._mode_forms(n, tangent)
         t = time.perf_counter()
         zero = ngs.GridFunction(Y)
         k.AssembleLinearization(zero.vec)
         K = csr_of(k.mat, Y.ndof)
         self.stats["assemble_s"] += time.perf_counter() - t
-        return parts["free"](K), parts["M"], parts["iu"], parts["ip"]
+        K, M = K[free][:, free].tocsc(), M[free][:, free].tocsc()
+        iu = is_u[free]
+        return K, M, iu, ~iu
 
     def spectrum(self, n: int, nev: int = 3, *, sigma: float | None = None,
                  tangent: str = "coupled") -> ModeSpectrum:
@@ -237,10 +206,10 @@ class ModeAnalysis:
         (ConvergenceError otherwise, and when an eigen-residual exceeds EIG_RTOL)."""
         nev = val.integer_at_least("nev", nev, 1)
         t = time.perf_counter()
-        K, _, iu, _ = self.mode_matrices(n, tangent)
+        K, M, iu, ip = self.mode_matrices(n, tangent)
         nu = int(iu.sum())
         require(nev < nu - 1, f"nev = {nev} must be < {nu - 1} (displacement DOFs)")
-        pencil = _Pencil(K, self._mode_parts(n, tangent), tangent)
+        pencil = _Pencil(K, M, iu, ip, tangent)
         rng = np.random.default_rng(0)
         user = sigma is not None
         # default shift: below zero by a tenth of the bending scale (t0/a)^2 of the
@@ -282,15 +251,14 @@ class _Pencil:
     whose shifted factorisations ``K - s M`` apply ``(S - s M)^-1`` and whose inertia counts
     the eigenvalues below ``s``: the saddle-point tangent (its potential block's ``npp``
     negative pivots discounted) for the coupled tangent, else ``K_uu``; ``iu`` marks the
-    displacement DOFs of ``K``, ``Mu`` is the mass on them. ``parts``: the wavenumber's
-    shared masses, masks and block restrictions (``ModeAnalysis._mode_parts``)."""
+    displacement DOFs of ``K``, ``Mu`` is the mass on them."""
 
-    def __init__(self, K, parts: dict, tangent: str):
-        Mu, iu = parts["Mu"], parts["iu"]
+    def __init__(self, K, M, iu, ip, tangent: str):
+        Mu = M[iu][:, iu]
         nu = int(iu.sum())
-        Kuu = parts["uu"](K)
+        Kuu = K[iu][:, iu]
         if tangent == "coupled":
-            Kup, Kpp = parts["up"](K), parts["pp"](K)
+            Kup, Kpp = K[iu][:, ip], K[ip][:, ip].tocsc()
             lu_pp = Factor(Kpp, "AxisymModel.spectrum (potential block)")
             npp = negative_pivots_of(lu_pp.lu)
             require(npp == Kpp.shape[0], "AxisymModel.spectrum: the potential block is not "
@@ -308,7 +276,7 @@ class _Pencil:
                 return Kuu @ np.asarray(x).reshape(nu, -1)
 
         self.S, self.K, self.Kuu, self.Mu, self.iu, self.nu, self.npp = S, K, Kuu, Mu, iu, nu, npp
-        self.M_full = parts["M_full"]
+        self.M_full = embed_block(Mu, iu)
 
     def count_below(self, s: float) -> int:
         """Eigenvalues of the pencil below ``s`` (inertia of ``K - s M`` less ``npp``)."""
