@@ -44,26 +44,50 @@ def _unit(spelled: str | None, expected: str, column: str, where: str):
 
 
 def read_results(path: Path, quantity: str | None, prob) -> tuple[tuple[str, ...], dict]:
-    """Columns of a user's results file for the quantities of ``prob`` it holds: CSV with
-    header ``name [units]``, or netCDF (variables named like the coordinates and the
-    quantities, with a ``units`` attribute, broadcast against the first quantity).
+    """Columns of a user's results file for the quantities of ``prob`` it holds.
 
-    Returns the names of the quantities found (in the file's order; ``quantity``: that
-    one alone) and ``{column: values}``. Several quantities in one file must share their
-    coordinates (each row is one point of every quantity). Every numeric column needs
-    units, compared by meaning and converted to the problem's; a column that is neither
-    one of the quantities nor one of their coordinates (with ``quantity`` given, another
-    quantity's column too), or a repeated column, is refused."""
+    Parameters
+    ----------
+    path
+        A CSV file with the header ``name [units]`` (columns separated by a comma, a
+        semicolon or a tab, spaces around them allowed; UTF-8 with or without a
+        byte-order mark, or UTF-16 with one; lines starting with '#' skipped), or a
+        netCDF file (``.nc``, ``.nc4``, ``.cdf``: variables named like the coordinates and
+        the quantities, with a ``units`` attribute, broadcast against the first quantity).
+    quantity
+        The one quantity to check (None: every quantity of ``prob`` the file holds).
+    prob
+        The :class:`~debench.reference.problems.Problem`.
+
+    Returns
+    -------
+    tuple
+        The names of the quantities found (in the file's order; ``quantity``: that one
+        alone) and ``{column: values}``. An empty cell, ``nan`` or ``NaN`` in a
+        quantity's column is NaN (no value there, e.g. no event).
+
+    Raises
+    ------
+    UsageError
+        Several quantities that do not share their coordinates (each row is one point of
+        every quantity); a numeric column without units or with units not convertible to
+        the problem's (units are compared by meaning and converted); a column that is
+        neither one of the quantities nor one of their coordinates (with ``quantity``
+        given, another quantity's column too: the message suggests the column name it
+        resembles and shows the expected header), or a repeated column; a directory, a
+        file that is not UTF-8 or UTF-16 text, a header whose columns cannot be told
+        apart, a row with another number of cells than the header, a cell that is not a
+        number (a decimal comma is named), an empty coordinate cell.
+    """
     path = Path(path)
-    if not path.is_file():
-        raise UsageError(f"FILE {path} does not exist")
+    _check_is_file(path)
     names = [q.name for q in prob.quantities]
     if path.suffix in (".nc", ".nc4", ".cdf"):
         import xarray as xr
 
         with xr.open_dataset(path) as ds:
             found = _quantities_in(path, [n for n in ds.data_vars], names, quantity,
-                                   "variable")
+                                   "variable", prob)
             qs = [_quantity_of(prob, n) for n in found]
             coords = _shared_coordinates(path, qs)
             unknown = sorted(set(ds.data_vars) - {*found, *coords})
@@ -80,12 +104,7 @@ def read_results(path: Path, quantity: str | None, prob) -> tuple[tuple[str, ...
                 v = a.transpose(*first.dims).values.ravel()
                 cols[n] = conv(v) if conv else v
         return tuple(found), cols
-    import csv
-
-    with path.open(newline="", encoding="utf-8") as fh:
-        rows = [r for r in csv.reader(fh) if r and not r[0].startswith("#")]
-    if len(rows) < 2:
-        raise UsageError(f"{path}: expected a header and at least one row")
+    rows = _csv_rows(path)
     header, spelled = [], {}
     for cell in rows[0]:
         name, bracket, rest = cell.strip().partition("[")
@@ -94,36 +113,179 @@ def read_results(path: Path, quantity: str | None, prob) -> tuple[tuple[str, ...
             raise UsageError(f"{path}: column {name} appears twice in the header")
         header.append(name)
         spelled[name] = rest.rstrip().removesuffix("]").strip() if bracket else None
-    found = _quantities_in(path, header, names, quantity, "column")
+    found = _quantities_in(path, header, names, quantity, "column", prob)
     qs = [_quantity_of(prob, n) for n in found]
     coords = _shared_coordinates(path, qs)
     unknown = [n for n in header if n not in (*found, *coords)]
     if unknown:
         raise UsageError(f"{path}: columns {unknown} are not "
-                         f"{_what(found, coords, quantity)}")
+                         f"{_what(found, coords, quantity)}"
+                         + _hint(unknown, qs if quantity else _sharing(prob, coords), prob))
     cols = {}
     for j, name in enumerate(header):
         conv = _unit(spelled[name], _units(qs, name), name, str(path))
-        raw = [r[j].strip() if j < len(r) else "" for r in rows[1:]]
+        raw = [r[j].strip() for r in rows[1:]]
         if conv is None:
             cols[name] = np.array(raw)
             continue
-        try:
-            cols[name] = conv(np.array([float(x) for x in raw]))
-        except ValueError:
-            raise UsageError(f"{path}: column {name} holds a value that is not a "
-                             "number") from None
+        cols[name] = conv(_numbers(path, name, raw, empty_is_nan=name in found))
     return tuple(found), cols
 
 
-def _quantities_in(path, present, names, quantity, kind: str) -> list[str]:
+#: the column separators of ordinary CSV files: comma, semicolon (spreadsheets in
+#: locales with a decimal comma) and tab (spreadsheets' "text" export)
+DELIMITERS = (",", ";", "\t")
+
+
+def _check_is_file(path: Path) -> None:
+    """UsageError unless ``path`` is a file: a directory is named as one (one holding
+    submission metadata: the ``--submission`` form is suggested), else it does not
+    exist."""
+    if path.is_file():
+        return
+    if path.is_dir():
+        from debench.reference.submissions import METADATA_NAME
+
+        hint = (f"; it holds {METADATA_NAME}: to check a submission folder, run "
+                f"'debench check --submission {path}'" if (path / METADATA_NAME).is_file()
+                else "; give the path of a CSV or netCDF file")
+        raise UsageError(f"FILE {path} is a directory, not a results file{hint}")
+    raise UsageError(f"FILE {path} does not exist")
+
+
+def _decode(path: Path) -> str:
+    """The text of a CSV file: UTF-8, with or without a byte-order mark (Excel's "CSV
+    UTF-8"), or UTF-16 with its mark (Excel's "Unicode text"); UsageError otherwise."""
+    import codecs
+
+    raw = path.read_bytes()
+    if raw.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+        return raw.decode("utf-16")
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise UsageError(f"{path}: not UTF-8 text (byte {exc.start}): save the file as "
+                         "UTF-8 (Excel: 'CSV UTF-8')") from None
+
+
+def _csv_rows(path: Path) -> list[list[str]]:
+    """The header and rows of a CSV file (lines starting with '#' and blank lines
+    skipped), separated by one of :data:`DELIMITERS` (spaces around it allowed): the one
+    the header holds, or, if it holds several, the one that splits every row into as many
+    cells as the header. UsageError when the columns cannot be told apart or a row has
+    another number of cells than the header."""
+    import csv
+
+    lines = [ln for ln in _decode(path).splitlines()
+             if ln.strip() and not ln.lstrip().startswith("#")]
+    if len(lines) < 2:
+        raise UsageError(f"{path}: expected a header and at least one row")
+
+    def split(sep):
+        return [[c.strip() for c in r]
+                for r in csv.reader(lines, delimiter=sep, skipinitialspace=True)]
+
+    present = [d for d in DELIMITERS if d in lines[0]]
+    if len(present) > 1:
+        fits = [d for d in present if {len(r) for r in split(d)} == {len(split(d)[0])}]
+        if len(fits) != 1:
+            raise UsageError(f"{path}: cannot tell the column separator: the header holds "
+                             f"{[*map(_show_sep, present)]}; separate the columns with one "
+                             "of ',', ';' or a tab")
+        present = fits
+    rows = split(present[0] if present else ",")
+    if len(rows[0]) == 1 and (rows[0][0].count("[") > 1 or "|" in rows[0][0]
+                              or len(rows[0][0].partition("[")[0].split()) > 1):
+        raise UsageError(f"{path}: the header {rows[0][0]!r} is one column: separate the "
+                         "columns with ',', ';' or a tab (spaces around it are allowed)")
+    for k, r in enumerate(rows[1:], start=2):
+        if len(r) != len(rows[0]):
+            sep = _show_sep(present[0] if present else ",")
+            raise UsageError(f"{path}: row {k} has {len(r)} cell(s), the header "
+                             f"{len(rows[0])} (separator {sep})")
+    return rows
+
+
+def _show_sep(sep: str) -> str:
+    return "tab" if sep == "\t" else repr(sep)
+
+
+def _numbers(path, name: str, raw: list[str], empty_is_nan: bool) -> np.ndarray:
+    """The cells ``raw`` of column ``name`` as floats ('nan' and 'NaN' are NaN; an empty
+    cell is NaN in a quantity's column (``empty_is_nan``: no value, e.g. no event) and
+    refused in a coordinate's). UsageError naming the column and the first bad cell."""
+    out = np.empty(len(raw))
+    for k, x in enumerate(raw):
+        if not x and empty_is_nan:
+            out[k] = np.nan
+            continue
+        try:
+            out[k] = float(x)
+        except ValueError:
+            what = "is empty" if not x else f"holds {x!r}, which is not a number"
+            if x.count(",") == 1 and x.replace(",", "", 1).lstrip("+-").isdigit():
+                what += " (a decimal comma: write decimal points)"
+            raise UsageError(f"{path}: column {name} {what} (row {k + 2})") from None
+    return out
+
+
+def _quantities_in(path, present, names, quantity, kind: str, prob) -> list[str]:
     """The quantities to check: ``quantity`` (which must be present), else every
     quantity of the problem that ``present`` (the file's columns) names."""
     found = [quantity] if quantity else [n for n in present if n in names]
     if not found or found[0] not in present:
+        qs = [_quantity_of(prob, quantity)] if quantity else list(prob.quantities)
+        known = {n for q in prob.quantities for n in (q.name, *q.coordinates)}
         raise UsageError(f"{path}: no {kind} for quantity {quantity or names}; "
-                         f"{'header' if kind == 'column' else 'variables'} {list(present)}")
+                         f"{'header' if kind == 'column' else 'variables'} {list(present)}"
+                         + _hint([n for n in present if n not in known], qs, prob))
     return found
+
+
+def expected_header(qs) -> str:
+    """The CSV header line of a file of the quantities ``qs`` (which share their
+    coordinates): each coordinate, then each quantity, as ``name [units]`` (a text
+    coordinate without units)."""
+    def cell(q, name):
+        units = q.units_of(name)
+        return f"{name} [{units}]" if units else name
+
+    q0 = qs[0]
+    return ",".join([*(cell(q0, c) for c in q0.coordinates), *(cell(q, q.name) for q in qs)])
+
+
+def _hint(unknown, qs, prob) -> str:
+    """``; 'Lam' is not a column of this problem; did you mean 'lam'? expected header:
+    ...`` for a refusal naming the columns ``unknown`` (the file's quantities ``qs``, or
+    every quantity of ``prob`` when none was found: one header per group of quantities
+    that share their coordinates)."""
+    import difflib
+
+    known = list(dict.fromkeys(n for q in prob.quantities for n in (*q.coordinates, q.name)))
+    lower = {k.lower(): k for k in known}
+    out = []
+    for name in unknown:
+        key = name.lower()
+        if key not in lower:
+            key = next(iter(difflib.get_close_matches(key, list(lower), n=1)), None)
+        if key is not None and lower[key] != name:
+            out.append(f"'{name}' is not a column of this problem; did you mean "
+                       f"'{lower[key]}'?")
+    groups: dict[tuple, list] = {}
+    for q in qs:
+        groups.setdefault(tuple(sorted(q.coordinates)), []).append(q)
+    headers = [expected_header(g) for g in groups.values()]
+    out.append(("expected header: " if len(headers) == 1 else
+                "expected header (one per file): ") + "; ".join(headers))
+    dflt = sorted({c for q in qs for c in q.defaults})
+    if dflt:
+        out[-1] += f" (columns with a default may be left out: {', '.join(dflt)})"
+    return "; " + " ".join(out)
+
+
+def _sharing(prob, coords) -> list:
+    """The quantities of ``prob`` whose coordinates are ``coords``."""
+    return [q for q in prob.quantities if set(q.coordinates) == set(coords)]
 
 
 def _shared_coordinates(path, qs) -> tuple[str, ...]:

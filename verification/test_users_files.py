@@ -1,0 +1,114 @@
+"""``debench check`` on the files users write: semicolon- and tab-separated CSV, an Excel
+byte-order mark, a misspelt column, a directory given as FILE, no-event cells, curves of a
+single stored point, stored coordinates a round-off away, and range messages that show
+the excess. Each right file is accepted (exit 0) and a wrong one still fails (exit 1) or
+is refused with a message naming what is wrong (exit 2)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from debench.reference import cli
+
+#: the closed-form free-membrane reference over its whole range, as densely as its grid
+FREE_LAM = np.linspace(1.0, 5.0, 401)
+#: a relative perturbation far above the free membrane's stated accuracy (atol 1e-12)
+PERTURBATION = 1e-4
+
+
+def _free_phibar(lam):
+    return np.sqrt(lam**-2 - lam**-8)
+
+
+def _write(path, header, rows, sep=",", encoding="utf-8"):
+    """A CSV of ``header`` (cells) and ``rows`` (cells, written as given) joined by ``sep``."""
+    lines = [sep.join(header), *(sep.join(r) for r in rows)]
+    path.write_text("\n".join(lines) + "\n", encoding=encoding)
+    return str(path)
+
+
+def _free_rows(scale=1.0):
+    return [[repr(float(a)), repr(float(b) * scale)]
+            for a, b in zip(FREE_LAM, _free_phibar(FREE_LAM), strict=True)]
+
+
+FREE_HEADER = ["lam [1]", "phibar [1]"]
+
+
+# ------------------------------------------------------------------ dialects and encodings
+
+@pytest.mark.parametrize("sep", [";", "\t", "; ", ", ", " , ", "\t "],
+                         ids=["semicolon", "tab", "semicolon-space", "comma-space",
+                              "spaced-comma", "tab-space"])
+def test_check_reads_semicolon_tab_and_spaced_csv(tmp_path, capsys, sep):
+    """The same right file in each ordinary dialect matches (exit 0); scaled by 1 + 1e-4
+    it fails (exit 1): the columns are read, not skipped."""
+    ok = _write(tmp_path / "ok.csv", FREE_HEADER, _free_rows(), sep)
+    assert cli.main(["check", "ch3_free_membrane_nh", ok]) == 0
+    assert "MATCHES: 401/401" in capsys.readouterr().out
+    bad = _write(tmp_path / "bad.csv", FREE_HEADER, _free_rows(1 + PERTURBATION), sep)
+    assert cli.main(["check", "ch3_free_membrane_nh", bad]) == 1
+
+
+@pytest.mark.parametrize("header, rows, message", [
+    ("lam [1] phibar [1]", ["1.5 0.4"], "separate the columns with ',', ';' or a tab"),
+    ("lam [1]|phibar [1]", ["1.5|0.4"], "separate the columns with ',', ';' or a tab"),
+    ("lam [1],phibar [1]", ["1.5,0.4", "1.6"], "row 3 has 1 cell(s), the header 2"),
+    ("lam [1];phibar [1]", ["1,5;0,4"], "decimal comma"),
+])
+def test_check_refuses_a_file_whose_columns_it_cannot_read(tmp_path, capsys, header, rows,
+                                                            message):
+    """Space- or bar-separated columns, a short row, a decimal comma: usage errors (exit 2)
+    saying what to change."""
+    path = tmp_path / "x.csv"
+    path.write_text("\n".join([header, *rows]) + "\n")
+    assert cli.main(["check", "ch3_free_membrane_nh", str(path), "--partial"]) == 2
+    assert message in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("encoding, sep", [("utf-8-sig", ","), ("utf-16", "\t")],
+                         ids=["excel-csv-utf8", "excel-unicode-text"])
+def test_check_reads_a_byte_order_mark(tmp_path, capsys, encoding, sep):
+    """Excel's "CSV UTF-8" (a UTF-8 byte-order mark) and "Unicode text" (UTF-16, tab
+    separated) are read: the mark is not part of the first column's name."""
+    path = _write(tmp_path / "bom.csv", FREE_HEADER, _free_rows(), sep, encoding)
+    assert cli.main(["check", "ch3_free_membrane_nh", path]) == 0
+    assert "MATCHES" in capsys.readouterr().out
+
+
+def test_check_refuses_text_that_is_not_utf8(tmp_path, capsys):
+    path = tmp_path / "latin1.csv"
+    path.write_bytes("lam [1],phibar [1]\n1.5,0.4 \xb5\n".encode("latin-1"))
+    assert cli.main(["check", "ch3_free_membrane_nh", str(path), "--partial"]) == 2
+    assert "not UTF-8" in capsys.readouterr().err
+
+
+# ------------------------------------------------------------------ column names
+
+@pytest.mark.parametrize("header, hint", [
+    (["Lam [1]", "phibar [1]"], "'Lam' is not a column of this problem; did you mean 'lam'?"),
+    (["lam [1]", "Phibar [1]"], "'Phibar' is not a column of this problem; did you mean "
+                                "'phibar'?"),
+    (["lam [1]", "phi [1]"], "expected header: lam [1],phibar [1]"),
+])
+def test_check_names_the_expected_column(tmp_path, capsys, header, hint):
+    """A column name in the wrong case or misspelt is refused (exit 2) with the name it
+    resembles and the expected header line."""
+    path = _write(tmp_path / "x.csv", header, _free_rows())
+    assert cli.main(["check", "ch3_free_membrane_nh", path]) == 2
+    err = capsys.readouterr().err
+    assert hint in err and "expected header: lam [1],phibar [1]" in err
+
+
+def test_check_says_a_directory_is_a_directory(tmp_path, capsys):
+    """A folder as FILE: said to be a folder; one holding submission metadata: the
+    ``--submission`` form is suggested."""
+    folder = tmp_path / "adir"
+    folder.mkdir()
+    assert cli.main(["check", "ch3_free_membrane_nh", str(folder)]) == 2
+    err = capsys.readouterr().err
+    assert "is a directory, not a results file" in err and "does not exist" not in err
+    assert "--submission" not in err
+    (folder / "submission.toml").write_text("")
+    assert cli.main(["check", "ch3_free_membrane_nh", str(folder)]) == 2
+    assert f"debench check --submission {folder}" in capsys.readouterr().err
