@@ -66,9 +66,15 @@ class Comparison:
 
     @property
     def ratio(self) -> np.ndarray:
-        """|error| / tolerance per point (> 1 fails; NaN values count as failures)."""
-        r = np.abs(self.error) / self.tolerance
-        return np.where(np.isfinite(r), r, np.inf)
+        """|error| / tolerance per point (> 1 fails).
+
+        Where the reference has no value (NaN: no event, e.g. no pull-in on that curve)
+        only NaN matches (ratio 0); a number there, and NaN where the reference has a
+        value, count as failures (ratio inf)."""
+        with np.errstate(invalid="ignore", divide="ignore"):
+            r = np.abs(self.error) / self.tolerance
+        none = np.isnan(self.values) & np.isnan(self.reference)
+        return np.where(none, 0.0, np.where(np.isfinite(r), r, np.inf))
 
     @property
     def failed(self) -> np.ndarray:
@@ -84,8 +90,10 @@ class Comparison:
         worst = float(self.ratio.max()) if n else 0.0
         verdict = "MATCHES" if not bad else "DOES NOT MATCH"
         cov = f"; {self.coverage.describe()}" if self.coverage is not None else ""
+        none = int((np.isnan(self.values) & np.isnan(self.reference)).sum())
+        none = f", {none} of them no value (NaN) where the reference has none" if none else ""
         return (f"{self.problem}:{self.quantity} {verdict}: {n - bad}/{n} points within "
-                f"tolerance ({self.tolerance_source}); worst |error|/tolerance = "
+                f"tolerance ({self.tolerance_source}){none}; worst |error|/tolerance = "
                 f"{worst:.3g}{cov}")
 
     def by_curve(self, along: str | None = None) -> str:
@@ -209,7 +217,9 @@ def compare(problem: str, quantity: str | None, values, coords: Mapping[str, Any
         Your values, broadcastable with the coordinate arrays; or a mapping quantity name
         -> values, to check several quantities of the problem at the same ``coords``
         (they must share their coordinates), each against its own reference and stated
-        accuracy; ``quantity`` must then be ``None``.
+        accuracy; ``quantity`` must then be ``None``. NaN says there is no value (e.g.
+        no event): it matches where the reference has none (NaN) and fails where it has
+        one; a number where the reference has none fails.
     coords
         Coordinate name -> scalar or array: every ``select`` coordinate of the quantity
         (matched exactly to the reference grid; defaults from the spec apply) and, for a

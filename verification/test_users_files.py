@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from debench.reference import cli
+from debench.reference import cli, problems, problems_reference
 
 #: the closed-form free-membrane reference over its whole range, as densely as its grid
 FREE_LAM = np.linspace(1.0, 5.0, 401)
@@ -112,3 +112,74 @@ def test_check_says_a_directory_is_a_directory(tmp_path, capsys):
     (folder / "submission.toml").write_text("")
     assert cli.main(["check", "ch3_free_membrane_nh", str(folder)]) == 2
     assert f"debench check --submission {folder}" in capsys.readouterr().err
+
+
+# ------------------------------------------------------------------ no-event cells
+
+def _failure_points_rows(no_event):
+    """Every stored (lamP, c) of ch3_failure_points with a value of at least one quantity,
+    all six quantities at their reference values; ``no_event`` is written where the
+    reference has no event (NaN)."""
+    ref = problems_reference.reference_json(problems.get("ch3_failure_points"))["reference"]
+    names = list(ref)
+    lamP, c = (ref[names[0]]["coords"][k] for k in ("lamP", "c"))
+    rows = []
+    for i, a in enumerate(lamP):
+        for j, b in enumerate(c):
+            vals = [ref[n]["values"][i][j] for n in names]
+            if any(v is not None for v in vals):
+                rows.append([repr(a), repr(b),
+                             *(no_event if v is None else repr(v) for v in vals)])
+    return ["lamP [1]", "c [1]", *(f"{n} [1]" for n in names)], rows
+
+
+@pytest.mark.parametrize("no_event", ["", "nan", "NaN"])
+def test_failure_points_in_one_file_match_with_no_event_cells(tmp_path, capsys, no_event):
+    """The one file the spec asks for (six quantities, every (lamP, c)) matches when the
+    cases without an event are empty, nan or NaN."""
+    header, rows = _failure_points_rows(no_event)
+    assert any(no_event in r[2:] for r in rows)
+    path = _write(tmp_path / "fp.csv", header, rows)
+    assert cli.main(["check", "ch3_failure_points", path]) == 0
+    out = capsys.readouterr().out
+    assert "ch3_failure_points MATCHES: all 6 quantities" in out
+    assert "of them no value (NaN) where the reference has none" in out
+
+
+def test_failure_points_number_for_no_event_or_no_event_for_a_number_fails(tmp_path,
+                                                                           capsys):
+    """A value where the reference has no event, and no event where it has a value, are
+    mismatches (exit 1) naming the quantity."""
+    header, rows = _failure_points_rows("")
+    k = next(i for i, r in enumerate(rows) if r[2] == "")
+    rows[k][2] = "1.5"
+    path = _write(tmp_path / "a.csv", header, rows)
+    assert cli.main(["check", "ch3_failure_points", path]) == 1
+    assert "1 of 6 quantities failed (pullin_lambda)" in capsys.readouterr().out
+    header, rows = _failure_points_rows("")
+    k = next(i for i, r in enumerate(rows) if r[6] != "")
+    rows[k][6] = "NaN"
+    path = _write(tmp_path / "b.csv", header, rows)
+    assert cli.main(["check", "ch3_failure_points", path]) == 1
+    assert "1 of 6 quantities failed (breakdown_lambda)" in capsys.readouterr().out
+
+
+def test_compare_counts_no_event_as_a_match_only_where_the_reference_has_none():
+    """The API: NaN against a NaN reference matches (ratio 0), a number there fails, NaN
+    against a value fails; the spec's domain says so."""
+    from debench.testing import compare
+
+    p = problems.get("ch3_failure_points")
+    q = p.quantity("pullin_lambda")
+    ref = problems_reference.reference_json(p)["reference"][q.name]
+    i, j = next((i, j) for i, row in enumerate(ref["values"]) for j, v in enumerate(row)
+                if v is None and i < len(ref["coords"]["lamP"]) - 1)
+    coords = {"lamP": ref["coords"]["lamP"][i], "c": ref["coords"]["c"][j]}
+    assert compare(p.id, q.name, np.nan, coords, coverage="partial").ratio[0] == 0.0
+    assert not compare(p.id, q.name, 1.5, coords, coverage="partial").passed
+    i, j = next((i, j) for i, row in enumerate(ref["values"]) for j, v in enumerate(row)
+                if v is not None)
+    coords = {"lamP": ref["coords"]["lamP"][i], "c": ref["coords"]["c"][j]}
+    assert not compare(p.id, q.name, np.nan, coords, coverage="partial").passed
+    for q in p.quantities:
+        assert "an empty cell, nan or NaN" in q.domain["window"], q.name
