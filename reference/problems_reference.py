@@ -11,7 +11,10 @@ and jumps (a root number shifting as a root enters the stretch window; the piece
 distance between that spline and the spline through every other grid point (for a
 resolved smooth curve the O(h^4) error of the coarse spline is about 16 times that of the
 full one, so the estimate is conservative) and added to the tolerance; a stored grid point
-carries none. A curve with a square-root end is splined in its square
+carries none. A point a round-off (:data:`COORD_MATCH_RTOL`, relative) from a stored one
+where no spline reaches (beyond an end of a piece, a curve of a single stored point) is
+that stored point, with the change of the curve over that distance added to the
+tolerance. A curve with a square-root end is splined in its square
 (``interpolate_power = 2``), one with poles in its product with a weight that removes
 them (``interpolate_weight``).
 
@@ -30,15 +33,32 @@ from typing import Any
 import numpy as np
 from debench.reference.problems import Problem, ProblemError, Quantity, quantity_dataset
 
-#: relative tolerance for matching a user's selector coordinate (lamP = 1.25) with the
-#: stored grid value: grid values are printed decimals, so anything beyond round-off of a
-#: decimal-to-binary conversion (1e-16) is a different grid point; 1e-9 is far above it
-#: and far below any grid spacing (>= 1e-3)
+#: relative tolerance for matching a user's coordinate with a stored one: a selector
+#: (lamP = 1.25) with its grid value, and an abscissa (kH) that no piece of the curve
+#: covers (just beyond its ends, beside a gap or on a jump of the root numbering) with the
+#: stored point at that end. Users' coordinates differ from the stored ones by rounding
+#: to 12 significant digits (<= 5e-12), unit conversion (kH in %: a few 1e-16) or a grid
+#: computed another way (0.01 * 2000**(i/80) for numpy.geomspace: a few ulp); 1e-9 is far
+#: above all of these and far below the closest stored spacing (1.2e-3 relative, the
+#: voltage-stretch curves; 1.9e-2 for kH)
 COORD_MATCH_RTOL = 1e-9
 #: an abscissa within this relative distance of a stored grid point takes the stored value
 #: (no interpolation error): a few ulp, so only the grid printed by ``--json`` (17
-#: significant digits, which round-trip exactly) and its round-off qualify
+#: significant digits, which round-trip exactly) and its round-off qualify; a point
+#: farther off inside a piece of the curve is interpolated (at a square-root end a
+#: distance of 1e-10 changes the value by 1e-5)
 NODE_MATCH_RTOL = 1e-15
+
+
+def _show(x) -> str:
+    """A number as its shortest round-trip text (``repr`` of a plain float), so that a
+    message shows by how much it differs from a limit."""
+    return repr(float(x))
+
+
+def _shown(xs) -> str:
+    """The first three of ``xs`` as :func:`_show` numbers in brackets."""
+    return "[" + ", ".join(_show(x) for x in np.ravel(xs)[:3]) + "]"
 
 
 def _function(q: Quantity):
@@ -166,8 +186,11 @@ def _curve_at(x: np.ndarray, y: np.ndarray, xq: np.ndarray, name: str, log: bool
     ``power`` p: interpolate ``y**p`` (a curve with a square-root end, such as Phibar near
     Phibar = 0, is smooth in Phibar^2), then return ``(.)**(1/p)``. ``weight`` w(x):
     interpolate ``y**p w`` (smooth where y^p has poles), then divide by w(xq). Each piece
-    of the curve (:func:`curve_pieces`: between gaps and jumps) has its own spline; a point
-    in a gap, on a jump or outside the finite range is refused.
+    of the curve (:func:`curve_pieces`: between gaps and jumps) has its own spline. A
+    point within :data:`COORD_MATCH_RTOL` of a stored point that no spline covers (beyond
+    an end, beside a gap, on a jump, on a piece too short to spline, or a curve of one
+    point) is that stored point; any other point in a gap, on a jump or outside the finite
+    range is refused.
     """
     from scipy.interpolate import CubicSpline
 
@@ -176,30 +199,40 @@ def _curve_at(x: np.ndarray, y: np.ndarray, xq: np.ndarray, name: str, log: bool
     finite = np.isfinite(x)
     x, y = x[finite], y[finite]
     ok = np.isfinite(y)
-    if ok.sum() < 2:
-        raise ValueError(f"the reference curve has fewer than 2 points along {name}")
-    lo, hi = x[ok].min(), x[ok].max()
-    outside = (xq < lo) | (xq > hi) | ~np.isfinite(xq)
+    if not ok.any():
+        raise ValueError(f"the reference curve has no value along {name}")
+    xs = x[ok]
+    lo, hi = xs.min(), xs.max()
+    # the stored point nearest to each user point, and whether it is that point
+    j = np.clip(np.searchsorted(xs, xq), 1, max(xs.size - 1, 1))
+    j = np.where(np.abs(xq - xs[j - 1]) <= np.abs(xq - xs[np.minimum(j, xs.size - 1)]),
+                 j - 1, np.minimum(j, xs.size - 1))
+    dist = np.abs(xq - xs[j])
+    near = dist <= COORD_MATCH_RTOL * np.abs(xs[j])
+    outside = ((xq < lo) | (xq > hi) | ~np.isfinite(xq)) & ~near
     if outside.any():
-        raise ValueError(f"{name} must lie in the reference range [{lo:.6g}, {hi:.6g}]; "
-                         f"got {xq[outside][:3].tolist()}")
+        raise ValueError(f"{name} must lie in the reference range [{_show(lo)}, "
+                         f"{_show(hi)}]; got {_shown(xq[outside])}")
     t = np.log(x) if log else x
     tq = np.log(xq) if log else xq
     v = spline_values(x, y, power, weight)
     pieces = curve_pieces(t, v)
-    k = np.clip(np.searchsorted(x, xq), 0, x.size - 1)
-    node = np.isclose(x[k], xq, rtol=NODE_MATCH_RTOL, atol=0.0) & ok[k]
+    k = np.flatnonzero(ok)[j]             # the nearest stored point, indexed in x
+    node = near & (dist <= NODE_MATCH_RTOL * np.abs(xs[j]))
     value, error = np.full(xq.size, np.nan), np.zeros(xq.size)
     value[node] = y[k[node]]
     todo = ~node
     for a, b in pieces:
         inside = todo & (xq >= x[a]) & (xq <= x[b])
-        if not inside.any():
+        if not inside.any() or a == b:
             continue
         if b - a + 1 < 4:
-            raise ValueError(f"{name} = {xq[inside][:3].tolist()} lies on a piece of the "
-                             f"reference curve too short to interpolate with an error "
-                             f"estimate ({b - a + 1} points)")
+            far = inside & ~near    # the others are stored points (below)
+            if far.any():
+                raise ValueError(f"{name} = {_shown(xq[far])} lies on a piece of the "
+                                 f"reference curve too short to interpolate with an "
+                                 f"error estimate ({b - a + 1} points)")
+            continue
         tt, vv = t[a:b + 1], v[a:b + 1]
         half = np.unique(np.r_[np.arange(0, tt.size, 2), tt.size - 1])
         cubic = CubicSpline(tt, vv)(tq[inside])
@@ -212,8 +245,22 @@ def _curve_at(x: np.ndarray, y: np.ndarray, xq: np.ndarray, name: str, log: bool
                              np.maximum(coarse, 0.0) ** (1 / power))
         value[inside], error[inside] = cubic, np.abs(cubic - coarse)
         todo &= ~inside
+    # what no spline covers but lies a round-off (COORD_MATCH_RTOL) from a stored point
+    # is that point: its stored value, with the change of the curve over that distance
+    # (the slope of the stored interval beside it, within its piece, on the point's side
+    # if there is one) as the error estimate; a piece of one point has no slope: none
+    snap = todo & near
+    for i in np.flatnonzero(snap):
+        n = k[i]
+        value[i] = y[n]
+        a, b = next(((a, b) for a, b in pieces if a <= n <= b), (n, n))
+        if b > a:
+            m = n + 1 if n == a or (xq[i] > x[n] and n < b) else n - 1
+            dt = abs(np.log(xq[i] / x[n])) if log else abs(xq[i] - x[n])
+            error[i] = abs((y[m] - y[n]) / (t[m] - t[n])) * dt
+    todo &= ~snap
     if todo.any():
-        raise ValueError(f"{name} = {xq[todo][:3].tolist()} falls in a gap of the reference "
+        raise ValueError(f"{name} = {_shown(xq[todo])} falls in a gap of the reference "
                          "curve (no reference value there: no root or inadmissible state) "
                          "or on a jump of it (a root enters or leaves the stretch window "
                          "and the root numbers shift)")
@@ -248,11 +295,15 @@ def reference_at(problem: Problem, quantity: Quantity,
     if quantity.source == "function":
         xq = np.asarray(arrays[-1], dtype=float)
         lo, hi = float(quantity.grid["start"]), float(quantity.grid["stop"])
+        # a round-off beyond an end of the range is that end (COORD_MATCH_RTOL)
+        xq = np.where(np.isclose(xq, lo, rtol=COORD_MATCH_RTOL, atol=0.0), np.maximum(xq, lo),
+                      np.where(np.isclose(xq, hi, rtol=COORD_MATCH_RTOL, atol=0.0),
+                               np.minimum(xq, hi), xq))
         outside = ~((xq >= lo) & (xq <= hi))
         if outside.any():
-            raise ValueError(f"{quantity.along} must lie in the reference range [{lo:g}, "
-                             f"{hi:g}] (problem {problem.id}); got "
-                             f"{xq[outside][:3].tolist()}")
+            raise ValueError(f"{quantity.along} must lie in the reference range "
+                             f"[{_show(lo)}, {_show(hi)}] (problem {problem.id}); got "
+                             f"{_shown(xq[outside])}")
         ref = _function(quantity)(xq)
         zeros = np.zeros(n)
         return Reference(ref, quantity.accuracy.tolerance(ref), zeros)

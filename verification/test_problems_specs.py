@@ -202,7 +202,7 @@ def test_free_membrane_tolerance_admits_an_iterative_solver_and_refuses_outside(
     assert not compare("ch3_free_membrane_nh", "phibar", exact * (1 + 1e-6),
                        {"lam": lam}).passed
     for bad in (0.99, 5.01):
-        with pytest.raises(ValueError, match=r"lam must lie in the reference range \[1, 5\]"):
+        with pytest.raises(ValueError, match=r"lam must lie in the reference range \[1\.0, 5\.0\]"):
             compare("ch3_free_membrane_nh", "phibar", [0.5], {"lam": [bad]},
                     coverage="partial")
 

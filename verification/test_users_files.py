@@ -6,6 +6,8 @@ is refused with a message naming what is wrong (exit 2)."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 from debench.reference import cli, problems, problems_reference
@@ -183,3 +185,136 @@ def test_compare_counts_no_event_as_a_match_only_where_the_reference_has_none():
     assert not compare(p.id, q.name, np.nan, coords, coverage="partial").passed
     for q in p.quantities:
         assert "an empty cell, nan or NaN" in q.domain["window"], q.name
+
+
+# ------------------------------------------------------------------ stored coordinates
+
+def _plate_rows(problem, kH=lambda k, i: repr(k)):
+    """Every finite stored point of the 'derived' variant of a ch4 problem (every root),
+    with kH written by ``kH(value, index)``; the header and the rows."""
+    ref = problems_reference.reference_json(problems.get(problem))["reference"]["lam_cr"]
+    dims, co = ref["dims"], ref["coords"]
+    vals = np.array(ref["values"], dtype=float)
+    sel = [d for d in dims if d not in ("variant", "kH")]
+    rows = []
+    for idx in np.ndindex(*vals.shape):
+        at = dict(zip(dims, idx, strict=True))
+        if co["variant"][at["variant"]] != "derived" or not np.isfinite(vals[idx]):
+            continue
+        rows.append([str(co[d][at[d]]) for d in sel]
+                    + [kH(co["kH"][at["kH"]], at["kH"]), repr(float(vals[idx]))])
+    return [*(f"{d} [1]" for d in sel), "kH [1]", "lam_cr [1]"], rows
+
+
+@pytest.mark.parametrize("problem", ["ch4_plate_voltage_control",
+                                     "ch4_plate_critical_stretch"])
+def test_plate_complete_file_with_single_point_curves_matches(tmp_path, capsys, problem):
+    """The complete file of every root (some root numbers exist at one stored kH only)
+    matches; that point off by 1e-4 fails; left out, coverage refuses the file."""
+    header, rows = _plate_rows(problem)
+    path = _write(tmp_path / "all.csv", header, rows)
+    assert cli.main(["check", problem, path]) == 0
+    assert "MATCHES" in capsys.readouterr().out
+    curves: dict[tuple, list[int]] = {}
+    for k, r in enumerate(rows):
+        curves.setdefault(tuple(r[:3]), []).append(k)
+    single = next(idx[0] for idx in curves.values() if len(idx) == 1)
+    off = [list(r) for r in rows]
+    off[single][-1] = repr(float(off[single][-1]) * (1 + PERTURBATION))
+    assert cli.main(["check", problem, _write(tmp_path / "off.csv", header, off)]) == 1
+    capsys.readouterr()
+    left = [r for k, r in enumerate(rows) if k != single]
+    assert cli.main(["check", problem, _write(tmp_path / "left.csv", header, left)]) == 2
+    assert "not covered" in capsys.readouterr().err
+
+
+def _kH_percent(path_header, rows):
+    return ([h if h != "kH [1]" else "kH [%]" for h in path_header],
+            [[*r[:-2], repr(float(r[-2]) * 100), r[-1]] for r in rows])
+
+
+#: ch4_plate_voltage_control's kH grid: 81 points, geometric from 0.01 to 20
+VC_KH = (0.01, 2000.0, 80)
+
+
+@pytest.mark.parametrize("how", ["percent", "12-digits", "ulp-up", "ulp-down", "power"])
+def test_plate_kH_a_round_off_from_a_stored_value_is_that_value(tmp_path, capsys, how):
+    """kH given in % (converted), to 12 significant digits, one ulp off, or computed as
+    0.01 * 2000**(i/80) instead of numpy.geomspace: the complete file still matches."""
+    start, ratio, n = VC_KH
+    write = {"12-digits": lambda k, i: f"{k:.12g}",
+             "ulp-up": lambda k, i: repr(math.nextafter(k, math.inf)),
+             "ulp-down": lambda k, i: repr(math.nextafter(k, -math.inf)),
+             "power": lambda k, i: repr(start * ratio ** (i / n))}.get(how)
+    header, rows = _plate_rows("ch4_plate_voltage_control", *([write] if write else []))
+    if how == "percent":
+        header, rows = _kH_percent(header, rows)
+    else:
+        stored = [r[-2] for r in _plate_rows("ch4_plate_voltage_control")[1]]
+        assert any(float(r[-2]) != float(k) for r, k in zip(rows, stored, strict=True))
+    path = _write(tmp_path / "kH.csv", header, rows)
+    assert cli.main(["check", "ch4_plate_voltage_control", path]) == 0
+    assert "MATCHES" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("how", ["percent", "12-digits"])
+def test_plate_kH_a_round_off_from_a_stored_value_matches_charge_control(tmp_path, how):
+    """The same for ch4_plate_critical_stretch (401 kH), whose curves have pieces of two
+    and three stored points between jumps: a round-off off those is their stored point."""
+    if how == "percent":
+        header, rows = _kH_percent(*_plate_rows("ch4_plate_critical_stretch"))
+    else:
+        header, rows = _plate_rows("ch4_plate_critical_stretch", lambda k, i: f"{k:.12g}")
+    assert cli.main(["check", "ch4_plate_critical_stretch",
+                     _write(tmp_path / "kH.csv", header, rows)]) == 0
+
+
+def test_a_coordinate_between_stored_values_is_not_snapped():
+    """Off the grid by far more than round-off (1e-6 relative) inside a jump of the root
+    numbering: still refused, naming the jump."""
+    ref = problems_reference.reference_json(
+        problems.get("ch4_plate_voltage_control"))["reference"]["lam_cr"]
+    p = problems.get("ch4_plate_voltage_control")
+    q = p.quantity()
+    kH = np.array(ref["coords"]["kH"])
+    y = np.array(ref["values"], float)[0, 0, 0, :, 0]      # derived, xi = 0, Vhat = 0.25
+    pieces = problems_reference.curve_pieces(np.log(kH), y)
+    end = pieces[0][1]
+    assert end < kH.size - 1 and np.isfinite(y[end + 1])   # a jump, not a gap
+    coords = {"xi": 0.0, "Vhat": 0.25, "kH": kH[end] * (1 + 1e-6)}
+    with pytest.raises(ValueError, match="on a jump"):
+        problems_reference.reference_at(p, q, coords)
+    near = problems_reference.reference_at(p, q, {**coords, "kH": kH[end] * (1 + 1e-13)})
+    assert near.value[0] == y[end]
+    # the change of the curve over that distance is added to the tolerance: tiny
+    stated = near.tolerance[0] - near.interpolation[0]
+    assert 0 < near.interpolation[0] < 1e-3 * stated
+
+
+# ------------------------------------------------------------------ messages
+
+def test_range_message_shows_the_excess(tmp_path, capsys):
+    """Just beyond the end of a stored curve: the limit and the value are printed with the
+    digits that show the difference, as plain numbers."""
+    ds_ref = problems_reference.reference_json(
+        problems.get("ch3_voltage_stretch"))["reference"]["phibar"]
+    lam = np.array(ds_ref["along"]["values"], dtype=float)
+    p = problems.get("ch3_voltage_stretch")
+    q = p.quantity()
+    lamP, c = 1.1, 0.0
+    i, j = ds_ref["coords"]["lamP"].index(lamP), ds_ref["coords"]["c"].index(c)
+    vals = np.array(ds_ref["values"], dtype=float)
+    dims = ds_ref["dims"]
+    y = vals[tuple(i if d == "lamP" else j if d == "c" else slice(None) for d in dims)]
+    xs = lam[i] if lam.ndim == 2 else lam
+    hi = float(np.max(xs[np.isfinite(y)]))
+    beyond = hi * (1 + 1e-7)
+    with pytest.raises(ValueError) as exc:
+        problems_reference.reference_at(p, q, {"lamP": lamP, "c": c, "lambda_a": beyond})
+    msg = str(exc.value)
+    assert f"{hi!r}]" in msg and repr(beyond) in msg and "np.float64" not in msg
+    with pytest.raises(ValueError) as exc:
+        problems_reference.reference_at(problems.get("ch3_free_membrane_nh"),
+                                        problems.get("ch3_free_membrane_nh").quantity(),
+                                        {"lam": 5.0 + 1e-6})
+    assert "[1.0, 5.0]" in str(exc.value) and "5.000001" in str(exc.value)
