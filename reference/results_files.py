@@ -93,7 +93,9 @@ def read_results(path: Path, quantity: str | None, prob) -> tuple[tuple[str, ...
             unknown = sorted(set(ds.data_vars) - {*found, *coords})
             if unknown:
                 raise UsageError(f"{path}: variables {unknown} are not "
-                                 f"{_what(found, coords, quantity)}")
+                                 f"{_what(found, coords, quantity)}"
+                                 + _hint(unknown, qs if quantity else _sharing(prob, coords),
+                                         prob, "variable"))
             cols = {}
             first = ds[found[0]]
             for n in (*coords, *found):
@@ -153,11 +155,19 @@ def _check_is_file(path: Path) -> None:
     raise UsageError(f"FILE {path} does not exist")
 
 
+#: file suffixes of spreadsheet workbooks, which are not read: exported as CSV they are
+SPREADSHEETS = (".xlsx", ".xlsm", ".xls", ".ods", ".numbers")
+
+
 def _decode(path: Path) -> str:
     """The text of a CSV file: UTF-8, with or without a byte-order mark (Excel's "CSV
-    UTF-8"), or UTF-16 with its mark (Excel's "Unicode text"); UsageError otherwise."""
+    UTF-8"), or UTF-16 with its mark (Excel's "Unicode text"); UsageError otherwise (a
+    spreadsheet workbook named as one)."""
     import codecs
 
+    if path.suffix.lower() in SPREADSHEETS:
+        raise UsageError(f"{path} is a spreadsheet workbook: save it as CSV (Excel: 'CSV "
+                         "UTF-8 (comma delimited)') with the header in its first row")
     raw = path.read_bytes()
     if raw.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
         return raw.decode("utf-16")
@@ -194,6 +204,8 @@ def _csv_rows(path: Path) -> list[list[str]]:
                              "of ',', ';' or a tab")
         present = fits
     rows = split(present[0] if present else ",")
+    if len(rows[0]) > 1 and all(r and r[-1] == "" for r in rows):
+        rows = [r[:-1] for r in rows]   # every line ends with the separator
     if len(rows[0]) == 1 and (rows[0][0].count("[") > 1 or "|" in rows[0][0]
                               or len(rows[0][0].partition("[")[0].split()) > 1):
         raise UsageError(f"{path}: the header {rows[0][0]!r} is one column: separate the "
@@ -238,7 +250,7 @@ def _quantities_in(path, present, names, quantity, kind: str, prob) -> list[str]
         known = {n for q in prob.quantities for n in (q.name, *q.coordinates)}
         raise UsageError(f"{path}: no {kind} for quantity {quantity or names}; "
                          f"{'header' if kind == 'column' else 'variables'} {list(present)}"
-                         + _hint([n for n in present if n not in known], qs, prob))
+                         + _hint([n for n in present if n not in known], qs, prob, kind))
     return found
 
 
@@ -254,7 +266,7 @@ def expected_header(qs) -> str:
     return ",".join([*(cell(q0, c) for c in q0.coordinates), *(cell(q, q.name) for q in qs)])
 
 
-def _hint(unknown, qs, prob) -> str:
+def _hint(unknown, qs, prob, kind: str = "column") -> str:
     """``; 'Lam' is not a column of this problem; did you mean 'lam'? expected header:
     ...`` for a refusal naming the columns ``unknown`` (the file's quantities ``qs``, or
     every quantity of ``prob`` when none was found: one header per group of quantities
@@ -269,14 +281,20 @@ def _hint(unknown, qs, prob) -> str:
         if key not in lower:
             key = next(iter(difflib.get_close_matches(key, list(lower), n=1)), None)
         if key is not None and lower[key] != name:
-            out.append(f"'{name}' is not a column of this problem; did you mean "
+            out.append(f"'{name}' is not a {kind} of this problem; did you mean "
                        f"'{lower[key]}'?")
     groups: dict[tuple, list] = {}
     for q in qs:
         groups.setdefault(tuple(sorted(q.coordinates)), []).append(q)
-    headers = [expected_header(g) for g in groups.values()]
-    out.append(("expected header: " if len(headers) == 1 else
-                "expected header (one per file): ") + "; ".join(headers))
+    if kind == "column":
+        headers = [expected_header(g) for g in groups.values()]
+        what = "header"
+    else:
+        headers = [", ".join([*g[0].coordinates, *(q.name for q in g)]) + " (each with a "
+                   "units attribute)" for g in groups.values()]
+        what = "variables"
+    out.append((f"expected {what}: " if len(headers) == 1 else
+                f"expected {what} (one set per file): ") + "; ".join(headers))
     dflt = sorted({c for q in qs for c in q.defaults})
     if dflt:
         out[-1] += f" (columns with a default may be left out: {', '.join(dflt)})"

@@ -85,6 +85,24 @@ def test_check_refuses_text_that_is_not_utf8(tmp_path, capsys):
     assert "not UTF-8" in capsys.readouterr().err
 
 
+def test_check_reads_rows_ending_in_a_separator(tmp_path, capsys):
+    """Some writers end every line with the separator: the empty last column is no
+    column."""
+    rows = [[*r, ""] for r in _free_rows()]
+    path = _write(tmp_path / "trail.csv", [*FREE_HEADER, ""], rows, ";")
+    assert cli.main(["check", "ch3_free_membrane_nh", path]) == 0
+    assert "MATCHES: 401/401" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("suffix", [".xlsx", ".ods"])
+def test_check_refuses_a_spreadsheet_workbook_saying_to_export_csv(tmp_path, capsys,
+                                                                   suffix):
+    path = tmp_path / f"results{suffix}"
+    path.write_bytes(b"PK\x03\x04" + bytes(60))
+    assert cli.main(["check", "ch3_free_membrane_nh", str(path)]) == 2
+    assert "a spreadsheet workbook: save it as CSV" in capsys.readouterr().err
+
+
 # ------------------------------------------------------------------ column names
 
 @pytest.mark.parametrize("header, hint", [
@@ -100,6 +118,18 @@ def test_check_names_the_expected_column(tmp_path, capsys, header, hint):
     assert cli.main(["check", "ch3_free_membrane_nh", path]) == 2
     err = capsys.readouterr().err
     assert hint in err and "expected header: lam [1],phibar [1]" in err
+
+
+def test_check_names_the_expected_netcdf_variable(tmp_path, capsys):
+    """netCDF: a variable in the wrong case gets the same hint, naming the variables."""
+    import xarray as xr
+
+    ds = xr.Dataset({"Phibar": ("n", _free_phibar(FREE_LAM), {"units": "1"}),
+                     "lam": ("n", FREE_LAM, {"units": "1"})})
+    ds.to_netcdf(tmp_path / "x.nc")
+    assert cli.main(["check", "ch3_free_membrane_nh", str(tmp_path / "x.nc")]) == 2
+    err = capsys.readouterr().err
+    assert "did you mean 'phibar'?" in err and "expected variables: lam, phibar" in err
 
 
 def test_check_says_a_directory_is_a_directory(tmp_path, capsys):
