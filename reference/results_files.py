@@ -106,7 +106,7 @@ def read_results(path: Path, quantity: str | None, prob) -> tuple[tuple[str, ...
                 v = a.transpose(*first.dims).values.ravel()
                 cols[n] = conv(v) if conv else v
         return tuple(found), cols
-    rows = _csv_rows(path)
+    rows, lines = _csv_rows(path)
     header, spelled = [], {}
     for cell in rows[0]:
         name, bracket, rest = cell.strip().partition("[")
@@ -130,7 +130,7 @@ def read_results(path: Path, quantity: str | None, prob) -> tuple[tuple[str, ...
         if conv is None:
             cols[name] = np.array(raw)
             continue
-        cols[name] = conv(_numbers(path, name, raw, empty_is_nan=name in found))
+        cols[name] = conv(_numbers(path, name, raw, lines[1:], empty_is_nan=name in found))
     return tuple(found), cols
 
 
@@ -178,16 +178,18 @@ def _decode(path: Path) -> str:
                          "UTF-8 (Excel: 'CSV UTF-8')") from None
 
 
-def _csv_rows(path: Path) -> list[list[str]]:
+def _csv_rows(path: Path) -> tuple[list[list[str]], list[int]]:
     """The header and rows of a CSV file (lines starting with '#' and blank lines
     skipped), separated by one of :data:`DELIMITERS` (spaces around it allowed): the one
     the header holds, or, if it holds several, the one that splits every row into as many
-    cells as the header. UsageError when the columns cannot be told apart or a row has
-    another number of cells than the header."""
+    cells as the header; and the line number of each in the file. UsageError when the
+    columns cannot be told apart or a row has another number of cells than the header."""
     import csv
 
-    lines = [ln for ln in _decode(path).splitlines()
-             if ln.strip() and not ln.lstrip().startswith("#")]
+    numbered = [(i, ln) for i, ln in enumerate(_decode(path).splitlines(), start=1)
+                if ln.strip() and not ln.lstrip().startswith("#")]
+    lines = [ln for _, ln in numbered]
+    linenos = [i for i, _ in numbered]
     if len(lines) < 2:
         raise UsageError(f"{path}: expected a header and at least one row")
 
@@ -210,22 +212,24 @@ def _csv_rows(path: Path) -> list[list[str]]:
                               or len(rows[0][0].partition("[")[0].split()) > 1):
         raise UsageError(f"{path}: the header {rows[0][0]!r} is one column: separate the "
                          "columns with ',', ';' or a tab (spaces around it are allowed)")
-    for k, r in enumerate(rows[1:], start=2):
+    for r, line in zip(rows[1:], linenos[1:], strict=False):
         if len(r) != len(rows[0]):
             sep = _show_sep(present[0] if present else ",")
-            raise UsageError(f"{path}: row {k} has {len(r)} cell(s), the header "
+            raise UsageError(f"{path}, line {line}: {len(r)} cell(s), the header has "
                              f"{len(rows[0])} (separator {sep})")
-    return rows
+    return rows, linenos
 
 
 def _show_sep(sep: str) -> str:
     return "tab" if sep == "\t" else repr(sep)
 
 
-def _numbers(path, name: str, raw: list[str], empty_is_nan: bool) -> np.ndarray:
-    """The cells ``raw`` of column ``name`` as floats ('nan' and 'NaN' are NaN; an empty
-    cell is NaN in a quantity's column (``empty_is_nan``: no value, e.g. no event) and
-    refused in a coordinate's). UsageError naming the column and the first bad cell."""
+def _numbers(path, name: str, raw: list[str], lines: list[int],
+             empty_is_nan: bool) -> np.ndarray:
+    """The cells ``raw`` of column ``name`` (on the file's ``lines``) as floats ('nan'
+    and 'NaN' are NaN; an empty cell is NaN in a quantity's column (``empty_is_nan``: no
+    value, e.g. no event) and refused in a coordinate's). UsageError naming the column
+    and the line of the first bad cell."""
     out = np.empty(len(raw))
     for k, x in enumerate(raw):
         if not x and empty_is_nan:
@@ -237,7 +241,8 @@ def _numbers(path, name: str, raw: list[str], empty_is_nan: bool) -> np.ndarray:
             what = "is empty" if not x else f"holds {x!r}, which is not a number"
             if x.count(",") == 1 and x.replace(",", "", 1).lstrip("+-").isdigit():
                 what += " (a decimal comma: write decimal points)"
-            raise UsageError(f"{path}: column {name} {what} (row {k + 2})") from None
+            line = lines[k] if k < len(lines) else "?"
+            raise UsageError(f"{path}, line {line}: column {name} {what}") from None
     return out
 
 

@@ -55,13 +55,16 @@ def test_check_reads_semicolon_tab_and_spaced_csv(tmp_path, capsys, sep):
 @pytest.mark.parametrize("header, rows, message", [
     ("lam [1] phibar [1]", ["1.5 0.4"], "separate the columns with ',', ';' or a tab"),
     ("lam [1]|phibar [1]", ["1.5|0.4"], "separate the columns with ',', ';' or a tab"),
-    ("lam [1],phibar [1]", ["1.5,0.4", "1.6"], "row 3 has 1 cell(s), the header 2"),
-    ("lam [1];phibar [1]", ["1,5;0,4"], "decimal comma"),
+    ("lam [1],phibar [1]", ["1.5,0.4", "# a comment", "1.6"],
+     "line 4: 1 cell(s), the header has 2"),
+    ("lam [1];phibar [1]", ["1,5;0,4"],
+     "line 2: column lam holds '1,5', which is not a number (a decimal comma"),
+    ("lam [1],phibar [1]", ["1.5,0.4", ",0.5"], "line 3: column lam is empty"),
 ])
 def test_check_refuses_a_file_whose_columns_it_cannot_read(tmp_path, capsys, header, rows,
                                                             message):
-    """Space- or bar-separated columns, a short row, a decimal comma: usage errors (exit 2)
-    saying what to change."""
+    """Space- or bar-separated columns, a short row, a decimal comma, an empty coordinate
+    cell: usage errors (exit 2) saying what to change and where."""
     path = tmp_path / "x.csv"
     path.write_text("\n".join([header, *rows]) + "\n")
     assert cli.main(["check", "ch3_free_membrane_nh", str(path), "--partial"]) == 2
