@@ -9,6 +9,8 @@ from typing import Any
 
 import numpy as np
 from debench.reference.problems import Problem, Quantity, provenance
+from debench.reference.problems_reference import COORD_MATCH_RTOL
+from debench.reference.results_files import expected_header
 
 
 def _md_value(v: Any) -> str:
@@ -95,16 +97,18 @@ def _md_quantity(p: Problem, q: Quantity) -> list[str]:
            else f"closed form on the grid {q.grid}")
     if q.fixed:
         src += " at " + ", ".join(f"{k} = {v}" for k, v in q.fixed.items())
-    header = ",".join(f"{c} [{q.units_of(c)}]" if (c in q.coordinate_units and
-                      q.units_of(c)) or c == q.along else c for c in q.coordinates)
     out += [f"**Reference values.** {src}; `debench problems {p.id} --json` prints "
             "them with their coordinates.", "",
             f"**Check.** `debench check {p.id} results.csv` with the header "
-            f"`{header},{q.name} [{q.units}]`. Coverage: every stored "
+            f"`{expected_header([q])}` (CSV separated by commas, semicolons or tabs, "
+            "UTF-8 or UTF-16 text; or netCDF with these variables and their `units`; an "
+            "empty cell, `nan` or `NaN` is no value, which matches only where the "
+            "reference has none). Coverage: every stored "
             + ("curve" if q.along else "value") + " of every value of a selector "
             "without a default, and of the values your file gives of one with a "
             "default" + (", each at least as densely as the stored grid over its "
-                         "whole range (any points; the stored ones are exact)"
+                         "whole range (any points; one within a relative "
+                         f"{COORD_MATCH_RTOL:g} of a stored point is that point)"
                          if q.along else "") + "; or pass `--partial` and the report "
             "says what was covered.", ""]
     return out
@@ -117,10 +121,7 @@ def _md_shared_files(p: Problem) -> list[str]:
     for q in p.quantities:
         groups.setdefault(tuple(sorted(q.coordinates)), []).append(q)
     for qs in (g for g in groups.values() if len(g) > 1):
-        q0 = qs[0]
-        header = ",".join(f"{c} [{q0.units_of(c)}]" if (c in q0.coordinate_units and
-                          q0.units_of(c)) or c == q0.along else c for c in q0.coordinates)
-        header += "".join(f",{q.name} [{q.units}]" for q in qs)
+        header = expected_header(qs)
         out += ["**Several quantities in one file.** "
                 + ", ".join(f"`{q.name}`" for q in qs) + " share their coordinates: one "
                 f"file with the header `{header}` is checked per quantity (each against "

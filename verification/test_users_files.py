@@ -351,3 +351,27 @@ def test_range_message_shows_the_excess(tmp_path, capsys):
                                         problems.get("ch3_free_membrane_nh").quantity(),
                                         {"lam": 5.0 + 1e-6})
     assert "[1.0, 5.0]" in str(exc.value) and "5.000001" in str(exc.value)
+
+
+@pytest.mark.parametrize("problem", problems.load_all(), ids=lambda p: p.id)
+def test_the_header_a_problem_page_shows_is_the_one_check_reads(tmp_path, problem):
+    """Each quantity's header on the page, with a row of reference coordinates, is read
+    back as that quantity."""
+    from debench.reference.problems_markdown import render_markdown
+    from debench.reference.results_files import expected_header, read_results
+
+    page = render_markdown(problem)
+    ref = problems_reference.reference_json(problem)["reference"]
+    for q in problem.quantities:
+        header = expected_header([q])
+        assert f"with the header `{header}`" in page
+        first = {c: ref[q.name]["coords"][c][0] for c in q.select
+                 if c in ref[q.name]["coords"]}
+        if q.along:
+            x = ref[q.name].get("along", {}).get("values") or ref[q.name]["coords"][q.along]
+            while isinstance(x, list):
+                x = x[0]
+            first[q.along] = x
+        row = [str(first.get(c, q.defaults.get(c, 1.0))) for c in q.coordinates]
+        path = _write(tmp_path / f"{q.name}.csv", header.split(","), [[*row, "1.0"]])
+        assert read_results(path, None, problem)[0] == (q.name,)
