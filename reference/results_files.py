@@ -96,6 +96,7 @@ def read_results(path: Path, quantity: str | None, prob) -> tuple[tuple[str, ...
                                  f"{_what(found, coords, quantity)}"
                                  + _hint(unknown, qs if quantity else _sharing(prob, coords),
                                          prob, "variable"))
+            _check_coordinates(path, list(ds.variables), qs, coords, "variable", prob)
             cols = {}
             first = ds[found[0]]
             for n in (*coords, *found):
@@ -123,6 +124,7 @@ def read_results(path: Path, quantity: str | None, prob) -> tuple[tuple[str, ...
         raise UsageError(f"{path}: columns {unknown} are not "
                          f"{_what(found, coords, quantity)}"
                          + _hint(unknown, qs if quantity else _sharing(prob, coords), prob))
+    _check_coordinates(path, header, qs, coords, "column", prob)
     cols = {}
     for j, name in enumerate(header):
         conv = _unit(spelled[name], _units(qs, name), name, str(path))
@@ -309,6 +311,15 @@ def _hint(unknown, qs, prob, kind: str = "column") -> str:
 def _sharing(prob, coords) -> list:
     """The quantities of ``prob`` whose coordinates are ``coords``."""
     return [q for q in prob.quantities if set(q.coordinates) == set(coords)]
+
+
+def _check_coordinates(path, present, qs, coords, kind: str, prob) -> None:
+    """UsageError naming the coordinates of ``qs`` without a default that ``present`` (the
+    file's columns or variables) lacks, with the expected header."""
+    missing = [c for c in coords if c not in present and not all(c in q.defaults for q in qs)]
+    if missing:
+        raise UsageError(f"{path}: no {kind} for the coordinates {missing} of "
+                         f"{', '.join(q.name for q in qs)}" + _hint([], qs, prob, kind))
 
 
 def _shared_coordinates(path, qs) -> tuple[str, ...]:

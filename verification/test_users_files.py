@@ -135,6 +135,23 @@ def test_check_names_the_expected_netcdf_variable(tmp_path, capsys):
     assert "did you mean 'phibar'?" in err and "expected variables: lam, phibar" in err
 
 
+@pytest.mark.parametrize("problem, text, missing, header", [
+    ("ch3_free_membrane_nh", "phibar [1]\n0.4\n", "['lam']", "lam [1],phibar [1]"),
+    ("ch4_plate_voltage_control", "xi [1],kH [1],lam_cr [1]\n0,0.01,1.02\n", "['Vhat']",
+     "variant,xi [1],Vhat [1],root [1],kH [1],lam_cr [1]"),
+])
+def test_check_names_a_missing_coordinate_column(tmp_path, capsys, problem, text,
+                                                  missing, header):
+    """A coordinate column left out (one without a default) is refused naming it, with
+    the expected header."""
+    path = tmp_path / "x.csv"
+    path.write_text(text)
+    assert cli.main(["check", problem, str(path), "--partial"]) == 2
+    err = capsys.readouterr().err
+    assert f"no column for the coordinates {missing}" in err
+    assert f"expected header: {header}" in err
+
+
 def test_check_says_a_directory_is_a_directory(tmp_path, capsys):
     """A folder as FILE: said to be a folder; one holding submission metadata: the
     ``--submission`` form is suggested."""
