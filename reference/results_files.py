@@ -17,11 +17,17 @@ class UsageError(ValueError):
     """Bad command-line input (exit code :data:`EXIT_USAGE`)."""
 
 
+#: spellings of the dimensionless unit that engineers write and cf-units does not read as
+#: 1 ('-' is its "no unit", 'dimensionless' it does not parse)
+DIMENSIONLESS = {"-": "1", "dimensionless": "1"}
+
+
 def _unit(spelled: str | None, expected: str, column: str, where: str):
     """A converter of a column in units ``spelled`` to ``expected`` (compared by
     meaning with cf-units, the UDUNITS-2 library of the CF conventions: ``J/m3`` ==
-    ``J m-3``, ``kPa`` converts to ``Pa``). ``expected == ""``: a text coordinate, no
-    units. UsageError for missing, unknown or incompatible units."""
+    ``J m-3``, ``kPa`` converts to ``Pa``; :data:`DIMENSIONLESS` spellings are 1).
+    ``expected == ""``: a text coordinate, no units. UsageError for missing, unknown or
+    incompatible units."""
     import cf_units
 
     if expected == "":
@@ -32,8 +38,10 @@ def _unit(spelled: str | None, expected: str, column: str, where: str):
     if spelled is None or not spelled.strip():
         raise UsageError(f"{where}: {column} has no units; write them as '{column} "
                          f"[{expected}]' ('1' for a dimensionless quantity)")
+    spelled = spelled.strip()
     try:
-        got, want = cf_units.Unit(spelled.strip()), cf_units.Unit(expected)
+        got = cf_units.Unit(DIMENSIONLESS.get(spelled.lower(), spelled))
+        want = cf_units.Unit(expected)
     except ValueError:
         raise UsageError(f"{where}: {column} has units [{spelled}], which cf-units "
                          "(UDUNITS-2) does not parse") from None

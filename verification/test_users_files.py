@@ -106,6 +106,23 @@ def test_check_refuses_a_spreadsheet_workbook_saying_to_export_csv(tmp_path, cap
     assert "a spreadsheet workbook: save it as CSV" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("units", ["-", "dimensionless", "%"])
+def test_check_reads_dimensionless_spelled_as_engineers_do(tmp_path, capsys, units):
+    """'[-]' and '[dimensionless]' are the dimensionless unit 1 (cf-units reads '-' as
+    "no unit" and does not parse 'dimensionless'); '%' converts by 1/100; '[-]' on a
+    dimensional quantity is still refused."""
+    scale = 100.0 if units == "%" else 1.0
+    rows = [[repr(float(a)), repr(float(b) * scale)]
+            for a, b in zip(FREE_LAM, _free_phibar(FREE_LAM), strict=True)]
+    path = _write(tmp_path / "u.csv", ["lam [-]", f"phibar [{units}]"], rows)
+    assert cli.main(["check", "ch3_free_membrane_nh", path]) == 0
+    assert "MATCHES: 401/401" in capsys.readouterr().out
+    bad = tmp_path / "w.csv"
+    bad.write_text("material,state,W [-]\nnh,uniaxial,1.0\n")
+    assert cli.main(["check", "ch2_kernel_states", str(bad), "--partial"]) == 2
+    assert "W has units [-], not convertible to the expected [J m-3]" in capsys.readouterr().err
+
+
 # ------------------------------------------------------------------ column names
 
 @pytest.mark.parametrize("header, hint", [
