@@ -14,7 +14,8 @@ from debench.reference import cli, problems, problems_reference
 
 #: the closed-form free-membrane reference over its whole range, as densely as its grid
 FREE_LAM = np.linspace(1.0, 5.0, 401)
-#: a relative perturbation far above the free membrane's stated accuracy (atol 1e-12)
+#: a relative perturbation far above every stated accuracy of the problems used here (the
+#: free membrane's atol 1e-12, ch3's and ch4's rtol 1e-7)
 PERTURBATION = 1e-4
 
 
@@ -295,8 +296,9 @@ def test_plate_complete_file_with_single_point_curves_matches(tmp_path, capsys, 
     assert "not covered" in capsys.readouterr().err
 
 
-def _kH_percent(path_header, rows):
-    return ([h if h != "kH [1]" else "kH [%]" for h in path_header],
+def _kH_percent(header, rows):
+    """``header`` and ``rows`` of :func:`_plate_rows` with kH in %."""
+    return ([h if h != "kH [1]" else "kH [%]" for h in header],
             [[*r[:-2], repr(float(r[-2]) * 100), r[-1]] for r in rows])
 
 
@@ -327,7 +329,8 @@ def test_plate_kH_a_round_off_from_a_stored_value_is_that_value(tmp_path, capsys
 @pytest.mark.parametrize("how", ["percent", "12-digits"])
 def test_plate_kH_a_round_off_from_a_stored_value_matches_charge_control(tmp_path, how):
     """The same for ch4_plate_critical_stretch (401 kH), whose curves have pieces of two
-    and three stored points between jumps: a round-off off those is their stored point."""
+    and three stored points between jumps, too short to spline: a kH a round-off from one
+    of their points is that point."""
     if how == "percent":
         header, rows = _kH_percent(*_plate_rows("ch4_plate_critical_stretch"))
     else:
@@ -360,31 +363,27 @@ def test_a_coordinate_between_stored_values_is_not_snapped():
 
 # ------------------------------------------------------------------ messages
 
-def test_range_message_shows_the_excess(tmp_path, capsys):
-    """Just beyond the end of a stored curve: the limit and the value are printed with the
-    digits that show the difference, as plain numbers."""
-    ds_ref = problems_reference.reference_json(
-        problems.get("ch3_voltage_stretch"))["reference"]["phibar"]
-    lam = np.array(ds_ref["along"]["values"], dtype=float)
+def test_range_message_shows_the_excess():
+    """Just beyond the end of a stored curve (ch3_voltage_stretch, lamP = 1.1, c = 0) and
+    of a closed form's range: the limit and the value are printed with the digits that
+    show the difference, as plain numbers."""
     p = problems.get("ch3_voltage_stretch")
-    q = p.quantity()
-    lamP, c = 1.1, 0.0
-    i, j = ds_ref["coords"]["lamP"].index(lamP), ds_ref["coords"]["c"].index(c)
-    vals = np.array(ds_ref["values"], dtype=float)
-    dims = ds_ref["dims"]
-    y = vals[tuple(i if d == "lamP" else j if d == "c" else slice(None) for d in dims)]
-    xs = lam[i] if lam.ndim == 2 else lam
-    hi = float(np.max(xs[np.isfinite(y)]))
+    ref = problems_reference.reference_json(p)["reference"]["phibar"]
+    assert ref["dims"] == ["lamP", "c", "point"] and ref["along"]["dims"] == ["lamP", "point"]
+    i, j = ref["coords"]["lamP"].index(1.1), ref["coords"]["c"].index(0.0)
+    lam = np.array(ref["along"]["values"][i], dtype=float)
+    y = np.array(ref["values"][i][j], dtype=float)
+    hi = float(np.max(lam[np.isfinite(y)]))
     beyond = hi * (1 + 1e-7)
     with pytest.raises(ValueError) as exc:
-        problems_reference.reference_at(p, q, {"lamP": lamP, "c": c, "lambda_a": beyond})
+        problems_reference.reference_at(p, p.quantity(), {"lamP": 1.1, "c": 0.0,
+                                                          "lambda_a": beyond})
     msg = str(exc.value)
-    assert f"{hi!r}]" in msg and repr(beyond) in msg and "np.float64" not in msg
-    with pytest.raises(ValueError) as exc:
-        problems_reference.reference_at(problems.get("ch3_free_membrane_nh"),
-                                        problems.get("ch3_free_membrane_nh").quantity(),
-                                        {"lam": 5.0 + 1e-6})
-    assert "[1.0, 5.0]" in str(exc.value) and "5.000001" in str(exc.value)
+    assert f"{hi!r}]; got [{beyond!r}]" in msg and "np.float64" not in msg
+    free = problems.get("ch3_free_membrane_nh")
+    with pytest.raises(ValueError, match=r"\[1\.0, 5\.0\] \(problem ch3_free_membrane_nh\); "
+                                         r"got \[5\.000001\]"):
+        problems_reference.reference_at(free, free.quantity(), {"lam": 5.000001})
 
 
 @pytest.mark.parametrize("problem", problems.load_all(), ids=lambda p: p.id)
