@@ -15,7 +15,8 @@ Connected to ``builder-inited`` (before Sphinx looks for source files), this wri
 * ``errata.md`` -- the errata of the catalogue and their root causes;
 * ``api/`` -- one autodoc page per public module of ``debench.models`` (discovered, so a
   new module gets a page), plus the user-facing ``debench.testing``, the pytest fixture
-  and the reference-problem and dataset readers;
+  and the reference-problem and dataset readers; the modules of these pages are imported
+  by autodoc alone (the pytest plugin with pytest mocked: the docs extra has no pytest);
 * ``cli.md`` -- every subcommand's ``--help``, from the parser the ``debench`` command uses;
 * ``peers.md`` -- peer submissions: ``peers/README.md`` and the consensus table of
   ``debench.reference.consensus`` where they exist.
@@ -28,6 +29,7 @@ fails the build.
 from __future__ import annotations
 
 import importlib
+import importlib.util
 import json
 import pkgutil
 import re
@@ -344,7 +346,9 @@ def api_pages() -> list[str]:
     modules = _public_modules("debench.models")
     names = []
     for mod in modules + list(USER_MODULES):
-        is_pkg = hasattr(importlib.import_module(mod), "__path__")
+        # found, not imported: autodoc imports the module, with conf.autodoc_mock_imports
+        # mocked (the pytest plugin needs pytest, which the docs extra does not install)
+        is_pkg = importlib.util.find_spec(mod).submodule_search_locations is not None
         title = f"``{mod}``"
         body = [title, "=" * len(title), "", f".. automodule:: {mod}"]
         members = USER_MODULES.get(mod)
