@@ -148,6 +148,52 @@ def test_cite_names_version_commit_checksum_and_references(item, expect):
         assert "mechrescom" not in text  # the Chapter 3 paper only for Chapter 3
 
 
+def _cite_ids() -> list[str]:
+    from debench.reference import catalogue, problems
+    from debench.reference.datasets import data_dir, read_manifest
+
+    ids = [p.id for p in problems.load_all()]
+    for name in read_manifest(data_dir()):
+        ids += [name, name.removesuffix(".nc")]
+    return list(dict.fromkeys(ids + [e.id for e in catalogue.load()]))
+
+
+#: every problem id, dataset name (with and without ``.nc``) and catalogue entry id
+CITE_IDS = _cite_ids()
+
+
+@pytest.mark.parametrize("item", CITE_IDS)
+def test_cite_works_for_every_problem_dataset_and_catalogue_entry(item, capsys):
+    """``debench cite ID`` exits 0 for every problem, dataset (``NAME`` and ``NAME.nc``)
+    and catalogue entry, prints CSL-JSON whose first item names what was cited (a problem
+    before a dataset of the same name), cites every reference of a problem's spec (as an
+    item, or as text in the note), and, when a name is both a problem and a dataset, says
+    on stderr how to cite the dataset."""
+    from debench.reference import problems
+    from debench.reference.datasets import data_dir, read_manifest
+
+    assert cli.main(["cite", item, "--format", "csl"]) == 0
+    out, err = capsys.readouterr()
+    items = json.loads(out)
+    is_problem = item in {p.id for p in problems.load_all()}
+    is_dataset = f"{item.removesuffix('.nc')}.nc" in read_manifest(data_dir())
+    first = ("reference problem" if is_problem else "dataset" if is_dataset
+             else "catalogue entry")
+    head = items[0]["note"].split("; ")[0]  # "dataset ch5_ramps.nc", "catalogue entry (claim) ID"
+    assert head.startswith(first) and head.endswith(f" {item}"), head
+    if is_problem and is_dataset:
+        assert f"`debench cite {item}.nc`" in err
+    else:
+        assert err == ""
+    if is_problem:
+        titles = [it["title"].casefold() for it in items[1:]]
+        for ref in problems.get(item).references:
+            text = " ".join(ref.split())
+            assert (ref in {it["id"] for it in items}
+                    or any(title in text.casefold() for title in titles)
+                    or f"also cites: {text}" in items[0]["note"]), ref
+
+
 def test_citation_cff_has_repository_data_reference_and_keywords():
     jsonschema = pytest.importorskip("jsonschema")
     cff = yaml.safe_load((ROOT / "CITATION.cff").read_text())
