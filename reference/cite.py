@@ -2,8 +2,10 @@
 
 Each citation names the debench version and git commit, the sha256 of the datasets the
 value comes from (from ``MANIFEST.json``), the thesis section, equation, figure, table
-and page, and the references: the thesis and, for Chapter 3, the source paper. Output as
-BibTeX and CSL-JSON (the item list citeproc processors read).
+and page, and the references: the thesis and, for Chapter 3, the source paper. URLs come from one
+place, ``[project.urls]`` of ``pyproject.toml``: the repository's (none while the project
+has no public address) and the thesis'. Output as BibTeX and CSL-JSON (the item list
+citeproc processors read).
 """
 
 from __future__ import annotations
@@ -13,15 +15,17 @@ import json
 import re
 from typing import Any
 
-from debench.reference.provenance import REPOSITORY
+from debench.reference import provenance
 
 THESIS = {
     "id": "zeng_2020", "type": "thesis", "genre": "PhD dissertation",
     "title": "Deformation and stability of dielectric elastomer films used in actuators",
     "author": [{"family": "Zeng", "given": "Chuan"}],
     "publisher": "The University of Akron", "issued": {"date-parts": [[2020]]},
-    "URL": "https://rave.ohiolink.edu/etdc/view?acc_num=akron1595422569403014",
 }
+#: items whose ``URL`` is the ``[project.urls]`` entry of this label (pyproject.toml, the
+#: one place the project states addresses: :func:`debench.reference.provenance.project_urls`)
+URL_LABELS = {"zeng_2020": "Thesis"}
 ZENG_GAO_2019 = {
     "id": "zeng_gao_2019", "type": "article-journal",
     "title": "Effect of the deformation dependent permittivity on the actuation of a "
@@ -174,11 +178,15 @@ def citation(item_id: str) -> list[dict[str, Any]]:
         "type": "dataset" if info["datasets"] else "software",
         "title": f"debench: {info['title']}",
         "author": [{"literal": "debench developers"}],
-        "version": __version__, **({"URL": REPOSITORY} if REPOSITORY else {}), "note": note,
+        "version": __version__, **({"URL": repo} if (repo := provenance.repository_url()) else {}),
+        "note": note,
         "issued": {"date-parts": [[today.year]]},
         "accessed": {"date-parts": [[today.year, today.month, today.day]]},
         "references": "; ".join(r["id"] for r in refs),
     }
+    urls = provenance.project_urls()
+    refs = [{**r, "URL": urls[label]} if (label := URL_LABELS.get(r["id"])) in urls else r
+            for r in refs]
     return [main, *refs]
 
 

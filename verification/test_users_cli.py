@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from debench.reference import builds, cite, cli
+from debench.reference import builds, cite, cli, provenance
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -201,11 +201,34 @@ def test_citation_cff_has_repository_data_reference_and_keywords():
     schema = json.loads((ROOT / "verification/schemas/citation-cff-1.2.0.schema.json")
                         .read_text())
     jsonschema.validate(cff, schema)
-    # the repository URL is stated only once the project has a public address
-    assert cff.get("repository-code") == cite.REPOSITORY
+    # the URLs are those of [project.urls]: the repository's only once the project has a
+    # public address
+    assert cff.get("repository-code") == provenance.repository_url()
+    thesis = next(r for r in cff["references"] if r["type"] == "thesis")
+    assert thesis["url"] == provenance.project_urls()["Thesis"]
     assert any(r["type"] == "data" for r in cff["references"])
     assert any(r.get("doi") == "10.1016/j.mechrescom.2019.103420" for r in cff["references"])
     assert len(cff["keywords"]) >= 8
+
+
+def test_citation_urls_come_from_the_project_urls(monkeypatch):
+    """The BibTeX and CSL-JSON carry the URLs of ``[project.urls]`` (pyproject.toml) and
+    no other: the thesis' now, the repository's (and the datasets' ACDD links) once the
+    project states one; with none stated, the debench item has no URL."""
+    from debench.reference import standards
+
+    urls = provenance.project_urls()
+    items = cite.citation("ch3_free_membrane_nh")
+    assert "URL" not in items[0] and provenance.repository_url() is None
+    assert next(i for i in items if i["id"] == "zeng_2020")["URL"] == urls["Thesis"]
+    stated = {**urls, "Source Code": "https://example.org/debench"}
+    monkeypatch.setattr(provenance, "project_urls", lambda: stated)
+    items = cite.citation("ch5_critical_voltage.nc")
+    assert items[0]["URL"] == "https://example.org/debench"
+    assert "url = {https://example.org/debench}" in cite.bibtex(items)
+    assert standards.acdd_attributes("x", "2026")["metadata_link"] == stated["Source Code"]
+    monkeypatch.setattr(provenance, "project_urls", lambda: {})
+    assert all("URL" not in i for i in cite.citation("ch3_free_membrane_nh"))
 
 
 def test_cffconvert_validates_citation_cff():
