@@ -137,12 +137,14 @@ def errata_page(results) -> None:
     errata = [r for r in results if r.entry.kind == "erratum"]
     lines = [
         "# Errata", "",
-        f"{len(errata)} errata of the thesis, from the catalogue "
-        "(`reference/catalogue/*.toml`, entries of kind `erratum`). Each is *confirmed* or "
-        "*refuted* by the test named as its evidence, or *editorial* (a wrong "
-        "cross-reference); each names its root error (`root_cause`). The status is computed "
-        "when the site is built. Claims that do not reproduce, and the hypotheses tested "
-        "against them, are on the [verdict](verdict.md) page.", "",
+        "The printed equations and statements checked as possible errata, from the "
+        "catalogue (`reference/catalogue/*.toml`, entries of kind `erratum`). Each is "
+        "*confirmed* (an erratum) or *refuted* (the printed form is right after all) by the "
+        "test named as its evidence, or *editorial* (a wrong cross-reference); each names "
+        "its root error (`root_cause`). The status is computed when the site is built. "
+        "Claims that do not reproduce, and the hypotheses tested against them, are on the "
+        "[verdict](verdict.md) page.", "",
+        report.errata_sentence(results), "",
         report.errata_table(results), "",
         "## Root causes", "",
         "Each root error and what follows from it.", "",
