@@ -92,9 +92,11 @@ def _md_quantity(p: Problem, q: Quantity) -> list[str]:
             + (f"{float(acc.discretisation):g}" if np.ndim(acc.discretisation) == 0
                else "per value") + f": {acc.discretisation_reason}", ""]
     src = (f"dataset `{q.dataset}.nc`, variable `{q.variable}`" if q.source == "dataset"
-           else f"closed form on the grid {q.grid}")
+           else f"closed form on the grid of {int(q.grid['num'])} equally spaced values of "
+                f"`{q.along}` from {_md_value(q.grid['start'])} to "
+                f"{_md_value(q.grid['stop'])} (both included)")
     if q.fixed:
-        src += " at " + ", ".join(f"{k} = {v}" for k, v in q.fixed.items())
+        src += " at " + ", ".join(f"{k} = {_md_value(v)}" for k, v in q.fixed.items())
     header = ",".join(f"{c} [{q.units_of(c)}]" if (c in q.coordinate_units and
                       q.units_of(c)) or c == q.along else c for c in q.coordinates)
     out += [f"**Reference values.** {src}; `debench problems {p.id} --json` prints "

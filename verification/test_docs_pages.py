@@ -147,3 +147,14 @@ def test_docs_pages_need_no_test_extra(tmp_path):
                          timeout=600, env=env)
     assert run.returncode == 0, run.stderr[-3000:]
     assert int(run.stdout.split()[-3]) > 10  # the API pages were really written
+
+
+def test_dataset_page_numbers_are_formatted_for_reading(pages):
+    """Numbers of a dataset page (parameters, accuracies, numeric attributes and JSON
+    lists or mappings of them) are shown to 12 significant digits at most; other stored
+    text is shown as the file stores it."""
+    assert pages._md_number(4.1595000000000006e-11) == "4.1595e-11"
+    assert pages._md_number("[3.3333333333333335, 2.5]") == "3.33333333333, 2.5"
+    assert pages._md_number('{"nh_r10": 10.0}') == "nh_r10 = 10"
+    assert pages._md_number(2.0000000000575113e-07, 6) == "2e-07"
+    assert pages._md_number("fitted {'a': 1} | b") == "fitted {'a': 1} \\| b"

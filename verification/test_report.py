@@ -286,3 +286,18 @@ def test_crosscheck_sentence_counts_the_matrix_rows(results):
     assert (n, counts) == (len(own), report.status_counts(own))
     for r in own:
         assert (f"`{r.entry.id}`" in after) == (r.status == "not_reproduced"), r.entry.id
+
+
+def test_readable_formats_numbers_mappings_and_sequences_for_prose():
+    """:func:`catalogue.readable`: numpy scalars and arrays as numbers, a mapping as
+    ``key = value`` pairs, nested sequences in parentheses, floats to the digits asked."""
+    import numpy as np
+
+    assert catalogue.readable({"derived": 1.0, "printed": 1.0,
+                               "literal": 0.9999999994444345}, 11) == \
+        "derived = 1, printed = 1, literal = 0.99999999944"
+    assert catalogue.readable({"max_area": 2.085148975471975,
+                               "thin_extensional": np.float64(2.334815259489528)}) == \
+        "max_area = 2.08515, thin_extensional = 2.33482"
+    assert catalogue.readable([np.array([1.5, 2.0]), (np.int64(3), True, "x")]) == \
+        "(1.5, 2), (3, True, x)"

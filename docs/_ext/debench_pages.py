@@ -240,6 +240,21 @@ def _md(text) -> str:
     return " ".join(str(text).split()).replace("|", "\\|")
 
 
+def _md_number(value, digits: int = 12) -> str:
+    """A number, or a JSON list or mapping of them (attribute text such as ``param_*``),
+    as a reader reads it (:func:`debench.reference.catalogue.readable`); any other text as
+    the file stores it."""
+    from debench.reference.catalogue import readable
+
+    if isinstance(value, str):
+        try:
+            parsed = json.loads(value) if value.lstrip()[:1] in ("[", "{") else None
+        except ValueError:
+            parsed = None
+        return _md(value if parsed is None else readable(parsed, digits))
+    return _md(readable(value, digits))
+
+
 def dataset_pages() -> list[str]:
     from debench.reference.datasets import data_dir, read_dataset, read_manifest
 
@@ -273,7 +288,7 @@ def dataset_pages() -> list[str]:
                 "|---|---|---|---|---|---|"]
         for name, var in {**ds.coords, **ds.data_vars}.items():
             va = var.attrs
-            acc = "; ".join(f"{k.removeprefix('accuracy_')} {va[k]}" for k in
+            acc = "; ".join(f"{k.removeprefix('accuracy_')} {_md_number(va[k], 6)}" for k in
                             ("accuracy_rtol", "accuracy_atol") if k in va) or "—"
             units = va.get("units", "")
             page.append(f"| `{name}` | {'`' + _md(units) + '`' if units else '—'} | "
@@ -289,9 +304,9 @@ def dataset_pages() -> list[str]:
         params = json.loads(a.get("parameters", "{}"))
         if params:
             page += ["", "## Parameters", "", "| parameter | value |", "|---|---|"]
-            page += [f"| `{k}` | {_md(v)} |" for k, v in sorted(params.items())]
+            page += [f"| `{k}` | {_md_number(v)} |" for k, v in sorted(params.items())]
         page += ["", "## Global attributes", "", "| attribute | value |", "|---|---|"]
-        page += [f"| `{k}` | {_md(v)[:300]} |" for k, v in sorted(a.items())
+        page += [f"| `{k}` | {_md_number(v)[:300]} |" for k, v in sorted(a.items())
                  if k not in ("parameters",)]
         _write(OUT / "datasets" / f"{stem}.md", "\n".join(page) + "\n")
     index += ["", "```{toctree}", ":hidden:", "", *names, "```", "",
