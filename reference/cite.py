@@ -24,7 +24,7 @@ THESIS = {
     "publisher": "The University of Akron", "issued": {"date-parts": [[2020]]},
 }
 #: items whose ``URL`` is the ``[project.urls]`` entry of this label (pyproject.toml, the
-#: one place the project states addresses: :func:`debench.reference.provenance.project_urls`)
+#: one place the project states addresses: ``debench.reference.provenance.project_urls``)
 URL_LABELS = {"zeng_2020": "Thesis"}
 ZENG_GAO_2019 = {
     "id": "zeng_gao_2019", "type": "article-journal",

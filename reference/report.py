@@ -399,6 +399,7 @@ def roots_text(errata: list[Result]) -> str:
     """``"By root error (4): `a` (with `b`), `c`, ..."``: the root errors of ``errata``
     (the rows of :func:`root_cause_table`), each with the errata it causes."""
     groups = _by_root_cause(errata)
+
     def caused(root: str, rs: list[Result]) -> str:
         others = [f"`{r.entry.id}`" for r in rs if r.entry.id != root]
         return f"`{root}`" + (f" (with {', '.join(others)})" if others else "")
@@ -527,7 +528,10 @@ def write_report(out_dir: Path, results: list[Result], *, data_problems: list[st
         "*confirmed*, *refuted* or *editorial* (a wrong cross-reference), grouped by their root "
         "error; *not comparable* = a setting of ours (mesh, element type) that the thesis "
         "states differently for its own method, neither a result nor a failure; a diagnosis "
-        "(hypothesis) is *explained* when it gives the printed number to its digits.",
+        "(hypothesis) is *explained* when it gives the printed number to its digits. Thesis "
+        "claims, our own checks (catalogue kind `derived`: our implementations against each "
+        "other or a closed form, never a thesis claim), errata, diagnoses and assumptions are "
+        "counted apart.",
         "",
         "## Verdict per chapter",
         "",

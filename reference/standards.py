@@ -8,7 +8,7 @@ attributes are absent on purpose and which carry a stand-in value. :func:`check_
 the IOOS ``compliance-checker`` (CF-1.10 and ACDD-1.3) on one file and returns what fails.
 
 Nothing here invents a person, an address or a URL: the repository has no public address
-yet (:func:`debench.reference.provenance.repository_url` is ``None``: ``[project.urls]``
+yet (``debench.reference.provenance.repository_url()`` is ``None``: ``[project.urls]``
 of ``pyproject.toml`` names none); when it gets one the writer adds ``creator_url``,
 ``publisher_url`` and ``metadata_link`` from it.
 """
