@@ -54,6 +54,10 @@ autodoc_member_order = "bysource"
 autodoc_typehints = "description"
 autodoc_typehints_description_target = "documented"
 autodoc_default_options = {"members": True}
+# The docs extra has no pytest: autodoc imports the pytest plugin (debench.pytest_plugin)
+# with pytest mocked, which documents the fixture as the function it decorates. The page
+# generation (_ext/debench_pages.py) never imports that module itself.
+autodoc_mock_imports = ["pytest"]
 # numpydoc's per-class member tables would list every member a second time
 numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False

@@ -361,6 +361,44 @@ def _jsonable(v: Any) -> Any:
     return v
 
 
+def readable(value: Any, digits: int = 6) -> str:
+    """A value as prose quotes it: numbers (numpy scalars too) to ``digits`` significant
+    digits, a mapping as ``key = value`` pairs, a sequence or array comma-separated (in
+    parentheses when nested), never a Python repr (``np.float64(...)``, ``{'...': ...}``).
+
+    Parameters
+    ----------
+    value : Any
+        A number, bool, string, mapping, sequence or numpy array (nested freely).
+    digits : int, optional
+        Significant digits of every float.
+
+    Returns
+    -------
+    str
+        E.g. ``readable({"derived": 1.0, "literal": 0.9999999994444345}, 11)`` is
+        ``"derived = 1, literal = 0.99999999944"``.
+    """
+    def one(v: Any, nested: bool) -> str:
+        if hasattr(v, "tolist") and not isinstance(v, list | tuple | str):
+            v = v.tolist()  # a numpy array or scalar: nested lists or a Python number
+        if isinstance(v, bool | str) or v is None:
+            return str(v)
+        if isinstance(v, int):
+            return str(v)
+        if isinstance(v, float):
+            return f"{v:.{digits}g}"
+        if isinstance(v, dict):
+            text = ", ".join(f"{one(k, True)} = {one(x, True)}" for k, x in v.items())
+        elif isinstance(v, list | tuple):
+            text = ", ".join(one(x, True) for x in v)
+        else:
+            return str(v)
+        return f"({text})" if nested else text
+
+    return one(value, False)
+
+
 def render(text: str, value: Any, details: dict[str, Any]) -> str:
     """Fill a catalogue diagnosis with our computed numbers.
 

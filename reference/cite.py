@@ -2,8 +2,10 @@
 
 Each citation names the debench version and git commit, the sha256 of the datasets the
 value comes from (from ``MANIFEST.json``), the thesis section, equation, figure, table
-and page, and the references: the thesis and, for Chapter 3, the source paper. Output as
-BibTeX and CSL-JSON (the item list citeproc processors read).
+and page, and the references: the thesis and, for Chapter 3, the source paper. URLs come from one
+place, ``[project.urls]`` of ``pyproject.toml``: the repository's (none while the project
+has no public address) and the thesis'. Output as BibTeX and CSL-JSON (the item list
+citeproc processors read).
 """
 
 from __future__ import annotations
@@ -13,15 +15,17 @@ import json
 import re
 from typing import Any
 
-from debench.reference.provenance import REPOSITORY
+from debench.reference import provenance
 
 THESIS = {
     "id": "zeng_2020", "type": "thesis", "genre": "PhD dissertation",
     "title": "Deformation and stability of dielectric elastomer films used in actuators",
     "author": [{"family": "Zeng", "given": "Chuan"}],
     "publisher": "The University of Akron", "issued": {"date-parts": [[2020]]},
-    "URL": "https://rave.ohiolink.edu/etdc/view?acc_num=akron1595422569403014",
 }
+#: items whose ``URL`` is the ``[project.urls]`` entry of this label (pyproject.toml, the
+#: one place the project states addresses: ``debench.reference.provenance.project_urls``)
+URL_LABELS = {"zeng_2020": "Thesis"}
 ZENG_GAO_2019 = {
     "id": "zeng_gao_2019", "type": "article-journal",
     "title": "Effect of the deformation dependent permittivity on the actuation of a "
@@ -37,7 +41,22 @@ ZHAO_SUO_2007 = {
     "container-title": "Applied Physics Letters", "volume": "91", "page": "061921",
     "issued": {"date-parts": [[2007]]}, "DOI": "10.1063/1.2768641",
 }
-REFERENCES = {r["id"]: r for r in (THESIS, ZENG_GAO_2019, ZHAO_SUO_2007)}
+ROACHE_1994 = {
+    "id": "roache_1994", "type": "article-journal",
+    "title": "Perspective: a method for uniform reporting of grid refinement studies",
+    "author": [{"family": "Roache", "given": "P. J."}],
+    "container-title": "Journal of Fluids Engineering", "volume": "116", "page": "405-413",
+    "issued": {"date-parts": [[1994]]},
+}
+HUANG_1964 = {
+    "id": "huang_1964", "type": "article-journal",
+    "title": "Unsymmetrical buckling of thin shallow spherical shells",
+    "author": [{"family": "Huang", "given": "N. C."}],
+    "container-title": "Journal of Applied Mechanics", "volume": "31", "page": "447-457",
+    "issued": {"date-parts": [[1964]]},
+}
+REFERENCES = {r["id"]: r for r in (THESIS, ZENG_GAO_2019, ZHAO_SUO_2007, ROACHE_1994,
+                                   HUANG_1964)}
 
 
 def _chapter(text: str) -> int | None:
@@ -45,37 +64,93 @@ def _chapter(text: str) -> int | None:
     return int(m.group(1)) if m else None
 
 
-def _resolve(item_id: str) -> dict[str, Any]:
-    """What ``item_id`` names: kind, title, chapter, thesis location, datasets, refs."""
+def _reference(text: str) -> dict[str, Any] | None:
+    """The CSL item a problem spec's reference names: an id of :data:`REFERENCES`, or a
+    free-text reference that contains the title of one; ``None`` for any other text."""
+    if text in REFERENCES:
+        return REFERENCES[text]
+    folded = " ".join(text.split()).casefold()
+    return next((r for r in REFERENCES.values() if r["title"].casefold() in folded), None)
+
+
+def _candidates(item_id: str) -> list[dict[str, Any]]:
+    """Everything ``item_id`` names, in the order :func:`citation` prefers: a reference
+    problem, a dataset (``NAME`` or ``NAME.nc``; ``NAME.nc`` names only the dataset), a
+    catalogue entry (its id or an id it replaces). Each is a dict: kind, title, chapter,
+    thesis location, datasets, references (CSL items) and references given only as text."""
     from debench.reference import catalogue, problems
     from debench.reference.datasets import data_dir, read_manifest
 
-    manifest = read_manifest(data_dir())
-    try:
-        p = problems.get(item_id)
-    except problems.ProblemError:
-        p = None
-    if p is not None:
-        return {"kind": "reference problem", "title": p.title, "chapter": p.chapter,
-                "thesis": dict(p.thesis), "datasets": list(p.datasets),
-                "refs": list(p.references)}
+    out = []
+    if not item_id.endswith(".nc"):
+        try:
+            p = problems.get(item_id)
+        except problems.ProblemError:
+            p = None
+        if p is not None:
+            refs = [(r, _reference(r)) for r in p.references]
+            out.append({"kind": "reference problem", "title": p.title, "chapter": p.chapter,
+                        "thesis": dict(p.thesis), "datasets": list(p.datasets),
+                        "refs": [item for _, item in refs if item is not None],
+                        "text_refs": [text for text, item in refs if item is None]})
     name = item_id.removesuffix(".nc")
+    manifest = read_manifest(data_dir())
     if f"{name}.nc" in manifest:
         meta = manifest[f"{name}.nc"]
-        return {"kind": "dataset", "title": meta.get("title", name),
-                "chapter": _chapter(name), "thesis": {}, "datasets": [name], "refs": []}
+        out.append({"kind": "dataset", "title": meta.get("title", name),
+                    "chapter": _chapter(name), "thesis": {}, "datasets": [name], "refs": [],
+                    "text_refs": []})
     entries = {e.id: e for e in catalogue.load()}
     entry = entries.get(item_id) or next(
         (e for e in entries.values() if e.replaces == item_id), None)
-    if entry is None:
+    if entry is not None:
+        src = {k: v for k, v in entry.source.items() if v not in ("", None)}
+        chapter = src.get("chapter") or _chapter(entry.id)
+        out.append({"kind": f"catalogue entry ({entry.kind})",
+                    "title": f"{entry.id}: {entry.quantity}",
+                    "chapter": int(chapter) if str(chapter).isdigit() else None,
+                    "thesis": src, "datasets": ["thesis_values"], "refs": [],
+                    "text_refs": [], "entry_id": entry.id})
+    return out
+
+
+def _resolve(item_id: str) -> dict[str, Any]:
+    """What ``item_id`` names (the first of :func:`_candidates`)."""
+    found = _candidates(item_id)
+    if not found:
         raise ValueError(f"ID {item_id!r} is neither a reference problem (debench problems), "
                          "a dataset (debench list datasets) nor a catalogue entry "
                          "(debench list claims)")
-    src = {k: v for k, v in entry.source.items() if v not in ("", None)}
-    chapter = src.get("chapter") or _chapter(entry.id)
-    return {"kind": f"catalogue entry ({entry.kind})", "title": f"{entry.id}: {entry.quantity}",
-            "chapter": int(chapter) if str(chapter).isdigit() else None, "thesis": src,
-            "datasets": ["thesis_values"], "refs": [], "entry_id": entry.id}
+    return found[0]
+
+
+def ambiguity(item_id: str) -> str | None:
+    """What ``debench cite`` says when ``item_id`` names more than one thing: which one it
+    cites and how to cite the others; ``None`` when it names one thing or nothing.
+
+    Parameters
+    ----------
+    item_id : str
+        A problem id, dataset name (with or without ``.nc``) or catalogue entry id.
+
+    Returns
+    -------
+    str or None
+        One sentence, e.g. that ``ch5_critical_voltage`` is cited as the reference
+        problem and ``ch5_critical_voltage.nc`` cites the dataset of the same name.
+    """
+    found = _candidates(item_id)
+    if len(found) < 2:
+        return None
+    others = []
+    for c in found[1:]:
+        if c["kind"] == "dataset":
+            others.append(f"the dataset of the same name is cited as `debench cite "
+                          f"{c['datasets'][0]}.nc`")
+        else:
+            others.append(f"the {c['kind']} {c.get('entry_id', item_id)} has the same name")
+    return (f"{item_id} names {len(found)} things; this is the citation of the "
+            f"{found[0]['kind']}; " + "; ".join(others))
 
 
 def citation(item_id: str) -> list[dict[str, Any]]:
@@ -94,19 +169,24 @@ def citation(item_id: str) -> list[dict[str, Any]]:
     note = "; ".join(filter(None, [
         f"{info['kind']} {item_id}", f"debench {__version__}, commit {commit}",
         *(f"{d}.nc sha256 {s}" for d, s in sums.items()),
-        f"thesis {where}" if where else ""]))
+        f"thesis {where}" if where else "",
+        *(f"also cites: {' '.join(text.split())}" for text in info["text_refs"])]))
     refs = [THESIS] + ([ZENG_GAO_2019] if info["chapter"] == 3 else [])
-    refs += [REFERENCES[r] for r in info["refs"] if REFERENCES[r] not in refs]
+    refs += [r for r in info["refs"] if r not in refs]
     main = {
         "id": f"debench_{re.sub(r'[^A-Za-z0-9]+', '_', item_id)}",
         "type": "dataset" if info["datasets"] else "software",
         "title": f"debench: {info['title']}",
         "author": [{"literal": "debench developers"}],
-        "version": __version__, **({"URL": REPOSITORY} if REPOSITORY else {}), "note": note,
+        "version": __version__, **({"URL": repo} if (repo := provenance.repository_url()) else {}),
+        "note": note,
         "issued": {"date-parts": [[today.year]]},
         "accessed": {"date-parts": [[today.year, today.month, today.day]]},
         "references": "; ".join(r["id"] for r in refs),
     }
+    urls = provenance.project_urls()
+    refs = [{**r, "URL": urls[label]} if (label := URL_LABELS.get(r["id"])) in urls else r
+            for r in refs]
     return [main, *refs]
 
 

@@ -436,13 +436,28 @@ def _add_check(sub) -> None:
     s.set_defaults(func=cmd_check, check_parser=s)
 
 
+def cmd_cite_naming_others(args) -> int:
+    """``debench cite``: the citation on stdout and, when the id names more than one thing
+    (a problem and a dataset of the same name), which one was cited and how to cite the
+    other on stderr (:func:`debench.reference.cite.ambiguity`)."""
+    from debench.reference import cite
+
+    code = cmd_cite(args)
+    note = cite.ambiguity(args.id)
+    if note:
+        print(f"debench: note: {note}", file=sys.stderr)
+    return code
+
+
 def _add_cite(sub) -> None:
     """The ``debench cite`` subcommand."""
     s = sub.add_parser("cite", help="BibTeX and CSL-JSON for a catalogue entry, dataset "
                        "or reference problem")
-    s.add_argument("id", help="catalogue id, dataset name or problem id")
+    s.add_argument("id", help="catalogue id, dataset name or problem id; a name that is "
+                   "both a problem and a dataset cites the problem (and says so on stderr), "
+                   "NAME.nc cites the dataset")
     s.add_argument("--format", choices=["both", "bibtex", "csl"], default="both")
-    s.set_defaults(func=cmd_cite)
+    s.set_defaults(func=cmd_cite_naming_others)
 
 
 def build_parser() -> argparse.ArgumentParser:

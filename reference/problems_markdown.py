@@ -94,9 +94,11 @@ def _md_quantity(p: Problem, q: Quantity) -> list[str]:
             + (f"{float(acc.discretisation):g}" if np.ndim(acc.discretisation) == 0
                else "per value") + f": {acc.discretisation_reason}", ""]
     src = (f"dataset `{q.dataset}.nc`, variable `{q.variable}`" if q.source == "dataset"
-           else f"closed form on the grid {q.grid}")
+           else f"closed form on the grid of {int(q.grid['num'])} equally spaced values of "
+                f"`{q.along}` from {_md_value(q.grid['start'])} to "
+                f"{_md_value(q.grid['stop'])} (both included)")
     if q.fixed:
-        src += " at " + ", ".join(f"{k} = {v}" for k, v in q.fixed.items())
+        src += " at " + ", ".join(f"{k} = {_md_value(v)}" for k, v in q.fixed.items())
     out += [f"**Reference values.** {src}; `debench problems {p.id} --json` prints "
             "them with their coordinates.", "",
             f"**Check.** `debench check {p.id} results.csv` with the header "

@@ -8,6 +8,7 @@ provenance"). These helpers never raise: a missing git checkout is recorded as
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 from functools import cache
@@ -25,9 +26,45 @@ def _source_root() -> Path | None:
     return root if (root / "pyproject.toml").is_file() and (root / ".git").exists() else None
 
 
-#: Public repository URL (also ``repository-code`` in CITATION.cff). ``None`` until the
-#: project has a public address: a citation never carries a made-up one.
-REPOSITORY: str | None = None
+#: Labels of ``[project.urls]`` that name the source repository: the well-known label
+#: ``source`` and its aliases (PyPA, "Well-known Project URLs in Metadata"), normalised
+#: (lower case, punctuation and whitespace removed).
+REPOSITORY_LABELS = ("source", "repository", "sourcecode", "github")
+
+
+def project_urls() -> dict[str, str]:
+    """The URLs of ``[project.urls]`` in ``pyproject.toml``: the one place the project's
+    addresses are stated, read from the installed metadata (``Project-URL``).
+
+    Returns
+    -------
+    dict of str to str
+        Label to URL; empty when debench is not installed.
+    """
+    from importlib.metadata import metadata
+
+    try:
+        entries = metadata("debench").get_all("Project-URL") or []
+    except PackageNotFoundError:
+        return {}
+    pairs = (e.partition(",") for e in entries)
+    return {label.strip(): url.strip() for label, _, url in pairs}
+
+
+def repository_url() -> str | None:
+    """The public repository URL: the ``[project.urls]`` entry under a label of
+    :data:`REPOSITORY_LABELS` (also ``repository-code`` in CITATION.cff).
+
+    Returns
+    -------
+    str or None
+        ``None`` while the project has no public address: a citation or dataset never
+        carries a made-up one.
+    """
+    for label, url in project_urls().items():
+        if re.sub(r"[^a-z]", "", label.lower()) in REPOSITORY_LABELS:
+            return url
+    return None
 
 
 #: The git checkout of an editable install; ``None`` for an installed wheel.

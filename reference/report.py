@@ -68,6 +68,54 @@ def status_counts(results: Iterable[Result]) -> Counter:
     return Counter(r.status for r in results)
 
 
+#: The order statuses are counted in, everywhere.
+STATUS_ORDER = ("reproduced", "not_reproduced", "not_reproducible", "pending", "confirmed",
+                "refuted", "editorial", "explained", "unexplained", "assumed", "input",
+                "not_comparable", "error")
+#: The catalogue kinds the report counts apart, each beside its own table: a status means
+#: something different in each (a thesis claim not reproduced is a finding about the
+#: thesis; an own check not reproduced is a disagreement between our own models; a refuted
+#: erratum is a printed form found right, not an erratum).
+GROUPS = {
+    "claims": ("claim", "literature"),
+    "own checks": ("derived",),
+    "errata": ("erratum",),
+    "diagnoses": ("diagnosis",),
+    "assumptions": ("assumption",),
+}
+#: How the counts sentences and the README tables name each group.
+GROUP_LABELS = {
+    "claims": "thesis claims and literature values",
+    "own checks": "own checks of our models and derived values (not thesis claims)",
+    "errata": "errata checked",
+    "diagnoses": "diagnoses",
+    "assumptions": "assumptions",
+}
+
+
+def in_group(results: Iterable[Result], group: str) -> list[Result]:
+    """The results whose entry kind belongs to ``group`` (a key of :data:`GROUPS`)."""
+    return [r for r in results if r.entry.kind in GROUPS[group]]
+
+
+def count_text(results: Iterable[Result]) -> str:
+    """The status counts of ``results``: ``"24 reproduced, 5 not reproduced"`` (in
+    :data:`STATUS_ORDER`, only those that occur; ``"none"`` when there is none)."""
+    counts = status_counts(results)
+    return ", ".join(f"{counts[s]} {s.replace('_', ' ')}" for s in STATUS_ORDER
+                     if counts[s]) or "none"
+
+
+def count_sentence(group: str, results: Iterable[Result], capital: bool = True) -> str:
+    """``"Thesis claims and literature values: 46 entries: 24 reproduced, ..."`` for the
+    results of ``group`` among ``results`` (no final full stop)."""
+    chosen = in_group(results, group)
+    label = GROUP_LABELS[group]
+    label = label[0].upper() + label[1:] if capital else label
+    noun = "entry" if len(chosen) == 1 else "entries"
+    return f"{label}: {len(chosen)} {noun}: {count_text(chosen)}"
+
+
 def results_table(results: Iterable[Result], kinds=("claim", "literature")) -> str:
     """Markdown table: thesis claim, thesis value, our value, status."""
     rows = ["| id | thesis claim | thesis value | our value | status |",
@@ -78,6 +126,19 @@ def results_table(results: Iterable[Result], kinds=("claim", "literature")) -> s
             continue
         thesis = format_value(e.printed or e.value, e.unit)
         rows.append(f"| `{e.id}` | {_cell(e.quantity, 70)} | {thesis} | "
+                    f"{format_value(r.value, e.unit)} | {STATUS_MARK.get(r.status, r.status)} |")
+    return "\n".join(rows)
+
+
+def own_checks_table(results: Iterable[Result]) -> str:
+    """Markdown table of our own checks (kind ``derived``): what is compared, the value
+    the entry states, our value and the status. Not thesis claims: a row not reproduced
+    is a disagreement between our own models."""
+    rows = ["| id | check | stated value | our value | status |", "|---|---|---|---|---|"]
+    for r in in_group(results, "own checks"):
+        e = r.entry
+        rows.append(f"| `{e.id}` | {_cell(e.quantity, 70)} | "
+                    f"{format_value(e.printed or e.value, e.unit)} | "
                     f"{format_value(r.value, e.unit)} | {STATUS_MARK.get(r.status, r.status)} |")
     return "\n".join(rows)
 
@@ -115,8 +176,8 @@ def root_cause_table(results: Iterable[Result]) -> str:
     rows = ["| root error | status | errata it causes | other entries it causes |",
             "|---|---|---|---|"]
     for root, group in _by_root_cause(results):
-        head = group[0]
-        errata = [f"`{r.entry.id}`" for r in group[1:]]
+        head = next((r for r in results if r.entry.id == root), group[0])
+        errata = [f"`{r.entry.id}`" for r in group if r.entry.id != root]
         others = [f"`{r.entry.id}` ({STATUS_MARK.get(r.status, r.status)})" for r in results
                   if r.entry.kind != "erratum" and r.entry.root_cause == root]
         rows.append(f"| `{root}` | {STATUS_MARK.get(head.status, head.status)} | "
@@ -242,31 +303,60 @@ def diagnosis_table(results: Iterable[Result]) -> str:
 
 
 def summary_line(results: list[Result]) -> str:
-    counts = status_counts(results)
-    order = ["reproduced", "not_reproduced", "not_reproducible", "pending", "confirmed",
-             "refuted", "editorial", "explained", "unexplained", "assumed", "input",
-             "not_comparable", "error"]
-    return ", ".join(f"{counts[s]} {s.replace('_', ' ')}" for s in order if counts[s])
+    """The status counts of every group (:data:`GROUPS`), each group apart."""
+    return "; ".join(count_sentence(g, results, capital=False) for g in GROUPS
+                     if in_group(results, g))
 
 
-def chapter_summary(results: list[Result]) -> str:
-    """Markdown table of status counts per chapter."""
-    cols = ["reproduced", "not_reproduced", "not_reproducible", "pending", "confirmed",
-            "refuted", "editorial", "explained", "unexplained", "assumed", "input",
-             "not_comparable", "error"]
-    present = [c for c in cols if any(r.status == c for r in results)]
-    names = {"confirmed": "errata confirmed", "refuted": "errata refuted",
-             "editorial": "editorial errata"}
-    head = "| chapter | " + " | ".join(names.get(c, c.replace("_", " "))
-                                       for c in present) + " |"
-    rows = [head, "|---|" + "---|" * len(present)]
-    prefixes = sorted({r.entry.id.split(".")[0] for r in results},
-                      key=lambda p: list(CHAPTER_TITLES).index(p) if p in CHAPTER_TITLES else 99)
-    for prefix in prefixes:
-        counts = status_counts(r for r in results if r.entry.id.split(".")[0] == prefix)
-        rows.append(f"| {CHAPTER_TITLES.get(prefix, prefix)} | "
-                    + " | ".join(str(counts[c]) for c in present) + " |")
+def _prefixes(results: Iterable[Result]) -> list[str]:
+    return sorted({r.entry.id.split(".")[0] for r in results},
+                  key=lambda p: list(CHAPTER_TITLES).index(p) if p in CHAPTER_TITLES else 99)
+
+
+def chapter_summary(results: list[Result], groups: Iterable[str] = ("claims",)) -> str:
+    """Markdown table of the status counts per chapter of the entries of ``groups``:
+    a column per status that occurs (headed ``group: status`` when there are several
+    groups) and the number of entries."""
+    results = list(results)
+    groups = list(groups)
+    cols = [(g, s) for g in groups for s in STATUS_ORDER
+            if any(r.status == s for r in in_group(results, g))]
+
+    def head(g: str, s: str) -> str:
+        return s.replace("_", " ") if len(groups) == 1 else f"{g}: {s.replace('_', ' ')}"
+
+    rows = ["| chapter | entries | " + " | ".join(head(g, s) for g, s in cols) + " |",
+            "|---|---|" + "---|" * len(cols)]
+    for prefix in _prefixes(results):
+        chunk = [r for r in results if r.entry.id.split(".")[0] == prefix]
+        chosen = [r for g in groups for r in in_group(chunk, g)]
+        if not chosen:
+            continue
+        counts = {g: status_counts(in_group(chunk, g)) for g in groups}
+        rows.append(f"| {CHAPTER_TITLES.get(prefix, prefix)} | {len(chosen)} | "
+                    + " | ".join(str(counts[g][s]) for g, s in cols) + " |")
     return "\n".join(rows)
+
+
+#: the README's two tables: the thesis' claims, and everything else, apart
+README_TABLES = (("claims",), ("own checks", "errata", "diagnoses", "assumptions"))
+
+
+def readme_block(results: list[Result]) -> str:
+    """The generated README section: the status counts, in all and per chapter, thesis
+    claims apart from our own checks, errata, diagnoses and assumptions; each table below
+    the sentence that counts its entries. Every claim, erratum and diagnosis is in the
+    report (:func:`write_report`), which the documentation site shows as its verdict
+    page."""
+    lines = [START, "_Generated by `debench report --readme` from the catalogue._", ""]
+    for groups in README_TABLES:
+        lines += [" ".join(count_sentence(g, results) + "." for g in groups
+                           if in_group(results, g)), "",
+                  chapter_summary(results, groups), ""]
+    lines += ["Every claim beside our value, the errata with their evidence, the diagnoses "
+              "and the cross-check matrix: `debench report` (`results/REPORT.md`), the "
+              "verdict page of the documentation site.", END]
+    return "\n".join(lines)
 
 
 def _headline(r: Result) -> bool:
@@ -275,23 +365,6 @@ def _headline(r: Result) -> bool:
     return (r.entry.kind in ("claim", "literature")
             and r.status not in ("input", "not_comparable")
             and isinstance(v, int | float) and not isinstance(v, bool))
-
-
-def readme_block(results: list[Result]) -> str:
-    """The generated README section: the status counts, in all and per chapter. Every
-    claim, erratum and diagnosis is in the report (:func:`write_report`), which the
-    documentation site shows as its verdict page."""
-    return "\n".join([
-        START,
-        f"_Generated by `debench report --readme` from the catalogue: {summary_line(results)}._",
-        "",
-        chapter_summary(results),
-        "",
-        "Every claim beside our value, the errata with their evidence, the diagnoses and the "
-        "cross-check matrix: `debench report` (`results/REPORT.md`), the verdict page of the "
-        "documentation site.",
-        END,
-    ])
 
 
 def update_readme(readme: Path, results: list[Result]) -> bool:
@@ -316,57 +389,105 @@ def _chapter_of(name: str) -> str | None:
     return f"ch{m[1]}" if m else None
 
 
+def _beside_ours(r: Result, word: str = "printed") -> str:
+    return (f"`{r.entry.id}` {word} "
+            f"{format_value(r.entry.printed or r.entry.value, r.entry.unit)}, "
+            f"ours {format_value(r.value, r.entry.unit)}")
+
+
+def roots_text(errata: list[Result]) -> str:
+    """``"By root error (4): `a` (with `b`), `c`, ..."``: the root errors of ``errata``
+    (the rows of :func:`root_cause_table`), each with the errata it causes."""
+    groups = _by_root_cause(errata)
+
+    def caused(root: str, rs: list[Result]) -> str:
+        others = [f"`{r.entry.id}`" for r in rs if r.entry.id != root]
+        return f"`{root}`" + (f" (with {', '.join(others)})" if others else "")
+
+    return f"By root error ({len(groups)}): " + ", ".join(caused(*g) for g in groups)
+
+
+def errata_sentence(results: Iterable[Result]) -> str:
+    """The counts of the errata checked, whose refuted ones are printed forms found
+    right (no errata of the thesis), and their root errors."""
+    errata = in_group(results, "errata")
+    counts = status_counts(errata)
+    text = count_sentence("errata", errata) + "."
+    if counts["refuted"]:
+        text += (f" The {counts['refuted']} refuted are printed forms found right on "
+                 "checking, not errata of the thesis.")
+    return text + " " + roots_text(errata) + "."
+
+
 def chapter_verdict(prefix: str, chunk: list[Result]) -> str:
     """A written verdict of one chapter, generated from its computed results: the counts
-    by status, every number that does not reproduce (ours beside the printed one), the
-    errata and the diagnoses."""
-    counts = status_counts(chunk)
+    by status of each group apart (:data:`GROUPS`; the same records as the chapter's
+    tables), every thesis claim that does not reproduce (ours beside the printed one), our
+    own checks that do not, the errata and the diagnoses."""
     title = CHAPTER_TITLES.get(prefix, prefix)
-    parts = [f"**{title}.** {len(chunk)} entries: {summary_line(chunk)}."]
-    numeric = [r for r in chunk if _headline(r)]
-    if numeric:
-        same = sum(r.status == "reproduced" for r in numeric)
-        parts.append(f"Of its {len(numeric)} numeric claims, {same} reproduce to the printed "
-                     "digits.")
-    misses = [r for r in numeric if r.status == "not_reproduced"]
-    if misses:
-        parts.append("Not reproduced: " + "; ".join(
-            f"`{r.entry.id}` printed "
-            f"{format_value(r.entry.printed or r.entry.value, r.entry.unit)}, "
-            f"ours {format_value(r.value, r.entry.unit)}" for r in misses) + ".")
-    errata = [r for r in chunk if r.entry.kind == "erratum"]
+    parts = [f"**{title}.**"]
+    claims = in_group(chunk, "claims")
+    if claims:
+        parts.append(count_sentence("claims", chunk) + ".")
+        numeric = [r for r in claims if _headline(r)]
+        if numeric:
+            same = sum(r.status == "reproduced" for r in numeric)
+            parts.append(f"Of its {len(numeric)} numeric claims (stated inputs aside), "
+                         f"{same} reproduce{'s' if same == 1 else ''} to the printed digits.")
+        misses = [r for r in claims if r.status == "not_reproduced"]
+        if misses:
+            numbers = [_beside_ours(r) for r in misses if _headline(r)]
+            statements = [f"`{r.entry.id}`" for r in misses if not _headline(r)]
+            parts.append("Not reproduced: " + "; ".join(
+                ([f"numbers {'; '.join(numbers)}"] if numbers else [])
+                + ([f"statements {', '.join(statements)}"] if statements else [])) + ".")
+    own = in_group(chunk, "own checks")
+    if own:
+        parts.append(count_sentence("own checks", chunk) + ".")
+        misses = [r for r in own if r.status == "not_reproduced"]
+        if misses:
+            parts.append("Own checks not reproduced (our implementations disagree): "
+                         + "; ".join(_beside_ours(r, "stated") for r in misses) + ".")
+    errata = in_group(chunk, "errata")
     if errata:
-        roots = {r.entry.root_cause or r.entry.id for r in errata}
-        parts.append(f"Errata: {counts['confirmed']} confirmed, {counts['editorial']} "
-                     f"editorial, {counts['refuted']} refuted of {len(errata)}, from "
-                     f"{len(roots)} root causes (" +
-                     ", ".join(f"`{r.entry.id}`" for r in errata) + ").")
-    diag = [r for r in chunk if r.entry.kind == "diagnosis"]
+        parts.append(errata_sentence(errata))
+    diag = in_group(chunk, "diagnoses")
     if diag:
-        parts.append(f"Diagnoses: {counts['explained']} of {len(diag)} hypotheses explain the "
-                     "printed number (" + "; ".join(
-                         f"`{r.entry.id}` {STATUS_MARK.get(r.status, r.status)}, predicts "
-                         f"{format_value(r.value, r.entry.unit)}" for r in diag) + ").")
-    if counts["error"]:
-        parts.append(f"{counts['error']} producer(s) failed: see the table.")
+        parts.append(count_sentence("diagnoses", chunk) + " (" + "; ".join(
+            f"`{r.entry.id}` {STATUS_MARK.get(r.status, r.status)}, predicts "
+            f"{format_value(r.value, r.entry.unit)}" for r in diag) + ").")
+    if in_group(chunk, "assumptions"):
+        parts.append(count_sentence("assumptions", chunk) + ".")
+    errors = status_counts(chunk)["error"]
+    if errors:
+        parts.append(f"{errors} producer(s) failed: see the tables.")
     return " ".join(parts)
 
 
-def crosscheck_section(data_dir: Path | None = None) -> list[str]:
-    """The cross-check matrix (``debench.reference.crosschecks``) as report lines."""
+def crosscheck_section(data_dir: Path | None = None,
+                       results: Iterable[Result] = ()) -> list[str]:
+    """The cross-check matrix (``debench.reference.crosschecks``) as report lines, and the
+    counts of the catalogue's own checks of our models (kind ``derived``) among
+    ``results``, which the chapter sections list."""
     from debench.reference import crosschecks
 
+    own = in_group(results, "own checks")
+    misses = [r for r in own if r.status == "not_reproduced"]
+    catalogue = [f"Beyond this matrix, in the catalogue: {count_sentence('own checks', own)}."
+                 + (" Not reproduced: " + ", ".join(f"`{r.entry.id}`" for r in misses) + "."
+                    if misses else "")
+                 + " Each chapter's section lists them.", ""] if own else []
     try:
         rows = crosschecks.matrix(data_dir)
     except Exception as exc:  # noqa: BLE001 - a report still renders without its datasets
-        return ["## Cross-check matrix", "", f"Not available: {exc}", ""]
+        return ["## Cross-check matrix", "", f"Not available: {exc}", "", *catalogue]
     agree = sum(r.within is True for r in rows)
     judged = sum(r.within is not None for r in rows)
     return ["## Cross-check matrix: which implementation checked which", "",
-            f"{agree} of {judged} pairs agree within their tolerance; "
-            f"{len(rows) - judged} pairs are expected to differ and are diagnoses. Measured "
-            "from the curated datasets; the tolerance is the named constant the asserting "
-            "test uses.", "", crosschecks.table(rows), ""]
+            f"{agree} of the {judged} pairs of this matrix that have a tolerance agree within "
+            f"it; {len(rows) - judged} pairs are expected to differ and are diagnoses. "
+            "Measured from the curated datasets; the tolerance is the named constant the "
+            "asserting test uses.", "", crosschecks.table(rows), "", *catalogue]
 
 
 def consensus_section() -> list[str]:
@@ -407,31 +528,39 @@ def write_report(out_dir: Path, results: list[Result], *, data_problems: list[st
         "*confirmed*, *refuted* or *editorial* (a wrong cross-reference), grouped by their root "
         "error; *not comparable* = a setting of ours (mesh, element type) that the thesis "
         "states differently for its own method, neither a result nor a failure; a diagnosis "
-        "(hypothesis) is *explained* when it gives the printed number to its digits.",
+        "(hypothesis) is *explained* when it gives the printed number to its digits. Thesis "
+        "claims, our own checks (catalogue kind `derived`: our implementations against each "
+        "other or a closed form, never a thesis claim), errata, diagnoses and assumptions are "
+        "counted apart.",
         "",
         "## Verdict per chapter",
         "",
     ]
-    prefixes = sorted({r.entry.id.split(".")[0] for r in results},
-                      key=lambda p: list(CHAPTER_TITLES).index(p) if p in CHAPTER_TITLES else 99)
+    prefixes = _prefixes(results)
     for prefix in prefixes:
         lines += [chapter_verdict(prefix, [r for r in results
                                            if r.entry.id.split(".")[0] == prefix]), ""]
-    lines += crosscheck_section()
+    lines += crosscheck_section(results=results)
     lines += consensus_section()
     shown: set[Path] = set()
     for prefix in prefixes:
         chunk = [r for r in results if r.entry.id.split(".")[0] == prefix]
-        lines += [f"## {CHAPTER_TITLES.get(prefix, prefix)}", "", results_table(chunk), ""]
+        lines += [f"## {CHAPTER_TITLES.get(prefix, prefix)}", ""]
+        if in_group(chunk, "claims"):
+            lines += [count_sentence("claims", chunk) + ".", "", results_table(chunk), ""]
+        if in_group(chunk, "own checks"):
+            lines += [count_sentence("own checks", chunk) + ".", "", own_checks_table(chunk),
+                      ""]
         diag = [r for r in chunk if r.diagnosis and r.status in
                 ("not_reproduced", "not_reproducible", "not_comparable", "error")]
         if diag:
-            lines += ["Diagnoses:", ""]
+            lines += ["Why these differ or cannot be compared:", ""]
             lines += [f"- `{r.entry.id}`: {r.diagnosis}" for r in diag]
             lines.append("")
-        assumptions = [r for r in chunk if r.entry.kind == "assumption"]
+        assumptions = in_group(chunk, "assumptions")
         if assumptions:
-            lines += ["Assumptions (the thesis does not state these):", ""]
+            lines += [count_sentence("assumptions", chunk) + " (the thesis does not state "
+                      "these).", ""]
             lines += [f"- `{r.entry.id}` = {format_value(r.entry.value, r.entry.unit)}: "
                       f"{_cell(r.entry.diagnosis or r.entry.notes, 300)}" for r in assumptions]
             lines.append("")
@@ -444,9 +573,10 @@ def write_report(out_dir: Path, results: list[Result], *, data_problems: list[st
         lines += ["## Other figures", ""]
         for fig in rest:
             lines += _figure_lines(fig, out_dir)
-    lines += ["## Errata", "", errata_table(results), ""]
+    lines += ["## Errata", "", errata_sentence(results), "", errata_table(results), ""]
     lines += ["### Root causes", "", root_cause_table(results), ""]
-    lines += ["## Diagnoses", "", diagnosis_table(results), ""]
+    lines += ["## Diagnoses", "", count_sentence("diagnoses", results) + ".", "",
+              diagnosis_table(results), ""]
     if data_problems:
         lines += ["## Dataset problems", ""] + [f"- {p}" for p in data_problems] + [""]
     if regeneration:

@@ -8,8 +8,9 @@ attributes are absent on purpose and which carry a stand-in value. :func:`check_
 the IOOS ``compliance-checker`` (CF-1.10 and ACDD-1.3) on one file and returns what fails.
 
 Nothing here invents a person, an address or a URL: the repository has no public address
-yet (``debench.reference.provenance.REPOSITORY`` is ``None``); when it gets one the writer
-adds ``creator_url``, ``publisher_url`` and ``metadata_link`` from it.
+yet (``debench.reference.provenance.repository_url()`` is ``None``: ``[project.urls]``
+of ``pyproject.toml`` names none); when it gets one the writer adds ``creator_url``,
+``publisher_url`` and ``metadata_link`` from it.
 """
 
 from __future__ import annotations
@@ -87,7 +88,7 @@ def coverage_content_type(name: str, *, is_coordinate: bool) -> str:
 def acdd_attributes(name: str, now: str) -> dict[str, str]:
     """Global ACDD-1.3 attributes of dataset ``name`` written at ``now`` (ISO 8601)."""
     from debench.reference import __version__
-    from debench.reference.provenance import REPOSITORY
+    from debench.reference.provenance import repository_url
 
     attrs = {
         "id": name, "naming_authority": "debench", "institution": GROUP,
@@ -98,9 +99,9 @@ def acdd_attributes(name: str, now: str) -> dict[str, str]:
         "product_version": __version__, "date_modified": now,
         "date_metadata_modified": now,
     }
-    if REPOSITORY:
-        attrs.update(creator_url=REPOSITORY, publisher_url=REPOSITORY,
-                     metadata_link=REPOSITORY)
+    url = repository_url()
+    if url:
+        attrs.update(creator_url=url, publisher_url=url, metadata_link=url)
     return attrs
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import ast
+import re
 from pathlib import Path
 
 import numpy as np
@@ -226,6 +227,46 @@ def test_readme_results_table_is_current(results):
     text = (ROOT / "README.md").read_text()
     block = START + text.split(START, 1)[1].split(END, 1)[0] + END
     assert block == readme_block(results), "run `debench report --readme`"
+
+
+#: a Python repr reaching a reader: a numpy scalar, a dict, a float of 15+ digits
+RAW_REPR = re.compile(r"np\.(?:float|int|bool_)\d*\(|\{'")
+#: significant digits from which a printed float is a repr, not a number for reading
+REPR_DIGITS = 15
+
+
+def raw_python(text: str) -> list[str]:
+    """The places of ``text`` where a Python repr shows (:data:`RAW_REPR`, or a float with
+    :data:`REPR_DIGITS` significant digits or more), each with some context."""
+    hits = [m.start() for m in RAW_REPR.finditer(text)]
+    for m in re.finditer(r"(?<![\w.])\d+\.\d+(?:e[-+]?\d+)?", text):
+        mantissa = re.sub(r"e.*", "", m.group()).replace(".", "").lstrip("0")
+        if len(mantissa) >= REPR_DIGITS:
+            hits.append(m.start())
+    return [text[max(0, i - 60):i + 40] for i in sorted(hits)]
+
+
+def test_raw_python_is_detected():
+    """The scan below can fail: it finds each kind of repr and passes readable numbers."""
+    assert len(raw_python("a np.float64(2.334815259489528) b {'derived': 1.0} c "
+                          "4.1595000000000006e-11 d 0.9999999994444345")) == 5
+    assert raw_python("2.3348, derived = 1, literal = 0.99999999944, 4.1595e-11, "
+                      "sha256 e13f1e851917f897c4719ac7cfbdf0f62a7b6998") == []
+
+
+def test_report_and_problem_pages_show_no_raw_python(results, tmp_path):
+    """Every number of the report (``debench report``, the verdict page) and of every
+    problem page (``debench problems ID --markdown`` with its consensus table, as the site
+    shows it) is formatted for reading: no numpy scalar or dict repr, no float printed
+    with all its 17 digits."""
+    from debench.reference import consensus, problems, report
+
+    text = report.write_report(tmp_path, results, figures_dir=tmp_path / "none").read_text()
+    found = {"REPORT.md": raw_python(text)}
+    for p in problems.load_all():
+        found[p.id] = raw_python(consensus.problem_page(p))
+    found = {k: v for k, v in found.items() if v}
+    assert not found, found
 
 
 def test_a_setting_of_ours_is_an_input_when_equal_and_not_comparable_otherwise():

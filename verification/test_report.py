@@ -5,6 +5,7 @@ cross-check matrix measured from the datasets within the tolerances its tests as
 from __future__ import annotations
 
 import re
+from collections import Counter
 
 import pytest
 from debench.reference import catalogue, crosschecks, report
@@ -117,3 +118,186 @@ def test_errata_are_grouped_by_root_cause(results):
             assert j < i and all(by_id[x].root_cause == root for x in ids[j:i + 1])
     roots = report.root_cause_table(results)
     assert "`ch4.erratum.eq4_55_b`" in roots and "`ch4.ellipticity.ti_curves_well_posed`" in roots
+
+
+# ----------------------------------------------------------------- counts and their tables
+MARK_STATUS = {mark: status for status, mark in report.STATUS_MARK.items()}
+COUNTS = re.compile(r"([A-Z][^:.]*): (\d+) entr(?:y|ies): ((?:\d+ [a-z ]+?)(?:, \d+ [a-z ]+?)*)"
+                    r"(?=[.;]|$)")
+
+
+def _sentence_counts(text: str) -> dict[str, tuple[int, Counter]]:
+    """``{label: (n, Counter(status))}`` of every counts sentence in ``text``."""
+    out = {}
+    for label, n, counts in COUNTS.findall(text):
+        pairs = re.findall(r"(\d+) ([a-z ]+)", counts)
+        out[label.lower()] = (int(n), Counter({s.strip().replace(" ", "_"): int(k)
+                                                for k, s in pairs}))
+    return out
+
+
+def _tables(lines: list[str]) -> list[tuple[int, list[str], list[list[str]]]]:
+    """Every markdown table: (index of its header line, header cells, rows of cells)."""
+    out, i = [], 0
+    while i < len(lines):
+        if lines[i].startswith("| ") and i + 1 < len(lines) and lines[i + 1].startswith("|---"):
+            head = [c.strip() for c in lines[i].strip("|").split(" | ")]
+            j, rows = i + 2, []
+            while j < len(lines) and lines[j].startswith("|"):
+                rows.append([c.strip() for c in re.split(r"(?<!\\)\|", lines[j])[1:-1]])
+                j += 1
+            out.append((i, head, rows))
+            i = j
+        else:
+            i += 1
+    return out
+
+
+def _status_column(head: list[str], rows: list[list[str]]) -> Counter:
+    k = head.index("status")
+    return Counter(MARK_STATUS[row[k]] for row in rows)
+
+
+def _checked_pairs(text: str) -> int:
+    """Every table with a status column is introduced by a counts sentence (the last
+    non-blank line before it) whose total and counts are those of the table's rows;
+    returns how many such pairs the text has."""
+    lines = text.splitlines()
+    pairs = 0
+    for i, head, rows in _tables(lines):
+        if "status" not in head or head[0] == "root error":
+            continue
+        before = next(line for line in reversed(lines[:i]) if line.strip())
+        found = _sentence_counts(before)
+        assert len(found) == 1, f"no counts sentence above the table {head}: {before!r}"
+        (n, counts), = found.values()
+        assert n == len(rows) and counts == _status_column(head, rows), (before, head)
+        pairs += 1
+    return pairs
+
+
+def test_every_counts_sentence_is_that_of_the_table_below_it(results, tmp_path):
+    """Each table of the report (a chapter's thesis claims, its own checks, the errata,
+    the diagnoses) follows the sentence that counts it: the number of rows and the count
+    of each status in its status column are the sentence's."""
+    text = report.write_report(tmp_path, results, figures_dir=tmp_path / "none").read_text()
+    chapters = {r.entry.id.split(".")[0] for r in results}
+    assert _checked_pairs(text) >= len(chapters) + 2
+
+
+def test_thesis_claims_and_own_checks_are_counted_apart(results, tmp_path):
+    """The verdict of each chapter counts its thesis claims and its own checks (kind
+    ``derived``: cross-checks of our models) as the chapter's two tables do, and names
+    exactly the rows those tables mark not reproduced; an own check is never counted
+    among the thesis claims."""
+    text = report.write_report(tmp_path, results, figures_dir=tmp_path / "none").read_text()
+    verdicts = text.split("## Verdict per chapter")[1].split("\n## ")[0]
+    sections = text.split("\n## ")
+    by_id = {r.entry.id: r.entry for r in results}
+    for prefix in {r.entry.id.split(".")[0] for r in results}:
+        title = report.CHAPTER_TITLES.get(prefix, prefix)
+        verdict = next(v for v in verdicts.split("\n\n") if v.startswith(f"**{title}.**"))
+        section = next(s for s in sections if s.startswith(f"{title}\n"))
+        tables = {head[1]: (head, rows) for _, head, rows in _tables(section.splitlines())
+                  if "status" in head}
+        said = _sentence_counts(verdict)
+        for group, column in (("claims", "thesis claim"), ("own checks", "check")):
+            chunk = report.in_group([r for r in results
+                                     if r.entry.id.split(".")[0] == prefix], group)
+            label = report.GROUP_LABELS[group]
+            if not chunk:
+                assert column not in tables and label not in said
+                continue
+            head, rows = tables[column]
+            assert said[label] == (len(rows), _status_column(head, rows)), (prefix, group)
+            kinds = {by_id[row[0].strip("`")].kind for row in rows}
+            assert kinds <= ({"claim", "literature"} if group == "claims" else {"derived"})
+            missed = {row[0].strip("`") for row in rows
+                      if MARK_STATUS[row[head.index("status")]] == "not_reproduced"}
+            lead = ("Not reproduced: " if group == "claims" else
+                    "Own checks not reproduced (our implementations disagree): ")
+            named = verdict.split(lead)[1].split(". ")[0] if lead in verdict else ""
+            assert set(re.findall(r"`([^`]+)`", named)) == missed, (prefix, group)
+
+
+def test_errata_counts_root_errors_and_the_errata_page_agree_with_their_tables(results,
+                                                                              tmp_path):
+    """The errata sentence counts confirmed, refuted and editorial apart (refuted ones
+    are said to be no errata), its root errors are the rows of the root-cause table, and
+    the documentation's errata page opens with the same counts as its table."""
+    from verification._loaders import load_script
+
+    sentence = report.errata_sentence(results)
+    table = report.errata_table(results).splitlines()
+    (n, counts), = _sentence_counts(sentence).values()
+    _, head, rows = _tables(table)[0]
+    assert (n, counts) == (len(rows), _status_column(head, rows))
+    assert counts["refuted"] == 0 or "not errata of the thesis" in sentence
+    roots = report.root_cause_table(results).splitlines()[2:]
+    assert f"By root error ({len(roots)}):" in sentence
+    listed = re.findall(r"`([^`]+)`(?: \(with [^)]*\))?", sentence.split("By root error")[1])
+    assert listed == [row.split("|")[1].strip(" `") for row in roots]
+    pages = load_script("docs/_ext/debench_pages.py")
+    pages.OUT = tmp_path
+    pages.errata_page(results)
+    page = (tmp_path / "errata.md").read_text()
+    assert sentence in page and "errata of the thesis, from" not in page
+    assert _checked_pairs(page) == 1
+
+
+def test_readme_tables_count_what_their_sentences_say(results):
+    """The README block: the thesis claims' table and the table of own checks, errata,
+    diagnoses and assumptions each sum, column by column, to the counts of the sentence
+    above it; no table mixes thesis claims with own checks."""
+    lines = report.readme_block(results).splitlines()
+    labels = {v: k for k, v in report.GROUP_LABELS.items()}
+    tables = _tables(lines)
+    assert len(tables) == len(report.README_TABLES)
+    for (i, head, rows), groups in zip(tables, report.README_TABLES, strict=True):
+        said = _sentence_counts(next(line for line in reversed(lines[:i]) if line.strip()))
+        assert {labels[label] for label in said} == set(groups)
+        total = Counter()
+        for k, cell in enumerate(head[2:], start=2):
+            group, _, status = cell.rpartition(": ")
+            total[(group or groups[0], status.replace(" ", "_"))] = sum(
+                int(row[k]) for row in rows)
+        for label, (n, counts) in said.items():
+            group = labels[label]
+            kinds = {"claims": ("claim", "literature"), "own checks": ("derived",)}
+            if group in kinds:  # the thesis' claims apart from our own checks
+                assert n == sum(r.entry.kind in kinds[group] for r in results)
+            assert counts == Counter({s: v for (g, s), v in total.items() if g == group})
+            assert n == sum(counts.values())
+        assert sum(int(row[1]) for row in rows) == sum(n for n, _ in said.values())
+
+
+def test_crosscheck_sentence_counts_the_matrix_rows(results):
+    """"K of the N pairs ... agree" counts the rows of the matrix below it, and the
+    sentence after it counts the catalogue's own checks and names those not reproduced."""
+    lines = "\n".join(report.crosscheck_section(results=results)).splitlines()
+    _, head, rows = _tables(lines)[0]
+    judged = [row[head.index("verdict")] for row in rows
+              if row[head.index("tolerance")] != "—"]
+    agree, of = map(int, re.match(r"(\d+) of the (\d+) pairs", lines[2]).groups())
+    assert (agree, of) == (judged.count("agree"), len(judged))
+    own = report.in_group(results, "own checks")
+    after = next(line for line in lines if line.startswith("Beyond this matrix"))
+    (n, counts), = _sentence_counts(after).values()
+    assert (n, counts) == (len(own), report.status_counts(own))
+    for r in own:
+        assert (f"`{r.entry.id}`" in after) == (r.status == "not_reproduced"), r.entry.id
+
+
+def test_readable_formats_numbers_mappings_and_sequences_for_prose():
+    """:func:`catalogue.readable`: numpy scalars and arrays as numbers, a mapping as
+    ``key = value`` pairs, nested sequences in parentheses, floats to the digits asked."""
+    import numpy as np
+
+    assert catalogue.readable({"derived": 1.0, "printed": 1.0,
+                               "literal": 0.9999999994444345}, 11) == \
+        "derived = 1, printed = 1, literal = 0.99999999944"
+    assert catalogue.readable({"max_area": 2.085148975471975,
+                               "thin_extensional": np.float64(2.334815259489528)}) == \
+        "max_area = 2.08515, thin_extensional = 2.33482"
+    assert catalogue.readable([np.array([1.5, 2.0]), (np.int64(3), True, "x")]) == \
+        "(1.5, 2), (3, True, x)"

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from debench.reference import builds, cite, cli
+from debench.reference import builds, cite, cli, provenance
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -148,6 +148,52 @@ def test_cite_names_version_commit_checksum_and_references(item, expect):
         assert "mechrescom" not in text  # the Chapter 3 paper only for Chapter 3
 
 
+def _cite_ids() -> list[str]:
+    from debench.reference import catalogue, problems
+    from debench.reference.datasets import data_dir, read_manifest
+
+    ids = [p.id for p in problems.load_all()]
+    for name in read_manifest(data_dir()):
+        ids += [name, name.removesuffix(".nc")]
+    return list(dict.fromkeys(ids + [e.id for e in catalogue.load()]))
+
+
+#: every problem id, dataset name (with and without ``.nc``) and catalogue entry id
+CITE_IDS = _cite_ids()
+
+
+@pytest.mark.parametrize("item", CITE_IDS)
+def test_cite_works_for_every_problem_dataset_and_catalogue_entry(item, capsys):
+    """``debench cite ID`` exits 0 for every problem, dataset (``NAME`` and ``NAME.nc``)
+    and catalogue entry, prints CSL-JSON whose first item names what was cited (a problem
+    before a dataset of the same name), cites every reference of a problem's spec (as an
+    item, or as text in the note), and, when a name is both a problem and a dataset, says
+    on stderr how to cite the dataset."""
+    from debench.reference import problems
+    from debench.reference.datasets import data_dir, read_manifest
+
+    assert cli.main(["cite", item, "--format", "csl"]) == 0
+    out, err = capsys.readouterr()
+    items = json.loads(out)
+    is_problem = item in {p.id for p in problems.load_all()}
+    is_dataset = f"{item.removesuffix('.nc')}.nc" in read_manifest(data_dir())
+    first = ("reference problem" if is_problem else "dataset" if is_dataset
+             else "catalogue entry")
+    head = items[0]["note"].split("; ")[0]  # "dataset ch5_ramps.nc", "catalogue entry (claim) ID"
+    assert head.startswith(first) and head.endswith(f" {item}"), head
+    if is_problem and is_dataset:
+        assert f"`debench cite {item}.nc`" in err
+    else:
+        assert err == ""
+    if is_problem:
+        titles = [it["title"].casefold() for it in items[1:]]
+        for ref in problems.get(item).references:
+            text = " ".join(ref.split())
+            assert (ref in {it["id"] for it in items}
+                    or any(title in text.casefold() for title in titles)
+                    or f"also cites: {text}" in items[0]["note"]), ref
+
+
 def test_citation_cff_has_repository_data_reference_and_keywords():
     jsonschema = pytest.importorskip("jsonschema")
     cff = yaml.safe_load((ROOT / "CITATION.cff").read_text())
@@ -155,11 +201,34 @@ def test_citation_cff_has_repository_data_reference_and_keywords():
     schema = json.loads((ROOT / "verification/schemas/citation-cff-1.2.0.schema.json")
                         .read_text())
     jsonschema.validate(cff, schema)
-    # the repository URL is stated only once the project has a public address
-    assert cff.get("repository-code") == cite.REPOSITORY
+    # the URLs are those of [project.urls]: the repository's only once the project has a
+    # public address
+    assert cff.get("repository-code") == provenance.repository_url()
+    thesis = next(r for r in cff["references"] if r["type"] == "thesis")
+    assert thesis["url"] == provenance.project_urls()["Thesis"]
     assert any(r["type"] == "data" for r in cff["references"])
     assert any(r.get("doi") == "10.1016/j.mechrescom.2019.103420" for r in cff["references"])
     assert len(cff["keywords"]) >= 8
+
+
+def test_citation_urls_come_from_the_project_urls(monkeypatch):
+    """The BibTeX and CSL-JSON carry the URLs of ``[project.urls]`` (pyproject.toml) and
+    no other: the thesis' now, the repository's (and the datasets' ACDD links) once the
+    project states one; with none stated, the debench item has no URL."""
+    from debench.reference import standards
+
+    urls = provenance.project_urls()
+    items = cite.citation("ch3_free_membrane_nh")
+    assert "URL" not in items[0] and provenance.repository_url() is None
+    assert next(i for i in items if i["id"] == "zeng_2020")["URL"] == urls["Thesis"]
+    stated = {**urls, "Source Code": "https://example.org/debench"}
+    monkeypatch.setattr(provenance, "project_urls", lambda: stated)
+    items = cite.citation("ch5_critical_voltage.nc")
+    assert items[0]["URL"] == "https://example.org/debench"
+    assert "url = {https://example.org/debench}" in cite.bibtex(items)
+    assert standards.acdd_attributes("x", "2026")["metadata_link"] == stated["Source Code"]
+    monkeypatch.setattr(provenance, "project_urls", lambda: {})
+    assert all("URL" not in i for i in cite.citation("ch3_free_membrane_nh"))
 
 
 def test_cffconvert_validates_citation_cff():

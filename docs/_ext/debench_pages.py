@@ -15,7 +15,8 @@ Connected to ``builder-inited`` (before Sphinx looks for source files), this wri
 * ``errata.md`` -- the errata of the catalogue and their root causes;
 * ``api/`` -- one autodoc page per public module of ``debench.models`` (discovered, so a
   new module gets a page), plus the user-facing ``debench.testing``, the pytest fixture
-  and the reference-problem and dataset readers;
+  and the reference-problem and dataset readers; the modules of these pages are imported
+  by autodoc alone (the pytest plugin with pytest mocked: the docs extra has no pytest);
 * ``cli.md`` -- every subcommand's ``--help``, from the parser the ``debench`` command uses;
 * ``peers.md`` -- peer submissions: ``peers/README.md`` and the consensus table of
   ``debench.reference.consensus`` where they exist.
@@ -28,6 +29,7 @@ fails the build.
 from __future__ import annotations
 
 import importlib
+import importlib.util
 import json
 import pkgutil
 import re
@@ -135,12 +137,14 @@ def errata_page(results) -> None:
     errata = [r for r in results if r.entry.kind == "erratum"]
     lines = [
         "# Errata", "",
-        f"{len(errata)} errata of the thesis, from the catalogue "
-        "(`reference/catalogue/*.toml`, entries of kind `erratum`). Each is *confirmed* or "
-        "*refuted* by the test named as its evidence, or *editorial* (a wrong "
-        "cross-reference); each names its root error (`root_cause`). The status is computed "
-        "when the site is built. Claims that do not reproduce, and the hypotheses tested "
-        "against them, are on the [verdict](verdict.md) page.", "",
+        "The printed equations and statements checked as possible errata, from the "
+        "catalogue (`reference/catalogue/*.toml`, entries of kind `erratum`). Each is "
+        "*confirmed* (an erratum) or *refuted* (the printed form is right after all) by the "
+        "test named as its evidence, or *editorial* (a wrong cross-reference); each names "
+        "its root error (`root_cause`). The status is computed when the site is built. "
+        "Claims that do not reproduce, and the hypotheses tested against them, are on the "
+        "[verdict](verdict.md) page.", "",
+        report.errata_sentence(results), "",
         report.errata_table(results), "",
         "## Root causes", "",
         "Each root error and what follows from it.", "",
@@ -236,6 +240,21 @@ def _md(text) -> str:
     return " ".join(str(text).split()).replace("|", "\\|")
 
 
+def _md_number(value, digits: int = 12) -> str:
+    """A number, or a JSON list or mapping of them (attribute text such as ``param_*``),
+    as a reader reads it (:func:`debench.reference.catalogue.readable`); any other text as
+    the file stores it."""
+    from debench.reference.catalogue import readable
+
+    if isinstance(value, str):
+        try:
+            parsed = json.loads(value) if value.lstrip()[:1] in ("[", "{") else None
+        except ValueError:
+            parsed = None
+        return _md(value if parsed is None else readable(parsed, digits))
+    return _md(readable(value, digits))
+
+
 def dataset_pages() -> list[str]:
     from debench.reference.datasets import data_dir, read_dataset, read_manifest
 
@@ -269,7 +288,7 @@ def dataset_pages() -> list[str]:
                 "|---|---|---|---|---|---|"]
         for name, var in {**ds.coords, **ds.data_vars}.items():
             va = var.attrs
-            acc = "; ".join(f"{k.removeprefix('accuracy_')} {va[k]}" for k in
+            acc = "; ".join(f"{k.removeprefix('accuracy_')} {_md_number(va[k], 6)}" for k in
                             ("accuracy_rtol", "accuracy_atol") if k in va) or "—"
             units = va.get("units", "")
             page.append(f"| `{name}` | {'`' + _md(units) + '`' if units else '—'} | "
@@ -285,9 +304,9 @@ def dataset_pages() -> list[str]:
         params = json.loads(a.get("parameters", "{}"))
         if params:
             page += ["", "## Parameters", "", "| parameter | value |", "|---|---|"]
-            page += [f"| `{k}` | {_md(v)} |" for k, v in sorted(params.items())]
+            page += [f"| `{k}` | {_md_number(v)} |" for k, v in sorted(params.items())]
         page += ["", "## Global attributes", "", "| attribute | value |", "|---|---|"]
-        page += [f"| `{k}` | {_md(v)[:300]} |" for k, v in sorted(a.items())
+        page += [f"| `{k}` | {_md_number(v)[:300]} |" for k, v in sorted(a.items())
                  if k not in ("parameters",)]
         _write(OUT / "datasets" / f"{stem}.md", "\n".join(page) + "\n")
     index += ["", "```{toctree}", ":hidden:", "", *names, "```", "",
@@ -344,7 +363,9 @@ def api_pages() -> list[str]:
     modules = _public_modules("debench.models")
     names = []
     for mod in modules + list(USER_MODULES):
-        is_pkg = hasattr(importlib.import_module(mod), "__path__")
+        # found, not imported: autodoc imports the module, with conf.autodoc_mock_imports
+        # mocked (the pytest plugin needs pytest, which the docs extra does not install)
+        is_pkg = importlib.util.find_spec(mod).submodule_search_locations is not None
         title = f"``{mod}``"
         body = [title, "=" * len(title), "", f".. automodule:: {mod}"]
         members = USER_MODULES.get(mod)

@@ -21,7 +21,7 @@ from debench.models.plate.analysis import (
     region,
 )
 from debench.models.plate.ansatz import critical_stretches
-from debench.reference.catalogue import Accuracy, Entry, Outcome
+from debench.reference.catalogue import Accuracy, Entry, Outcome, readable
 from debench.reference.studies.ch4 import (
     FIG42_D,
     FIG45_XI,
@@ -87,7 +87,7 @@ def ti_region_larger(entry: Entry) -> Outcome:
 
     res = f(_variant(entry))
     ok = all(a > b for a, b in res.values())
-    return Outcome(ok, diagnosis=f"areas (TI, iso): {res}", evidence=EV,
+    return Outcome(ok, diagnosis=f"areas (TI, iso): {readable(res)}", evidence=EV,
                    details={"areas_TI_iso": {str(k): v for k, v in res.items()}})
 
 
@@ -96,7 +96,7 @@ def destabilising_a_to_c(entry: Entry) -> Outcome:
     v = _variant(entry)
     res = {xi: [area(xi, D, v) for D in (0.0, 1.0, 2.0)] for xi in (0.0, XI_TI)}
     ok = all(np.all(np.diff(a) > 0) for a in res.values())
-    return Outcome(ok, diagnosis=f"areas at Dhat=0,1,2: {res}", evidence=EV,
+    return Outcome(ok, diagnosis=f"areas at Dhat=0,1,2: {readable(res)}", evidence=EV,
                    details={"areas": {str(k): a for k, a in res.items()}})
 
 
@@ -109,7 +109,7 @@ def upper_curve_higher_ti(entry: Entry) -> Outcome:
     res = f(_variant(entry))
     ok = all(a > b + 1e-9 for a, b in res.values())
     other = _others(lambda v: {str(k): x for k, x in f(v).items()}, entry)
-    return Outcome(ok, diagnosis=f"lam_cr(kH->0) (TI, iso): {res}", evidence=EV,
+    return Outcome(ok, diagnosis=f"lam_cr(kH->0) (TI, iso): {readable(res)}", evidence=EV,
                    details={"by_variant": other})
 
 
@@ -120,8 +120,8 @@ def upper_discrepancy_decreases(entry: Entry) -> Outcome:
     v = _variant(entry)
     gap = [thin(XI_TI, D, v) - thin(0.0, D, v) for D in Ds]
     ok = bool(np.all(np.diff(gap) < 0))
-    return Outcome(ok, diagnosis=f"upper-curve gap at kH->0 for Dhat={Ds}: {gap}",
-                   evidence=EV, details={"gap": gap})
+    return Outcome(ok, diagnosis=f"upper-curve gap at kH->0 for Dhat={readable(Ds)}: "
+                   f"{readable(gap)}", evidence=EV, details={"gap": gap})
 
 
 def thick_more_stable(entry: Entry) -> Outcome:
@@ -136,7 +136,7 @@ def thick_more_stable(entry: Entry) -> Outcome:
             r = region(PlateParams(xi=xi, Dhat=D, variant=v), kHs, lam)
             res[(xi, D)] = np.trapezoid(r.thesis.astype(float), lam, axis=1).tolist()
     ok = all(np.all(np.diff(x) <= 1e-12) and x[-1] < x[0] for x in res.values())
-    return Outcome(ok, diagnosis=f"lam-extent at kH={kHs.tolist()}: {res}", evidence=EV,
+    return Outcome(ok, diagnosis=f"lam-extent at kH={readable(kHs)}: {readable(res)}", evidence=EV,
                    details={str(k): x for k, x in res.items()})
 
 
@@ -146,8 +146,8 @@ def iso_stabilising_d_to_i(entry: Entry) -> Outcome:
     v = _variant(entry)
     a = [area(0.0, D, v) for D in FIG42_D[3:]]
     ok = bool(np.all(np.diff(a) < 0))
-    return Outcome(ok, diagnosis=f"iso areas at Dhat={FIG42_D[3:]}: {a}", evidence=EV,
-                   details={"areas": a})
+    return Outcome(ok, diagnosis=f"iso areas at Dhat={readable(FIG42_D[3:])}: {readable(a)}",
+                   evidence=EV, details={"areas": a})
 
 
 def ti_change_at_f(entry: Entry) -> Outcome:
@@ -159,7 +159,7 @@ def ti_change_at_f(entry: Entry) -> Outcome:
     iso = [area(0.0, D, v) for D in FIG42_D]
     d_ti, d_iso = FIG42_D[int(np.argmax(ti))], FIG42_D[int(np.argmax(iso))]
     ok = d_ti == 2.6 and d_iso < d_ti
-    return Outcome(ok, diagnosis=f"TI area peaks at Dhat={d_ti}, isotropic at {d_iso}",
+    return Outcome(ok, diagnosis=f"TI area peaks at Dhat={d_ti:g}, isotropic at {d_iso:g}",
                    evidence=EV, details={"ti": ti, "iso": iso})
 
 
@@ -173,7 +173,7 @@ def field_destabilises_then_stabilises(entry: Entry) -> Outcome:
         i = int(np.argmax(a))
         where[xi] = FIG42_D[i]
         ok &= 0 < i < len(a) - 1
-    return Outcome(bool(ok), diagnosis=f"area maxima at {where}", evidence=EV,
+    return Outcome(bool(ok), diagnosis=f"area maxima at {readable(where)}", evidence=EV,
                    details={"argmax": {str(k): x for k, x in where.items()}})
 
 
@@ -184,8 +184,8 @@ def anisotropy_raises_curves(entry: Entry) -> Outcome:
     up = [thin(xi, 2.0, v) for xi in FIG45_XI]
     ar = [area(xi, 2.0, v) for xi in FIG45_XI]
     ok = bool(np.all(np.diff(up) > 0) and np.all(np.diff(ar) > 0))
-    return Outcome(ok, diagnosis=f"upper lam_cr(kH->0)={up}, areas={ar}", evidence=EV,
-                   details={"upper": up, "areas": ar})
+    return Outcome(ok, diagnosis=f"upper lam_cr(kH->0)={readable(up)}, areas={readable(ar)}",
+                   evidence=EV, details={"upper": up, "areas": ar})
 
 
 def upper_gap(xi: float, D: float, kH: float, variant: str = "printed") -> float:
@@ -229,8 +229,8 @@ def critical_D_increases(entry: Entry) -> Outcome:
     res = {c: [critical_D(xi, c, v) for xi in FIG45_XI]
            for c in ("max_area", "thin_extensional")}
     ok = all(bool(np.all(np.diff(x) > 0)) for x in res.values())
-    return Outcome(ok, diagnosis=f"critical Dhat at xi={FIG45_XI}: {res}", evidence=EV,
-                   details=res)
+    return Outcome(ok, diagnosis=f"critical Dhat at xi={readable(FIG45_XI)}: {readable(res)}",
+                   evidence=EV, details=res)
 
 
 def critical_D_value(entry: Entry) -> Outcome:
@@ -241,7 +241,7 @@ def critical_D_value(entry: Entry) -> Outcome:
     ours = {c: critical_D(xi, c, v) for c in ("max_area", "thin_extensional")}
     return Outcome(ours["max_area"],
                    diagnosis="value only in the image of Fig. 4.6 (not in the text); "
-                   f"ours: {ours}", details=ours)
+                   f"ours: {readable(ours)}", details=ours)
 
 
 def thin_limit_value(entry: Entry) -> Outcome:
@@ -249,7 +249,8 @@ def thin_limit_value(entry: Entry) -> Outcome:
     xi, D = float(entry.parameters["xi"]), float(entry.parameters["Dhat"])
     ours = _others(lambda v: thin(xi, D, v), entry)
     return Outcome(ours[_variant(entry)],
-                   diagnosis=f"value only in the image of Fig. 4.4; ours by variant: {ours}",
+                   diagnosis="value only in the image of Fig. 4.4; ours by variant: "
+                   f"{readable(ours, 11)}",
                    details=ours)
 
 
@@ -259,7 +260,7 @@ def area_values(entry: Entry) -> Outcome:
     ours = {f"xi{xi:g}_D{D:g}": area(xi, D, v) for xi in (0.0, XI_TI) for D in FIG42_D}
     return Outcome(None, diagnosis="areas only in the image of Fig. 4.3 and the thesis window is "
                    "not stated; ours (thesis definition, window ch4.assumption.area_window)"
-                   f": {ours}", details=ours)
+                   f": {readable(ours)}", details=ours)
 
 
 def bicubic_independent_of_D(entry: Entry) -> Outcome:
@@ -291,7 +292,8 @@ def ellipticity_of_ti_curves(entry: Entry) -> Outcome:
     ups = [thin(XI_TI, D, "printed") for D in (0.0, 1.0, 2.0)]
     ok = all(u < lamE for u in ups)
     return Outcome(ok, diagnosis=f"(4.22) with xi=5 is not strongly elliptic for lam > "
-                   f"{lamE:.6f}; the printed-coefficient TI upper curves start at {ups}",
+                   f"{lamE:.6f}; the printed-coefficient TI upper curves start at "
+                   f"{readable(ups)}",
                    evidence="verification/test_ch4_limits.py::"
                    "test_derived_model_loses_ellipticity_at_closed_form_stretch",
                    details={"lam_E": lamE, "upper": ups})
@@ -326,7 +328,8 @@ def area_window_sensitivity(entry: Entry) -> Outcome:
     sens.update({f"lam_min{m:g}": [area(xi, 2.0, "printed", "thesis", KH_MAX, m)
                                    for xi in (0.0, XI_TI)] for m in (0.3, 0.5)})
     return Outcome(KH_MAX, status="assumed",
-                   diagnosis=f"thesis-definition areas at Dhat=2 (iso, TI) by window: {sens}",
+                   diagnosis="thesis-definition areas at Dhat=2 (iso, TI) by window: "
+                   f"{readable(sens)}",
                    details=sens)
 
 
@@ -335,7 +338,8 @@ def critical_D_candidates(entry: Entry) -> Outcome:
            for c in ("max_area", "thin_extensional")}
     spread = [abs(a - b) for a, b in zip(*res.values(), strict=True)]
     return Outcome("max_area", status="assumed",
-                   diagnosis=f"candidates at xi={FIG45_XI}: {res}; |difference| {spread}",
+                   diagnosis=f"candidates at xi={readable(FIG45_XI)}: {readable(res)}; "
+                   f"|difference| {readable(spread)}",
                    details=res)
 
 
