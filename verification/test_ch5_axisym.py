@@ -544,3 +544,68 @@ def test_secant_zero_raises_on_a_function_without_a_root():
     # a minimum of |f| above zero: the iterates stagnate without bracketing a root
     with pytest.raises(ConvergenceError, match="flat secant|no convergence"):
         secant_zero(lambda w: 1e-12 + (w - 3.0) ** 2, [2.0, 2.5], [1.0, 0.25])
+
+
+GRADED = ax.AxisymDiscretisation(order=2, n_r=6, edge_layers=6, face_layers=6)
+"""A cheap discretisation with the curated plan's grading (6 layers of ratio 0.25 towards the
+rim and both faces: elements of 1.2e-4 t0 next to the clamped corners)."""
+
+
+def test_the_newton_reference_is_the_load_and_does_not_grow_with_the_grading():
+    """Newton's reference residual is the load the voltage applies (the undeformed film under
+    the uniform field): it does not change with the grading (measured 5.656e-7 .. 5.666e-7
+    on 1 .. 8 layers at v = 0.2). A scale that grew with the layers (e.g. the residual of a
+    potential that is zero inside the film, 4^2 per layer) made Newton stop one step early on
+    the fine gradings and lowered their critical voltages by 3e-6."""
+    scales = []
+    for layers in (1, 3, 6):
+        d = ax.AxisymDiscretisation(order=2, n_r=6, edge_layers=layers, face_layers=layers)
+        m = ax.AxisymModel(Plate(), NeoHookean(), d, with_imperfection=False)
+        m.set_voltage(0.2)
+        scales.append(m.load_scale())
+    # 1 %: the nodal forces of one traction on meshes that differ only near the rim
+    assert max(scales) / min(scales) < 1.01
+
+
+def test_the_critical_voltage_does_not_move_when_the_flat_states_are_solved_to_round_off(
+        monkeypatch):
+    """On the curated plan's grading the flat states of the secant, solved to the stopping
+    rule of AxisymModel.newton or to round-off (relative residual 1e-15, floor factor 1),
+    give the same critical voltage to 1e-10 (measured 3e-16 at order 2 with 6 layers; 3.0e-6
+    when Newton's reference grew with the grading and the rule stopped one step early)."""
+    base = ax.critical_voltage(Plate(), NeoHookean(), GRADED).v
+    newton = ax.AxisymModel.newton
+    monkeypatch.setattr(ax_model, "NEWTON_FLOOR_FACTOR", 1.0)
+    monkeypatch.setattr(ax.AxisymModel, "newton",
+                        lambda self, **kw: newton(self, **{**kw, "rtol": 1e-15}))
+    tight = ax.critical_voltage(Plate(), NeoHookean(), GRADED).v
+    # 1e-10: the secant's own tolerance (vtol ~1e-12) times 100
+    assert tight == pytest.approx(base, abs=1e-10)
+
+
+@pytest.mark.parametrize("n", [0, 1])
+@pytest.mark.parametrize("tangent", ax.TANGENTS)
+def test_the_rayleigh_quotients_are_the_pencil_eigenvalues(n, tangent):
+    """The eigenvalues of a spectrum are the Rayleigh quotients of its eigenvectors with the
+    second variation integrated at the quadrature points; on a coarse mesh, where the
+    assembled pencil's round-off is small, they equal the pencil's eigenvalues: the
+    quotients' quadrature is that of the assembly (measured <= 4e-11 relative)."""
+    m = ax.AxisymModel(Plate(), NeoHookean(), COARSE, with_imperfection=False)
+    m.set_voltage(0.15)
+    m.newton()
+    s = m.spectrum(n, nev=2, tangent=tangent)
+    # 1e-9: the pencil eigenvalues' backward error (EIG_RTOL 1e-10) over the gap to zero
+    np.testing.assert_allclose(s.lam, s.lam_matrix, rtol=1e-9)
+
+
+def test_the_critical_voltage_does_not_depend_on_the_secant_start():
+    """The refined eigenvalue (a Rayleigh quotient free of the assembled matrices'
+    cancellation) makes the root reproducible: two starts on the curated plan's grading agree
+    to 1e-10 (measured 7e-16 at order 2 with 6 layers), where the matrix eigenvalues
+    scattered by ~1e-9 of the bending scale next to the root (~3e-8 in v at order 4 with
+    8 layers)."""
+    a = ax.critical_voltage(Plate(), NeoHookean(), GRADED)
+    b = ax.critical_voltage(Plate(), NeoHookean(), GRADED, v_start=1.001 * a.v,
+                            start_step=0.01)
+    # 1e-10: 100x the secant's stopping tolerance in v (vtol)
+    assert b.v == pytest.approx(a.v, abs=1e-10)
