@@ -153,6 +153,7 @@ def _ds(lam, jm):
     return a / g + 8 * (lam**-1 - lam**-7) * (lam - lam**-5) / (jm * g * g)
 
 
+@v.finite_result
 def pressure(lam, vbar, Jm: float = math.inf):
     """Normalised pressure pbar = p R/(mu H) of the balloon in equilibrium at stretch
     ``lam`` under the normalised voltage ``vbar`` = (Phi/H) sqrt(eps/mu), Eq. (4).
@@ -166,6 +167,7 @@ def pressure(lam, vbar, Jm: float = math.inf):
     return _s(lam, jm) - 2 * vb**2 * lam
 
 
+@v.finite_result
 def pressure_slope(lam, vbar, Jm: float = math.inf):
     """d pbar/d lam = s'(lam) - 2 vbar^2, Eq. (5) (same arguments as :func:`pressure`)."""
     jm = _jm(Jm)
@@ -174,6 +176,7 @@ def pressure_slope(lam, vbar, Jm: float = math.inf):
     return _ds(lam, jm) - 2 * vb**2
 
 
+@v.finite_result
 def voltage_squared(lam, pbar, Jm: float = math.inf):
     """vbar^2 = (s(lam) - pbar)/(2 lam) that holds stretch ``lam`` at the normalised
     pressure ``pbar`` (negative where no real voltage does), from Eq. (4)."""
@@ -198,8 +201,6 @@ class Extremum:
 class PressureExtrema:
     """The local maximum and minimum of pbar(lam) at fixed vbar (None where absent)."""
 
-    vbar: float
-    Jm: float
     maximum: Extremum | None
     minimum: Extremum | None
 
@@ -225,6 +226,7 @@ def _extremum(f, value, x: float) -> Extremum:
     return Extremum(lam=x, value=float(value(x)), residual=float(f(np.float64(x))))
 
 
+@v.finite_result
 def pressure_extrema(vbar: float, Jm: float = math.inf) -> PressureExtrema:
     """The local maximum and minimum of pbar(lam) at fixed ``vbar`` on lam >= 1, Eq. (5):
     the first zero of dpbar/dlam changing sign from + to - (maximum) and the next one
@@ -245,11 +247,11 @@ def pressure_extrema(vbar: float, Jm: float = math.inf) -> PressureExtrema:
         return _s(x, jm) - 2 * vb**2 * x
 
     return PressureExtrema(
-        vbar=vb, Jm=jm,
         maximum=None if mx is None else _extremum(f, pval, mx[0]),
         minimum=None if mn is None else _extremum(f, pval, mn[0]))
 
 
+@v.finite_result
 def voltage_limit(pbar: float, Jm: float = math.inf) -> Extremum | None:
     """The voltage limit point at fixed normalised pressure ``pbar``: the first local
     maximum of vbar(lam) (vbar^2 > 0) on lam >= 1, a zero of g, Eq. (6), changing sign
