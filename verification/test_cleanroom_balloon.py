@@ -191,3 +191,14 @@ def test_dataset_regenerates_from_the_model(ds):
     fresh = lit_balloon.compute()
     for name in fresh.data_vars:
         np.testing.assert_array_equal(fresh[name].values, ds[name].values, err_msg=name)
+
+
+def test_page_states_the_stored_window_and_locking_stretches(ds):
+    """The numbers the page quotes for the window of pbar (the last stored stretch of each
+    Gent curve) and the locking stretches are the dataset's and the model's."""
+    q = problems.get(PROBLEM).quantity("pbar")
+    text = q.domain["window"] + " ".join(e["why"] for e in q.domain["excluded"])
+    for jm in (97.2, 50.0):
+        assert f"{float(ds.lam.sel(Jm=jm).values[-1]):.4f} for Jm = {jm:g}" in text
+        assert f"{balloon.locking_stretch(jm):.4f} for Jm = {jm:g}" in text
+    assert float(ds.lam.sel(Jm=math.inf).values[-1]) == 8.0 and "lam <= 8" in text
