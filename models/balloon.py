@@ -110,8 +110,10 @@ XTOL = 1e-15
 N_SCAN = 4000
 #: the scan stops at this fraction of the Gent locking stretch (s and s' diverge there)
 LOCK_FRACTION = 0.999
-#: the neo-Hookean scan's top stretch: beyond it (5) is 2(7 lam^-8 - lam^-2) < 0 and
-#: (6) is -16 lam^-7 + pbar: no further zero for pbar <= 16 * 40^-7
+#: the neo-Hookean scan's top stretch: (5), 2(7 lam^-8 - lam^-2) - 2 vbar^2, has no zero
+#: beyond 7^(1/6), and the first zero of (6), g = pbar - 4/lam + 16/lam^7, that changes
+#: sign from + to - lies below 28^(1/6) = 1.74 (where 4/lam - 16/lam^7 is largest): 40 is
+#: far beyond both
 NH_TOP = 40.0
 
 
