@@ -8,7 +8,7 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
-from debench.reference.problems import Problem, Quantity, provenance
+from debench.reference.problems import BEYOND_THESIS, Problem, Quantity, provenance
 from debench.reference.problems_reference import COORD_MATCH_RTOL
 from debench.reference.results_files import expected_header
 
@@ -33,7 +33,8 @@ def _md_parameters(pars: Mapping[str, Mapping[str, Any]]) -> list[str]:
 
 def _md_model(p: Problem) -> list[str]:
     """The page's title, geometry, model, boundary conditions and loading."""
-    out = [f"# {p.id}: {p.title}", "", f"Chapter {p.chapter}. {p.summary}", ""]
+    where = "Beyond the thesis." if p.chapter == BEYOND_THESIS else f"Chapter {p.chapter}."
+    out = [f"# {p.id}: {p.title}", "", f"{where} {p.summary}", ""]
     if p.variant:
         out += [f"**Variant of `{p.variant['of']}`.** {p.variant['why']}", ""]
     out += ["## Geometry", "", p.geometry, "", "## Model", ""]
@@ -151,6 +152,9 @@ def render_markdown(problem: Problem, extra=()) -> str:
         out += ["## Provenance", ""]
         out += [f"- `{d['file']}` sha256 `{d['sha256']}`" for d in prov["datasets"].values()]
         out.append("")
-    out.append("Thesis: " + ", ".join(f"{k} {v}" for k, v in p.thesis.items()))
+    if p.thesis:
+        out.append("Thesis: " + ", ".join(f"{k} {v}" for k, v in p.thesis.items()))
+    if p.chapter == BEYOND_THESIS:
+        out.append("References: " + ", ".join(p.references))
     return "\n".join(out) + "\n"
 

@@ -952,6 +952,35 @@ def _plate_cases():
     ]
 
 
+def _balloon_cases():
+    from debench.models import balloon
+
+    b = "debench.models.balloon"
+    ext = balloon.Extremum(lam=1.4, value=1.2, residual=0.0)
+    return [
+        Case(f"{b}.locking_stretch", balloon.locking_stretch, {"Jm": 97.2},
+             {"Jm": "pos_or_inf"}),
+        Case(f"{b}.pressure", balloon.pressure, {"lam": 2.0, "vbar": 0.3, "Jm": 97.2},
+             {"lam": "lam", "vbar": "nonneg", "Jm": "pos_or_inf"},
+             extra={"lam": [0.5, 7.1, np.array([1.5, 0.9])]}),
+        Case(f"{b}.pressure_slope", balloon.pressure_slope,
+             {"lam": np.array([1.0, 3.0]), "vbar": 0.3, "Jm": 50.0},
+             {"lam": "lam_array", "vbar": "nonneg", "Jm": "pos_or_inf"},
+             extra={"lam": [5.2]}),
+        Case(f"{b}.voltage_squared", balloon.voltage_squared,
+             {"lam": 1.3, "pbar": 0.5, "Jm": 97.2},
+             {"lam": "lam", "pbar": "real", "Jm": "pos_or_inf"}, extra={"lam": [0.5]}),
+        Case(f"{b}.pressure_extrema", balloon.pressure_extrema, {"vbar": 0.3, "Jm": 97.2},
+             {"vbar": "nonneg", "Jm": "pos_or_inf"}),
+        Case(f"{b}.voltage_limit", balloon.voltage_limit, {"pbar": 0.5, "Jm": 50.0},
+             {"pbar": "real", "Jm": "pos_or_inf"}),
+        Case(f"{b}.Extremum", balloon.Extremum, {"lam": 1.4, "value": 1.2, "residual": 0.0},
+             {}),
+        Case(f"{b}.PressureExtrema", balloon.PressureExtrema,
+             {"maximum": ext, "minimum": None}, {}),
+    ]
+
+
 def _error_cases():
     from debench.models import errors
 
@@ -999,7 +1028,7 @@ def _validation_cases():
 def cases() -> tuple[Case, ...]:
     """Every registered case (built once; fixtures are computed lazily)."""
     out = (_invariant_cases() + _material_cases() + _circular_cases() + _plate_cases()
-           + _inplane_cases() + _error_cases())
+           + _inplane_cases() + _balloon_cases() + _error_cases())
     try:
         out += _validation_cases()
     except ImportError:

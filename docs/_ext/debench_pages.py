@@ -188,7 +188,8 @@ def problem_pages(figures: list[Path]) -> list[str]:
     names = []
     for p in items:
         qs = ", ".join(f"`{q.name}`" for q in p.quantities)
-        index.append(f"| [`{p.id}`]({p.id}.md) | {p.chapter} | {p.title} | {qs} |")
+        chapter = p.chapter or "beyond the thesis"
+        index.append(f"| [`{p.id}`]({p.id}.md) | {chapter} | {p.title} | {qs} |")
         names.append(p.id)
         page = consensus.problem_page(p).rstrip("\n").split("\n")
         extra = ["", "## Reference figures", ""]
