@@ -22,7 +22,8 @@ are halved (:func:`refinement_points`), round after round, until
   does not resolve: on a V with equal spacings h beside the sampled minimum, at distance
   delta <= h/2 from the zero, the neighbour away from the zero is at h + delta >= 3 delta).
 
-The sign changes of f on the refined points (:func:`sign_change_brackets`) are the brackets;
+The sign changes of f on the refined points (:func:`sign_change_brackets`, also the bracket
+test of every grid scan, :func:`debench.models.numerics.roots.scan_roots`) are the brackets;
 a zero of f exactly at a sampled point brackets both intervals beside it. A tangency (even
 multiplicity: f touches zero without changing sign) gives no bracket: it is located by the
 refinement, but it is no crossing. :func:`scan_brackets` runs the whole scan for one

@@ -70,8 +70,8 @@ def thin_limit(params: PlateParams, window=(0.3, 10.0), n: int = 2000) -> np.nda
     if not idx.size:
         return np.array([])
     # all sign changes refined together to xtol = 1e-14 (vectorised Illinois iteration)
-    return regula_falsi_many(lambda x, _: f(x), grid[idx], grid[idx + 1], ms[idx], ms[idx + 1],
-                   xtol=1e-14)
+    return regula_falsi_many(lambda x, _: f(x), grid[idx], grid[idx + 1], ms[idx],
+                             ms[idx + 1], xtol=1e-14).root
 
 
 def euler_coefficient_isotropic() -> float:

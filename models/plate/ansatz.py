@@ -362,7 +362,7 @@ def critical_stretches(kH: float, params: PlateParams, *, window=LAM_WINDOW,
             try:
                 r = regula_falsi_many(lambda x, _, par=par: _determinant(x, kH, params, par),
                                       grid[idx], grid[idx + 1], vals[idx], vals[idx + 1],
-                                      XTOL)
+                                      XTOL).root
             except ConvergenceError as exc:
                 raise ConvergenceError(f"root refinement failed at kH={kH}, {params}: "
                                        f"{exc}") from exc

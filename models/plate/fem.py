@@ -342,4 +342,4 @@ def refine_root(lam0: float, kH: float, params: PlateParams, n: int, *, index: i
         slope = abs(fm(x1) - fm(x0)) / (x1 - x0)
         if slope > 0:
             xtol = max(XTOL_ROOT, max(roundoff.values()) / slope)
-    return zero_near(fm, lam0, lo, hi, xtol, what=f"eigenvalue {index}")[0]
+    return zero_near(fm, lam0, lo, hi, xtol, what=f"eigenvalue {index}").root

@@ -460,7 +460,7 @@ def _refine_det_brackets(jobs, brackets, w, out):
     # every bracket of every scan refined at once (vectorised Illinois iteration,
     # the stopping rule of brentq with xtol = XTOL_ROOT)
     roots = regula_falsi_many(f, *(np.array([br[i] for br in brackets]) for i in (2, 3, 4, 5)),
-                    xtol=XTOL_ROOT)
+                              xtol=XTOL_ROOT).root
     for k, r in zip(job_of, roots, strict=True):
         io, kH, theta, path = jobs[k][:4]
         r = float(r)

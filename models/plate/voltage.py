@@ -108,7 +108,7 @@ def critical_stretches_at_voltage(kH: float, Vhat: float, params: PlateParams, *
         try:
             r = regula_falsi_many(lambda x, _, par=par: _determinant_at_voltage(x, kH, Vhat, params,
                                                                       par),
-                        grid[idx], grid[idx + 1], dv[idx], dv[idx + 1], xtol=1e-13)
+                        grid[idx], grid[idx + 1], dv[idx], dv[idx + 1], xtol=1e-13).root
         except ConvergenceError as exc:
             raise ConvergenceError(f"voltage-control root refinement failed: {exc}") from exc
         lams += [float(x) for x in r]
@@ -153,7 +153,7 @@ def curves_at_voltage(kH_values, Vhat: float, params: PlateParams, *, window=LAM
         try:
             r = regula_falsi_many(lambda x, act, par=par, kk=kk: _determinant_at_voltage(
                 x, kk[act], Vhat, params, par), grid[j], grid[j + 1], dv[i, j],
-                dv[i, j + 1], xtol=1e-13)
+                dv[i, j + 1], xtol=1e-13).root
         except ConvergenceError as exc:
             raise ConvergenceError(f"voltage-control root refinement failed: {exc}") from exc
         rows.append(i)
