@@ -45,13 +45,12 @@ from dataclasses import replace
 import numpy as np
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError
-from debench.models.numerics.roots import regula_falsi_many
+from debench.models.numerics.roots import regula_falsi_many, scan_roots
 from debench.models.numerics.scan import grid_samples, refine_samples, sign_change_brackets
 from debench.models.plate import generated_inplane as gen
 from debench.models.plate.ansatz import critical_stretches
 from debench.models.plate.coefficients import PlateParams
 from debench.models.plate.voltage import critical_stretches_at_voltage, dhat_at_voltage
-from scipy.optimize import brentq
 
 #: directions sampled on the half circle for the strong-ellipticity test
 N_DIRECTIONS = 91
@@ -574,6 +573,14 @@ def ellipticity_limit(theta: float, params: PlateParams, *, window=(0.45, 0.999)
     return float(b)
 
 
+#: scan points of :func:`membrane_limit` on its window (geometric): tau11 is a polynomial
+#: in lam^2 with at most a few zeros, ~2 % apart at the least on the default window
+MEMBRANE_SCAN = 400
+#: root tolerance of :func:`membrane_limit`: the zero to its round-off (brentq's rtol of
+#: 4 eps dominates at lam ~ 1)
+MEMBRANE_XTOL = 1e-15
+
+
 def membrane_limit(theta: float, params: PlateParams, *, window=(0.45, 8.0),
                    Vhat: float | None = None) -> float | None:
     """kH -> 0 limit of lam_cr: the largest zero of the total lateral stress tau11.
@@ -584,8 +591,9 @@ def membrane_limit(theta: float, params: PlateParams, *, window=(0.45, 8.0),
 
         tau11 = lam^2 - lam^-4 + 2 xi cos^2(theta) lam^2 (lam^2 - 1) - beta Dhat^2 = 0,
 
-    with Dhat = Dhat(lam) under voltage control. Bracketed on a grid of ``window`` and
-    refined with brentq; None when tau11 has no sign change in ``window``.
+    with Dhat = Dhat(lam) under voltage control. The largest sign change on a grid of
+    ``window`` refined with brentq (:func:`~debench.models.numerics.roots.scan_roots`);
+    None when tau11 has no sign change in ``window``.
     """
     lo, hi = v.window("window", window)
     _check(lo, theta, params)
@@ -595,13 +603,10 @@ def membrane_limit(theta: float, params: PlateParams, *, window=(0.45, 8.0),
     def tau11(x):
         return base_state(x, theta, path(x))[1]
 
-    g = np.geomspace(lo, hi, 400)
-    f = np.array([tau11(x) for x in g])
-    idx = np.nonzero(np.sign(f[:-1]) != np.sign(f[1:]))[0]
-    if not idx.size:
-        return None
-    i = int(idx[-1])
-    return float(brentq(tau11, g[i], g[i + 1], xtol=1e-15, rtol=4 * np.finfo(float).eps))
+    g = np.geomspace(lo, hi, MEMBRANE_SCAN)
+    found = scan_roots(tau11, g, np.array([tau11(x) for x in g]), xtol=MEMBRANE_XTOL,
+                       method="brentq", select="last", what="membrane limit (tau11 = 0)")
+    return float(found.root[-1]) if found.root.size else None
 
 
 def _constant_phase(vals, tol, what):
