@@ -51,8 +51,8 @@ ROOT_PROBLEMS = [
 ]
 
 #: the secant's starting points: 1 % and 0.5 % of the bracket above the root (the secant
-#: needs no bracket but a start in the root's basin; atan(20 (x - 0.3)) diverges from
-#: starts a quarter of its bracket away)
+#: needs no bracket but a start in the root's basin; atan(20 (x - 0.3)) diverges, to a
+#: flat secant, from starts 5 % and 2.5 % of its bracket away)
 SECANT_STARTS = (1e-2, 5e-3)
 #: scan points of scan_roots over a problem's bracket (each problem has one root there)
 SCAN_POINTS = 7
