@@ -12,6 +12,7 @@ from debench.models.errors import ConvergenceError
 from debench.models.numerics import (
     Memo,
     asymptotic_fit,
+    bisect_boundary,
     bracketed_root,
     convergence_fit,
     gci,
@@ -312,6 +313,39 @@ def test_scan_roots_refuses_bad_arguments_naming_them():
         scan_roots(np.sin, np.linspace(1, 4, 5), xtol=XTOL, select="middle")
     with pytest.raises(ValueError, match="values"):
         scan_roots(np.sin, np.linspace(1, 4, 5), np.ones(4), xtol=XTOL)
+
+
+def test_bisect_boundary_halves_to_xtol_or_a_fixed_count():
+    """The boundary of {x >= sqrt(2)} from [1, 2]: to xtol, the end where the predicate
+    holds lies within xtol above it; with a fixed count of halvings the bracket is the
+    first interval halved that many times (its width exactly 2^-n here, dyadic ends), and
+    the predicate is called once per halving."""
+    calls = []
+
+    def inside(x):
+        calls.append(x)
+        return x * x >= 2.0
+
+    res = bisect_boundary(inside, 1.0, 2.0, xtol=XTOL)
+    a, b = res.bracket
+    assert a < math.sqrt(2.0) <= b and b - a <= XTOL and res.root == b
+    assert res.function_calls == res.iterations == len(calls)
+    res = bisect_boundary(inside, 1.0, 2.0, halvings=20)
+    a, b = res.bracket
+    assert b - a == 2.0**-20 and a < math.sqrt(2.0) <= b and res.iterations == 20
+
+
+def test_bisect_boundary_refuses_what_it_cannot_do():
+    """An xtol below the spacing of doubles stalls: ConvergenceError, not a loop; both or
+    neither stopping rule, or equal ends: ValueError naming them."""
+    with pytest.raises(ConvergenceError, match="stalled"):
+        bisect_boundary(lambda x: x >= 1.5, 1.0, 2.0, xtol=0.0)
+    with pytest.raises(ValueError, match="exactly one of xtol and halvings"):
+        bisect_boundary(lambda x: True, 1.0, 2.0, xtol=1e-3, halvings=3)
+    with pytest.raises(ValueError, match="exactly one of xtol and halvings"):
+        bisect_boundary(lambda x: True, 1.0, 2.0)
+    with pytest.raises(ValueError, match="distinct"):
+        bisect_boundary(lambda x: True, 1.0, 1.0, xtol=1e-3)
 
 
 # ------------------------------------------------- adaptive scans: hidden sign changes

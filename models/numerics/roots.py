@@ -10,7 +10,9 @@ achieved, every failure a :class:`~debench.models.errors.ConvergenceError`:
   regula falsi (one vectorised evaluation per iteration for all of them);
 * :func:`scan_roots` -- every zero on a grid: the sign changes of the sampled values
   (:func:`~debench.models.numerics.scan.sign_change_brackets`) refined by
-  :func:`regula_falsi_many` or :func:`bracketed_root`.
+  :func:`regula_falsi_many` or :func:`bracketed_root`;
+* :func:`bisect_boundary` -- the boundary of the set where a predicate holds (a yes/no
+  question has no value to interpolate), by bisection.
 
 The bracketing methods share the contract of :func:`scipy.optimize.brentq`: a sign change
 across an interval no wider than ``xtol + rtol |x|`` (``rtol = 4 eps`` unless given), and
@@ -40,6 +42,9 @@ MAXITER_MANY = 200
 #: iterations of :func:`secant` (superlinear: ~6-10 from a start within a few % of a
 #: simple zero)
 MAXITER_SECANT = 50
+#: halvings :func:`bisect_boundary` allows before it reports no convergence: halving a
+#: double interval reaches the spacing of doubles in at most ~1100 steps
+MAXITER_BISECT = 1100
 #: first secant step of :func:`zero_near` from the estimate, relative: of the order of the
 #: distance between an estimate from a cheaper method and the root (the Chapter 4
 #: determinant roots lie within ~1e-4 relative of the finite-element ones, measured), so
@@ -428,3 +433,42 @@ def scan_roots(f, x, values=None, *, xtol: float, method: str = "regula_falsi",
     keep[1:] = ~((rows[1:] == rows[:-1]) & (root[1:] == root[:-1])
                  & ((fa[1:] == 0) | (fb[1:] == 0)))
     return ScanRoots(root[keep], rows[keep], idx[keep], refined)
+
+
+def bisect_boundary(inside: Callable[[float], bool], a: float, b: float, *,
+                    xtol: float | None = None, halvings: int | None = None,
+                    what: str = "boundary") -> RootResult:
+    """The boundary between ``a``, where the predicate ``inside`` is false, and ``b``,
+    where it holds (neither end is evaluated: the caller knows them from its scan), by
+    bisection: ``m = (a + b) / 2`` replaces ``b`` where ``inside(m)``, else ``a``.
+
+    Stops when ``|b - a| <= xtol``, or after exactly ``halvings`` halvings (give one of
+    the two). ``root`` is the final ``b`` (where the predicate holds), ``bracket`` the
+    final ``(a, b)`` and ``error`` its width. ConvergenceError naming ``what`` when the
+    midpoint no longer moves (``xtol`` below the spacing of doubles there) or
+    :data:`MAXITER_BISECT` halvings do not reach ``xtol``. ValueError unless exactly one of
+    ``xtol`` (finite, >= 0) and ``halvings`` (>= 0) is given and ``a``, ``b`` are finite
+    and distinct.
+    """
+    require((xtol is None) != (halvings is None),
+            f"give exactly one of xtol and halvings, got {xtol}, {halvings}")
+    require(xtol is None or (math.isfinite(xtol) and xtol >= 0),
+            f"xtol must be finite and >= 0, got {xtol}")
+    require(halvings is None or (int(halvings) == halvings and halvings >= 0),
+            f"halvings must be an integer >= 0, got {halvings}")
+    a, b = float(a), float(b)
+    require(math.isfinite(a) and math.isfinite(b) and a != b,
+            f"a and b must be finite and distinct, got {a}, {b}")
+    n = 0
+    while (n < halvings) if halvings is not None else (abs(b - a) > xtol):
+        if halvings is None and n >= MAXITER_BISECT:
+            raise ConvergenceError(f"{what}: bisection did not reach xtol = {xtol} in "
+                                   f"{MAXITER_BISECT} halvings ([{a}, {b}])")
+        m = 0.5 * (a + b)
+        if m in (a, b):
+            raise ConvergenceError(f"{what}: bisection stalled at [{a}, {b}] (the spacing "
+                                   "of doubles)")
+        a, b = (a, m) if inside(m) else (m, b)
+        n += 1
+    return RootResult(b, n, n, True, "bracket below xtol" if halvings is None
+                      else "halvings done", (a, b), abs(b - a), "bisection")

@@ -14,7 +14,7 @@ from types import SimpleNamespace
 import numpy as np
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError
-from debench.models.numerics.roots import scan_roots
+from debench.models.numerics.roots import bisect_boundary, scan_roots
 from debench.models.plate.ansatz import (
     _column,
     _determinant,
@@ -251,6 +251,12 @@ def _max_area_D(Dhats, A) -> float:
     return float(-c1 / (2 * c2))
 
 
+#: halvings of the Dhat grid interval holding the onset of the extensional mode: its
+#: spacing (0.05 with the 111 points on the default window (0.5, 6)) to 0.05 2^-40 ~ 5e-14,
+#: far below the printed digits of the critical Dhat
+ONSET_HALVINGS = 40
+
+
 def critical_D_thin_extensional(params: PlateParams, D_window=(0.5, 6.0),
                                 kH: float = 1e-3, lam_window=(0.4, 8.0)) -> float:
     """Candidate 2 for Fig. 4.6: the smallest Dhat at which an extensional (psi-odd)
@@ -291,8 +297,6 @@ def critical_D_thin_extensional(params: PlateParams, D_window=(0.5, 6.0),
             break
     if i == 0:
         raise ConvergenceError(f"no onset of the extensional mode in {D_window}")
-    lo, hi = Ds[i - 1], Ds[i]
-    for _ in range(40):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (lo, mid) if has_root(mid) else (mid, hi)
+    lo, hi = bisect_boundary(has_root, Ds[i - 1], Ds[i], halvings=ONSET_HALVINGS,
+                             what="onset of the extensional mode").bracket
     return 0.5 * (lo + hi)

@@ -45,7 +45,7 @@ from dataclasses import replace
 import numpy as np
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError
-from debench.models.numerics.roots import regula_falsi_many, scan_roots
+from debench.models.numerics.roots import bisect_boundary, regula_falsi_many, scan_roots
 from debench.models.numerics.scan import grid_samples, refine_samples, sign_change_brackets
 from debench.models.plate import generated_inplane as gen
 from debench.models.plate.ansatz import critical_stretches
@@ -543,6 +543,12 @@ PHASE_TOL = 1e-6
 LAM_E_MARGIN = 1e-3
 
 
+#: width in lam to which :func:`ellipticity_limit` bisects the loss of strong ellipticity:
+#: ~4500 ulps at lam ~ 1, far below LAM_E_MARGIN (1e-3), the margin compression windows keep
+#: above it
+ELLIPTICITY_XTOL = 1e-12
+
+
 def ellipticity_limit(theta: float, params: PlateParams, *, window=(0.45, 0.999),
                       n_scan: int = 200, Vhat: float | None = None) -> float:
     """Largest lam in ``window`` at which plane strong ellipticity fails (compression).
@@ -566,11 +572,8 @@ def ellipticity_limit(theta: float, params: PlateParams, *, window=(0.45, 0.999)
     if not ell[-1]:
         return float(hi)
     i = int(np.nonzero(~ell)[0][-1])
-    a, b = g[i], g[i + 1]
-    while b - a > 1e-12:
-        m = 0.5 * (a + b)
-        a, b = (a, m) if _elliptic(m, theta, path(m)) else (m, b)
-    return float(b)
+    return float(bisect_boundary(lambda m: _elliptic(m, theta, path(m)), g[i], g[i + 1],
+                                 xtol=ELLIPTICITY_XTOL, what="ellipticity limit").root)
 
 
 #: scan points of :func:`membrane_limit` on its window (geometric): tau11 is a polynomial
