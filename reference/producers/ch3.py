@@ -18,7 +18,7 @@ import numpy as np
 from debench.models.circular import analysis, circle_a, params
 from debench.models.circular.actuator import branches, curves_many
 from debench.models.circular.params import Annulus
-from debench.models.numerics.roots import bracketed_root
+from debench.models.numerics.roots import bracketed_root, scan_roots
 from debench.reference.catalogue import Accuracy, Entry, Outcome
 from debench.reference.producers.ch3_checks import C_SWEEP, CHECKS, failure_sweep, parameter
 from debench.reference.producers.ch3_model import (
@@ -397,9 +397,10 @@ def free_membrane_gent(entry: Entry) -> Outcome:
     x = np.linspace(1.01, 0.999 * params.locking_stretch_equibiaxial(Jm), 4000)
     d = np.imag(circle_a.phibar_squared(x + 1e-30j, 0.0, 0.0, kap)) / 1e-30
     sgn = -1 if "max" in entry.id else 1
-    j = np.nonzero((np.sign(d[:-1]) == -sgn) & (np.sign(d[1:]) == sgn))[0][0]
-    lam = bracketed_root(f, x[j], x[j + 1], xtol=FREE_MEMBRANE_XTOL,
-                         what="Gent free-membrane extremum").root
+    found = scan_roots(f, x, d, xtol=FREE_MEMBRANE_XTOL, method="brentq",
+                       what="Gent free-membrane extremum")
+    # a maximum where the derivative falls through zero, a minimum where it rises
+    lam = float(found.root[np.sign(d[found.interval + 1]) == sgn][0])
     value = lam if "stretch" in entry.id else float(circle_a.free_membrane_phibar(lam, 0, kap))
     return Outcome(value=value, evidence="verification/test_ch3_analytic.py")
 
