@@ -92,16 +92,13 @@ def _finite_value(fx, x, what: str) -> float:
     return fx
 
 
-def _narrowest(points) -> tuple[float, float] | None:
+def _narrowest_sign_change(points) -> tuple[float, float] | None:
     """The narrowest interval between two neighbouring evaluated points ``(x, f(x))``
-    with opposite signs (a zero value: the interval shrinks to that point)."""
+    across which ``f`` changes sign or vanishes at an end (``f(a) f(b) <= 0``)."""
     pts = sorted(points)
-    for x, fx in pts:
-        if fx == 0.0:
-            return (x, x)
     best = None
     for (a, fa), (b, fb) in zip(pts, pts[1:], strict=False):
-        if fa * fb < 0 and (best is None or b - a < best[1] - best[0]):
+        if fa * fb <= 0 and (best is None or b - a < best[1] - best[0]):
             best = (a, b)
     return best
 
@@ -143,8 +140,9 @@ def bracketed_root(f: Callable[[float], float], a: float, b: float, *, xtol: flo
     if not info.converged:
         raise ConvergenceError(f"{what}: brentq did not converge on [{a}, {b}] "
                                f"({info.iterations} iterations, {info.flag})")
-    bracket = _narrowest(seen)
-    exact = bracket is not None and bracket[0] == bracket[1]
+    zeros = [x for x, fx in seen if fx == 0.0]      # the bracket shrinks to an exact zero
+    bracket = (zeros[0], zeros[0]) if zeros else _narrowest_sign_change(seen)
+    exact = bool(zeros)
     # brentq returns at once when f vanishes at an end, leaving its iteration count unset
     iterations = 0 if info.function_calls <= 2 else int(info.iterations)
     return RootResult(float(root), iterations, int(info.function_calls), True,
@@ -165,13 +163,9 @@ class Memo:
         return self.values[x]
 
     def narrowest_sign_change(self) -> tuple[float, float] | None:
-        """The narrowest interval between two evaluated points with opposite signs."""
-        pts = sorted(self.values.items())
-        best = None
-        for (a, fa), (b, fb) in zip(pts, pts[1:], strict=False):
-            if fa * fb <= 0 and (best is None or b - a < best[1] - best[0]):
-                best = (a, b)
-        return best
+        """The narrowest interval between two neighbouring evaluated points across which
+        ``f`` changes sign or vanishes at an end."""
+        return _narrowest_sign_change(self.values.items())
 
 
 def secant(f: Callable[[float], float], x0: float, x1: float, *, xtol: float,
