@@ -252,6 +252,8 @@ def load_file(path: Path) -> Problem:
     raw = tomllib.loads(Path(path).read_text(encoding="utf-8"))
     parsed = copy.deepcopy(raw)
     where = Path(path).name
+    if raw.get("chapter") == 0:      # beyond the thesis: no thesis location
+        raw.setdefault("thesis", {})
     try:
         quantities = tuple(_quantity(q, where) for q in raw.pop("quantity"))
         problem = Problem(

@@ -31,7 +31,8 @@ def _md_parameters(pars: Mapping[str, Mapping[str, Any]]) -> list[str]:
 
 def _md_model(p: Problem) -> list[str]:
     """The page's title, geometry, model, boundary conditions and loading."""
-    out = [f"# {p.id}: {p.title}", "", f"Chapter {p.chapter}. {p.summary}", ""]
+    where = f"Chapter {p.chapter}." if p.chapter else "Beyond the thesis."
+    out = [f"# {p.id}: {p.title}", "", f"{where} {p.summary}", ""]
     if p.variant:
         out += [f"**Variant of `{p.variant['of']}`.** {p.variant['why']}", ""]
     out += ["## Geometry", "", p.geometry, "", "## Model", ""]
@@ -148,6 +149,7 @@ def render_markdown(problem: Problem, extra=()) -> str:
         out += ["## Provenance", ""]
         out += [f"- `{d['file']}` sha256 `{d['sha256']}`" for d in prov["datasets"].values()]
         out.append("")
-    out.append("Thesis: " + ", ".join(f"{k} {v}" for k, v in p.thesis.items()))
+    if p.thesis:
+        out.append("Thesis: " + ", ".join(f"{k} {v}" for k, v in p.thesis.items()))
     return "\n".join(out) + "\n"
 

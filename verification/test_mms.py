@@ -313,3 +313,20 @@ def test_cleanroom_scikit_fem_orders_on_the_spec_levels(material, degree):
     rows = _cleanroom_rows(material, degree, SPEC_LEVELS)
     res = mms_check.check_table(_table(rows, ("u_L2", "u_H1", "phi_L2", "phi_H1")), degree)
     assert all(f.passed for f in res.values()), {k: f.order for k, f in res.items()}
+
+
+def test_spec_states_the_tolerance_and_orders_the_check_function_uses():
+    """mms_electroelastic: each quantity's reference is expected_order (p + 1 in L2, p in
+    H1) and its tolerance is ORDER_ATOL, so `debench check` of a table of observed orders
+    and check_table of the raw errors judge alike."""
+    from debench.reference import problems
+
+    p = problems.get("mms_electroelastic")
+    assert p.chapter == 0 and p.thesis == {}
+    for q in p.quantities:
+        assert q.accuracy.atol == mms_check.ORDER_ATOL and q.accuracy.rtol == 0
+        assert q.function == "debench.reference.mms_check:expected_order"
+        norm = q.name.split("_")[1]
+        assert q.function_args == {"norm": norm}
+        assert "finest three levels of h = 1/8, 1/16, 1/32, 1/64" in q.definition["formula"]
+    assert mms_check.FINEST_LEVELS == 3
