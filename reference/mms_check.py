@@ -169,3 +169,68 @@ def check_table(table: Mapping[str, Sequence[float]], degree: int, *, dim: int |
                              expected=float(expected_order(degree, norm=norm)),
                              finest=finest, atol=atol)
     return out
+
+
+# ------------------------------------------------------------------ command line
+def read_table(path) -> dict[str, np.ndarray]:
+    """A CSV of levels: a header row (``name`` or ``name [units]``), one row per level;
+    columns ``h`` or ``ndof``, optionally ``degree``, and error columns (:func:`check_table`)."""
+    import csv
+    from pathlib import Path
+
+    text = Path(path).read_text(encoding="utf-8")
+    rows = [r for r in csv.reader(line for line in text.splitlines()
+                                  if line.strip() and not line.lstrip().startswith("#"))]
+    if len(rows) < 2:
+        raise ValueError("needs a header row and at least one level")
+    names = [c.split("[")[0].strip() for c in rows[0]]
+    try:
+        values = np.array([[float(x) for x in r] for r in rows[1:]], dtype=float)
+    except ValueError as exc:
+        raise ValueError(f"every entry below the header must be a number ({exc})") \
+            from None
+    if values.shape[1] != len(names):
+        raise ValueError(f"rows have {values.shape[1]} entries, the header {len(names)}")
+    return {n: values[:, k] for k, n in enumerate(names)}
+
+
+def cmd_orders(args) -> int:
+    """``debench orders TABLE.csv``: fit and judge the orders of a manufactured-solution
+    study; ``--write`` saves them as a table ``debench check mms_electroelastic`` reads."""
+    from debench.reference.results_files import UsageError
+
+    try:
+        table = read_table(args.table)
+        if "degree" in table:
+            degrees = table.pop("degree")
+            if args.degree is not None and not np.all(degrees == args.degree):
+                raise ValueError("--degree contradicts the table's degree column")
+        elif args.degree is None:
+            raise ValueError("give --degree or a degree column")
+        else:
+            degrees = np.full(len(next(iter(table.values()))), float(args.degree))
+        results = {}
+        for p in sorted(set(degrees.tolist())):
+            rows = degrees == p
+            sub = {k: v[rows] for k, v in table.items()}
+            results[int(p)] = check_table(sub, int(p), dim=args.dim, finest=args.finest)
+    except (ValueError, TypeError) as exc:
+        raise UsageError(f"{args.table}: {exc}") from None
+    ok = True
+    for p, res in results.items():
+        for col, fit in res.items():
+            ok &= bool(fit.passed)
+            print(f"p = {p} {col:7s} observed {fit.order:6.3f} expected {fit.expected:g} "
+                  f"(|diff| <= {fit.atol:g}): {'PASS' if fit.passed else 'FAIL'}; local "
+                  f"{', '.join(f'{x:.3f}' for x in fit.local)}; misfit {fit.misfit:.2g}")
+    if args.write:
+        cols = sorted({c for res in results.values() for c in res})
+        lines = [",".join(["degree [1]"] + [f"{c}_order [1]" for c in cols])]
+        for p, res in results.items():
+            lines.append(",".join([str(p)] + [f"{res[c].order:.6g}" if c in res else "nan"
+                                               for c in cols]))
+        from pathlib import Path
+
+        Path(args.write).write_text("\n".join(lines) + "\n", encoding="utf-8")
+        print(f"wrote {args.write}: debench check mms_electroelastic {args.write}")
+    return 0 if ok else 1

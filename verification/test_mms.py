@@ -330,3 +330,26 @@ def test_spec_states_the_tolerance_and_orders_the_check_function_uses():
         assert q.function_args == {"norm": norm}
         assert "finest three levels of h = 1/8, 1/16, 1/32, 1/64" in q.definition["formula"]
     assert mms_check.FINEST_LEVELS == 3
+
+
+def test_orders_command_fits_a_table_and_writes_what_check_reads(tmp_path, capsys):
+    """`debench orders errors.csv --write orders.csv` fits the orders of a raw error table
+    (here exact powers with p = 1) and `debench check mms_electroelastic orders.csv`
+    accepts the written table; a stalled column fails with exit code 1."""
+    from debench.reference import cli
+
+    h = np.array([1 / 8, 1 / 16, 1 / 32, 1 / 64])
+    lines = ["degree,h [1],u_L2,u_H1,phi_L2,phi_H1"]
+    lines += [f"1,{x},{x**2},{x},{2 * x**2},{3 * x}" for x in map(float, h)]
+    errors = tmp_path / "errors.csv"
+    errors.write_text("\n".join(lines) + "\n")
+    orders = tmp_path / "orders.csv"
+    assert cli.main(["orders", str(errors), "--write", str(orders)]) == 0
+    assert "u_L2_order [1]" in orders.read_text()
+    assert cli.main(["check", "mms_electroelastic", str(orders), "--partial"]) == 0
+    stalled = tmp_path / "stalled.csv"
+    stalled.write_text("\n".join(lines[:1] + [f"1,{x},1e-3,{x},{x**2},{x}"
+                                              for x in map(float, h)]) + "\n")
+    assert cli.main(["orders", str(stalled)]) == 1
+    assert cli.main(["orders", str(stalled), "--degree", "2"]) == 2   # contradicts the column
+    capsys.readouterr()
