@@ -4,8 +4,9 @@ Import on demand: it imports ``ngsolve``.
 
 The discrete problem is the saddle point of ``int (Omega(F, -Grad phi) - b.u + q phi) dV``
 (minimum in ``u``, maximum in ``phi``) over Lagrange elements of degree ``order`` for every
-component of ``u`` and for ``phi`` on a uniform triangulation (each of the ``n x n``
-squares of the unit square cut along a diagonal, ``h = 1/n``), with ``u`` and ``phi``
+component of ``u`` and for ``phi`` on a uniform simplicial mesh (each of the ``n x n``
+squares of the unit square cut along a diagonal, or the ``n^3`` cubes of the unit cube cut
+into tetrahedra, ``h = 1/n``), with ``u`` and ``phi``
 prescribed on the whole boundary by NGSolve's boundary interpolation of the exact fields.
 ``Omega`` is built from the constitutive library's NGSolve path
 (:func:`~debench.models.materials.ngsolve_forms.neo_hookean_mechanical` or the library's
@@ -32,7 +33,7 @@ from debench.models.errors import ConvergenceError
 from debench.models.materials import energies as E
 from debench.models.materials import ngsolve_forms as forms
 from debench.models.mms import ManufacturedSolution
-from ngsolve.meshes import MakeStructured2DMesh
+from ngsolve.meshes import MakeStructured2DMesh, MakeStructured3DMesh
 
 NEWTON_RTOL = 1e-11
 """Newton stops when the free residual is below NEWTON_RTOL x its first value: the
@@ -43,7 +44,7 @@ NEWTON_MAXIT = 20
 QUADRATURE_EXTRA = 4
 """Error integrals use quadrature of degree 2 order + QUADRATURE_EXTRA: the exact fields
 are not polynomials; 4 extra degrees keep the quadrature error far below the FE error."""
-GEOMETRIES_SOLVED = ("plane_strain", "axisymmetric")
+GEOMETRIES_SOLVED = ("plane_strain", "axisymmetric", "three_d")
 
 
 @dataclass(frozen=True)
@@ -63,12 +64,16 @@ class MMSResult:
     residuals: tuple[float, ...] = field(default_factory=tuple)
 
 
-def _mesh(n: int):
+def _mesh(n: int, dim: int):
+    if dim == 3:
+        return MakeStructured3DMesh(hexes=False, nx=n, ny=n, nz=n)
     return MakeStructured2DMesh(quads=False, nx=n, ny=n)
 
 
 def _kinematics(geometry, u, p, R):
     gu, gp = ng.grad(u), ng.grad(p)
+    if geometry == "three_d":
+        return ng.Id(3) + gu, -gp
     if geometry == "plane_strain":
         F = ng.CoefficientFunction((1 + gu[0, 0], gu[0, 1], 0,
                                     gu[1, 0], 1 + gu[1, 1], 0,
@@ -94,12 +99,14 @@ def _mechanical(solution: ManufacturedSolution, F):
 def solve(solution: ManufacturedSolution, order: int, n: int, *,
           inverse: str = "sparsecholesky") -> MMSResult:
     """Solve the manufactured problem of ``solution`` with Lagrange elements of degree
-    ``order`` on the uniform ``n x n`` mesh and measure the errors (module docstring).
+    ``order`` on the uniform mesh with ``n`` intervals per side and measure the errors
+    (module docstring).
 
     Parameters
     ----------
     solution : ManufacturedSolution
-        geometry "plane_strain" or "axisymmetric" ((R, Z) = (x, y) of the mesh).
+        geometry "plane_strain", "axisymmetric" ((R, Z) = (x, y) of the mesh) or
+        "three_d".
     order : int
         polynomial degree p >= 1 of u and phi.
     n : int
@@ -111,17 +118,19 @@ def solve(solution: ManufacturedSolution, order: int, n: int, *,
     val.choice("solution.geometry", solution.geometry, GEOMETRIES_SOLVED)
     order = val.integer_at_least("order", order, 1)
     n = val.integer_at_least("n", n, 2)
-    mesh = _mesh(n)
+    d = solution.dim
+    mesh = _mesh(n, d)
     # R in 1/R (F_TT, b, q): NGSolve's vectorised quadrature pads its point sets with
     # zero-weight points at the origin, where 1/R is NaN (and 0 x NaN = NaN); quadrature
     # points have R > 0. The fields themselves (boundary data on the axis) use R = x.
     R = ng.IfPos(ng.x, ng.x, 1.0)
-    exact = solution.evaluate(ng.x, ng.y, ns=ng)
-    loads = solution.evaluate(R, ng.y, ns=ng)
+    xyz = (ng.x, ng.y, ng.z)[:d]
+    exact = solution.evaluate(*xyz, ns=ng)
+    loads = solution.evaluate(R, ng.y, ns=ng) if solution.geometry == "axisymmetric" else exact
     u_ex = ng.CoefficientFunction(tuple(exact["u"]))
     phi_ex = exact["phi"]
     gu_ex = ng.CoefficientFunction(tuple(c for row in exact["grad_u"] for c in row),
-                                   dims=(2, 2))
+                                   dims=(d, d))
     gp_ex = ng.CoefficientFunction(tuple(exact["grad_phi"]))
     # compiled: the data are DAGs of shared subexpressions, which NGSolve's uncompiled
     # evaluation walks as trees (measured at p = 2, h = 1/16: 15 s per solve, 0.7 s so)
