@@ -285,6 +285,28 @@ def test_ngsolve_plane_strain_orders_are_p_plus_1_in_L2_and_p_in_H1(material, de
 
 
 @pytest.mark.fe
+@pytest.mark.parametrize("data, energy, degree", [
+    (("neo_hookean", 10.0), ("neo_hookean", 10.5), 1),
+    pytest.param(("gent", 10.0), ("neo_hookean", 10.0), 2, marks=pytest.mark.slow),
+])
+def test_a_wrong_energy_fails_the_order_check(monkeypatch, data, energy, degree):
+    """Mutations: data of kappa = 10 solved with kappa = 10.5 (p = 1, h = 1/4 .. 1/16: the
+    displacement L2 order stalls below 1),
+    Gent (Jm = 50) data solved with neo-Hookean (the displacement L2 order drops to 0.26 at
+    p = 2, measured): the check fails, so passing it means something."""
+    from debench.models import mms_fem
+
+    original = mms_fem._mechanical
+    wrong = ManufacturedSolution("plane_strain", energy[0], kappa=energy[1], Jm=JM)
+    monkeypatch.setattr(mms_fem, "_mechanical", lambda solution, F: original(wrong, F))
+    sol = ManufacturedSolution("plane_strain", data[0], kappa=data[1], Jm=JM)
+    levels = FAST_LEVELS if degree == 1 else SPEC_LEVELS
+    rows = [{"h": r.h, **r.errors} for r in mms_fem.convergence(sol, degree, levels)]
+    res = mms_check.check_table(_table(rows, ("u_L2", "u_H1", "phi_L2", "phi_H1")), degree)
+    assert not res["u_L2"].passed and res["u_L2"].order < 1.0, res["u_L2"]
+
+
+@pytest.mark.fe
 def test_ngsolve_plane_strain_p2_orders_on_coarse_meshes():
     """debench's NGSolve solver, neo-Hookean, p = 2, h = 1/4 .. 1/16 (the fast version of
     the p = 2 case): u in H1 and phi in L2 and H1 at the orders 2, 3, 2 within ORDER_ATOL."""
