@@ -397,3 +397,18 @@ def test_orders_command_fits_a_table_and_writes_what_check_reads(tmp_path, capsy
     assert cli.main(["orders", str(stalled)]) == 1
     assert cli.main(["orders", str(stalled), "--degree", "2"]) == 2   # contradicts the column
     capsys.readouterr()
+
+
+@pytest.mark.fe
+def test_solver_refuses_bad_degree_mesh_and_levels():
+    from debench.models import mms_fem
+
+    sol = ManufacturedSolution()
+    with pytest.raises(ValueError, match="order"):
+        mms_fem.solve(sol, 0, 4)
+    with pytest.raises(ValueError, match="n"):
+        mms_fem.solve(sol, 1, 1)
+    with pytest.raises(ValueError, match="strictly increasing"):
+        mms_fem.convergence(sol, 1, (8, 4))
+    with pytest.raises(TypeError, match="solution must be a ManufacturedSolution"):
+        mms_fem.solve("plane_strain", 1, 4)
