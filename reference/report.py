@@ -1,13 +1,18 @@
 """Markdown report: each thesis claim beside our value and its status, with figures.
 
 The README's status counts are generated here too (between the markers
-``<!-- results:start -->`` and ``<!-- results:end -->``); a test checks they are current.
+``<!-- results:start -->`` and ``<!-- results:end -->``), and so is its verdict in brief
+(between ``<!-- verdict:start -->`` and ``<!-- verdict:end -->``): the plain-language
+verdict of ``verdict.md`` filled from the computed records (:func:`verdict_markdown`),
+which the report and the documentation site's verdict page open with. A test checks both
+are current.
 """
 
 from __future__ import annotations
 
 import datetime as _dt
 import os
+import re
 import sys
 from collections import Counter
 from collections.abc import Iterable
@@ -18,6 +23,9 @@ from debench.reference.catalogue import Result
 from debench.reference.provenance import git_commit
 
 START, END = "<!-- results:start -->", "<!-- results:end -->"
+VERDICT_START, VERDICT_END = "<!-- verdict:start -->", "<!-- verdict:end -->"
+#: the plain-language verdict with placeholders (its header comment says which)
+VERDICT_TEMPLATE = Path(__file__).with_name("verdict.md")
 STATUS_MARK = {
     "reproduced": "✅ reproduced", "not_reproduced": "❌ not reproduced",
     "not_reproducible": "⚠️ not reproducible", "pending": "⏳ pending",
@@ -359,6 +367,183 @@ def readme_block(results: list[Result]) -> str:
     return "\n".join(lines)
 
 
+# --------------------------------------------------------------------------- verdict
+#: a placeholder of the verdict template: ``{{ ... }}``
+PLACEHOLDER = re.compile(r"\{\{(.*?)\}\}", re.S)
+#: what a placeholder whose record was not computed renders as (visible, never a number)
+NOT_COMPUTED = "**[not computed: {}]**"
+
+
+class VerdictError(ValueError):
+    """A placeholder of the verdict template that names no entry or is malformed."""
+
+
+def _verdict_text(value, spec: str = "", unit: str = "") -> str:
+    """A value of a record as the verdict prints it: numbers with ``spec`` (default four
+    significant digits), a sequence comma-separated, a bool as holds / does not hold, the
+    unit appended unless it is 1 or empty."""
+    from debench.reference.catalogue import readable
+
+    if hasattr(value, "tolist") and not isinstance(value, str):
+        value = value.tolist()  # a numpy scalar or array
+    if isinstance(value, bool):
+        text = "holds" if value else "does not hold"
+    elif isinstance(value, int | float):
+        text = format(value, spec or ".4g")
+    elif isinstance(value, list | tuple):
+        text = ", ".join(_verdict_text(v, spec) for v in value)
+    elif isinstance(value, dict):
+        text = readable(value, 4)
+    else:
+        text = " ".join(str(value).split())
+    return text + ("" if unit in ("", "1") or text.endswith(unit) else f" {unit}")
+
+
+def _split_id(path: str, ids: dict[str, Result]) -> tuple[Result, list[str]]:
+    """The result an ``ID.field.key`` path starts with (the longest id), and the rest."""
+    parts = path.split(".")
+    for k in range(len(parts), 0, -1):
+        head = ".".join(parts[:k])
+        if head in ids:
+            return ids[head], parts[k:]
+    raise VerdictError(f"verdict placeholder {path!r} names no catalogue entry")
+
+
+def _record_field(path: str, spec: str, ids: dict[str, Result]) -> str:
+    r, rest = _split_id(path, ids)
+    e = r.entry
+    what, keys = (rest[0], rest[1:]) if rest else ("value", [])
+    if what == "value" and not keys:
+        if r.value is None or r.status == "error":
+            return NOT_COMPUTED.format(path)
+        return _verdict_text(r.value, spec, e.unit)
+    if what == "printed" and not keys:
+        return _verdict_text(e.printed or e.value, spec, e.unit)
+    if what == "status" and not keys:
+        return r.status.replace("_", " ")
+    if what not in ("details", "parameters") or not keys:
+        raise VerdictError(f"verdict placeholder {path!r}: after the id comes value, "
+                           "printed, status, details.KEY or parameters.KEY")
+    obj = r.details if what == "details" else e.parameters
+    for key in keys:
+        if not isinstance(obj, dict) or key not in obj:
+            return NOT_COMPUTED.format(path)
+        obj = obj[key]
+    return _verdict_text(obj, spec)
+
+
+def _count(args: list[str], results: list[Result]) -> str:
+    group, opts = args[0].replace("_", " "), dict(a.split("=", 1) for a in args[1:])
+    if group not in GROUPS or set(opts) - {"prefix", "status"}:
+        raise VerdictError(f"verdict placeholder 'count {' '.join(args)}': count GROUP "
+                           f"[prefix=P,Q] [status=S], GROUP one of {list(GROUPS)}")
+    chosen = in_group(results, group)
+    if "prefix" in opts:
+        chosen = [r for r in chosen if r.entry.id.startswith(tuple(opts["prefix"].split(",")))]
+    if "status" in opts:
+        chosen = [r for r in chosen if r.status == opts["status"]]
+    return str(len(chosen))
+
+
+def _errata(prefixes: list[str], results: list[Result]) -> str:
+    """The equations (or tables) of the confirmed errata whose id starts with a prefix."""
+    out = []
+    for r in results:
+        e = r.entry
+        if e.kind == "erratum" and r.status == "confirmed" and e.id.startswith(tuple(prefixes)):
+            if "equation" in e.source:
+                out.append(f"({str(e.source['equation']).replace('-', '–')})")
+            elif "table" in e.source:
+                out.append(f"Table {e.source['table']}")
+    if not out:
+        return NOT_COMPUTED.format("errata " + " ".join(prefixes))
+    return ", ".join(out[:-1]) + (" and " if len(out) > 1 else "") + out[-1]
+
+
+def consensus_sentence(problem: str, quantity: str) -> str:
+    """What the curated submissions of other codes on ``problem``'s ``quantity`` show, in
+    one sentence from the consensus records (:mod:`debench.reference.consensus`): how many
+    of their values lie within the reference's stated accuracy and within the accuracy
+    their submitters state, and the spread. It says "within" only of the values that are."""
+    from debench.reference import consensus
+
+    found = [t for t in consensus.tables() if (t.problem, t.quantity) == (problem, quantity)]
+    if not found or not found[0].rows:
+        return f"no curated submission from another code on `{problem}`."
+    t = found[0]
+    codes = list(dict.fromkeys(r.code.split(" (")[0] for r in t.rows))
+    n = len(t.rows)
+    stated = sum(r.within_stated for r in t.rows)
+    declared = [r for r in t.rows if r.within_declared is not None]
+    noun = "curve" if t.curve else "value"
+    text = (f"{len(codes)} code{'s' if len(codes) > 1 else ''} ({', '.join(codes)}) "
+            f"submitted {n} {noun}{'s' if n > 1 else ''}; {stated} of {n} lie within the "
+            "reference's stated accuracy")
+    if declared:
+        text += (f" and {sum(r.within_declared for r in declared)} of {len(declared)} within "
+                 "the accuracy their submitters state")
+    spread = t.spread()
+    if t.curve:
+        text += (f"; the largest difference from the reference at any point is "
+                 f"{max(spread.values()):.2g}")
+    else:
+        ref = {r.selection: abs(r.reference) for r in t.rows}
+        rel = max(v / ref[k] for k, v in spread.items() if ref[k])
+        text += (f"; the spread across the codes and the reference is at most "
+                 f"{max(spread.values()):.2g} ({rel:.1g} relative)")
+    if t.refused:
+        text += f"; {len(t.refused)} submission(s) refused"
+    return text + "."
+
+
+def _placeholder(inner: str, results: list[Result], ids: dict[str, Result]) -> str:
+    body, _, spec = inner.partition("|")
+    words = body.split()
+    if not words:
+        raise VerdictError("empty verdict placeholder {{ }}")
+    if words[0] == "count":
+        return _count(words[1:], results)
+    if words[0] == "errata":
+        return _errata(words[1:], results)
+    if words[0] == "consensus" and len(words) == 3:
+        return consensus_sentence(words[1], words[2])
+    if len(words) != 1:
+        raise VerdictError(f"verdict placeholder {{{{{inner}}}}} is not ID[.field], count, "
+                           "errata or consensus")
+    return _record_field(words[0], spec.strip(), ids)
+
+
+def verdict_template(path: Path | None = None) -> str:
+    """The verdict template (:data:`VERDICT_TEMPLATE`) without its header comment."""
+    text = Path(path or VERDICT_TEMPLATE).read_text()
+    return re.sub(r"\A\s*<!--.*?-->\s*", "", text, count=1, flags=re.S).strip()
+
+
+def _one_line_paragraphs(text: str) -> str:
+    """Each paragraph on one line (a filled placeholder leaves ragged lines; a line break
+    inside ``$...$`` would end the formula on some renderers)."""
+    return "\n\n".join(" ".join(p.split()) for p in re.split(r"\n\s*\n", text.strip()))
+
+
+def verdict_markdown(results: list[Result], template: Path | None = None) -> str:
+    """The verdict in brief, in plain language: :data:`VERDICT_TEMPLATE` with every
+    placeholder filled from ``results`` (the computed catalogue) and the consensus records.
+    The report, the README and the site's verdict page all show this text. A placeholder
+    whose record was not computed shows :data:`NOT_COMPUTED`; one that names no entry
+    raises :class:`VerdictError`."""
+    results = list(results)
+    ids = {r.entry.id: r for r in results}
+    return _one_line_paragraphs(PLACEHOLDER.sub(
+        lambda m: _placeholder(m[1], results, ids), verdict_template(template)))
+
+
+def verdict_block(results: list[Result]) -> str:
+    """The README's verdict block: :func:`verdict_markdown` between its markers."""
+    return "\n".join([VERDICT_START, "_Generated by `debench report --readme` from "
+                       "`reference/verdict.md` and the computed records._", "",
+                       verdict_markdown(results), VERDICT_END])
+
+
 def _headline(r: Result) -> bool:
     """Numeric thesis claims and literature values (not stated inputs)."""
     v = r.entry.value
@@ -367,14 +552,20 @@ def _headline(r: Result) -> bool:
             and isinstance(v, int | float) and not isinstance(v, bool))
 
 
+def _replace_block(text: str, start: str, end: str, block: str, where: Path) -> str:
+    if start not in text or end not in text:
+        raise ValueError(f"{where} lacks the markers {start} … {end}")
+    head, rest = text.split(start, 1)
+    _, tail = rest.split(end, 1)
+    return head + block + tail
+
+
 def update_readme(readme: Path, results: list[Result]) -> bool:
-    """Rewrite the results block of ``readme``; return True if it changed."""
+    """Rewrite the verdict block and the results block of ``readme``; return True if it
+    changed."""
     text = readme.read_text()
-    if START not in text or END not in text:
-        raise ValueError(f"{readme} lacks the markers {START} … {END}")
-    head, rest = text.split(START, 1)
-    _, tail = rest.split(END, 1)
-    new = head + readme_block(results) + tail
+    new = _replace_block(text, VERDICT_START, VERDICT_END, verdict_block(results), readme)
+    new = _replace_block(new, START, END, readme_block(results), readme)
     if new == text:
         return False
     readme.write_text(new)
@@ -519,6 +710,12 @@ def write_report(out_dir: Path, results: list[Result], *, data_problems: list[st
     now = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
     lines = [
         "# debench report: does Zeng (2020) reproduce?",
+        "",
+        "## The verdict in brief",
+        "",
+        verdict_markdown(results),
+        "",
+        "## The counts",
         "",
         f"Generated {now} from commit `{git_commit()}`. Summary: {summary_line(results)}.",
         "",

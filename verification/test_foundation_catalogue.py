@@ -327,3 +327,30 @@ def test_every_report_row_compares_like_with_like(results):
     from debench.reference import report
 
     assert report.row_problems(results) == []
+
+
+def test_readme_report_and_site_share_the_verdict(results, tmp_path):
+    """The verdict in brief (reference/verdict.md filled from the computed records) is the
+    same text in the README (between its verdict markers), the report (right after its
+    title, before the counts) and the site's verdict page (which opens with it, before the
+    counts and the catalogue ids); no record it quotes is missing."""
+    from debench.reference import report
+
+    from verification._loaders import load_script
+
+    verdict = report.verdict_markdown(results)
+    assert "not computed" not in verdict
+    readme = (ROOT / "README.md").read_text()
+    block = (report.VERDICT_START + readme.split(report.VERDICT_START, 1)[1]
+             .split(report.VERDICT_END, 1)[0] + report.VERDICT_END)
+    assert block == report.verdict_block(results), "run `debench report --readme`"
+    text = report.write_report(tmp_path / "report", results).read_text()
+    assert text.split("## The verdict in brief\n\n", 1)[1].startswith(verdict + "\n")
+    assert text.index(verdict) < text.index("Summary:")
+    pages = load_script("docs/_ext/debench_pages.py")
+    pages.OUT = tmp_path / "generated"
+    pages.verdict_page(results)
+    page = (pages.OUT / "verdict.md").read_text()
+    body = page.split("\n", 1)[1].lstrip()
+    assert body.startswith("## The verdict in brief\n\n" + verdict + "\n")
+    assert page.index(verdict) < min(page.index("Summary:"), page.index("`ch"))

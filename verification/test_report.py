@@ -301,3 +301,58 @@ def test_readable_formats_numbers_mappings_and_sequences_for_prose():
         "max_area = 2.08515, thin_extensional = 2.33482"
     assert catalogue.readable([np.array([1.5, 2.0]), (np.int64(3), True, "x")]) == \
         "(1.5, 2), (3, True, x)"
+
+
+#: references a verdict may type (they name places, not values): an equation number in
+#: parentheses, a chapter, table, figure or section number
+VERDICT_REFERENCES = re.compile(r"\(\d+\.\d+\)|\b(?:Chapter|Table|Fig\.|Figure|Section|§)\s*"
+                                r"\d+(?:\.\d+)*")
+
+
+def test_verdict_types_no_number():
+    """Every number of the verdict in brief (reference/verdict.md) comes from a placeholder
+    filled from the computed records: outside placeholders only equation, chapter, table,
+    figure and section numbers are typed."""
+    text = report.PLACEHOLDER.sub("", report.verdict_template())
+    typed = re.findall(r".{0,30}\d.{0,30}", VERDICT_REFERENCES.sub("", text))
+    assert not typed, f"numbers typed in reference/verdict.md: {typed}"
+
+
+def test_verdict_placeholders_name_catalogue_entries(results):
+    """Every placeholder of the verdict names an entry, a field, a count, errata or a
+    consensus (a bad one raises VerdictError); with the stated values as ours (the fixture)
+    it renders with no Python repr and no placeholder left."""
+    text = report.verdict_markdown(results)
+    assert "{{" not in text and "}}" not in text
+    assert "np.float64(" not in text and "{'" not in text
+    assert report.VERDICT_START not in text
+
+
+def test_verdict_placeholder_errors_are_raised(results, tmp_path):
+    bad = tmp_path / "verdict.md"
+    for body in ("{{ ch3.no_such_entry }}", "{{ count nonsense }}",
+                 "{{ ch3.loss_of_tension.stretch_lamP_3.colour }}"):
+        bad.write_text(body)
+        with pytest.raises(report.VerdictError):
+            report.verdict_markdown(results, bad)
+    bad.write_text("{{ ch3.loss_of_tension.stretch_lamP_3.details.no_such_key }}")
+    assert "not computed" in report.verdict_markdown(results, bad)
+
+
+def test_consensus_sentence_says_within_only_of_values_that_are(monkeypatch):
+    """The verdict's sentence on other codes counts the values within the reference's
+    stated accuracy from the consensus records; none within reads "0 of 2"."""
+    from debench.reference import consensus
+
+    rows = [consensus.Row(code=f"{c} 1.0 (x)", folder="f", selection="case=a", value=v,
+                          reference=1.0, error=v - 1.0, tolerance_stated=1e-9,
+                          within_stated=False, within_declared=True,
+                          tolerance_declared=1e-3, points=1)
+            for c, v in (("A", 1.0001), ("B", 0.9999))]
+    table = consensus.Table("p", "q", "1", False, rows)
+    monkeypatch.setattr(consensus, "tables", lambda root=None: [table])
+    text = report.consensus_sentence("p", "q")
+    assert "0 of 2 lie within the reference's stated accuracy" in text
+    assert "2 of 2 within the accuracy their submitters state" in text
+    assert "agree" not in text
+    assert report.consensus_sentence("p", "other").startswith("no curated submission")

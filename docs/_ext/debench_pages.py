@@ -4,7 +4,8 @@ Connected to ``builder-inited`` (before Sphinx looks for source files), this wri
 ``docs/generated/``:
 
 * ``verdict.md`` -- the report ``debench report`` writes
-  (:func:`debench.reference.report.write_report`: the verdict per chapter, the
+  (:func:`debench.reference.report.write_report`: the verdict in brief that the README
+  shares (:func:`debench.reference.report.verdict_markdown`), the verdict per chapter, the
   cross-check matrix, every table, the figures of ``data/figures``);
 * ``problems/`` -- one page per reference problem: the page ``debench problems ID
   --markdown`` prints (:func:`debench.reference.problems_markdown.render_markdown`), its
@@ -124,10 +125,13 @@ def verdict_page(results) -> None:
     path.unlink()
     head = ("The report `debench report` writes (here generated from the catalogue when "
             "the site was built; `debench reproduce` writes the same page to "
-            "`results/REPORT.md` next to freshly built figures).\n\n")
+            "`results/REPORT.md` next to freshly built figures); the verdict in brief above "
+            "is also the README's.\n\n")
     title, rest = text.split("\n", 1)
     title = title.replace("# debench report:", "# The verdict:")  # the report's own title
-    _write(OUT / "verdict.md", title + "\n\n" + head + rest)
+    # the page opens with the verdict in brief (report.verdict_markdown), then this note
+    brief, counts = rest.split("## The counts\n", 1)
+    _write(OUT / "verdict.md", title + "\n" + brief + head + "## The counts\n" + counts)
 
 
 # --------------------------------------------------------------------------- errata
