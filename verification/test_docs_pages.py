@@ -158,3 +158,26 @@ def test_dataset_page_numbers_are_formatted_for_reading(pages):
     assert pages._md_number('{"nh_r10": 10.0}') == "nh_r10 = 10"
     assert pages._md_number(2.0000000000575113e-07, 6) == "2e-07"
     assert pages._md_number("fitted {'a': 1} | b") == "fitted {'a': 1} \\| b"
+
+
+@pytest.mark.parametrize("problem_id", ["ch3_free_membrane_nh", "ch5_critical_voltage",
+                                        "ch3_failure_points"])
+def test_problem_csv_download_is_checked_as_a_match(pages, problem_id, tmp_path):
+    """The CSV downloads of a problem page (docs/_ext) are the reference values in the
+    results-file format: ``debench check ID FILE`` accepts each as a match (exit 0), and
+    the JSON download is what ``debench problems ID --json`` prints."""
+    import json
+
+    from debench.reference import problems
+    from debench.reference.cli import main
+    from debench.reference.problems_reference import reference_json
+
+    p = problems.get(problem_id)
+    lines = pages.problem_downloads(p)
+    folder = pages.OUT / "problems" / "data"
+    assert json.loads((folder / f"{p.id}.json").read_text()) == json.loads(
+        json.dumps(reference_json(p), ensure_ascii=False))
+    for q in p.quantities:
+        name = f"{p.id}.{q.name}.csv"
+        assert any(f"<data/{name}>" in line for line in lines)
+        assert main(["check", p.id, str(folder / name)]) == 0, name

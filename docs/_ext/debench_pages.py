@@ -10,7 +10,10 @@ Connected to ``builder-inited`` (before Sphinx looks for source files), this wri
 * ``problems/`` -- one page per reference problem: the page ``debench problems ID
   --markdown`` prints (:func:`debench.reference.problems_markdown.render_markdown`), its
   reference figures (the thesis figures and tables its spec names, as curated in
-  ``data/figures``) and its variants;
+  ``data/figures``) and its variants; its reference values as downloads (the JSON
+  ``debench problems ID --json`` prints, a CSV per quantity in the results-file format of
+  ``debench check``) and, where curated submissions exist, a plot of the reference beside
+  the other codes and their spread (:mod:`debench.reference.consensus`);
 * ``datasets/`` -- one page per curated dataset, from the netCDF attributes of the file
   itself (read verified by :func:`debench.reference.datasets.read_dataset`);
 * ``errata.md`` -- the errata of the catalogue and their root causes;
@@ -172,6 +175,201 @@ def errata_page(results) -> None:
     _write(OUT / "errata.md", "\n".join(lines))
 
 
+# --------------------------------------------------------------------------- problem data
+def _csv_cell(v) -> str:
+    """A value as the downloads write it: a float to round trip (``repr``), no value as
+    ``nan`` (the no-event NaN ``debench check`` accepts), text as it is."""
+    if v is None:
+        return "nan"
+    if isinstance(v, float):
+        return repr(v)
+    return str(v)
+
+
+def reference_csv(problem, quantity, item: dict) -> str:
+    """One quantity's reference values (``item``: its entry of
+    :func:`debench.reference.problems_reference.reference_json`) as CSV: one row per
+    reference point, a column per coordinate a user supplies (selectors, then the
+    abscissa) and the quantity, each headed ``name [units]`` as the results files
+    ``debench check`` reads; padding points of ragged curves (no abscissa) are left out."""
+    import csv
+    import io
+
+    import numpy as np
+
+    dims, coords, along = item["dims"], item["coords"], item.get("along")
+    shape = tuple(len(coords[d]) for d in dims)
+    values = np.empty(shape, dtype=object)
+    values[...] = _nested(item["values"], shape)
+    kept = [d for d in dims if d in quantity.coordinates]
+    if along and along["name"] in kept:
+        along = None  # the abscissa is a dimension itself: already a column
+    names = kept + ([along["name"]] if along else []) + [quantity.name]
+    out = io.StringIO()
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow([f"{n} [{quantity.units_of(n) or ''}]" if quantity.units_of(n) else n
+                     for n in names])
+    along_values = None
+    if along:
+        along_values = np.empty(tuple(len(coords[d]) for d in along["dims"]), dtype=object)
+        along_values[...] = _nested(along["values"], along_values.shape)
+    for index in np.ndindex(*shape):
+        at = dict(zip(dims, index, strict=True))
+        row = [coords[d][at[d]] for d in kept]
+        if along:
+            x = along_values[tuple(at[d] for d in along["dims"])]
+            if x is None:
+                continue  # padding of a shorter curve
+            row.append(x)
+        row.append(values[index])
+        writer.writerow([_csv_cell(v) for v in row])
+    return out.getvalue()
+
+
+def _nested(values, shape):
+    """A nested list as an object array of ``shape`` (None kept)."""
+    import numpy as np
+
+    arr = np.empty(shape, dtype=object)
+    for index in np.ndindex(*shape):
+        v = values
+        for i in index:
+            v = v[i]
+        arr[index] = v
+    return arr
+
+
+def problem_downloads(problem) -> list[str]:
+    """Write ``problems/data/ID.json`` (what ``debench problems ID --json`` prints) and a
+    CSV per quantity; return the page's section offering them."""
+    from debench.reference.problems_reference import reference_json
+
+    data = reference_json(problem)
+    folder = OUT / "problems" / "data"
+    _write(folder / f"{problem.id}.json", json.dumps(data, ensure_ascii=False) + "\n")
+    lines = ["## Reference values: downloads", "",
+             "Generated when this site was built from the same data `debench problems "
+             f"{problem.id} --json` prints:", "",
+             f"- {{download}}`{problem.id}.json <data/{problem.id}.json>`: the spec and, per "
+             "quantity, the coordinates, values, units and accuracy (JSON, exactly what "
+             f"`debench problems {problem.id} --json` prints)."]
+    for q in problem.quantities:
+        name = f"{problem.id}.{q.name}.csv"
+        _write(folder / name, reference_csv(problem, q, data["reference"][q.name]))
+        lines.append(f"- {{download}}`{name} <data/{name}>`: quantity `{q.name}` "
+                     f"[{q.units}], one row per reference point, columns named and with "
+                     "units as the results files `debench check` reads.")
+    return lines + [""]
+
+
+def _outcomes(problem_id: str, quantity: str) -> list:
+    """The curated submissions of a problem's quantity, each checked (as the consensus
+    table does)."""
+    from debench.reference import submissions as subs
+
+    out = []
+    for folder in subs.discover(subs.curated_root()):
+        sub = subs.load(folder)
+        if (sub.problem, sub.quantity) == (problem_id, quantity):
+            out.append(subs.check(sub))
+    return out
+
+
+def consensus_plot(problem) -> list[str]:
+    """Per quantity with curated submissions: a figure of the reference with every code's
+    values (upper panel) and their differences from the reference beside the reference's
+    stated accuracy (lower panel: the spread), written to ``problems/figures/``; return the
+    page's section (empty when no submission exists)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    from debench.reference import consensus
+
+    found = [t for t in consensus.tables() if t.problem == problem.id and t.rows]
+    if not found:
+        return []
+    lines = ["## Reference and other codes (plot)", "",
+             "The reference beside the curated submissions of other codes (the consensus "
+             "table above, `submissions/`): upper panel the values, lower panel each code's "
+             "difference from the reference, with the reference's stated accuracy shaded "
+             "(`debench check` without `--rtol`) and, as error bars, the accuracy each "
+             "submitter states.", ""]
+    for t in found:
+        q = problem.quantity(t.quantity)
+        outcomes = _outcomes(problem.id, t.quantity)
+        fig, (top, low) = plt.subplots(2, 1, figsize=(7.5, 6.0), sharex=t.curve,
+                                       height_ratios=(3, 2), layout="constrained")
+        markers = "osD^v<>"
+        if t.curve:
+            for k, o in enumerate(outcomes):
+                st = o.stated
+                x = np.asarray(st.coords[q.along], dtype=float)
+                groups = {}
+                for i in range(x.size):
+                    key = tuple(str(st.coords[c][i]) for c in q.select)
+                    groups.setdefault(key, []).append(i)
+                for j, idx in enumerate(groups.values()):
+                    idx = np.asarray(idx)[np.argsort(x[idx])]
+                    if k == 0:
+                        top.plot(x[idx], st.reference[idx], color="0.3", lw=0.8,
+                                 label="reference" if j == 0 else None)
+                    step = max(1, idx.size // 12)
+                    top.plot(x[idx][::step], st.values[idx][::step], markers[k % 7],
+                             ms=4 - k, mfc="none", color=f"C{k}", alpha=0.8,
+                             label=o.submission.label if j == 0 else None)
+                order = np.argsort(x)
+                low.plot(x[order], st.error[order], markers[k % 7], ms=max(1, 3 - k),
+                         color=f"C{k}", alpha=0.7, label=o.submission.label)
+                if k == 0:
+                    low.fill_between(x[order], -st.tolerance[order], st.tolerance[order],
+                                     color="0.85", label="stated accuracy", step="mid")
+            top.set_ylabel(f"{q.name} [{q.units}]")
+            low.set_xlabel(f"{q.along} [{q.along_units}]")
+        else:
+            sels = list(dict.fromkeys(r.selection for r in t.rows))
+            pos = {s: i for i, s in enumerate(sels)}
+            ref = {r.selection: (r.reference, r.tolerance_stated) for r in t.rows}
+            xs = np.arange(len(sels))
+            top.errorbar(xs, [ref[s][0] for s in sels], yerr=[ref[s][1] for s in sels],
+                         fmt="_", ms=24, color="0.2", label="reference")
+            low.bar(xs, [2 * ref[s][1] for s in sels], bottom=[-ref[s][1] for s in sels],
+                    width=0.6, color="0.85", label="stated accuracy")
+            codes = list(dict.fromkeys(r.code for r in t.rows))
+            width = 0.4 / max(1, len(codes))
+            for k, code in enumerate(codes):
+                rows = [r for r in t.rows if r.code == code]
+                x = np.array([pos[r.selection] for r in rows]) + (k - (len(codes) - 1) / 2) * width
+                top.plot(x, [r.value for r in rows], markers[k % 7], color=f"C{k}", label=code)
+                low.errorbar(x, [r.error for r in rows],
+                             yerr=[r.tolerance_declared or 0.0 for r in rows],
+                             fmt=markers[k % 7], color=f"C{k}", capsize=3, label=code)
+            for ax in (top, low):
+                ax.set_xticks(xs, sels)
+            top.set_ylabel(f"{q.name} [{q.units}]")
+        low.axhline(0.0, color="0.3", lw=0.6)
+        low.set_ylabel(f"code - reference [{q.units}]")
+        top.legend(fontsize=7)
+        low.legend(fontsize=7)
+        top.set_title(f"{problem.id}: {q.name}", fontsize=10)
+        name = f"{problem.id}.{q.name}.consensus.png"
+        path = OUT / "problems" / "figures" / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(path, dpi=110, metadata={"Software": None})
+        plt.close(fig)
+        spread = "; ".join(f"{k}: {v:.3g}" for k, v in t.spread().items())
+        stated = max(r.tolerance_stated for r in t.rows)
+        what = ("largest |difference| from the reference over every point of every code"
+                if t.curve else "spread across the codes and the reference (max - min)")
+        lines += [f"```{{figure}} figures/{name}", f":alt: {problem.id} {q.name}: reference "
+                  "and other codes", "",
+                  f"Quantity `{q.name}` [{q.units}]: {len({r.code for r in t.rows})} code(s); "
+                  f"{what}: {spread}; the reference's stated accuracy is at most "
+                  f"{stated:.2g}.", "```", ""]
+    return lines
+
+
 # --------------------------------------------------------------------------- problems
 def problem_pages(figures: list[Path]) -> list[str]:
     from debench.reference import consensus, problems
@@ -184,8 +382,10 @@ def problem_pages(figures: list[Path]) -> list[str]:
     index = ["# Reference problems", "",
              "The benchmark problems users check their own codes against, one page each, "
              "generated from its spec (`reference/problems/*.toml`): the page is what "
-             "`debench problems ID --markdown` prints, followed by the reference figures "
-             "and the variants. Check results with `debench check ID FILE` or "
+             "`debench problems ID --markdown` prints, followed by its reference values as "
+             "JSON and CSV downloads, a plot of the reference beside other codes where "
+             "they submitted, the reference figures and the variants. Check results with "
+             "`debench check ID FILE` or "
              "{func}`debench.testing.assert_matches` "
              "([getting started](../../getting-started.md)).",
              "", "| problem | chapter | title | quantities |", "|---|---|---|---|"]
@@ -196,7 +396,7 @@ def problem_pages(figures: list[Path]) -> list[str]:
         index.append(f"| [`{p.id}`]({p.id}.md) | {chapter} | {p.title} | {qs} |")
         names.append(p.id)
         page = consensus.problem_page(p).rstrip("\n").split("\n")
-        extra = ["", "## Reference figures", ""]
+        extra = ["", *problem_downloads(p), *consensus_plot(p), "## Reference figures", ""]
         figs = problem_figures(p, figures)
         if figs:
             extra += ["The curated figures (`data/figures/`) of the thesis figures and tables "
