@@ -102,7 +102,9 @@ sphinx_gallery_conf = {
 # --- HTML
 html_theme = "pydata_sphinx_theme"
 html_title = f"debench {release}"
-html_static_path = []
+# _static/custom.css: wide tables wrap inside the article column instead of overflowing
+html_static_path = ["_static"]
+html_css_files = ["custom.css"]
 html_show_sourcelink = True
 html_theme_options = {
     "navigation_with_keys": False,
@@ -112,6 +114,10 @@ html_theme_options = {
     "footer_end": ["sphinx-version"],
 }
 html_context = {"default_mode": "light"}
+# The pages of wide tables have no section navigation (top-level pages): without the empty
+# primary sidebar their article gets the width their tables need (see _static/custom.css)
+html_sidebars = {page: [] for page in ("generated/verdict", "generated/errata",
+                                       "generated/peers")}
 
 
 # --- docstrings: plain-text maths and re-exported names
@@ -210,6 +216,27 @@ def _resolve_reexport(app, env, node, contnode):
     return None
 
 
+def _numpy_scalars_as_numbers() -> None:
+    """Module data documented by autodoc shows its value (``RTOL = ...``) as the repr Sphinx
+    makes of it; a numpy scalar's repr is ``np.float64(8.88e-16)``, never a number for
+    reading. Show numpy scalars (also inside containers) as the Python number they hold."""
+    from sphinx.util import inspect as sphinx_inspect
+
+    original = sphinx_inspect.object_description
+    if getattr(original, "_debench", False):
+        return
+
+    def described(obj, *args, **kwargs):
+        if type(obj).__module__ == "numpy" and getattr(obj, "ndim", None) == 0 and \
+                hasattr(obj, "item"):
+            obj = obj.item()
+        return original(obj, *args, **kwargs)
+
+    described._debench = True
+    sphinx_inspect.object_description = described
+
+
 def setup(app):
+    _numpy_scalars_as_numbers()
     app.connect("autodoc-process-docstring", _plain_math, priority=400)
     app.connect("missing-reference", _resolve_reexport)

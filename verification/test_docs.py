@@ -14,7 +14,13 @@ fails with how to install it; nothing is skipped.
   of external links cannot run here);
 * browser: Debian's Chromium, headless, opens the index and a problem page with a figure
   from a local HTTP server and reports each page's title and whether every ``<img>``
-  loaded (``naturalWidth > 0``).
+  loaded (``naturalWidth > 0``);
+* layout: the same browser opens every page of the site 1400 px wide and reports each
+  table wider than the room it has (the article column, or the theme's scroll container)
+  and each Python repr (``np.float64(``, ``{'``) in the text a reader sees;
+* problem data: every reference problem page offers its reference values as JSON (what
+  ``debench problems ID --json`` prints) and CSV downloads, and the pages of problems with
+  curated submissions show the plot of the reference beside the other codes.
 """
 
 from __future__ import annotations
@@ -47,6 +53,13 @@ PROBLEM_PAGE = "generated/problems/ch3_failure_points.html"
 #: seconds the browser may spend loading the pages (virtual time: it ends early when
 #: nothing is pending); a page of this site loads locally in well under a second
 BROWSER_BUDGET_MS = 20000
+#: the window width at which no table of the site may overflow (issue 48: the errata
+#: table showed only its first two columns at this width)
+LAYOUT_WIDTH_PX = 1400
+#: text that is a Python repr reaching a reader, never data formatted for reading
+RAW_REPRS = ("np.float64(", "{'")
+#: virtual milliseconds the browser may spend laying out every page of the site
+LAYOUT_BUDGET_MS = 300000
 CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
                   "--no-first-run", "--disable-background-networking",
                   "--disable-component-update", "--disable-sync"]
@@ -261,3 +274,146 @@ def test_browser_renders_index_and_a_problem_page(site, tmp_path):
     assert problem["images"] >= 1, problem
     for page in (index, problem):
         assert not page["broken"], f"{page['url']}: images not loaded: {page['broken']}"
+
+
+def _layout_harness(urls: list[str], width: int) -> str:
+    """A page that opens each URL in a same-origin iframe ``width`` px wide and writes, per
+    page, the tables wider than the room they have (their scroll container or, without
+    one, their parent, and the article column) and the Python reprs
+    (:data:`RAW_REPRS`) in the article's text, into ``<pre id="result">``."""
+    page = """<!doctype html><html><body><pre id="result">pending</pre><script>
+const URLS = @URLS@, WIDTH = @WIDTH@, REPRS = @REPRS@;
+function check(url) {
+  return new Promise(resolve => {
+    const f = document.createElement("iframe");
+    f.style.width = WIDTH + "px"; f.style.height = "1000px";
+    f.onload = () => {
+      const d = f.contentDocument;
+      const article = d.querySelector(".bd-article") || d.body;
+      const room = article.getBoundingClientRect();
+      const over = [];
+      d.querySelectorAll("table").forEach((t, i) => {
+        const box = t.closest(".pst-scrollable-table-container") || t.parentElement;
+        const r = t.getBoundingClientRect();
+        if (r.width === 0) { return; }
+        if (r.width > box.clientWidth + 1 || r.right > room.right + 1 ||
+            t.scrollWidth > t.clientWidth + 1) {
+          const cell = t.querySelector("th") || t.querySelector("td");
+          over.push({table: i, first_cell: cell ? cell.textContent.trim().slice(0, 40) : "",
+                     width: Math.round(r.width), room: box.clientWidth});
+        }
+      });
+      // the text a reader reads as data: code blocks and inline code are what authors
+      // quote on purpose (the changelog names np.float64(...)); an API signature is
+      // Python source, where {' is a dict literal (a numpy scalar is still a repr there)
+      const readable = (drop) => {
+        const c = article.cloneNode(true);
+        c.querySelectorAll(drop).forEach(e => e.remove());
+        return c.textContent;
+      };
+      const texts = {"np.float64(": readable("pre, code"),
+                     "{'": readable("pre, code, .sig")};
+      const reprs = [];
+      for (const pat of REPRS) {
+        const text = texts[pat] === undefined ? readable("pre, code") : texts[pat];
+        let k = text.indexOf(pat);
+        if (k >= 0) { reprs.push(text.slice(Math.max(0, k - 60), k + 60)); }
+      }
+      resolve({url: url, tables: d.querySelectorAll("table").length, overflow: over,
+               reprs: reprs});
+      f.remove();
+    };
+    f.src = url;
+    document.body.appendChild(f);
+  });
+}
+(async () => {
+  const out = [];
+  for (const u of URLS) { out.push(await check(u)); }
+  document.getElementById("result").textContent = "RESULT " + JSON.stringify(out);
+})();
+</script></body></html>"""
+    return (page.replace("@URLS@", json.dumps(urls)).replace("@WIDTH@", str(width))
+            .replace("@REPRS@", json.dumps(list(RAW_REPRS))))
+
+
+def _reader_pages(out: Path) -> list[str]:
+    """Every page a reader opens (not the search, index or source-listing pages)."""
+    skip = {"search.html", "genindex.html", "py-modindex.html"}
+    return [p.relative_to(out).as_posix() for p in _pages(out)
+            if p.name not in skip and not p.name.startswith("_browser")
+            and not set(p.relative_to(out).parts) & {"_sources", "_modules", "_downloads",
+                                                     "_images"}]
+
+
+def _browse(chromium: str, out: Path, harness: str, tmp_path: Path, budget_ms: int):
+    """Serve ``out`` locally, open ``harness`` (written to ``out``) in headless Chromium
+    and return the JSON it reports."""
+    name = "_browser_layout.html"
+    (out / name).write_text(harness)
+    handler = functools.partial(_Quiet, directory=str(out))
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    try:
+        url = f"http://127.0.0.1:{server.server_address[1]}/{name}"
+        run = subprocess.run([chromium, *CHROMIUM_FLAGS, f"--user-data-dir={tmp_path}",
+                              f"--window-size={LAYOUT_WIDTH_PX + 200},1100",
+                              f"--virtual-time-budget={budget_ms}", "--dump-dom", url],
+                             capture_output=True, text=True, timeout=900)
+    finally:
+        server.shutdown()
+        server.server_close()
+    m = re.search(r"RESULT (\[.*?\])</pre>", run.stdout, re.S)
+    assert m, (f"chromium did not report (exit {run.returncode}):\n{run.stdout[-2000:]}\n"
+               f"{run.stderr[-2000:]}")
+    import html as _html
+
+    return json.loads(_html.unescape(m[1]))
+
+
+def test_no_table_overflows_and_no_python_repr_at_1400_px(site, tmp_path):
+    """Issue 48: at a 1400 px window no table of any page is wider than the room it has
+    (docs/_static/custom.css lets cells wrap), and no page shows a Python repr in the text
+    it gives as data (prose, tables, autodoc values; code a page quotes on purpose and
+    dict literals of API signatures aside)."""
+    chromium = _chromium()
+    out = site["out"]
+    urls = _reader_pages(out)
+    assert "generated/errata.html" in urls and "generated/verdict.html" in urls
+    pages = _browse(chromium, out, _layout_harness(urls, LAYOUT_WIDTH_PX), tmp_path,
+                    LAYOUT_BUDGET_MS)
+    assert [p["url"] for p in pages] == urls, "the browser did not lay out every page"
+    assert sum(p["tables"] for p in pages) > 0
+    over = [f"{p['url']}: {o}" for p in pages for o in p["overflow"]]
+    reprs = [f"{p['url']}: ...{r}..." for p in pages for r in p["reprs"]]
+    assert not over, f"{len(over)} table(s) overflow at {LAYOUT_WIDTH_PX} px:\n" + \
+        "\n".join(over[:40])
+    assert not reprs, "Python reprs on pages:\n" + "\n".join(reprs[:40])
+
+
+def test_problem_pages_offer_reference_downloads_and_the_consensus_plot(site):
+    """Every problem page links its JSON (the data ``debench problems ID --json`` prints)
+    and a CSV per quantity, the files exist in the built site, the JSON is that data, and
+    each problem with curated submissions shows its plot beside the other codes."""
+    from debench.reference import consensus, problems
+    from debench.reference.problems_reference import reference_json
+
+    out = site["out"]
+    with_peers = {t.problem for t in consensus.tables() if t.rows}
+    missing = []
+    for p in problems.load_all():
+        page = (out / "generated" / "problems" / f"{p.id}.html")
+        parsed = _parsed(page)
+        files = {Path(unquote(link)).name: (page.parent / unquote(link)).resolve()
+                 for link in parsed.links if "_downloads/" in link}
+        wanted = [f"{p.id}.json"] + [f"{p.id}.{q.name}.csv" for q in p.quantities]
+        missing += [f"{p.id}: {w}" for w in wanted if w not in files or
+                    not files[w].is_file()]
+        if f"{p.id}.json" in files and files[f"{p.id}.json"].is_file():
+            shown = json.loads(files[f"{p.id}.json"].read_text())
+            assert shown == json.loads(json.dumps(reference_json(p), ensure_ascii=False))
+        if p.id in with_peers and not any(link.endswith(".consensus.png")
+                                          for link in parsed.links):
+            missing.append(f"{p.id}: the plot beside the other codes")
+    assert not missing, "problem pages lack:\n" + "\n".join(missing)
