@@ -37,7 +37,7 @@ def load(path: Path = PATH) -> dict[str, Any]:
 def measured(problem_id: str, quantity: str, test: str) -> dict[str, Any] | None:
     """The JSON record of ``test`` for one quantity (None: not measured)."""
     recs = load()["problems"].get(problem_id, {}).get(quantity, [])
-    return next((r for r in recs if r.get("test") == test), None)
+    return next((r for r in recs if r.get("test") == test and "ratio" in r), None)
 
 
 def records(problem_id: str, quantity) -> list[dict[str, Any]]:

@@ -184,6 +184,17 @@ class Problem:
         raise ProblemError(f"problem {self.id} has no quantity {name!r}; choose from {names}")
 
     @property
+    def chapter_label(self) -> str:
+        """``ch3`` (the thesis chapter), or ``beyond`` for a problem beyond the thesis."""
+        return "beyond" if self.chapter == BEYOND_THESIS else f"ch{self.chapter}"
+
+    @property
+    def where(self) -> str:
+        """``Chapter 3`` or ``beyond the thesis`` (what a page or listing says)."""
+        return ("beyond the thesis" if self.chapter == BEYOND_THESIS
+                else f"Chapter {self.chapter}")
+
+    @property
     def datasets(self) -> tuple[str, ...]:
         return tuple(dict.fromkeys(q.dataset for q in self.quantities if q.dataset))
 
@@ -206,7 +217,8 @@ class Problem:
                 "defaults": q.defaults, "along": q.along, "along_units": q.along_units,
                 "source": (f"dataset {q.dataset}:{q.variable}" if q.source == "dataset"
                            else f"closed form {q.function}({q.function_args})"),
-                "accuracy": q.accuracy.as_json()} for q in self.quantities],
+                "accuracy": q.accuracy.as_json(),
+                "confirmation": [dict(c) for c in q.confirmation]} for q in self.quantities],
         }
 
 
