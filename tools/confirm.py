@@ -14,8 +14,10 @@ the date, the sha256 of the datasets compared with and the command that reproduc
     python tools/confirm.py            # the default-tier confirmations
     python tools/confirm.py --full     # and the slow ones
     python tools/confirm.py --problem lit_balloon --full
+    python tools/confirm.py --problem ch2_kernel_states --merge a.json --merge b.json
 
-A slow confirmation not run keeps its last record (if its spec is unchanged). Run from a
+A confirmation not run keeps its last record (if its spec is unchanged), from the output
+file or from the ``--merge`` files (outputs of runs of single problems in parallel). Run from a
 clone (it imports ``verification.cleanroom``); commit the specs first, so the records name
 a clean commit.
 """
@@ -256,14 +258,17 @@ def _datasets(problem) -> dict[str, str]:
     return {d: manifest.get(f"{d}.nc", {}).get("sha256", "missing") for d in problem.datasets}
 
 
-def run(full: bool, only: list[str] | None, path: Path, quiet: bool = False) -> dict:
+def run(full: bool, only: list[str] | None, path: Path, quiet: bool = False,
+        earlier: tuple[Path, ...] = ()) -> dict:
     """Measure the confirmations (default tier; ``full``: also the slow ones) of the
     problems ``only`` (None: all) and return the JSON, keeping the last record of those
-    not run."""
+    not run: from ``path``, else from the ``earlier`` outputs of this tool (runs of single
+    problems in parallel, merged), when the spec record is unchanged."""
     from debench.reference import confirmations, problems
     from debench.reference.provenance import git_commit
 
-    old = json.loads(path.read_text(encoding="utf-8")) if path.exists() else {"problems": {}}
+    sources = [json.loads(f.read_text(encoding="utf-8")) for f in (path, *earlier)
+               if f.exists()]
     commit = git_commit(ROOT)
     today = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
     doc = {"about": "written by tools/confirm.py: what each confirmation of "
@@ -276,8 +281,9 @@ def run(full: bool, only: list[str] | None, path: Path, quiet: bool = False) -> 
             recs = []
             for spec in q.confirmation:
                 rec = {k: spec[k] for k in confirmations.SPEC_FIELDS if k in spec}
-                prev = next((r for r in old["problems"].get(p.id, {}).get(q.name, [])
-                             if {k: r.get(k) for k in rec} == rec), None)
+                prev = next((r for doc in sources
+                             for r in doc["problems"].get(p.id, {}).get(q.name, [])
+                             if {k: r.get(k) for k in rec} == rec and "ratio" in r), None)
                 if spec["status"] == "confirmed":
                     wanted = (only is None or p.id in only) and (full or spec["tier"] == "default")
                     if wanted:
@@ -295,7 +301,7 @@ def run(full: bool, only: list[str] | None, path: Path, quiet: bool = False) -> 
                             print(f"  {q.name}: max |diff| {m['max_abs_difference']:.3g}, "
                                   f"ratio {m['ratio']:.3g}, {m['cpu_seconds']:.3g} s",
                                   flush=True)
-                    elif prev is not None and "ratio" in prev:
+                    elif prev is not None:
                         rec = prev
                 recs.append(rec)
             doc["problems"].setdefault(p.id, {})[q.name] = recs
@@ -308,11 +314,14 @@ def main(argv=None) -> int:
     ap.add_argument("--problem", action="append", help="only this problem (repeatable)")
     ap.add_argument("--output", type=Path, default=None,
                     help="where to write (default reference/confirmations.json)")
+    ap.add_argument("--merge", type=Path, action="append", default=[],
+                    help="an earlier output of this tool whose records (of unchanged specs) "
+                         "are kept where this run measures none (repeatable)")
     args = ap.parse_args(argv)
     from debench.reference import confirmations
 
     path = args.output or ROOT / "reference" / confirmations.PATH.name
-    doc = run(args.full, args.problem, path)
+    doc = run(args.full, args.problem, path, earlier=tuple(args.merge))
     path.write_text(json.dumps(doc, indent=1, ensure_ascii=False) + "\n", encoding="utf-8")
     bad = [(pid, q, r["test"]) for pid, qs in doc["problems"].items() for q, rs in qs.items()
            for r in rs if r.get("ratio", 0.0) > 1]
