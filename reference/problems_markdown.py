@@ -148,7 +148,9 @@ def _md_confirmation(p: Problem, q: Quantity) -> list[str]:
                      ("/ stated accuracy", f"{m['ratio']:.2g} (largest ratio, at {at}; the "
                       "test asserts <= 1)"),
                      ("CPU", f"{m['cpu_seconds']:.3g} s (commit `{m['commit'][:12]}`, "
-                      f"{m['date']})")]
+                      f"{m['date']}" + ("; the same run gives "
+                                        + ", ".join(f"`{x}`" for x in m["shared_with"])
+                                        if m.get("shared_with") else "") + ")")]
         rows.append(("reproduce", f"`{rec['command']}` ({tier}; from a clone)"))
         if rec.get("gap"):
             rows.append(("not confirmed", rec["gap"]))
