@@ -83,7 +83,7 @@ Derived quantities
   from + to - is the voltage limit point (pull-in of the pressurised balloon).
 
 Roots of (5) and (6) are bracketed by a sign scan in log lam on [1, lam_top] and refined
-by Brent's method to :data:`XTOL` (:func:`debench.models.numerics.roots.checked_brentq`);
+by Brent's method to :data:`XTOL` (:func:`debench.models.numerics.roots.bracketed_root`);
 the values at a root are the closed forms (4) evaluated there.
 
 References
@@ -99,7 +99,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from debench.models import validation as v
-from debench.models.numerics.roots import checked_brentq
+from debench.models.numerics.roots import bracketed_root
 
 #: Brent's absolute step tolerance on lam at an extremum: the roots of (5) and (6) are
 #: simple, so lam is then exact to ~1e-15 relative (a few ulp of lam ~ 1..8)
@@ -130,8 +130,9 @@ def locking_stretch(Jm: float) -> float:
     jm = _jm(Jm)
     if math.isinf(jm):
         return math.inf
-    return checked_brentq(lambda x: 2 * x * x + x**-4 - 3 - jm, 1.0,
-                          math.sqrt((jm + 3) / 2) + 1.0, XTOL, "Gent locking stretch")
+    return bracketed_root(lambda x: 2 * x * x + x**-4 - 3 - jm, 1.0,
+                          math.sqrt((jm + 3) / 2) + 1.0, xtol=XTOL,
+                          what="Gent locking stretch").root
 
 
 def _lam(lam, Jm: float):
@@ -218,8 +219,8 @@ def _zeros(f, jm: float, what: str) -> list[tuple[float, int]]:
     fg = f(grid)
     out = []
     for i in np.flatnonzero(np.sign(fg[:-1]) * np.sign(fg[1:]) < 0):
-        x = checked_brentq(lambda t: float(f(np.float64(t))), float(grid[i]),
-                           float(grid[i + 1]), XTOL, what)
+        x = bracketed_root(lambda t: float(f(np.float64(t))), float(grid[i]),
+                           float(grid[i + 1]), xtol=XTOL, what=what).root
         out.append((x, int(np.sign(fg[i]))))
     return out
 

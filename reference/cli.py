@@ -18,6 +18,8 @@ Examples
     debench check ch5_pullin pullin.csv   # columns case, v_pullin, w_pullin: each checked
     debench check --submission submissions/ch5_critical_voltage/dolfinx-axisym
     debench cite ch3.pullin.voltage_lamP_1p25
+    debench orders errors.csv --write orders.csv  # fitted orders of an MMS study, then
+    debench check mms_electroelastic orders.csv   # judged like any reference problem
 """
 
 from __future__ import annotations
@@ -460,6 +462,23 @@ def _add_cite(sub) -> None:
     s.set_defaults(func=cmd_cite_naming_others)
 
 
+def _add_orders(sub) -> None:
+    """The ``debench orders`` subcommand (problem ``mms_electroelastic``)."""
+    from debench.reference.mms_check import FINEST_LEVELS, cmd_orders
+
+    s = sub.add_parser("orders", help="fit the orders of convergence of a manufactured-"
+                       "solution study (CSV: h or ndof, [degree], u_L2, u_H1, phi_L2, "
+                       "phi_H1) and judge them (problem mms_electroelastic)")
+    s.add_argument("table", help="CSV, one row per mesh level")
+    s.add_argument("--degree", type=int, help="polynomial degree (or a degree column)")
+    s.add_argument("--dim", type=int, help="space dimension when the table gives ndof")
+    s.add_argument("--finest", type=int, default=FINEST_LEVELS,
+                   help="finest levels fitted (default %(default)s)")
+    s.add_argument("--write", metavar="CSV", help="write the fitted orders as a table "
+                   "`debench check mms_electroelastic` reads")
+    s.set_defaults(func=cmd_orders)
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="debench",
@@ -473,7 +492,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="print version, git commit and data manifest digest, then exit")
     sub = p.add_subparsers(dest="command", required=True)
     for add in (_add_list, _add_reproduce, _add_verify, _add_report, _add_problems,
-                _add_check, _add_cite):
+                _add_check, _add_orders, _add_cite):
         add(sub)
     # --debug is accepted after the subcommand too (SUPPRESS keeps a top-level --debug)
     for sp in sub.choices.values():

@@ -42,11 +42,11 @@ NAN, INF = float("nan"), float("inf")
 #: public modules not fuzzed here, with the reason (the meta-test accepts only these)
 EXCLUDED_MODULES = {
     "debench.models.numerics": (
-        "shared numerics (roots, convergence fits, GCI) on callables and level arrays: every "
-        "routine runs through synthetic collections with known answers and through its "
-        "failure modes (no sign change, non-monotone levels, bad orders) in "
-        "verification/test_numerics.py and test_fuzz_api.py::"
-        "test_checked_brentq_turns_every_failure_into_convergence_error"),
+        "shared numerics (roots, scans, convergence fits, GCI) on callables and level arrays: "
+        "every routine runs through synthetic collections with known answers and through its "
+        "failure modes (no sign change, NaN, no convergence in maxiter, non-monotone levels, "
+        "bad orders) in verification/test_numerics.py; the adaptive scans "
+        "(debench.models.numerics.scan) are also fuzzed here (_scan_cases)"),
     "debench.models.buckling": "Chapter 5 FE model: validated and fuzzed by its owner",
     "debench.models.materials.energies": (
         "the expressions of the energies, shared by the numpy and NGSolve backends (floats, "
@@ -747,14 +747,14 @@ def _inplane_cases():
              {"theta": 30.0, "params": PD, "n_scan": 20},
              {**th, "params": "obj", "window": "window", "n_scan": "count"},
              extra=bad_theta),
-    ] + _inplane_scan_cases()
+    ] + _scan_cases()
 
 
-def _inplane_scan_cases():
+def _scan_cases():
     """The refinement of sign-change scans (synthetic functions: |x - 0.37| and its V)."""
-    from debench.models.plate import inplane_scan as sc
+    from debench.models.numerics import scan as sc
 
-    p = "debench.models.plate.inplane_scan"
+    p = "debench.models.numerics.scan"
     x = np.linspace(0.0, 1.0, 5)
     m = np.abs(x - 0.37)
     bad_x = [np.array([0.0, 1.0, 0.5, 2.0, 3.0]), np.array([0.0, NAN, 1.0, 2.0, 3.0])]

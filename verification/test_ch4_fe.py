@@ -19,8 +19,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from debench.models.errors import ConvergenceError
-from debench.models.numerics import roots
 from debench.models.plate import PlateParams, base_state, energy_matrix
 from debench.models.plate import strip_fe as sfe
 from debench.reference.datasets import read_dataset
@@ -204,26 +202,6 @@ def test_bad_inputs_raise_naming_the_argument():
     for call, name in cases:
         with pytest.raises(ValueError, match=name):
             call()
-
-
-def test_secant_steps_bracket_a_zero_within_xtol():
-    """Secant steps from a close estimate leave two evaluated points closer than xtol with
-    opposite signs around the zero, and brentq then returns one of them; where the steps
-    find no sign change (a zero outside the bracket, a flat function) the whole bracket is
-    searched, and a bracket without a sign change raises."""
-    root, xtol = 0.7310585786300049, 1e-11
-    fm = roots.Memo(lambda x: np.tanh(3 * (x - root)))
-    roots.secant_steps(fm, 0.73, 0.7, 0.8, xtol)
-    a, b = fm.narrowest_sign_change()
-    assert 0 < b - a < xtol and a <= root <= b and len(fm.values) <= 6
-    r, fm = roots.zero_near(lambda x: np.tanh(3 * (x - root)), 0.73, 0.7, 0.8, xtol)
-    assert abs(r - root) <= xtol and r in fm.values
-    r, _ = roots.zero_near(lambda x: x - 0.79, 0.701, 0.7, 0.8, xtol)
-    assert abs(r - 0.79) <= xtol
-    with pytest.raises(ConvergenceError, match="does not change sign"):
-        roots.zero_near(lambda x: x - 0.95, 0.75, 0.7, 0.8, xtol)
-    with pytest.raises(ConvergenceError, match="does not change sign"):
-        roots.zero_near(lambda x: 1.0, 0.75, 0.7, 0.8, xtol)
 
 
 def test_strip_root_from_the_determinant_root_is_the_bracketed_one():

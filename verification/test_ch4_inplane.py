@@ -13,7 +13,6 @@ from debench.models.plate import PlateParams
 from debench.models.plate import generated_inplane as gen
 from debench.models.plate import inplane as ip
 from debench.models.plate import inplane_fe as ipfe
-from debench.models.plate import inplane_scan as scan
 from debench.reference.catalogue import by_id, evaluate
 from debench.reference.datasets import read_dataset
 from debench.reference.producers import ch4_inplane as prod
@@ -380,86 +379,6 @@ def test_collision_of_characteristic_roots_is_not_a_bifurcation():
     assert np.all(np.abs(det - 1.0) > 1e-3)
     assert det.size == fe.size
     np.testing.assert_allclose(det, fe, rtol=0, atol=prod_study.TOL_AGREE)
-
-
-# ------------------------------------------------- scan refinement: hidden sign changes
-#: a zero refined by brentq to 1e-15 on an O(1) synthetic function: 1e-12 is > 100x its
-#: round-off
-TOL_SYNTH = 1e-12
-#: the synthetic scans: a geometric grid of ~1.3 % intervals, as the builder's (40 points)
-GRID = np.geomspace(0.5, 0.9, 40)
-
-
-def _brackets_of(f, m=None, grid=GRID):
-    """scan_brackets of f with the measure m (default |f|) at the determinant's width."""
-    m = m or (lambda x: np.abs(f(x)))
-    return scan.scan_brackets(lambda x: (f(x), m(x)), grid, width=ip.W_SCAN)
-
-
-def _zeros(f, brackets):
-    from scipy.optimize import brentq
-
-    return sorted(a if fa == 0 else b if fb == 0 else brentq(f, a, b, xtol=1e-15)
-                  for a, b, fa, fb in brackets)
-
-
-def test_refined_scan_separates_a_root_pair_inside_one_grid_interval():
-    """Two simple zeros 1.2e-3 apart in one grid interval: the grid sees no sign change,
-    the refinement beside the minimum of |f| brackets each."""
-    def f(x):
-        return (x - 0.6001) * (x - 0.6013) * np.exp(x)
-
-    assert not np.any(np.diff(np.sign(f(GRID))))
-    brackets, *_ = _brackets_of(f)
-    np.testing.assert_allclose(_zeros(f, brackets), [0.6001, 0.6013], rtol=0, atol=TOL_SYNTH)
-
-
-def test_refined_scan_finds_a_root_beside_a_zero_the_measure_does_not_see():
-    """The determinant's case: a root (where the measure, like the singularity ratio,
-    vanishes) beside a spurious zero of f (a weight factor, which the measure does not
-    see) in one grid interval; both sign changes are bracketed."""
-    def f(x):
-        return (x - 0.7002) * (x - 0.7049)
-
-    assert not np.any(np.diff(np.sign(f(GRID))))
-    brackets, *_ = _brackets_of(f, lambda x: np.abs(x - 0.7002))
-    np.testing.assert_allclose(_zeros(f, brackets), [0.7002, 0.7049], rtol=0, atol=TOL_SYNTH)
-
-
-def test_refined_scan_locates_a_double_root_but_brackets_none():
-    """A tangency f = (x - 0.7)^2 (x + 1): the refinement samples it to the width
-    W_SCAN (|f| never resolves there) but f does not change sign: no bracket, no root."""
-    def f(x):
-        return (x - 0.7) ** 2 * (x + 1)
-
-    brackets, x, _, _ = _brackets_of(f)
-    assert brackets == []
-    assert np.min(np.abs(x - 0.7)) <= ip.W_SCAN * 0.7
-
-
-def test_refined_scan_brackets_a_root_at_a_grid_point():
-    """f vanishes exactly at a grid point: both intervals beside it are brackets whose
-    end is that point, and the zero is the grid point itself."""
-    x0 = GRID[17]
-
-    def f(x):
-        return (x - x0) * (2.0 - x)
-
-    brackets, *_ = _brackets_of(f)
-    assert brackets and all(x0 in (a, b) for a, b, *_ in brackets)
-    assert set(_zeros(f, brackets)) == {x0}
-
-
-def test_refined_scan_adds_no_root_at_a_minimum_away_from_zero():
-    """|f| has a sharp minimum 1e-8 above zero (a near miss): the refinement resolves
-    it (neighbours within RESOLVED of it) after a few halvings, with no bracket."""
-    def f(x):
-        return (x - 0.7) ** 2 + 1e-8
-
-    brackets, x, *_ = _brackets_of(f)
-    assert brackets == [] and x.size > GRID.size
-    # resolved once the spacing is ~sqrt(RESOLVED 1e-8) = 5e-5: far above W_SCAN
-    assert np.min(np.abs(np.diff(x))) > 1e3 * ip.W_SCAN
 
 
 @pytest.mark.parametrize("xi, theta, kH, n_roots", [(5.0, 70.0, 3.0, 1), (1.0, 80.0, 8.0, 2)])

@@ -121,14 +121,3 @@ def test_plate_determinant_of_random_states_is_finite_or_refused(lam, kH, xi, Dh
         assert not strongly_elliptic(lam, p)
         return
     reg.all_finite(out)
-
-
-def test_checked_brentq_turns_every_failure_into_convergence_error():
-    """models.numerics.roots.checked_brentq: a bracket without a sign change raises
-    ConvergenceError naming the search; a bracketed zero is found (to xtol)."""
-    from debench.models.errors import ConvergenceError
-    from debench.models.numerics.roots import checked_brentq
-
-    assert checked_brentq(lambda x: x - 0.25, 0.0, 1.0, 1e-12, "w") == pytest.approx(0.25)
-    with pytest.raises(ConvergenceError, match="w: brentq failed"):
-        checked_brentq(lambda x: x + 1.0, 0.0, 1.0, 1e-12, "w")

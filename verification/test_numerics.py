@@ -10,8 +10,10 @@ import numpy as np
 import pytest
 from debench.models.errors import ConvergenceError
 from debench.models.numerics import (
+    Memo,
     asymptotic_fit,
-    checked_brentq,
+    bisect_boundary,
+    bracketed_root,
     convergence_fit,
     gci,
     level_fit,
@@ -20,6 +22,9 @@ from debench.models.numerics import (
     reference_fit,
     regula_falsi_many,
     richardson,
+    scan_brackets,
+    scan_roots,
+    secant,
     two_term_limits,
     zero_near,
 )
@@ -28,6 +33,7 @@ from debench.models.numerics.convergence import (
     GCI_SAFETY_THEORETICAL,
     SECOND_EXPONENTS,
 )
+from debench.models.numerics.roots import SCAN_METHODS
 
 EPS = np.finfo(float).eps
 #: the absolute tolerance every root method is asked for
@@ -45,27 +51,56 @@ ROOT_PROBLEMS = [
     ("x exp(-x) - 0.1", lambda x: x * np.exp(-x) - 0.1, (0.0, 1.0), 0.11183255915896297),
 ]
 
+#: the secant's starting points: 1 % and 0.5 % of the bracket above the root (the secant
+#: needs no bracket but a start in the root's basin; atan(20 (x - 0.3)) diverges, to a
+#: flat secant, from starts 5 % and 2.5 % of its bracket away)
+SECANT_STARTS = (1e-2, 5e-3)
+#: scan points of scan_roots over a problem's bracket (each problem has one root there)
+SCAN_POINTS = 7
 
-def _brentq(f, a, b, root):
-    return checked_brentq(f, a, b, XTOL, "synthetic")
+
+def _bracketed(f, a, b, root, **kw):
+    return bracketed_root(f, a, b, xtol=XTOL, what="synthetic", **kw)
 
 
-def _zero_near_bracket(f, a, b, root):
-    return zero_near(f, None, a, b, XTOL, "synthetic")[0]
+def _secant(f, a, b, root, **kw):
+    x0, x1 = (root + s * (b - a) for s in SECANT_STARTS)
+    return secant(f, x0, x1, xtol=XTOL, what="synthetic", **kw)
 
 
-def _zero_near_guess(f, a, b, root):
+def _zero_near_bracket(f, a, b, root, **kw):
+    return zero_near(f, None, a, b, XTOL, "synthetic", **kw)
+
+
+def _zero_near_guess(f, a, b, root, **kw):
     # an estimate 1e-4 relative off, as a cheaper method supplies it
-    return zero_near(f, root * (1 + 1e-4), a, b, XTOL, "synthetic")[0]
+    return zero_near(f, root * (1 + 1e-4), a, b, XTOL, "synthetic", **kw)
 
 
-def _regula_falsi(f, a, b, root):
-    x = regula_falsi_many(lambda x, active: f(x), [a], [b], [f(a)], [f(b)], XTOL)
-    return float(x[0])
+def _regula_falsi(f, a, b, root, **kw):
+    return regula_falsi_many(lambda x, active: f(x), [a], [b], [f(a)], [f(b)], XTOL, **kw)
 
 
-ROOT_METHODS = {"checked_brentq": _brentq, "zero_near (bracket)": _zero_near_bracket,
-                "zero_near (guess)": _zero_near_guess, "regula_falsi_many": _regula_falsi}
+def _scan(method):
+    def run(f, a, b, root, **kw):
+        found = scan_roots(f, np.linspace(a, b, SCAN_POINTS),
+                           np.array([f(x) for x in np.linspace(a, b, SCAN_POINTS)]),
+                           xtol=XTOL, method=method, what="synthetic", **kw)
+        if found.root.size != 1:
+            raise ConvergenceError(f"scan found {found.root.size} roots")
+        return found.refined
+    return run
+
+
+ROOT_METHODS = {"bracketed_root": _bracketed, "secant": _secant,
+                "zero_near (bracket)": _zero_near_bracket, "zero_near (guess)": _zero_near_guess,
+                "regula_falsi_many": _regula_falsi,
+                "scan_roots (regula falsi)": _scan("regula_falsi"),
+                "scan_roots (brentq)": _scan("brentq")}
+
+
+def _root(res):
+    return float(np.asarray(res.root).ravel()[0])
 
 
 @pytest.mark.parametrize("method", ROOT_METHODS)
@@ -74,9 +109,21 @@ ROOT_METHODS = {"checked_brentq": _brentq, "zero_near (bracket)": _zero_near_bra
 def test_every_root_method_finds_every_known_root(method, name, f, bracket, root):
     """Each method returns a point within its contract of the known root: a sign change
     across an interval of width <= xtol + 4 eps |x| (brentq's stopping rule), so the
-    returned end lies within twice that of the root."""
-    x = ROOT_METHODS[method](f, *bracket, root)
+    returned end lies within twice that of the root; the secant's last step is below
+    xtol and it converges superlinearly, so its root is as close. The result states it:
+    converged, a bracket around the known root no wider than its ``error``."""
+    res = ROOT_METHODS[method](f, *bracket, root)
+    x = _root(res)
     assert abs(x - root) <= 2 * (XTOL + 4 * EPS * abs(root)), (method, name, x, root)
+    # (a zero at a scan point needs no evaluation beyond the scan)
+    assert res.converged and res.function_calls >= 0 and res.iterations >= 0
+    if res.bracket is not None:
+        a, b = (float(np.asarray(e).ravel()[0]) for e in res.bracket)
+        # round-off of f beside the root may put the sign change a few ulps off it
+        assert min(a, b) - 4 * EPS * abs(root) <= root <= max(a, b) + 4 * EPS * abs(root)
+        assert float(np.asarray(res.error).ravel()[0]) == pytest.approx(abs(b - a))
+    if method != "secant":
+        assert float(np.asarray(res.error).ravel()[0]) <= XTOL + 4 * EPS * abs(root)
 
 
 @pytest.mark.parametrize("method", ROOT_METHODS)
@@ -88,10 +135,74 @@ def test_every_root_method_finds_a_triple_root_or_raises(method):
         return (x - 1.0) ** 3
 
     try:
-        x = ROOT_METHODS[method](f, 0.0, 3.0, 1.0)
+        res = ROOT_METHODS[method](f, 0.0, 3.0, 1.0)
     except ConvergenceError:
         return
-    assert abs(x - 1.0) <= 2 * (XTOL + 4 * EPS), (method, x)
+    # the secant converges only linearly on a triple root: its last step, below xtol,
+    # is ~1/3 of its error
+    slack = 4 if method == "secant" else 2
+    assert abs(_root(res) - 1.0) <= slack * (XTOL + 4 * EPS), (method, res)
+
+
+#: (name, f, bracket, root, what every method must do): the failures of SciPy's
+#: test_zeros collection that a root finder must not hide. "raises": ConvergenceError;
+#: the scans report "no root" (an empty result) where no sign change is sampled
+FAILURES = [
+    ("no sign change (x^2 + 1)", lambda x: x * x + 1.0, (0.0, 1.0), 0.5),
+    ("NaN inside the bracket", lambda x: np.nan if 0.29 < x < 0.31 else x - 0.3, (0.0, 1.0),
+     0.3),
+]
+
+
+@pytest.mark.parametrize("method", ROOT_METHODS)
+@pytest.mark.parametrize(("name", "f", "bracket", "root"), FAILURES,
+                         ids=[p[0] for p in FAILURES])
+def test_every_root_method_refuses_what_it_cannot_solve(method, name, f, bracket, root):
+    """No sign change (no real root) and a function that is NaN where the iteration goes:
+    every method raises ConvergenceError, none returns a number. (A scan that samples no
+    sign change finds no root: its grid here is chosen to sample the NaN-free sign
+    change, whose refinement meets the NaN.)"""
+    if not method.startswith("scan_roots"):
+        with pytest.raises(ConvergenceError):
+            ROOT_METHODS[method](f, *bracket, root)
+        return
+    # grid 0, 0.2, ..., 1: the NaN is not sampled, the sign change [0.2, 0.4] is, and its
+    # refinement evaluates the NaN
+    grid = np.linspace(0.0, 1.0, 6)
+    kw = {"xtol": XTOL, "method": "brentq" if "brentq" in method else "regula_falsi"}
+    if name.startswith("NaN"):
+        with pytest.raises(ConvergenceError):
+            scan_roots(f, grid, np.array([f(x) for x in grid]), **kw)
+    else:
+        found = scan_roots(f, grid, np.array([f(x) for x in grid]), **kw)
+        assert found.root.size == 0 and found.refined is None
+
+
+@pytest.mark.parametrize("method", [m for m in ROOT_METHODS if m != "zero_near (guess)"])
+def test_every_root_method_raises_when_maxiter_does_not_suffice(method):
+    """exp(x) - 2 on [0, 1] needs several iterations of every method: with maxiter = 1
+    each raises ConvergenceError instead of returning its last iterate. (zero_near from a
+    close estimate is left out: its secant steps, with their own fixed budget, leave a
+    bracket already below xtol, on which brentq converges in its first iteration.)"""
+    name, f, bracket, root = ROOT_PROBLEMS[2]
+    with pytest.raises(ConvergenceError):
+        ROOT_METHODS[method](f, *bracket, root, maxiter=1)
+
+
+def test_results_count_what_was_evaluated():
+    """function_calls of brentq and of the secant are the calls of f (brentq's f is
+    called as brentq calls it, no memo; the secant's through a Memo, once per point)."""
+    calls = []
+
+    def f(x):
+        calls.append(x)
+        return math.exp(x) - 2.0
+
+    res = bracketed_root(f, 0.0, 1.0, xtol=XTOL)
+    assert res.function_calls == len(calls) and res.method == "brentq"
+    calls.clear()
+    res = secant(f, 0.8, 0.75, xtol=XTOL)
+    assert res.function_calls == len(calls) == len(set(calls)) and res.method == "secant"
 
 
 def test_regula_falsi_refines_every_bracket_at_once():
@@ -109,31 +220,213 @@ def test_regula_falsi_refines_every_bracket_at_once():
 
     fa = np.array([g(x) for g, x in zip(fs, a, strict=True)])
     fb = np.array([g(x) for g, x in zip(fs, b, strict=True)])
-    x = regula_falsi_many(f, a, b, fa, fb, XTOL)
+    res = regula_falsi_many(f, a, b, fa, fb, XTOL)
     roots = np.array([p[3] for p in ROOT_PROBLEMS])
-    assert np.all(np.abs(x - roots) <= 2 * (XTOL + 4 * EPS * np.abs(roots)))
+    assert np.all(np.abs(res.root - roots) <= 2 * (XTOL + 4 * EPS * np.abs(roots)))
     assert calls[-1] < len(fs)            # converged brackets are no longer evaluated
-
-
-@pytest.mark.parametrize("method", ROOT_METHODS)
-def test_every_root_method_refuses_a_bracket_without_sign_change(method):
-    """x^2 + 1 has no real root: every method raises ConvergenceError, none returns a
-    number."""
-    def f(x):
-        return x * x + 1.0
-
-    with pytest.raises(ConvergenceError):
-        if method == "regula_falsi_many":
-            regula_falsi_many(lambda x, active: f(x), [0.0], [1.0], [f(0.0)], [f(1.0)],
-                              XTOL)
-        else:
-            ROOT_METHODS[method](f, 0.0, 1.0, 0.5)
+    assert res.function_calls == len(calls)
 
 
 def test_regula_falsi_refuses_a_function_not_finite_in_its_bracket():
     with pytest.raises(ConvergenceError, match="not finite"):
         regula_falsi_many(lambda x, active: np.full_like(x, np.nan), [0.0], [1.0], [-1.0],
                           [1.0], XTOL)
+
+
+def test_bracketed_root_names_the_search_in_its_failures():
+    """A bracket without a sign change raises ConvergenceError naming the search and the
+    bracket; a bad tolerance is a ValueError naming it."""
+    assert bracketed_root(lambda x: x - 0.25, 0.0, 1.0, xtol=XTOL, what="w").root == (
+        pytest.approx(0.25))
+    with pytest.raises(ConvergenceError, match=r"w: brentq failed on \[0.0, 1.0\]"):
+        bracketed_root(lambda x: x + 1.0, 0.0, 1.0, xtol=XTOL, what="w")
+    with pytest.raises(ValueError, match="xtol"):
+        bracketed_root(lambda x: x, -1.0, 1.0, xtol=0.0)
+    with pytest.raises(ValueError, match="rtol"):
+        bracketed_root(lambda x: x, -1.0, 1.0, xtol=XTOL, rtol=1e-17)
+
+
+def test_zero_near_from_a_close_estimate_brackets_the_zero_within_xtol():
+    """Secant steps from a close estimate leave two evaluated points closer than xtol with
+    opposite signs around the zero, and brentq then returns one of them (in few
+    evaluations: each may be an eigen-solve); where the steps find no sign change (a zero
+    outside the bracket, a flat function) the whole bracket is searched, and a bracket
+    without a sign change raises."""
+    root, xtol = 0.7310585786300049, 1e-11
+    fm = Memo(lambda x: np.tanh(3 * (x - root)))
+    res = zero_near(fm, 0.73, 0.7, 0.8, xtol)
+    a, b = res.bracket
+    assert 0 < b - a < xtol and a <= root <= b and len(fm.values) <= 6
+    assert abs(res.root - root) <= xtol and res.root in fm.values
+    assert abs(zero_near(lambda x: x - 0.79, 0.701, 0.7, 0.8, xtol).root - 0.79) <= xtol
+    with pytest.raises(ConvergenceError, match="does not change sign"):
+        zero_near(lambda x: x - 0.95, 0.75, 0.7, 0.8, xtol)
+    with pytest.raises(ConvergenceError, match="does not change sign"):
+        zero_near(lambda x: 1.0, 0.75, 0.7, 0.8, xtol)
+
+
+# ------------------------------------------------------------------ grid scans
+def test_scan_roots_finds_every_zero_on_its_grid_once():
+    """sin(x) on [0.5, 10]: pi, 2 pi, 3 pi, in scan order; a zero at a grid point
+    (x - 2 on a grid through 2) is returned once, unrefined; ``select`` keeps the first
+    or last zero; a descending grid gives the zeros in its own order; the brackets are
+    passed with their lower end first (the same roots as an ascending grid)."""
+    grid = np.linspace(0.5, 10.0, 40)
+    want = np.pi * np.arange(1, 4)
+    for method in SCAN_METHODS:
+        found = scan_roots(np.sin, grid, xtol=XTOL, method=method)
+        np.testing.assert_allclose(found.root, want, rtol=0, atol=2 * (XTOL + 4 * EPS * 10))
+        assert list(found.row) == [0, 0, 0]
+        assert np.all((grid[found.interval] < found.root)
+                      & (found.root < grid[found.interval + 1]))
+        first = scan_roots(np.sin, grid, xtol=XTOL, method=method, select="first")
+        last = scan_roots(np.sin, grid, xtol=XTOL, method=method, select="last")
+        assert (first.root.tolist(), last.root.tolist()) == ([found.root[0]],
+                                                              [found.root[-1]])
+        down = scan_roots(np.sin, grid[::-1], xtol=XTOL, method=method)
+        np.testing.assert_array_equal(down.root, found.root[::-1])
+        on = scan_roots(lambda x: x - 2.0, np.linspace(0.0, 4.0, 5), xtol=XTOL,
+                        method=method)
+        assert on.root.tolist() == [2.0]
+
+
+def test_scan_roots_of_several_rows_on_one_grid():
+    """Rows of one grid (the Chapter 4 curves: one row per kH) refined together: each
+    row's zeros, tagged with their row; ``f(points, rows)`` sees each bracket's row."""
+    grid = np.linspace(0.0, 1.0, 11)
+    shifts = np.array([0.33, 0.71, 0.05])
+
+    def f(x, rows):
+        return np.asarray(x) - shifts[rows]
+
+    vals = grid[None, :] - shifts[:, None]
+    for method in SCAN_METHODS:
+        found = scan_roots(f, grid, vals, xtol=XTOL, method=method)
+        assert found.row.tolist() == [0, 1, 2]
+        np.testing.assert_allclose(found.root, shifts, rtol=0, atol=2 * XTOL)
+
+
+def test_scan_roots_refuses_bad_arguments_naming_them():
+    with pytest.raises(ValueError, match="method"):
+        scan_roots(np.sin, np.linspace(1, 4, 5), xtol=XTOL, method="newton")
+    with pytest.raises(ValueError, match="select"):
+        scan_roots(np.sin, np.linspace(1, 4, 5), xtol=XTOL, select="middle")
+    with pytest.raises(ValueError, match="values"):
+        scan_roots(np.sin, np.linspace(1, 4, 5), np.ones(4), xtol=XTOL)
+
+
+def test_bisect_boundary_halves_to_xtol_or_a_fixed_count():
+    """The boundary of {x >= sqrt(2)} from [1, 2]: to xtol, the end where the predicate
+    holds lies within xtol above it; with a fixed count of halvings the bracket is the
+    first interval halved that many times (its width exactly 2^-n here, dyadic ends), and
+    the predicate is called once per halving."""
+    calls = []
+
+    def inside(x):
+        calls.append(x)
+        return x * x >= 2.0
+
+    res = bisect_boundary(inside, 1.0, 2.0, xtol=XTOL)
+    a, b = res.bracket
+    assert a < math.sqrt(2.0) <= b and b - a <= XTOL and res.root == b
+    assert res.function_calls == res.iterations == len(calls)
+    res = bisect_boundary(inside, 1.0, 2.0, halvings=20)
+    a, b = res.bracket
+    assert b - a == 2.0**-20 and a < math.sqrt(2.0) <= b and res.iterations == 20
+
+
+def test_bisect_boundary_refuses_what_it_cannot_do():
+    """An xtol below the spacing of doubles stalls: ConvergenceError, not a loop; both or
+    neither stopping rule, or equal ends: ValueError naming them."""
+    with pytest.raises(ConvergenceError, match="stalled"):
+        bisect_boundary(lambda x: x >= 1.5, 1.0, 2.0, xtol=0.0)
+    with pytest.raises(ValueError, match="exactly one of xtol and halvings"):
+        bisect_boundary(lambda x: True, 1.0, 2.0, xtol=1e-3, halvings=3)
+    with pytest.raises(ValueError, match="exactly one of xtol and halvings"):
+        bisect_boundary(lambda x: True, 1.0, 2.0)
+    with pytest.raises(ValueError, match="distinct"):
+        bisect_boundary(lambda x: True, 1.0, 1.0, xtol=1e-3)
+
+
+# ------------------------------------------------- adaptive scans: hidden sign changes
+#: a zero refined by brentq to 1e-15 on an O(1) synthetic function: 1e-12 is > 100x its
+#: round-off
+TOL_SYNTH = 1e-12
+#: the refinement width of the scans: that of the in-plane determinant scans
+#: (debench.models.plate.inplane.W_SCAN), whose cases these functions reproduce
+WIDTH = 1e-8
+#: the synthetic scans: a geometric grid of ~1.3 % intervals, as the builder's (40 points)
+GRID = np.geomspace(0.5, 0.9, 40)
+
+
+def _brackets_of(f, m=None, grid=GRID):
+    """scan_brackets of f with the measure m (default |f|) at the determinant's width."""
+    m = m or (lambda x: np.abs(f(x)))
+    return scan_brackets(lambda x: (f(x), m(x)), grid, width=WIDTH)
+
+
+def _zeros(f, brackets):
+    return sorted(a if fa == 0 else b if fb == 0 else bracketed_root(f, a, b, xtol=1e-15).root
+                  for a, b, fa, fb in brackets)
+
+
+def test_refined_scan_separates_a_root_pair_inside_one_grid_interval():
+    """Two simple zeros 1.2e-3 apart in one grid interval: the grid sees no sign change,
+    the refinement beside the minimum of |f| brackets each."""
+    def f(x):
+        return (x - 0.6001) * (x - 0.6013) * np.exp(x)
+
+    assert not np.any(np.diff(np.sign(f(GRID))))
+    brackets, *_ = _brackets_of(f)
+    np.testing.assert_allclose(_zeros(f, brackets), [0.6001, 0.6013], rtol=0, atol=TOL_SYNTH)
+
+
+def test_refined_scan_finds_a_root_beside_a_zero_the_measure_does_not_see():
+    """The determinant's case: a root (where the measure, like the singularity ratio,
+    vanishes) beside a spurious zero of f (a weight factor, which the measure does not
+    see) in one grid interval; both sign changes are bracketed."""
+    def f(x):
+        return (x - 0.7002) * (x - 0.7049)
+
+    assert not np.any(np.diff(np.sign(f(GRID))))
+    brackets, *_ = _brackets_of(f, lambda x: np.abs(x - 0.7002))
+    np.testing.assert_allclose(_zeros(f, brackets), [0.7002, 0.7049], rtol=0, atol=TOL_SYNTH)
+
+
+def test_refined_scan_locates_a_double_root_but_brackets_none():
+    """A tangency f = (x - 0.7)^2 (x + 1): the refinement samples it to the width
+    W_SCAN (|f| never resolves there) but f does not change sign: no bracket, no root."""
+    def f(x):
+        return (x - 0.7) ** 2 * (x + 1)
+
+    brackets, x, _, _ = _brackets_of(f)
+    assert brackets == []
+    assert np.min(np.abs(x - 0.7)) <= WIDTH * 0.7
+
+
+def test_refined_scan_brackets_a_root_at_a_grid_point():
+    """f vanishes exactly at a grid point: both intervals beside it are brackets whose
+    end is that point, and the zero is the grid point itself."""
+    x0 = GRID[17]
+
+    def f(x):
+        return (x - x0) * (2.0 - x)
+
+    brackets, *_ = _brackets_of(f)
+    assert brackets and all(x0 in (a, b) for a, b, *_ in brackets)
+    assert set(_zeros(f, brackets)) == {x0}
+
+
+def test_refined_scan_adds_no_root_at_a_minimum_away_from_zero():
+    """|f| has a sharp minimum 1e-8 above zero (a near miss): the refinement resolves
+    it (neighbours within RESOLVED of it) after a few halvings, with no bracket."""
+    def f(x):
+        return (x - 0.7) ** 2 + 1e-8
+
+    brackets, x, *_ = _brackets_of(f)
+    assert brackets == [] and x.size > GRID.size
+    # resolved once the spacing is ~sqrt(RESOLVED 1e-8) = 5e-5: far above W_SCAN
+    assert np.min(np.abs(np.diff(x))) > 1e3 * WIDTH
 
 
 # ------------------------------------------------------------------ convergence fits

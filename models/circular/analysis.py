@@ -17,7 +17,7 @@ import math
 import numpy as np
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError
-from debench.models.numerics.roots import checked_brentq
+from debench.models.numerics.roots import bracketed_root
 from scipy.interpolate import CubicHermiteSpline
 
 from . import circle_a, params
@@ -279,7 +279,7 @@ def _c_threshold_on(br: Branch, definition: str, c_range=(-0.2, 0.0),
     lo, hi = c_range
     if not (f(lo) > 0 > f(hi)):
         raise ConvergenceError(f"pull-in c threshold not bracketed in {c_range} for {annulus}")
-    return checked_brentq(f, lo, hi, OUTER_XTOL, "pull-in c threshold")
+    return bracketed_root(f, lo, hi, xtol=OUTER_XTOL, what="pull-in c threshold").root
 
 
 def _lot_grids(brs, lam_lots) -> list[Branch]:
@@ -427,7 +427,7 @@ def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
 
     if not (f(lo) < 0 < f(hi)):
         raise ConvergenceError(f"suppression pre-stretch not bracketed in {bracket}")
-    return checked_brentq(f, lo, hi, xtol, "suppression pre-stretch")
+    return bracketed_root(f, lo, hi, xtol=xtol, what="suppression pre-stretch").root
 
 
 #: the lockstep suppression search certifies its iterate x once the last step is below

@@ -60,7 +60,7 @@ from debench.models.errors import ConvergenceError
 from debench.models.materials import energies as E
 from debench.models.materials import ngsolve_forms as ngf
 from debench.models.materials.membrane import GentMembrane, ZhaoSuoPermittivity
-from debench.models.numerics.roots import checked_brentq
+from debench.models.numerics.roots import bracketed_root
 from netgen.meshing import Element0D, Element1D, MeshPoint, Pnt
 from netgen.meshing import Mesh as NetgenMesh
 from scipy.optimize import minimize_scalar
@@ -390,7 +390,7 @@ def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
         else:                       # g(b) <= 0: it lies above b
             a, b, ga = b, min(hi, b + w), gb
             gb = g(b)
-    root = checked_brentq(g, a, b, xtol, "FE suppression pre-stretch")
+    root = bracketed_root(g, a, b, xtol=xtol, what="FE suppression pre-stretch").root
     neg = [x for x in seen if seen[x][0] < 0]
     pos = [x for x in seen if seen[x][0] >= 0]
     if root not in seen:

@@ -21,7 +21,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError
-from scipy.optimize import brentq
+from debench.models.numerics.roots import bracketed_root
 
 #: Newton stops on a relative update below this (quadratic convergence: the next update
 #: would be ~1e-20; the bordered system has condition ~1e8 on the finest meshes, so a
@@ -171,8 +171,8 @@ class BorderedContinuation:
         for lam in lams[1:]:
             cur = self.solve(float(lam))
             if g(prev) > 0 >= g(cur):
-                root = brentq(lambda t: g(self.solve(t)), prev.lam, cur.lam,
-                              xtol=ROOT_XTOL, rtol=4 * np.finfo(float).eps)
+                root = bracketed_root(lambda t: g(self.solve(t)), prev.lam, cur.lam,
+                                      xtol=ROOT_XTOL, what=f"FE {what}").root
                 return self.solve(root)
             prev = cur
         raise ValueError(f"no {what} for lam in [{self.lamP}, {lam_hi}] (lamP = {self.lamP},"

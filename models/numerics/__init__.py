@@ -1,5 +1,7 @@
-"""Shared numerics of every chapter: bracketed roots (:mod:`.roots`) and mesh-convergence
-and limit fits with Roache's grid convergence index (:mod:`.convergence`).
+"""Shared numerics of every chapter: scalar roots (:mod:`.roots`: bracketed, secant,
+near an estimate, many brackets at once, grid scans), adaptive sign-change scans that do
+not lose close zeros (:mod:`.scan`), and mesh-convergence and limit fits with Roache's
+grid convergence index (:mod:`.convergence`).
 
 Each routine is tested once on synthetic problems with known answers, through every method
 (``verification/test_numerics.py``), the way SciPy's ``test_zeros`` runs one collection of
@@ -23,26 +25,53 @@ from debench.models.numerics.convergence import (
     richardson,
     two_term_limits,
 )
-from debench.models.numerics.roots import Memo, checked_brentq, regula_falsi_many, zero_near
+from debench.models.numerics.roots import (
+    Memo,
+    RootResult,
+    ScanRoots,
+    bisect_boundary,
+    bracketed_root,
+    regula_falsi_many,
+    scan_roots,
+    secant,
+    zero_near,
+)
+from debench.models.numerics.scan import (
+    grid_samples,
+    refine_samples,
+    refinement_points,
+    scan_brackets,
+    sign_change_brackets,
+)
 
 __all__ = [
     "GCI",
     "LimitFit",
     "Memo",
     "PGradingEstimate",
+    "RootResult",
+    "ScanRoots",
     "ThreePointFit",
     "asymptotic_fit",
-    "checked_brentq",
+    "bisect_boundary",
+    "bracketed_root",
     "convergence_fit",
     "gci",
     "gci_safety",
+    "grid_samples",
     "level_fit",
     "p_grading_estimate",
     "p_grading_safety",
     "propagated_accuracy",
     "reference_fit",
+    "refine_samples",
+    "refinement_points",
     "regula_falsi_many",
     "richardson",
+    "scan_brackets",
+    "scan_roots",
+    "secant",
+    "sign_change_brackets",
     "two_term_limits",
     "zero_near",
 ]

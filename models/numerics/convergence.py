@@ -36,9 +36,14 @@ from typing import NamedTuple
 
 import numpy as np
 from debench.models.errors import ConvergenceError, require
+from debench.models.numerics.roots import bracketed_root
 
 #: rates a free-rate fit may find (a rate at a bound is not a fit: ConvergenceError)
 RATE_BOUNDS = (0.05, 8.0)
+#: absolute tolerance of the three-point rate (brentq's default, 2e-12: the rate enters
+#: the limit through h^p, whose relative change is ~1e-12 |ln h|, far below the level
+#: differences the fits resolve)
+RATE_XTOL = 2e-12
 
 #: On synthetic sequences v_inf + C h^1.7 + D h^3 with the h^3 term 1-4 % of the leading
 #: one at the coarsest level (5 levels, h = 3 ... 0.7), the true error of the fitted limit
@@ -127,9 +132,7 @@ def richardson(h, v) -> ThreePointFit:
     if not (math.isfinite(ratio) and ratio > 0 and f(lo) * f(hi) < 0):
         raise ConvergenceError(f"richardson: levels {list(v[-3:])} at h = {list(h[-3:])} do "
                                f"not converge monotonically at a rate in [{lo}, {hi}]")
-    from scipy.optimize import brentq
-
-    p = brentq(f, lo, hi)
+    p = bracketed_root(f, lo, hi, xtol=RATE_XTOL, what="richardson: the rate").root
     c = (v2 - v3) / (h2**p - h3**p)
     return ThreePointFit(float(v3 - c * h3**p), float(p))
 

@@ -3,7 +3,8 @@
 Two independent methods give the critical stretch lam_cr(kH):
 
 * :mod:`debench.models.plate.ansatz` - exponential-ansatz determinant (eqs 4.61-4.82), even/odd
-  split, roots bracketed on a grid and refined with brentq;
+  split, roots bracketed on a grid and refined together by regula falsi
+  (:func:`debench.models.numerics.roots.scan_roots`);
 * :mod:`debench.models.plate.fem` - 1D finite elements through the thickness (Hermite-cubic
   stream function, quadratic electric stream function), lam_cr from the zero crossing of
   an eigenvalue of the generalised eigenproblem K v = omega M v.

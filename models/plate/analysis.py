@@ -14,7 +14,7 @@ from types import SimpleNamespace
 import numpy as np
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError
-from debench.models.numerics.roots import regula_falsi_many
+from debench.models.numerics.roots import bisect_boundary, scan_roots
 from debench.models.plate.ansatz import (
     _column,
     _determinant,
@@ -24,7 +24,6 @@ from debench.models.plate.ansatz import (
     critical_stretches,
 )
 from debench.models.plate.coefficients import PlateParams, _strongly_elliptic, coefficients
-from scipy.optimize import brentq
 
 
 def _params(params) -> PlateParams:
@@ -43,6 +42,14 @@ def membrane_stress(lam, params: PlateParams):
     """
     a, b2, c, *_ = coefficients(lam, params)
     return a - c
+
+
+#: root tolerance in lam of the thin limit a - c = 0 (a rational function of lam): ~45
+#: ulps at lam ~ 1
+THIN_XTOL = 1e-14
+#: root tolerance in lam of the half-space limit (its determinant is smooth in lam < 1):
+#: ~90 ulps at lam ~ 0.5
+HALF_SPACE_XTOL = 1e-14
 
 
 def thin_limit(params: PlateParams, window=(0.3, 10.0), n: int = 2000) -> np.ndarray:
@@ -65,13 +72,8 @@ def thin_limit(params: PlateParams, window=(0.3, 10.0), n: int = 2000) -> np.nda
     def f(x):
         return membrane_stress(np.asarray(x, float), params)
 
-    ms = f(grid)
-    idx = np.nonzero(np.sign(ms[:-1]) * np.sign(ms[1:]) < 0)[0]
-    if not idx.size:
-        return np.array([])
-    # all sign changes refined together to xtol = 1e-14 (vectorised Illinois iteration)
-    return regula_falsi_many(lambda x, _: f(x), grid[idx], grid[idx + 1], ms[idx], ms[idx + 1],
-                   xtol=1e-14)
+    # all sign changes refined together (vectorised Illinois iteration)
+    return scan_roots(f, grid, xtol=THIN_XTOL, what="thin limit (a - c = 0)").root
 
 
 def euler_coefficient_isotropic() -> float:
@@ -130,14 +132,13 @@ def half_space_limit(params: PlateParams, window=(0.3, 0.999)) -> float:
     lo, hi = v.window("window", window)
     if hi > 1:
         raise ValueError(f"window must lie below 1 (compression), got {window!r}")
-    grid = np.linspace(hi, lo, 700)
-    dv = _half_space_determinant(grid, params)
-    idx = np.nonzero(np.isfinite(dv[:-1]) & np.isfinite(dv[1:]) & (dv[:-1] * dv[1:] < 0))[0]
-    if idx.size == 0:
+    grid = np.linspace(hi, lo, 700)      # from the top: the first sign change is the largest
+    found = scan_roots(lambda x: float(_half_space_determinant(x, params)), grid,
+                       _half_space_determinant(grid, params), xtol=HALF_SPACE_XTOL,
+                       method="brentq", select="first", what="half-space determinant")
+    if not found.root.size:
         raise ConvergenceError(f"no half-space root in {window} for {params}")
-    i = idx[0]
-    return brentq(lambda x: float(_half_space_determinant(x, params)), grid[i + 1], grid[i],
-                  xtol=1e-14)
+    return float(found.root[0])
 
 
 def biot_equibiaxial_closed_form() -> float:
@@ -250,6 +251,12 @@ def _max_area_D(Dhats, A) -> float:
     return float(-c1 / (2 * c2))
 
 
+#: halvings of the Dhat grid interval holding the onset of the extensional mode: its
+#: spacing (0.05 with the 111 points on the default window (0.5, 6)) to 0.05 2^-40 ~ 5e-14,
+#: far below the printed digits of the critical Dhat
+ONSET_HALVINGS = 40
+
+
 def critical_D_thin_extensional(params: PlateParams, D_window=(0.5, 6.0),
                                 kH: float = 1e-3, lam_window=(0.4, 8.0)) -> float:
     """Candidate 2 for Fig. 4.6: the smallest Dhat at which an extensional (psi-odd)
@@ -290,8 +297,6 @@ def critical_D_thin_extensional(params: PlateParams, D_window=(0.5, 6.0),
             break
     if i == 0:
         raise ConvergenceError(f"no onset of the extensional mode in {D_window}")
-    lo, hi = Ds[i - 1], Ds[i]
-    for _ in range(40):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (lo, mid) if has_root(mid) else (mid, hi)
+    lo, hi = bisect_boundary(has_root, Ds[i - 1], Ds[i], halvings=ONSET_HALVINGS,
+                             what="onset of the extensional mode").bracket
     return 0.5 * (lo + hi)

@@ -36,7 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError, require
-from debench.models.numerics.roots import regula_falsi_many
+from debench.models.numerics.roots import scan_roots
 from debench.models.plate.coefficients import (
     PlateParams,
     _check_lam,
@@ -343,8 +343,9 @@ def critical_stretches(kH: float, params: PlateParams, *, window=LAM_WINDOW,
 
     Sign changes of the determinant on a geometric lam grid bracket the roots; all are
     refined together (vectorised Illinois iteration,
-    :func:`~debench.models.numerics.roots.regula_falsi_many`) to ``xtol = 1e-13``. Points
-    where the model is not strongly elliptic are skipped (no bracket crosses them). Raises
+    :func:`~debench.models.numerics.roots.scan_roots`) to ``xtol = 1e-13``; a zero at a
+    grid point is a root. Points where the model is not strongly elliptic are skipped (no
+    bracket crosses them). Raises
     :class:`ConvergenceError` if the refinement fails on a bracket. ``n_scan >= MIN_SCAN``.
     """
     kH = v.finite("kH", kH)
@@ -355,22 +356,14 @@ def critical_stretches(kH: float, params: PlateParams, *, window=LAM_WINDOW,
     lams, pars = [], []
     for par, vals in zip(parities, _determinants(grid, kH, params, tuple(parities)),
                          strict=True):
-        ok = np.isfinite(vals[:-1]) & np.isfinite(vals[1:])
-        idx = np.nonzero(ok & (np.sign(vals[:-1]) * np.sign(vals[1:]) < 0))[0]
-        exact = np.nonzero(vals == 0)[0]
-        if idx.size:
-            try:
-                r = regula_falsi_many(lambda x, _, par=par: _determinant(x, kH, params, par),
-                                      grid[idx], grid[idx + 1], vals[idx], vals[idx + 1],
-                                      XTOL)
-            except ConvergenceError as exc:
-                raise ConvergenceError(f"root refinement failed at kH={kH}, {params}: "
-                                       f"{exc}") from exc
-            lams += [float(x) for x in r]
-            pars += [par] * idx.size
-        for i in exact:
-            lams.append(float(grid[i]))
-            pars.append(par)
+        try:
+            r = scan_roots(lambda x, par=par: _determinant(x, kH, params, par), grid, vals,
+                           xtol=XTOL).root
+        except ConvergenceError as exc:
+            raise ConvergenceError(f"root refinement failed at kH={kH}, {params}: "
+                                   f"{exc}") from exc
+        lams += [float(x) for x in r]
+        pars += [par] * r.size
     order = np.argsort(lams)
     return Roots(kH, np.asarray(lams)[order], tuple(pars[i] for i in order))
 

@@ -35,9 +35,8 @@ import numpy as np
 import scipy.linalg as sla
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError
-from debench.models.numerics.roots import SECANT_STEP, Memo, zero_near
+from debench.models.numerics.roots import SECANT_STEP, Memo, bracketed_root, zero_near
 from debench.models.plate.coefficients import PlateParams, _strongly_elliptic, energy_matrix
-from scipy.optimize import brentq
 
 #: default number of elements through the thickness
 N_ELEMENTS = 24
@@ -291,19 +290,18 @@ def critical_stretches(kH: float, params: PlateParams, *, window=(0.4, 8.0),
             def fj(x, j=j):
                 return eigenvalues(x, kH, params, n, j + 1)[j]
 
-            try:
-                r, info = brentq(fj, lo, hi, xtol=1e-13, full_output=True)
-            except (ValueError, RuntimeError) as exc:
-                raise ConvergenceError(f"FE brentq failed on [{lo}, {hi}]: {exc}") from exc
-            if not info.converged:
-                raise ConvergenceError("FE brentq did not converge")
-            lams.append(r)
+            lams.append(bracketed_root(fj, lo, hi, xtol=XTOL_SCAN,
+                                       what=f"FE eigenvalue {j} at kH={kH}").root)
             idx.append(int(j))
     return FemRoots(kH, np.asarray(lams), tuple(idx))
 
 
 #: root tolerance of :func:`refine_root` where the eigenvalue is resolved
 XTOL_ROOT = 1e-14
+#: root tolerance in lam of the crossings of :func:`critical_stretches`: the tolerance of
+#: the determinant roots they are compared with (ansatz.XTOL), far below the 1e-5 to which
+#: the two methods must agree
+XTOL_SCAN = 1e-13
 
 
 @v.finite_result
@@ -342,4 +340,4 @@ def refine_root(lam0: float, kH: float, params: PlateParams, n: int, *, index: i
         slope = abs(fm(x1) - fm(x0)) / (x1 - x0)
         if slope > 0:
             xtol = max(XTOL_ROOT, max(roundoff.values()) / slope)
-    return zero_near(fm, lam0, lo, hi, xtol, what=f"eigenvalue {index}")[0]
+    return zero_near(fm, lam0, lo, hi, xtol, what=f"eigenvalue {index}").root

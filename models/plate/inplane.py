@@ -45,18 +45,12 @@ from dataclasses import replace
 import numpy as np
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError
-from debench.models.numerics.roots import regula_falsi_many
+from debench.models.numerics.roots import bisect_boundary, regula_falsi_many, scan_roots
+from debench.models.numerics.scan import grid_samples, refine_samples, sign_change_brackets
 from debench.models.plate import generated_inplane as gen
 from debench.models.plate.ansatz import critical_stretches
 from debench.models.plate.coefficients import PlateParams
-from debench.models.plate.inplane_scan import (
-    _constant_phase,
-    _grid_samples,
-    _refine,
-    _rotated_brackets,
-)
 from debench.models.plate.voltage import critical_stretches_at_voltage, dhat_at_voltage
-from scipy.optimize import brentq
 
 #: directions sampled on the half circle for the strong-ellipticity test
 N_DIRECTIONS = 91
@@ -348,7 +342,7 @@ def critical_stretches_det(kH: float, theta: float, params: PlateParams, *,
 
     Scanned on a geometric grid (strongly elliptic points only), refined down to
     :data:`W_SCAN` beside every unresolved minimum of :func:`boundary_singularity`
-    (:mod:`~debench.models.plate.inplane_scan`: two zeros in one interval cancel); every
+    (:mod:`~debench.models.numerics.scan`: two zeros in one interval cancel); every
     sign change of either weight vector is refined at once (vectorised Illinois iteration
     to :data:`XTOL_ROOT`) and kept where it passes the bifurcation filter
     (:data:`SINGULAR_TOL`, :data:`COLLISION_TOL`). A tangency is no crossing, no root.
@@ -433,17 +427,18 @@ def _evaluate_points(jobs, which, x):
 
 def _refined_samples(jobs):
     """``(samples, phases)`` of the scans of ``jobs``: the samples
-    (:func:`~.inplane_scan.refine_samples`: ``[x, dets (len(_WS), n), ratio, usable]``, NaN
-    where not strongly elliptic) on the grid, refined to :data:`W_SCAN`; the phase of each
+    (:func:`~debench.models.numerics.scan.refine_samples`: ``[x, dets (len(_WS), n),
+    ratio, usable]``, NaN where not strongly elliptic) on the grid, refined to
+    :data:`W_SCAN`; the phase of each
     weight's determinant, from the grid (checked constant to :data:`PHASE_TOL` there:
     near a collision of characteristic roots refined points carry more round-off)."""
     def evaluate(which, x):
         return _evaluate_points(jobs, which, x)
 
-    samples = _grid_samples([j[4] for j in jobs], [j[5] for j in jobs], evaluate)
+    samples = grid_samples([j[4] for j in jobs], [j[5] for j in jobs], evaluate)
     phases = [[_constant_phase(d[ell], PHASE_TOL, "determinant") for d in smp[1]]
               for smp, (*_, ell) in zip(samples, jobs, strict=True)]
-    _refine(evaluate, samples, W_SCAN)
+    refine_samples(evaluate, samples, width=W_SCAN)
     return samples, phases
 
 
@@ -464,7 +459,7 @@ def _refine_det_brackets(jobs, brackets, w, out):
     # every bracket of every scan refined at once (vectorised Illinois iteration,
     # the stopping rule of brentq with xtol = XTOL_ROOT)
     roots = regula_falsi_many(f, *(np.array([br[i] for br in brackets]) for i in (2, 3, 4, 5)),
-                    xtol=XTOL_ROOT)
+                              xtol=XTOL_ROOT).root
     for k, r in zip(job_of, roots, strict=True):
         io, kH, theta, path = jobs[k][:4]
         r = float(r)
@@ -475,7 +470,7 @@ def _refine_det_brackets(jobs, brackets, w, out):
 
 
 #: relative width to which the scan is refined around an unresolved minimum of the
-#: singularity ratio (:mod:`~debench.models.plate.inplane_scan`): two zeros of the
+#: singularity ratio (:mod:`~debench.models.numerics.scan`): two zeros of the
 #: determinant closer than W_SCAN lam may share one sampled interval and cancel. Distinct
 #: roots of the datasets are >= 1e-5 apart, a root and a spurious zero of one weight
 #: vector >= 4e-5 (measured): 1e-8 resolves both with a 1e3 margin. The refinement
@@ -548,6 +543,12 @@ PHASE_TOL = 1e-6
 LAM_E_MARGIN = 1e-3
 
 
+#: width in lam to which :func:`ellipticity_limit` bisects the loss of strong ellipticity:
+#: ~4500 ulps at lam ~ 1, far below LAM_E_MARGIN (1e-3), the margin compression windows keep
+#: above it
+ELLIPTICITY_XTOL = 1e-12
+
+
 def ellipticity_limit(theta: float, params: PlateParams, *, window=(0.45, 0.999),
                       n_scan: int = 200, Vhat: float | None = None) -> float:
     """Largest lam in ``window`` at which plane strong ellipticity fails (compression).
@@ -571,11 +572,16 @@ def ellipticity_limit(theta: float, params: PlateParams, *, window=(0.45, 0.999)
     if not ell[-1]:
         return float(hi)
     i = int(np.nonzero(~ell)[0][-1])
-    a, b = g[i], g[i + 1]
-    while b - a > 1e-12:
-        m = 0.5 * (a + b)
-        a, b = (a, m) if _elliptic(m, theta, path(m)) else (m, b)
-    return float(b)
+    return float(bisect_boundary(lambda m: _elliptic(m, theta, path(m)), g[i], g[i + 1],
+                                 xtol=ELLIPTICITY_XTOL, what="ellipticity limit").root)
+
+
+#: scan points of :func:`membrane_limit` on its window (geometric): tau11 is a polynomial
+#: in lam^2 with at most a few zeros, ~2 % apart at the least on the default window
+MEMBRANE_SCAN = 400
+#: root tolerance of :func:`membrane_limit`: the zero to its round-off (brentq's rtol of
+#: 4 eps dominates at lam ~ 1)
+MEMBRANE_XTOL = 1e-15
 
 
 def membrane_limit(theta: float, params: PlateParams, *, window=(0.45, 8.0),
@@ -588,8 +594,9 @@ def membrane_limit(theta: float, params: PlateParams, *, window=(0.45, 8.0),
 
         tau11 = lam^2 - lam^-4 + 2 xi cos^2(theta) lam^2 (lam^2 - 1) - beta Dhat^2 = 0,
 
-    with Dhat = Dhat(lam) under voltage control. Bracketed on a grid of ``window`` and
-    refined with brentq; None when tau11 has no sign change in ``window``.
+    with Dhat = Dhat(lam) under voltage control. The largest sign change on a grid of
+    ``window`` refined with brentq (:func:`~debench.models.numerics.roots.scan_roots`);
+    None when tau11 has no sign change in ``window``.
     """
     lo, hi = v.window("window", window)
     _check(lo, theta, params)
@@ -599,10 +606,35 @@ def membrane_limit(theta: float, params: PlateParams, *, window=(0.45, 8.0),
     def tau11(x):
         return base_state(x, theta, path(x))[1]
 
-    g = np.geomspace(lo, hi, 400)
-    f = np.array([tau11(x) for x in g])
-    idx = np.nonzero(np.sign(f[:-1]) != np.sign(f[1:]))[0]
-    if not idx.size:
-        return None
-    i = int(idx[-1])
-    return float(brentq(tau11, g[i], g[i + 1], xtol=1e-15, rtol=4 * np.finfo(float).eps))
+    g = np.geomspace(lo, hi, MEMBRANE_SCAN)
+    found = scan_roots(tau11, g, np.array([tau11(x) for x in g]), xtol=MEMBRANE_XTOL,
+                       method="brentq", select="last", what="membrane limit (tau11 = 0)")
+    return float(found.root[-1]) if found.root.size else None
+
+
+def _constant_phase(vals, tol, what):
+    """The phase of complex samples ``vals`` of a function of constant phase: that of its
+    largest value; ConvergenceError naming ``what`` where max |Im| / max |f| of the
+    rotated samples exceeds ``tol``."""
+    phase = vals[np.argmax(np.abs(vals))]
+    phase = phase / abs(phase)
+    rot = vals * np.conj(phase)
+    if np.max(np.abs(rot.imag)) > tol * np.max(np.abs(rot)):
+        raise ConvergenceError(f"{what} phase not constant along the scan (max |Im|/max|f| "
+                               f"= {np.max(np.abs(rot.imag)) / np.max(np.abs(rot)):.2e})")
+    return phase
+
+
+def _rotated_brackets(samples, phases, iw, found):
+    """The sampled intervals where the quantity ``iw`` of each scan, rotated by its phase
+    ``phases[k][iw]``, changes sign: ``(k, phase, a, b, fa, fb)`` each. An interval holding
+    a root already in ``found[k]`` is skipped: it is that root's sign change (one root per
+    sampled interval), whose refinement would only find it again."""
+    brackets = []
+    for k, (x, vals, _, usable) in enumerate(samples):
+        phase = phases[k][iw]
+        f = (vals[iw] * np.conj(phase)).real
+        brackets += [(k, phase, x[i], x[i + 1], f[i], f[i + 1])
+                     for i in sign_change_brackets(x, f, usable=usable)
+                     if not any(x[i] <= q <= x[i + 1] for q in found[k])]
+    return brackets

@@ -16,10 +16,10 @@ import numpy as np
 import scipy.linalg as sla
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError
+from debench.models.numerics.roots import bracketed_root
 from debench.models.plate.coefficients import PlateParams
 from debench.models.plate.fem import _gram, grading
 from debench.models.plate.inplane import _S, XTOL_ROOT, _check, _elliptic_grid, _path
-from scipy.optimize import brentq
 
 #: elements through the thickness (default)
 N_ELEMENTS = 24
@@ -151,8 +151,16 @@ def critical_stretches_fe(kH: float, theta: float, params: PlateParams, *,
                         "cannot resolve this thin plate")
             # located to the root's round-off (a narrower bracket only picks one of the
             # random sign changes inside it), or to XTOL_ROOT where that is smaller
-            out.append(brentq(ev, a, b, args=(j,), xtol=max(XTOL_ROOT, spread), rtol=1e-15))
+            out.append(bracketed_root(lambda x, j=j: ev(x, j), a, b,
+                                      xtol=max(XTOL_ROOT, spread), rtol=RTOL_ROOT,
+                                      what=f"FE eigenvalue {j} at kH={kH}, theta={theta}"
+                                      ).root)
     return np.asarray(out)
+
+
+#: relative tolerance of the FE roots (brentq's floor is 4 eps = 8.9e-16): the roots are
+#: resolved to their round-off or XTOL_ROOT, far above it
+RTOL_ROOT = 1e-15
 
 
 #: bisections of a scan interval in which several eigenvalues cross zero (modes of a

@@ -413,8 +413,7 @@ def critical_stretch(kH: float, bracket: tuple[float, float], parity: str, mater
             seen[float(x)] = m
             return value
 
-    r, _ = zero_near(f, guess, lo, hi, XTOL,
-                     what=f"the ({parity}, n=1) eigenvalue at kH={kH}")
+    r = zero_near(f, guess, lo, hi, XTOL, what=f"the ({parity}, n=1) eigenvalue at kH={kH}").root
     m = seen[r]
     j = int(np.argmin(np.abs(m.omega)))
     control = "charge" if Dhat is not None else "voltage"

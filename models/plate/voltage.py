@@ -25,17 +25,21 @@ from types import SimpleNamespace
 import numpy as np
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError, require
-from debench.models.numerics.roots import regula_falsi_many
+from debench.models.numerics.roots import bracketed_root, scan_roots
 from debench.models.plate.ansatz import (
     LAM_WINDOW,
     MIN_SCAN,
     PARITIES,
+    XTOL,
     _determinant,
     scan_grid,
 )
 from debench.models.plate.coefficients import PlateParams
 from debench.models.plate.fem import eigenvalues
-from scipy.optimize import brentq
+
+#: root tolerance in lam of :func:`fe_root_at_voltage`: 10x below the tolerance XTOL of
+#: the determinant roots it is compared with, ~45 ulps at lam ~ 1
+XTOL_FE = 1e-14
 
 
 @v.finite_result
@@ -100,19 +104,13 @@ def critical_stretches_at_voltage(kH: float, Vhat: float, params: PlateParams, *
     grid = scan_grid(window, n_scan, params)
     lams, pars = [], []
     for par in PARITIES:
-        dv = _determinant_at_voltage(grid, kH, Vhat, params, par)
-        ok = np.isfinite(dv[:-1]) & np.isfinite(dv[1:])
-        idx = np.nonzero(ok & (dv[:-1] * dv[1:] < 0))[0]
-        if not idx.size:
-            continue
         try:
-            r = regula_falsi_many(lambda x, _, par=par: _determinant_at_voltage(x, kH, Vhat, params,
-                                                                      par),
-                        grid[idx], grid[idx + 1], dv[idx], dv[idx + 1], xtol=1e-13)
+            r = scan_roots(lambda x, par=par: _determinant_at_voltage(x, kH, Vhat, params, par),
+                           grid, xtol=XTOL).root
         except ConvergenceError as exc:
             raise ConvergenceError(f"voltage-control root refinement failed: {exc}") from exc
         lams += [float(x) for x in r]
-        pars += [par] * idx.size
+        pars += [par] * r.size
     order = np.argsort(lams)
     return np.asarray(lams)[order], tuple(pars[i] for i in order)
 
@@ -144,21 +142,17 @@ def curves_at_voltage(kH_values, Vhat: float, params: PlateParams, *, window=LAM
     K, L = np.meshgrid(kH_values, grid, indexing="ij")
     rows, lams, pars = [], [], []
     for ip, par in enumerate(PARITIES):
-        dv = _determinant_at_voltage(L, K, Vhat, params, par)
-        ok = np.isfinite(dv[:, :-1]) & np.isfinite(dv[:, 1:])
-        i, j = np.nonzero(ok & (dv[:, :-1] * dv[:, 1:] < 0))
-        if not i.size:
-            continue
-        kk = kH_values[i]
         try:
-            r = regula_falsi_many(lambda x, act, par=par, kk=kk: _determinant_at_voltage(
-                x, kk[act], Vhat, params, par), grid[j], grid[j + 1], dv[i, j],
-                dv[i, j + 1], xtol=1e-13)
+            found = scan_roots(lambda x, rows, par=par: _determinant_at_voltage(
+                x, kH_values[rows], Vhat, params, par), grid,
+                _determinant_at_voltage(L, K, Vhat, params, par), xtol=XTOL)
         except ConvergenceError as exc:
             raise ConvergenceError(f"voltage-control root refinement failed: {exc}") from exc
-        rows.append(i)
-        lams.append(r)
-        pars.append(np.full(i.size, ip))
+        if not found.root.size:
+            continue
+        rows.append(found.row)
+        lams.append(found.root)
+        pars.append(np.full(found.root.size, ip))
     out = np.full((kH_values.size, max_roots), np.nan)
     par_out = np.full((kH_values.size, max_roots), -1, dtype=int)
     if rows:
@@ -198,8 +192,5 @@ def fe_root_at_voltage(lam0: float, kH: float, Vhat: float, params: PlateParams,
     if abs(n_lo - n_hi) != 1:
         raise ConvergenceError(f"inertia {n_lo} -> {n_hi} near lam = {lam0} (voltage control)")
     j = min(n_lo, n_hi)
-    try:
-        return brentq(lambda x: ev(x, j + 1)[j], lo, hi, xtol=1e-14)
-    except (ValueError, RuntimeError) as exc:
-        raise ConvergenceError(f"voltage-control FE brentq failed on [{lo}, {hi}]: "
-                               f"{exc}") from exc
+    return bracketed_root(lambda x: ev(x, j + 1)[j], lo, hi, xtol=XTOL_FE,
+                          what=f"voltage-control FE eigenvalue {j}").root

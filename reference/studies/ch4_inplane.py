@@ -27,6 +27,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
+from debench.models.numerics.roots import bracketed_root
 from debench.models.plate import PlateParams
 from debench.models.plate import inplane as ip
 from debench.models.plate import inplane_fe as ipfe
@@ -281,13 +282,12 @@ def tension_check(fe_source: str = "live"):
 def membrane_limit_closed_form(theta: float, xi: float, Dhat: float) -> float:
     """Largest zero above 1 of tau11 = lam^2 - lam^-4 + 2 xi c^2 lam^2 (lam^2 - 1) - beta
     Dhat^2 (beta = 0.5), written out here independently of the generated base state."""
-    from scipy.optimize import brentq
-
     c2 = math.cos(math.radians(theta)) ** 2
 
     def tau11(x):
         return x**2 - x**-4 + 2 * xi * c2 * x**2 * (x**2 - 1) - 0.5 * Dhat**2
 
-    return brentq(tau11, 1.0, 8.0, xtol=1e-15)
+    return bracketed_root(tau11, 1.0, 8.0, xtol=ip.MEMBRANE_XTOL,
+                          what="membrane limit (closed form)").root
 
 

@@ -1,13 +1,14 @@
 """Sign-change scans that do not lose a root to its neighbour: adaptive refinement.
 
 A scan of f on a grid brackets a zero only where f changes sign across one grid interval;
-two zeros in one interval cancel. For the boundary determinant of
-:func:`debench.models.plate.inplane.det_function` such pairs occur: a bifurcation beside a
-spurious zero of the normalisation (a zero of prod_j (m_j . w) of the amplitude weights),
-or the two close modes of a thick plate (a pair ~exp(-kH) apart).
+two zeros in one interval cancel. Such pairs occur where a function has a spurious zero
+beside a genuine one (the boundary determinant of
+:func:`debench.models.plate.inplane.det_function`: a bifurcation beside a zero of its
+normalisation) or two genuine zeros close together (the two close modes of a thick plate,
+a pair ~exp(-kH) apart).
 
 The remedy needs a measure m >= 0 of nearness to a zero that the grid samples: |f| for a
-plain function, or, for the determinant, the singularity ratio sigma_min/sigma_max of the
+plain function, or, for that determinant, the singularity ratio sigma_min/sigma_max of the
 boundary matrix with unit columns (:func:`debench.models.plate.inplane.boundary_singularity`),
 which is free of the spurious zeros (they scale a column, which the normalisation undoes).
 Near a simple zero m is V-shaped, m ~ c |x - x0|; near a minimum that is not a zero it is
@@ -21,14 +22,15 @@ are halved (:func:`refinement_points`), round after round, until
   does not resolve: on a V with equal spacings h beside the sampled minimum, at distance
   delta <= h/2 from the zero, the neighbour away from the zero is at h + delta >= 3 delta).
 
-The sign changes of f on the refined points (:func:`sign_change_brackets`) are the brackets;
+The sign changes of f on the refined points (:func:`sign_change_brackets`, also the bracket
+test of every grid scan, :func:`debench.models.numerics.roots.scan_roots`) are the brackets;
 a zero of f exactly at a sampled point brackets both intervals beside it. A tangency (even
 multiplicity: f touches zero without changing sign) gives no bracket: it is located by the
 refinement, but it is no crossing. :func:`scan_brackets` runs the whole scan for one
-function; :func:`debench.models.plate.inplane.critical_stretches_det_many` runs the same
-rounds for many scans at once.
+function; :func:`refine_samples` runs the same rounds for many scans at once (one call of
+the function per round for all of them, as
+:func:`debench.models.plate.inplane.critical_stretches_det_many` does).
 """
-
 from __future__ import annotations
 
 import numpy as np
@@ -219,10 +221,11 @@ def _split_usable(usable, halved):
     return np.insert(usable, np.asarray(halved) + 1, usable[np.asarray(halved, int)])
 
 
-def _grid_samples(grids, oks, evaluate):
+def grid_samples(grids, oks, evaluate):
     """``[x, vals, m, usable]`` of each scan (:func:`refine_samples`) on its grid
     ``grids[k]``, evaluated where ``oks[k]`` (NaN elsewhere; an interval is usable where
-    both ends are), every scan's points in one call ``evaluate(which, x)``."""
+    both ends are), every scan's points in one call ``evaluate(which, x)`` (as in
+    :func:`refine_samples`)."""
     which = np.concatenate([np.full(int(ok.sum()), k) for k, ok in enumerate(oks)])
     vals, m = evaluate(which, np.concatenate([g[ok] for g, ok in zip(grids, oks, strict=True)]))
     samples, at = [], 0
@@ -234,31 +237,3 @@ def _grid_samples(grids, oks, evaluate):
         samples.append([g, d, mk, ok[:-1] & ok[1:]])
         at += n
     return samples
-
-
-def _constant_phase(vals, tol, what):
-    """The phase of complex samples ``vals`` of a function of constant phase: that of its
-    largest value; ConvergenceError naming ``what`` where max |Im| / max |f| of the
-    rotated samples exceeds ``tol``."""
-    phase = vals[np.argmax(np.abs(vals))]
-    phase = phase / abs(phase)
-    rot = vals * np.conj(phase)
-    if np.max(np.abs(rot.imag)) > tol * np.max(np.abs(rot)):
-        raise ConvergenceError(f"{what} phase not constant along the scan (max |Im|/max|f| "
-                               f"= {np.max(np.abs(rot.imag)) / np.max(np.abs(rot)):.2e})")
-    return phase
-
-
-def _rotated_brackets(samples, phases, iw, found):
-    """The sampled intervals where the quantity ``iw`` of each scan, rotated by its phase
-    ``phases[k][iw]``, changes sign: ``(k, phase, a, b, fa, fb)`` each. An interval holding
-    a root already in ``found[k]`` is skipped: it is that root's sign change (one root per
-    sampled interval), whose refinement would only find it again."""
-    brackets = []
-    for k, (x, vals, _, usable) in enumerate(samples):
-        phase = phases[k][iw]
-        f = (vals[iw] * np.conj(phase)).real
-        brackets += [(k, phase, x[i], x[i + 1], f[i], f[i + 1])
-                     for i in _sign_change_brackets(f, usable)
-                     if not any(x[i] <= q <= x[i + 1] for q in found[k])]
-    return brackets
