@@ -2,7 +2,9 @@
 
 Each citation names the debench version and git commit, the sha256 of the datasets the
 value comes from (from ``MANIFEST.json``), the thesis section, equation, figure, table
-and page, and the references: the thesis and, for Chapter 3, the source paper. URLs come from one
+and page, and the references: the thesis and, for Chapter 3, the source paper; a problem
+beyond the thesis (chapter 0, e.g. ``lit_balloon``) and its dataset cite the sources the
+problem names instead, never the thesis. URLs come from one
 place, ``[project.urls]`` of ``pyproject.toml``: the repository's (none while the project
 has no public address) and the thesis'. Output as BibTeX and CSL-JSON (the item list
 citeproc processors read).
@@ -55,8 +57,16 @@ HUANG_1964 = {
     "container-title": "Journal of Applied Mechanics", "volume": "31", "page": "447-457",
     "issued": {"date-parts": [[1964]]},
 }
+ZHU_CAI_SUO_2010 = {
+    "id": "zhu_cai_suo_2010", "type": "article-journal",
+    "title": "Nonlinear oscillation of a dielectric elastomer balloon",
+    "author": [{"family": "Zhu", "given": "J."}, {"family": "Cai", "given": "S."},
+               {"family": "Suo", "given": "Z."}],
+    "container-title": "Polymer International", "volume": "59", "page": "378-383",
+    "issued": {"date-parts": [[2010]]}, "DOI": "10.1002/pi.2767",
+}
 REFERENCES = {r["id"]: r for r in (THESIS, ZENG_GAO_2019, ZHAO_SUO_2007, ROACHE_1994,
-                                   HUANG_1964)}
+                                   HUANG_1964, ZHU_CAI_SUO_2010)}
 
 
 def _chapter(text: str) -> int | None:
@@ -97,9 +107,15 @@ def _candidates(item_id: str) -> list[dict[str, Any]]:
     manifest = read_manifest(data_dir())
     if f"{name}.nc" in manifest:
         meta = manifest[f"{name}.nc"]
+        # the dataset of a problem beyond the thesis cites that problem's sources
+        beyond = [q for q in problems.load_all()
+                  if q.chapter == problems.BEYOND_THESIS and name in q.datasets]
+        refs = [(r, _reference(r)) for q in beyond for r in q.references]
         out.append({"kind": "dataset", "title": meta.get("title", name),
-                    "chapter": _chapter(name), "thesis": {}, "datasets": [name], "refs": [],
-                    "text_refs": []})
+                    "chapter": problems.BEYOND_THESIS if beyond else _chapter(name),
+                    "thesis": {}, "datasets": [name],
+                    "refs": [item for _, item in refs if item is not None],
+                    "text_refs": [text for text, item in refs if item is None]})
     entries = {e.id: e for e in catalogue.load()}
     entry = entries.get(item_id) or next(
         (e for e in entries.values() if e.replaces == item_id), None)
@@ -155,6 +171,7 @@ def ambiguity(item_id: str) -> str | None:
 
 def citation(item_id: str) -> list[dict[str, Any]]:
     """CSL-JSON items: debench (with the item cited) first, then its references."""
+    from debench.reference import problems
     from debench.reference.datasets import data_dir, read_manifest
     from debench.reference.provenance import git_commit
 
@@ -171,7 +188,9 @@ def citation(item_id: str) -> list[dict[str, Any]]:
         *(f"{d}.nc sha256 {s}" for d, s in sums.items()),
         f"thesis {where}" if where else "",
         *(f"also cites: {' '.join(text.split())}" for text in info["text_refs"])]))
-    refs = [THESIS] + ([ZENG_GAO_2019] if info["chapter"] == 3 else [])
+    # a problem beyond the thesis (chapter 0) cites its own sources, not the thesis
+    refs = ([] if info["chapter"] == problems.BEYOND_THESIS else
+            [THESIS] + ([ZENG_GAO_2019] if info["chapter"] == 3 else []))
     refs += [r for r in info["refs"] if r not in refs]
     main = {
         "id": f"debench_{re.sub(r'[^A-Za-z0-9]+', '_', item_id)}",

@@ -11,7 +11,7 @@ from debench.reference.results_files import EXIT_FAILED, EXIT_OK, UsageError, re
 
 
 def cmd_problems(args) -> int:
-    from debench.reference import problems, problems_reference
+    from debench.reference import confirmations, problems, problems_reference
 
     if args.id is None:
         items = problems.load_all()
@@ -21,7 +21,7 @@ def cmd_problems(args) -> int:
         print(f"reference problems ({len(items)}):")
         for p in items:
             qs = ", ".join(q.name for q in p.quantities)
-            print(f"  {p.id:28s} ch{p.chapter}  {p.title}  [{qs}]")
+            print(f"  {p.id:28s} {p.chapter_label:6s}  {p.title}  [{qs}]")
         return 0
     try:
         p = problems.get(args.id)
@@ -36,7 +36,7 @@ def cmd_problems(args) -> int:
         print(consensus.problem_page(p), end="")
         return 0
     spec = p.spec()
-    print(f"{p.id}: {p.title} (Chapter {p.chapter})\n\n{p.summary}\n")
+    print(f"{p.id}: {p.title} ({p.where})\n\n{p.summary}\n")
     print(f"geometry: {p.geometry}")
     if isinstance(p.boundary_conditions, str):
         print(f"boundary conditions: {p.boundary_conditions}")
@@ -49,7 +49,10 @@ def cmd_problems(args) -> int:
     else:
         print(f"loading: {p.loading['path']}\ncontrolled: {p.loading['controlled']}")
     print(f"(the full page: debench problems {p.id} --markdown)")
-    print("thesis: " + ", ".join(f"{k} {v}" for k, v in p.thesis.items()))
+    if p.thesis:
+        print("thesis: " + ", ".join(f"{k} {v}" for k, v in p.thesis.items()))
+    if p.references:
+        print("references: " + "; ".join(" ".join(r.split()) for r in p.references))
     print("parameters:")
     for name, par in p.parameters.items():
         print(f"  {name} = {par.get('value')} [{par.get('units', '')}]  "
@@ -61,6 +64,8 @@ def cmd_problems(args) -> int:
               + (f" (defaults {q.defaults})" if q.defaults else ""))
         print(f"  accuracy: atol {acc.atol:g} + rtol {acc.rtol:g} |ref| ({acc.reason})")
         print(f"  discretisation: {acc.discretisation_reason}")
+        for rec in confirmations.records(p.id, q):
+            print(f"  confirmation: {confirmations.summary(rec)}")
     for meta in spec["provenance"]["datasets"].values():
         print(f"dataset {meta['file']} sha256 {meta['sha256']}")
     return 0

@@ -118,6 +118,13 @@ class Quantity:
     definition: dict[str, str] = field(default_factory=dict)
     #: where the reference is defined: window, and what is excluded and why
     domain: dict[str, Any] = field(default_factory=dict)
+    #: how the reference is confirmed (``[[quantity.confirmation]]``): per record its
+    #: ``status`` ("confirmed": a second computation sharing no code with the reference,
+    #: its ``method``, ``implementation``, the ``test`` asserting agreement at the stated
+    #: accuracy, its ``tier``, the ``command`` reproducing it and what it ``covers``;
+    #: "missing": the ``reason``). What it measured is in ``reference/confirmations.json``
+    #: (:mod:`debench.reference.confirmations`).
+    confirmation: tuple[dict[str, Any], ...] = ()
 
     @property
     def coordinates(self) -> tuple[str, ...]:
@@ -177,6 +184,17 @@ class Problem:
         raise ProblemError(f"problem {self.id} has no quantity {name!r}; choose from {names}")
 
     @property
+    def chapter_label(self) -> str:
+        """``ch3`` (the thesis chapter), or ``beyond`` for a problem beyond the thesis."""
+        return "beyond" if self.chapter == BEYOND_THESIS else f"ch{self.chapter}"
+
+    @property
+    def where(self) -> str:
+        """``Chapter 3`` or ``beyond the thesis`` (what a page or listing says)."""
+        return ("beyond the thesis" if self.chapter == BEYOND_THESIS
+                else f"Chapter {self.chapter}")
+
+    @property
     def datasets(self) -> tuple[str, ...]:
         return tuple(dict.fromkeys(q.dataset for q in self.quantities if q.dataset))
 
@@ -199,7 +217,8 @@ class Problem:
                 "defaults": q.defaults, "along": q.along, "along_units": q.along_units,
                 "source": (f"dataset {q.dataset}:{q.variable}" if q.source == "dataset"
                            else f"closed form {q.function}({q.function_args})"),
-                "accuracy": q.accuracy.as_json()} for q in self.quantities],
+                "accuracy": q.accuracy.as_json(),
+                "confirmation": [dict(c) for c in q.confirmation]} for q in self.quantities],
         }
 
 
@@ -227,6 +246,28 @@ def _accuracy(raw: Mapping[str, Any], where: str) -> ReferenceAccuracy:
                     discretisation_reason=str(raw["discretisation"]))
 
 
+#: fields a ``[[quantity.confirmation]]`` record needs, by status
+CONFIRMATION_FIELDS = {
+    "confirmed": ("method", "implementation", "test", "tier", "command", "covers"),
+    "missing": ("reason",),
+}
+
+
+def _confirmation(raw: Mapping[str, Any], where: str) -> dict[str, Any]:
+    raw = dict(raw)
+    status = raw.get("status")
+    if status not in CONFIRMATION_FIELDS:
+        raise ProblemError(f"{where}: confirmation status must be one of "
+                           f"{sorted(CONFIRMATION_FIELDS)}, got {status!r}")
+    lacking = [k for k in CONFIRMATION_FIELDS[status] if not raw.get(k)]
+    if lacking:
+        raise ProblemError(f"{where}: a {status} confirmation needs {lacking}")
+    if status == "confirmed" and raw["tier"] not in ("default", "slow"):
+        raise ProblemError(f"{where}: confirmation tier must be 'default' or 'slow', got "
+                           f"{raw['tier']!r}")
+    return raw
+
+
 def _quantity(raw: Mapping[str, Any], where: str) -> Quantity:
     raw = dict(raw)
     where = f"{where} quantity {raw.get('name')!r}"
@@ -246,6 +287,7 @@ def _quantity(raw: Mapping[str, Any], where: str) -> Quantity:
     if unknown:
         raise ProblemError(f"{where}: unknown fields {sorted(unknown)}")
     raw["select"] = tuple(raw.get("select", ()))
+    raw["confirmation"] = tuple(_confirmation(c, where) for c in raw.get("confirmation", ()))
     return Quantity(accuracy=_accuracy(acc, where), discretisation_from=dfrom, **raw)
 
 

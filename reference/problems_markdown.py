@@ -8,6 +8,7 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
+from debench.reference import confirmations
 from debench.reference.problems import BEYOND_THESIS, Problem, Quantity, provenance
 from debench.reference.problems_reference import COORD_MATCH_RTOL
 from debench.reference.results_files import expected_header
@@ -114,6 +115,50 @@ def _md_quantity(p: Problem, q: Quantity) -> list[str]:
                          f"{COORD_MATCH_RTOL:g} of a stored point is that point)"
                          if q.along else "") + "; or pass `--partial` and the report "
             "says what was covered.", ""]
+    out += _md_confirmation(p, q)
+    return out
+
+
+def _md_cell(text: str) -> str:
+    return " ".join(str(text).split()).replace("|", "\\|")
+
+
+def _md_confirmation(p: Problem, q: Quantity) -> list[str]:
+    """The quantity's confirmation: per record the independent computation, what it
+    covers, the largest |difference| and its ratio to the stated accuracy, the CPU time
+    and the command reproducing it (measured by ``tools/confirm.py``,
+    ``reference/confirmations.json``); or why there is none."""
+    out: list[str] = []
+    for rec in confirmations.records(p.id, q):
+        if rec["status"] == "missing":
+            out += [f"**Confirmation: missing.** {rec['reason']}", ""]
+            continue
+        m = rec.get("measured")
+        tier = "default run" if rec["tier"] == "default" else "slow (opt in with `--full`)"
+        rows = [("independent computation", f"{rec['method']} (`{rec['implementation']}`)"),
+                ("covers", rec["covers"])]
+        if m is None:
+            rows.append(("measured", "not yet: run `python tools/confirm.py"
+                         + (" --full" if rec["tier"] == "slow" else "") + "`"))
+        else:
+            at = ", ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}"
+                           for k, v in m["worst_at"].items())
+            rows += [("largest \\|reference - independent\\|",
+                      f"{m['max_abs_difference']:.2g} over {m['points']} values"),
+                     ("/ stated accuracy", f"{m['ratio']:.2g} (largest ratio, at {at}; the "
+                      "test asserts <= 1)"),
+                     ("CPU", f"{m['cpu_seconds']:.3g} s (commit `{m['commit'][:12]}`, "
+                      f"{m['date']}" + ("; the same run gives "
+                                        + ", ".join(f"`{x}`" for x in m["shared_with"])
+                                        if m.get("shared_with") else "") + ")")]
+        rows.append(("reproduce", f"`{rec['command']}` ({tier}; from a clone)"))
+        if rec.get("gap"):
+            rows.append(("not confirmed", rec["gap"]))
+        out += ["**Confirmation.** The reference agrees with a second computation that "
+                "shares no code with it, within the stated accuracy:", "",
+                "| | |", "|---|---|"]
+        out += [f"| {k} | {_md_cell(v)} |" for k, v in rows]
+        out.append("")
     return out
 
 

@@ -350,7 +350,9 @@ def reference_at(problem: Problem, quantity: Quantity,
 
 
 def reference_json(problem: Problem) -> dict[str, Any]:
-    """Spec plus, per quantity, the reference coordinates, values, units and accuracy."""
+    """Spec plus, per quantity, the reference coordinates, values, units, accuracy and
+    confirmation (the spec's records with what they measured:
+    :func:`debench.reference.confirmations.records`)."""
 
     def clean(a):
         a = np.asarray(a)
@@ -358,10 +360,13 @@ def reference_json(problem: Problem) -> dict[str, Any]:
             return np.where(np.isfinite(a), a, None).tolist()
         return a.astype(str).tolist() if a.dtype.kind in "US" else a.tolist()
 
+    from debench.reference import confirmations
+
     out = {"spec": problem.spec(), "reference": {}}
     for q in problem.quantities:
         item: dict[str, Any] = {"units": q.units, "long_name": q.long_name,
-                                "accuracy": q.accuracy.as_json()}
+                                "accuracy": q.accuracy.as_json(),
+                                "confirmation": confirmations.records(problem.id, q)}
         if q.source == "function":
             x = np.linspace(q.grid["start"], q.grid["stop"], int(q.grid["num"]))
             item.update(dims=[q.along], coords={q.along: clean(x)},

@@ -376,3 +376,40 @@ def test_check_refuses_quantities_that_do_not_share_coordinates(tmp_path, capsys
                     "nh,uniaxial,0,0,1.0,1.0\n")
     assert cli.main(["check", "ch2_kernel_states", str(path)]) == 2
     assert "do not share their coordinates" in capsys.readouterr().err
+
+
+def test_problems_beyond_the_thesis_are_shown_as_beyond_it(capsys):
+    """A problem beyond the thesis (chapter = 0, lit_balloon) is listed as "beyond", never
+    as "ch0"; its text says "beyond the thesis" and prints its references, and no empty
+    "thesis:" line; a thesis problem keeps its chapter and thesis location."""
+    assert cli.main(["problems"]) == 0
+    out = capsys.readouterr().out
+    line = next(x for x in out.splitlines() if x.split()[:1] == ["lit_balloon"])
+    assert line.split()[1] == "beyond" and "ch0" not in out
+    assert any(x.split()[:2] == ["ch3_voltage_stretch", "ch3"] for x in out.splitlines())
+    assert cli.main(["problems", "lit_balloon"]) == 0
+    out = capsys.readouterr().out
+    assert out.splitlines()[0].endswith("(beyond the thesis)")
+    assert "Chapter 0" not in out and not any(x.startswith("thesis:") for x in out.splitlines())
+    assert "references: zhu_cai_suo_2010" in out
+    assert cli.main(["problems", "lit_balloon", "--markdown"]) == 0
+    page = capsys.readouterr().out
+    assert "Beyond the thesis." in page and "Chapter 0" not in page and "Thesis:" not in page
+    assert cli.main(["problems", "ch3_voltage_stretch"]) == 0
+    out = capsys.readouterr().out
+    assert "(Chapter 3)" in out.splitlines()[0]
+    assert any(x.startswith("thesis: ") and len(x) > 10 for x in out.splitlines())
+
+
+@pytest.mark.parametrize("item", ["lit_balloon", "lit_balloon.nc"])
+def test_cite_of_a_problem_beyond_the_thesis_names_its_source_not_the_thesis(item):
+    """``debench cite lit_balloon`` (the problem, and its dataset): the balloon's source
+    (Zhu, Cai & Suo 2010, with its DOI) is cited as an item and the thesis is not (neither
+    as a reference nor as a location in the note)."""
+    text = cite.render(item)
+    items = json.loads(text[text.index("\n["):])
+    ids = [it["id"] for it in items]
+    assert "zeng_2020" not in ids and "zhu_cai_suo_2010" in ids
+    assert items[0]["references"] == "zhu_cai_suo_2010"
+    assert "thesis" not in items[0]["note"] and "Zeng" not in text
+    assert "@article{zhu_cai_suo_2010," in text and "doi = {10.1002/pi.2767}" in text
