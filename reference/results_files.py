@@ -12,6 +12,10 @@ import numpy as np
 #: runtime error (a computation failed)
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_RUNTIME = 0, 1, 2, 3
 
+#: the metadata file that makes a folder a submission (:mod:`debench.reference.submissions`);
+#: named here, below the submissions, so that a folder given as a results file is told apart
+METADATA_NAME = "submission.toml"
+
 
 class UsageError(ValueError):
     """Bad command-line input (exit code :data:`EXIT_USAGE`)."""
@@ -156,8 +160,6 @@ def _check_is_file(path: Path) -> None:
     if path.is_file():
         return
     if path.is_dir():
-        from debench.reference.submissions import METADATA_NAME
-
         hint = (f"; it holds {METADATA_NAME}: to check a submission folder, run "
                 f"'debench check --submission {path}'" if (path / METADATA_NAME).is_file()
                 else "; give the path of a CSV or netCDF file")

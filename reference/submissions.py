@@ -26,7 +26,8 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
-METADATA_NAME = "submission.toml"
+from debench.reference.results_files import METADATA_NAME
+
 SCHEMA_NAME = "submission.schema.json"
 
 

@@ -2,7 +2,7 @@
 
 The perturbation side of the model: the mode spaces of wavenumber n with their axis
 regularity conditions, the bilinear forms at the current state for the three stability
-operators of :data:`TANGENTS`, and the shift-invert Lanczos eigen-solve certified by
+operators of :data:`~debench.models.buckling.axisym.spectra.TANGENTS`, and the shift-invert Lanczos eigen-solve certified by
 inertia counts. The formulation (the cos and sin groups of the perturbation, the axis
 regularity per n, the condensed tangent and Haynsworth's inertia additivity) is written
 once, in :mod:`debench.models.buckling.axisym`.
@@ -167,7 +167,7 @@ class ModeAnalysis:
         """Rayleigh quotients ``Q(x)/M(x)`` of the wavenumber-n perturbations ``x`` =
         (``modes``: free displacement DOFs, columns; ``potentials``: free potential DOFs,
         columns), with the second variation ``Q`` and the mass ``M`` integrated at the
-        quadrature points (the order of the assembled forms, :data:`RQ_ORDER_FACTOR` p).
+        quadrature points (the order of the assembled forms, :data:`~debench.models.buckling.axisym.spectra.RQ_ORDER_FACTOR` p).
 
         At an eigenvector of :meth:`spectrum`'s pencil (with its condensed potential) this
         is its eigenvalue, to second order in the eigenvector's error, but free of the
