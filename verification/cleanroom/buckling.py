@@ -51,6 +51,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from scipy.optimize import brentq
 from scipy.spatial import cKDTree
 from skfem import (
     Basis,
@@ -442,11 +443,16 @@ class Film:
 
 def critical_voltage(case: str, order: int = 2, n_r: int = 40, n_z: int = 4,
                      levels: int = 6, ratio: float = 1.0, v_step: float = 0.05,
-                     v_max: float = 0.6) -> Critical:
+                     v_max: float = 0.6, v_start: float = 0.0) -> Critical:
     """v_cr of ``case`` on one discretisation: continuation in v from 0 by v_step until
     lambda_1 of S_0 changes sign, then the Illinois variant of regula falsi on
     lambda_1(v) (each evaluation a Newton solve from the nearer bracket end) until the
-    bracket is ROOT_RTOL narrow; the lower end certified by LOBPCG."""
+    bracket is ROOT_RTOL narrow; the lower end certified by LOBPCG.
+
+    v_start > 0 (e.g. just below a coarser discretisation's v_cr): the continuation goes
+    from v = 0 straight to v_start (Newton from the undeformed film) and steps by v_step
+    from there; lambda_1 must be positive at v_start. The lower bracket end's certificate
+    (no eigenvalue of S_0 below the tracked positive one) holds as without it."""
     film = Film(case, order, n_r, n_z, levels, ratio)
 
     def solve(v, near):
@@ -461,6 +467,10 @@ def critical_voltage(case: str, order: int = 2, n_r: int = 40, n_z: int = 4,
     if not lo[2] > 0:
         raise RuntimeError(f"S_0 not positive definite at v = 0 (lambda_1 = {lo[2]})")
     l_zero = lo[2]
+    if v_start > 0:
+        lo = solve(v_start, lo)
+        if not lo[2] > 0:
+            raise RuntimeError(f"lambda_1 = {lo[2]} not positive at v_start = {v_start}")
     while True:
         if lo[0] + v_step > v_max:
             raise RuntimeError(f"no sign change of lambda_1 up to v_max = {v_max}")
@@ -498,3 +508,65 @@ def critical_voltage(case: str, order: int = 2, n_r: int = 40, n_z: int = 4,
                            f"tracked {lo[2]}")
     return Critical(case, float(v_cr), (lo[0], hi[0]), (lo[2], hi[2]), float(low[0]),
                     int(3 * film.n), film.newton_iterations)
+
+
+#: the converged sequence (module docstring): order CONVERGED_ORDER on the meshes of N
+#: radial intervals and N/4 layers (n_r = N, n_z = N/4: the rim zone's elements are
+#: square), each refined CONVERGED_LEVELS times at both clamped corners, N in
+#: CONVERGED_SIZES; the levels are converged in the corner refinements (at N = 16 the
+#: refinements 9 -> 12 -> 15 move v_cr by 5.6e-8, then 4.1e-9: a factor 13.5 per three)
+CONVERGED_ORDER = 4
+CONVERGED_SIZES = (16, 24, 32, 40)
+CONVERGED_LEVELS = 15
+#: Roache's safety factor for an estimate not established by many grids (3)
+CONVERGED_SAFETY = 3.0
+
+
+def richardson(sizes, values) -> tuple[float, float]:
+    """(rate r, limit v_inf) of v(N) = v_inf + C N^-r through three (N, v), N increasing;
+    raises unless the two changes have one sign (monotone convergence)."""
+    (n1, n2, n3), (v1, v2, v3) = sizes, values
+    d1, d2 = v1 - v2, v2 - v3
+    if not d1 * d2 > 0:
+        raise RuntimeError(f"not monotone: {values} at N = {sizes}")
+    q = d1 / d2
+
+    def excess(r):
+        return (n1**-r - n2**-r) / (n2**-r - n3**-r) - q
+
+    rate = brentq(excess, 1e-3, 50.0)
+    return float(rate), float(v3 - d2 * n3**-rate / (n2**-rate - n3**-rate))
+
+
+class Converged:
+    """The converged v_cr (Richardson limit of the last three levels) and its error
+    estimate; the levels' values, and the rate and limit of each consecutive triple."""
+
+    def __init__(self, case, sizes, values, fits, value, error):
+        self.case, self.sizes, self.values, self.fits = case, sizes, values, fits
+        self.value, self.error = value, error
+
+
+def converged_critical_voltage(case: str, sizes=CONVERGED_SIZES,
+                               levels: int = CONVERGED_LEVELS,
+                               order: int = CONVERGED_ORDER) -> Converged:
+    """v_cr of ``case`` extrapolated over the meshes N x N/4 (N in sizes, at least four):
+    v(N) = v_inf + C N^-r fitted through each consecutive three levels; the value is the
+    last triple's limit, its error estimate CONVERGED_SAFETY times the larger of the change
+    of the limit from the previous triple and the change of the last limit when the
+    previous triple's rate is used. Each level's continuation starts 1e-5 below the
+    previous level's v_cr (their differences are < 1e-6)."""
+    if len(sizes) < 4 or any(n % 8 for n in sizes):
+        raise ValueError("converged: need >= 4 sizes, each a multiple of 8 (even n_z = N/4)")
+    values = []
+    for n in sizes:
+        start = ({"v_start": values[-1] - 1e-5, "v_step": 2e-5, "v_max": values[-1] + 1e-3}
+                 if values else {})
+        values.append(critical_voltage(case, order, n, n // 4, levels, **start).v_cr)
+    fits = [richardson(sizes[i:i + 3], values[i:i + 3]) for i in range(len(sizes) - 2)]
+    (r_prev, v_prev), v_last = fits[-2], fits[-1][1]
+    n2, n3 = sizes[-2], sizes[-1]
+    d2 = values[-2] - values[-1]
+    v_other_rate = values[-1] - d2 * n3**-r_prev / (n2**-r_prev - n3**-r_prev)
+    error = CONVERGED_SAFETY * max(abs(v_last - v_prev), abs(v_last - v_other_rate))
+    return Converged(case, tuple(sizes), values, fits, v_last, float(error))
