@@ -39,11 +39,44 @@ iterate is projected on the mid-plane-symmetric states (the flat state is one; t
 bending mode is not, and without the projection Newton near v_cr slides onto the buckled
 branch).
 
-Measured convergence (neo-Hookean; layers = elements through the thickness, 40 radial
-intervals, 6 corner refinements): P2 4 layers 0.2204084, P3 4 layers 0.2202792, P4 4
-layers 0.2202722, P4 8 layers 0.2202710; the corner refinements matter little (P2 40 x 4:
-6 -> 10 levels moves v_cr by 6.8e-7, 0.2204083630 -> 0.2204076798), the thickness
-resolution and the order most.
+Measured convergence (neo-Hookean, P4 unless said; N x M = radial intervals x layers,
+L = corner refinements; CPU per solve on a loaded 2-core machine, one thread):
+
+* the corner singularity dominates. At 16 x 4: L = 6, 9, 12, 15 give 0.2202715702,
+  0.2202708466, 0.2202707908, 0.2202707867 (changes 7.2e-7, 5.6e-8, 4.1e-9: a factor
+  ~13.5 per three refinements, so L = 15 is converged in L to ~3e-10).
+* element shape matters: at fixed L = 6, 40 x 4 gives 0.2202721662, 40 x 8 0.2202710073,
+  80 x 4 0.2202787263 (the rim zone's elements 0.05 wide, 0.25 tall), 40 x 4 graded
+  (ratio 0.5) 0.2203068015. Only the meshes with square rim-zone elements, N x N/4,
+  refine systematically: at L = 6, N = 16, 24, 32, 48 give 0.2202715702, 0.2202712081,
+  0.2202710431, 0.2202708923 (rate 1.26 and 1.27 through the two triples, limits
+  0.2202706655 and 0.2202706681).
+* the converged sequence (converged_critical_voltage: N = 16, 24, 32, 40, L = 15; the
+  levels after the first started 1e-5 below the previous v_cr: 12-17 Newton iterations
+  instead of the 26-35 of a continuation from v = 0):
+
+  ===========  ==============  ==============  ==============  ==============
+  N x N/4      16 x 4          24 x 6          32 x 8          40 x 10
+  dofs         6555            10515           16011           23043
+  nh_t1        0.2202707867    0.2202707320    0.2202707090    0.2202706970
+  CPU s        16              15              31              46
+  ogden_t1     0.1471540629    0.1471540236    0.1471540068    0.1471539984
+  CPU s        27              36              59              70
+  ===========  ==============  ==============  ==============  ==============
+
+  neo-Hookean: rates 1.48 (16, 24, 32) and 1.58 (24, 32, 40), limits 0.2202706655 and
+  0.2202706688: v_cr = 0.2202706688 +- 9.9e-9 (3 x the change of the limit);
+  Ogden: rates 1.45, 1.68, limits 0.1471539744, 0.1471539798: v_cr = 0.1471539798 +-
+  1.6e-8. Total 108 s and 192 s CPU. The rate ~1.5, far below P4's smooth 8, is
+  presumably the clamped-free corners' (a singular r^lambda resolved by the elements
+  around the refined zone, whose size scales with 1/N at fixed L).
+  N = 8 (8 x 2: 0.2202708941, 0.1471541397) is pre-asymptotic (rate 0.25 through 8, 16,
+  24). Repeat solves agree to 2e-11 (root tolerance 1e-10 relative).
+* previous measurements (40 radial intervals, L = 6): P2 4 layers 0.2204084, P3 4 layers
+  0.2202792, P3 8 layers 0.2202723, P4 4 layers 0.2202722, P4 8 layers 0.2202710 (3.4e-7
+  above the converged value; 4 -> 8 layers changes it by 1.2e-6, so no single one of
+  these resolves the corners to the reference's 2e-7); P2 40 x 4: 6 -> 10 corner
+  refinements moves v_cr by 6.8e-7.
 """
 
 from __future__ import annotations
