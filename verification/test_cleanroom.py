@@ -272,6 +272,19 @@ def test_cleanroom_buckling_cheap_level_within_its_own_error_estimate(case):
     assert abs(v2 - reference) <= estimate, (case, v1, v2, reference, estimate)
 
 
+def test_buckling_richardson_recovers_rate_and_limit():
+    """The three-level fit of v(N) = v_inf + C N^-r returns r and v_inf of exact data
+    (the converged sequence's sizes, the measured neo-Hookean magnitudes) and refuses
+    non-monotone data."""
+    sizes = buckling.CONVERGED_SIZES[1:]
+    rate, limit = buckling.richardson(sizes, [0.2202706688 + 2.5e-5 * n**-1.5
+                                              for n in sizes])
+    assert rate == pytest.approx(1.5, rel=1e-6)
+    assert limit == pytest.approx(0.2202706688, abs=1e-13)
+    with pytest.raises(RuntimeError, match="not monotone"):
+        buckling.richardson(sizes, [0.3, 0.1, 0.2])
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("case", buckling.CASES)
 def test_cleanroom_buckling_converged_confirms_reference_at_stated_accuracy(case):
