@@ -11,6 +11,10 @@ insulated. The flat state is the saddle point of int Omega dV with the electric 
 reached by continuation in Phi from 0; v_cr is the first Phi/t0 sqrt(eps/mu_ref) at which
 the lowest eigenvalue of the fixed-voltage tangent condensed over the potential,
 S = K_uu - K_up K_pp^-1 K_pu, crosses zero in the axisymmetric wavenumber n = 0.
+The page's second quantity, v_cr_n1 (wavenumber n = 1), is not computed here: it needs the
+energy's second derivatives in the non-axisymmetric components of F and E_L and the n = 1
+axis conditions (U + V = 0, W = Q = 0), which the sibling clean room ``wrinkling`` has for
+the Ogden film (aspect 20, imperfect); not yet for this film or the neo-Hookean energy.
 
 Units: lengths in t0, stresses in mu_ref, permittivity in eps, so Phi itself is v.
 
