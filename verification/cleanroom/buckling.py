@@ -75,7 +75,9 @@ L = corner refinements; CPU per solve on a loaded 2-core machine, one thread):
   presumably the clamped-free corners' (a singular r^lambda resolved by the elements
   around the refined zone, whose size scales with 1/N at fixed L).
   N = 8 (8 x 2: 0.2202708941, 0.1471541397) is pre-asymptotic (rate 0.25 through 8, 16,
-  24). Repeat solves agree to 2e-11 (root tolerance 1e-10 relative).
+  24). Repeat runs agree to 4e-11 to 1.5e-10 per level (ARPACK's random start vector; root
+  tolerance 1e-10 relative) and to 1.4e-9 in the limit: a second run gave 0.2202706674 +-
+  7.7e-9 and 0.1471539785 +- 1.3e-8 (268 s CPU for both cases), within the estimates.
 * previous measurements (40 radial intervals, L = 6): P2 4 layers 0.2204084, P3 4 layers
   0.2202792, P3 8 layers 0.2202723, P4 4 layers 0.2202722, P4 8 layers 0.2202710 (3.4e-7
   above the converged value; 4 -> 8 layers changes it by 1.2e-6, so no single one of
