@@ -11,6 +11,10 @@ insulated. The flat state is the saddle point of int Omega dV with the electric 
 reached by continuation in Phi from 0; v_cr is the first Phi/t0 sqrt(eps/mu_ref) at which
 the lowest eigenvalue of the fixed-voltage tangent condensed over the potential,
 S = K_uu - K_up K_pp^-1 K_pu, crosses zero in the axisymmetric wavenumber n = 0.
+The page's second quantity, v_cr_n1 (wavenumber n = 1), is not computed here: it needs the
+energy's second derivatives in the non-axisymmetric components of F and E_L and the n = 1
+axis conditions (U + V = 0, W = Q = 0), which the sibling clean room ``wrinkling`` has for
+the Ogden film (aspect 20, imperfect); not yet for this film or the neo-Hookean energy.
 
 Units: lengths in t0, stresses in mu_ref, permittivity in eps, so Phi itself is v.
 
@@ -39,11 +43,46 @@ iterate is projected on the mid-plane-symmetric states (the flat state is one; t
 bending mode is not, and without the projection Newton near v_cr slides onto the buckled
 branch).
 
-Measured convergence (neo-Hookean; layers = elements through the thickness, 40 radial
-intervals, 6 corner refinements): P2 4 layers 0.2204084, P3 4 layers 0.2202792, P4 4
-layers 0.2202722, P4 8 layers 0.2202710; the corner refinements matter little (P2 40 x 4:
-6 -> 10 levels moves v_cr by 6.8e-7, 0.2204083630 -> 0.2204076798), the thickness
-resolution and the order most.
+Measured convergence (neo-Hookean, P4 unless said; N x M = radial intervals x layers,
+L = corner refinements; CPU per solve on a loaded 2-core machine, one thread):
+
+* the corner singularity dominates. At 16 x 4: L = 6, 9, 12, 15 give 0.2202715702,
+  0.2202708466, 0.2202707908, 0.2202707867 (changes 7.2e-7, 5.6e-8, 4.1e-9: a factor
+  ~13.5 per three refinements, so L = 15 is converged in L to ~3e-10).
+* element shape matters: at fixed L = 6, 40 x 4 gives 0.2202721662, 40 x 8 0.2202710073,
+  80 x 4 0.2202787263 (the rim zone's elements 0.05 wide, 0.25 tall), 40 x 4 graded
+  (ratio 0.5) 0.2203068015. Only the meshes with square rim-zone elements, N x N/4,
+  refine systematically: at L = 6, N = 16, 24, 32, 48 give 0.2202715702, 0.2202712081,
+  0.2202710431, 0.2202708923 (rate 1.26 and 1.27 through the two triples, limits
+  0.2202706655 and 0.2202706681).
+* the converged sequence (converged_critical_voltage: N = 16, 24, 32, 40, L = 15; the
+  levels after the first started 1e-5 below the previous v_cr: 12-17 Newton iterations
+  instead of the 26-35 of a continuation from v = 0):
+
+  ===========  ==============  ==============  ==============  ==============
+  N x N/4      16 x 4          24 x 6          32 x 8          40 x 10
+  dofs         6555            10515           16011           23043
+  nh_t1        0.2202707867    0.2202707320    0.2202707090    0.2202706970
+  CPU s        16              15              31              46
+  ogden_t1     0.1471540629    0.1471540236    0.1471540068    0.1471539984
+  CPU s        27              36              59              70
+  ===========  ==============  ==============  ==============  ==============
+
+  neo-Hookean: rates 1.48 (16, 24, 32) and 1.58 (24, 32, 40), limits 0.2202706655 and
+  0.2202706688: v_cr = 0.2202706688 +- 9.9e-9 (3 x the change of the limit);
+  Ogden: rates 1.45, 1.68, limits 0.1471539744, 0.1471539798: v_cr = 0.1471539798 +-
+  1.6e-8. Total 108 s and 192 s CPU. The rate ~1.5, far below P4's smooth 8, is
+  presumably the clamped-free corners' (a singular r^lambda resolved by the elements
+  around the refined zone, whose size scales with 1/N at fixed L).
+  N = 8 (8 x 2: 0.2202708941, 0.1471541397) is pre-asymptotic (rate 0.25 through 8, 16,
+  24). Repeat runs agree to 4e-11 to 1.5e-10 per level (ARPACK's random start vector; root
+  tolerance 1e-10 relative) and to 1.4e-9 in the limit: a second run gave 0.2202706674 +-
+  7.7e-9 and 0.1471539785 +- 1.3e-8 (268 s CPU for both cases), within the estimates.
+* previous measurements (40 radial intervals, L = 6): P2 4 layers 0.2204084, P3 4 layers
+  0.2202792, P3 8 layers 0.2202723, P4 4 layers 0.2202722, P4 8 layers 0.2202710 (3.4e-7
+  above the converged value; 4 -> 8 layers changes it by 1.2e-6, so no single one of
+  these resolves the corners to the reference's 2e-7); P2 40 x 4: 6 -> 10 corner
+  refinements moves v_cr by 6.8e-7.
 """
 
 from __future__ import annotations
@@ -51,6 +90,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from scipy.optimize import brentq
 from scipy.spatial import cKDTree
 from skfem import (
     Basis,
@@ -442,11 +482,16 @@ class Film:
 
 def critical_voltage(case: str, order: int = 2, n_r: int = 40, n_z: int = 4,
                      levels: int = 6, ratio: float = 1.0, v_step: float = 0.05,
-                     v_max: float = 0.6) -> Critical:
+                     v_max: float = 0.6, v_start: float = 0.0) -> Critical:
     """v_cr of ``case`` on one discretisation: continuation in v from 0 by v_step until
     lambda_1 of S_0 changes sign, then the Illinois variant of regula falsi on
     lambda_1(v) (each evaluation a Newton solve from the nearer bracket end) until the
-    bracket is ROOT_RTOL narrow; the lower end certified by LOBPCG."""
+    bracket is ROOT_RTOL narrow; the lower end certified by LOBPCG.
+
+    v_start > 0 (e.g. just below a coarser discretisation's v_cr): the continuation goes
+    from v = 0 straight to v_start (Newton from the undeformed film) and steps by v_step
+    from there; lambda_1 must be positive at v_start. The lower bracket end's certificate
+    (no eigenvalue of S_0 below the tracked positive one) holds as without it."""
     film = Film(case, order, n_r, n_z, levels, ratio)
 
     def solve(v, near):
@@ -461,6 +506,10 @@ def critical_voltage(case: str, order: int = 2, n_r: int = 40, n_z: int = 4,
     if not lo[2] > 0:
         raise RuntimeError(f"S_0 not positive definite at v = 0 (lambda_1 = {lo[2]})")
     l_zero = lo[2]
+    if v_start > 0:
+        lo = solve(v_start, lo)
+        if not lo[2] > 0:
+            raise RuntimeError(f"lambda_1 = {lo[2]} not positive at v_start = {v_start}")
     while True:
         if lo[0] + v_step > v_max:
             raise RuntimeError(f"no sign change of lambda_1 up to v_max = {v_max}")
@@ -498,3 +547,65 @@ def critical_voltage(case: str, order: int = 2, n_r: int = 40, n_z: int = 4,
                            f"tracked {lo[2]}")
     return Critical(case, float(v_cr), (lo[0], hi[0]), (lo[2], hi[2]), float(low[0]),
                     int(3 * film.n), film.newton_iterations)
+
+
+#: the converged sequence (module docstring): order CONVERGED_ORDER on the meshes of N
+#: radial intervals and N/4 layers (n_r = N, n_z = N/4: the rim zone's elements are
+#: square), each refined CONVERGED_LEVELS times at both clamped corners, N in
+#: CONVERGED_SIZES; the levels are converged in the corner refinements (at N = 16 the
+#: refinements 9 -> 12 -> 15 move v_cr by 5.6e-8, then 4.1e-9: a factor 13.5 per three)
+CONVERGED_ORDER = 4
+CONVERGED_SIZES = (16, 24, 32, 40)
+CONVERGED_LEVELS = 15
+#: Roache's safety factor for an estimate not established by many grids (3)
+CONVERGED_SAFETY = 3.0
+
+
+def richardson(sizes, values) -> tuple[float, float]:
+    """(rate r, limit v_inf) of v(N) = v_inf + C N^-r through three (N, v), N increasing;
+    raises unless the two changes have one sign (monotone convergence)."""
+    (n1, n2, n3), (v1, v2, v3) = sizes, values
+    d1, d2 = v1 - v2, v2 - v3
+    if not d1 * d2 > 0:
+        raise RuntimeError(f"not monotone: {values} at N = {sizes}")
+    q = d1 / d2
+
+    def excess(r):
+        return (n1**-r - n2**-r) / (n2**-r - n3**-r) - q
+
+    rate = brentq(excess, 1e-3, 50.0)
+    return float(rate), float(v3 - d2 * n3**-rate / (n2**-rate - n3**-rate))
+
+
+class Converged:
+    """The converged v_cr (Richardson limit of the last three levels) and its error
+    estimate; the levels' values, and the rate and limit of each consecutive triple."""
+
+    def __init__(self, case, sizes, values, fits, value, error):
+        self.case, self.sizes, self.values, self.fits = case, sizes, values, fits
+        self.value, self.error = value, error
+
+
+def converged_critical_voltage(case: str, sizes=CONVERGED_SIZES,
+                               levels: int = CONVERGED_LEVELS,
+                               order: int = CONVERGED_ORDER) -> Converged:
+    """v_cr of ``case`` extrapolated over the meshes N x N/4 (N in sizes, at least four):
+    v(N) = v_inf + C N^-r fitted through each consecutive three levels; the value is the
+    last triple's limit, its error estimate CONVERGED_SAFETY times the larger of the change
+    of the limit from the previous triple and the change of the last limit when the
+    previous triple's rate is used. Each level's continuation starts 1e-5 below the
+    previous level's v_cr (their differences are < 1e-6)."""
+    if len(sizes) < 4 or any(n % 8 for n in sizes):
+        raise ValueError("converged: need >= 4 sizes, each a multiple of 8 (even n_z = N/4)")
+    values = []
+    for n in sizes:
+        start = ({"v_start": values[-1] - 1e-5, "v_step": 2e-5, "v_max": values[-1] + 1e-3}
+                 if values else {})
+        values.append(critical_voltage(case, order, n, n // 4, levels, **start).v_cr)
+    fits = [richardson(sizes[i:i + 3], values[i:i + 3]) for i in range(len(sizes) - 2)]
+    (r_prev, v_prev), v_last = fits[-2], fits[-1][1]
+    n2, n3 = sizes[-2], sizes[-1]
+    d2 = values[-2] - values[-1]
+    v_other_rate = values[-1] - d2 * n3**-r_prev / (n2**-r_prev - n3**-r_prev)
+    error = CONVERGED_SAFETY * max(abs(v_last - v_prev), abs(v_last - v_other_rate))
+    return Converged(case, tuple(sizes), values, fits, v_last, float(error))
