@@ -409,8 +409,22 @@ def _split_id(path: str, ids: dict[str, Result]) -> tuple[Result, list[str]]:
     raise VerdictError(f"verdict placeholder {path!r} names no catalogue entry")
 
 
+def _catalogued(path: str) -> bool:
+    """Whether ``path`` starts with the id of an entry of the catalogue (evaluated or not)."""
+    from debench.reference.catalogue import load
+
+    known = {e.id for e in load()}
+    parts = path.split(".")
+    return any(".".join(parts[:k]) in known for k in range(len(parts), 0, -1))
+
+
 def _record_field(path: str, spec: str, ids: dict[str, Result]) -> str:
-    r, rest = _split_id(path, ids)
+    try:
+        r, rest = _split_id(path, ids)
+    except VerdictError:
+        if _catalogued(path):       # an entry of the catalogue this evaluation left out
+            return NOT_COMPUTED.format(path)
+        raise
     e = r.entry
     what, keys = (rest[0], rest[1:]) if rest else ("value", [])
     if what == "value" and not keys:
@@ -466,8 +480,13 @@ def consensus_sentence(problem: str, quantity: str) -> str:
     of their values lie within the reference's stated accuracy and within the accuracy
     their submitters state, and the spread. It says "within" only of the values that are."""
     from debench.reference import consensus
+    from debench.reference.manifest import DatasetError
 
-    found = [t for t in consensus.tables() if (t.problem, t.quantity) == (problem, quantity)]
+    try:
+        tables = consensus.tables()
+    except DatasetError:        # a data directory without the references (a partial one)
+        return NOT_COMPUTED.format(f"consensus {problem} {quantity}")
+    found = [t for t in tables if (t.problem, t.quantity) == (problem, quantity)]
     if not found or not found[0].rows:
         return f"no curated submission from another code on `{problem}`."
     t = found[0]
