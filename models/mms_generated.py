@@ -4,7 +4,7 @@ Generator: tools/derive_mms.py (sympy 1.14.0).
 Regenerate with ``python tools/derive_mms.py``; verified numerically against a fresh
 derivation by verification/test_mms.py. The public API is :mod:`debench.models.mms`.
 
-Each function evaluates the Python formula strings of :data:`FORMULAS` (the same text
+Each function evaluates the Python formula strings of ``FORMULAS`` (the same text
 the JSON file ships) in the math namespace ``ns``: ``numpy`` (arrays) or ``ngsolve``
 (CoefficientFunctions of ngsolve.x, y, z).
 """

@@ -123,7 +123,7 @@ class Quantity:
     #: its ``method``, ``implementation``, the ``test`` asserting agreement at the stated
     #: accuracy, its ``tier``, the ``command`` reproducing it and what it ``covers``;
     #: "missing": the ``reason``). What it measured is in ``reference/confirmations.json``
-    #: (:mod:`debench.reference.confirmations`).
+    #: (``debench.reference.confirmations``).
     confirmation: tuple[dict[str, Any], ...] = ()
 
     @property

@@ -352,7 +352,7 @@ def reference_at(problem: Problem, quantity: Quantity,
 def reference_json(problem: Problem) -> dict[str, Any]:
     """Spec plus, per quantity, the reference coordinates, values, units, accuracy and
     confirmation (the spec's records with what they measured:
-    :func:`debench.reference.confirmations.records`)."""
+    ``debench.reference.confirmations.records``)."""
 
     def clean(a):
         a = np.asarray(a)

@@ -2,7 +2,7 @@
 
 The perturbation side of the model: the mode spaces of wavenumber n with their axis
 regularity conditions, the bilinear forms at the current state for the three stability
-operators of :data:`~debench.models.buckling.axisym.spectra.TANGENTS`, and the shift-invert Lanczos eigen-solve certified by
+operators of ``TANGENTS``, and the shift-invert Lanczos eigen-solve certified by
 inertia counts. The formulation (the cos and sin groups of the perturbation, the axis
 regularity per n, the condensed tangent and Haynsworth's inertia additivity) is written
 once, in :mod:`debench.models.buckling.axisym`.
@@ -55,11 +55,11 @@ EIG_NCV = 12
 """Lanczos basis size of ARPACK (its default 2k+1 restarts often: 80 operator applications
 for one eigenvalue against ~25 with 12, measured)."""
 TANGENTS = ("coupled", "frozen_potential", "initial_stress")
+"""The stability operators :meth:`ModeAnalysis.spectrum` offers."""
 RQ_ORDER_FACTOR = 2
 """The Rayleigh quotients are integrated with the rule of order RQ_ORDER_FACTOR p, that of
 NGSolve's assembly of the order-p forms (checked: on a coarse mesh the quotient at an
 eigenvector equals its eigenvalue to round-off, test_ch5_axisym)."""
-"""The stability operators :meth:`ModeAnalysis.spectrum` offers."""
 
 
 @dataclass(frozen=True)
@@ -167,7 +167,7 @@ class ModeAnalysis:
         """Rayleigh quotients ``Q(x)/M(x)`` of the wavenumber-n perturbations ``x`` =
         (``modes``: free displacement DOFs, columns; ``potentials``: free potential DOFs,
         columns), with the second variation ``Q`` and the mass ``M`` integrated at the
-        quadrature points (the order of the assembled forms, :data:`~debench.models.buckling.axisym.spectra.RQ_ORDER_FACTOR` p).
+        quadrature points (the order of the assembled forms, ``RQ_ORDER_FACTOR`` p).
 
         At an eigenvector of :meth:`spectrum`'s pencil (with its condensed potential) this
         is its eigenvalue, to second order in the eigenvector's error, but free of the
