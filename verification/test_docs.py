@@ -53,7 +53,7 @@ PROBLEM_PAGE = "generated/problems/ch3_failure_points.html"
 #: seconds the browser may spend loading the pages (virtual time: it ends early when
 #: nothing is pending); a page of this site loads locally in well under a second
 BROWSER_BUDGET_MS = 20000
-#: the window width at which no table of the site may overflow (issue 48: the errata
+#: the window width at which no table of the site may overflow (without the site CSS the errata
 #: table showed only its first two columns at this width)
 LAYOUT_WIDTH_PX = 1400
 #: text that is a Python repr reaching a reader, never data formatted for reading
@@ -202,6 +202,20 @@ def test_every_internal_link_and_anchor_resolves(site):
     assert not bad, f"{len(bad)} broken internal link(s):\n" + "\n".join(bad[:50])
 
 
+_HARNESS_RUN = """    f.src = url;
+    document.body.appendChild(f);
+  });
+}
+(async () => {
+  const out = [];
+  for (const u of URLS) { out.push(await check(u)); }
+  document.getElementById("result").textContent = "RESULT " + JSON.stringify(out);
+})();
+</script></body></html>"""
+"""The end of both harness pages: each ``check(url)`` loads its iframe, and the results of
+every URL, in order, are written into ``<pre id="result">``."""
+
+
 def _harness(urls: list[str]) -> str:
     """A page that opens each URL in a same-origin iframe and writes, per page, its title,
     its first heading and the ``<img>`` that did not load into ``<pre id="result">``."""
@@ -227,16 +241,7 @@ function check(url) {
       };
       wait();
     };
-    f.src = url;
-    document.body.appendChild(f);
-  });
-}
-(async () => {
-  const out = [];
-  for (const u of URLS) { out.push(await check(u)); }
-  document.getElementById("result").textContent = "RESULT " + JSON.stringify(out);
-})();
-</script></body></html>"""
+""" + _HARNESS_RUN
     return page.replace("@URLS@", json.dumps(urls))
 
 
@@ -323,16 +328,7 @@ function check(url) {
                reprs: reprs});
       f.remove();
     };
-    f.src = url;
-    document.body.appendChild(f);
-  });
-}
-(async () => {
-  const out = [];
-  for (const u of URLS) { out.push(await check(u)); }
-  document.getElementById("result").textContent = "RESULT " + JSON.stringify(out);
-})();
-</script></body></html>"""
+""" + _HARNESS_RUN
     return (page.replace("@URLS@", json.dumps(urls)).replace("@WIDTH@", str(width))
             .replace("@REPRS@", json.dumps(list(RAW_REPRS))))
 
