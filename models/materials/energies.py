@@ -114,12 +114,20 @@ def neo_hookean(I1, J, *, mu, k):
     return neo_hookean_isochoric(I1, J, mu=mu) + volumetric(J, k=k)
 
 
+def ogden_isochoric_from_power_sums(power_sum, *, alphas, mus):
+    """Ogden (5.26) ``sum_p 2 mu_p/alpha_p^2 (lb1^a_p + lb2^a_p + lb3^a_p - 3)`` from the
+    power sums ``power_sum(b) = sum_i cbar_i^b`` (``b = alpha_p/2``) of the eigenvalues
+    ``cbar_i = lb_i^2`` of ``Cbar``, however a backend evaluates them (the
+    ``2 mu_p/alpha_p^2`` convention of (5.26), consistent with the Kirchhoff stress (5.27))."""
+    return sum(2 * mu / alpha**2 * (power_sum(alpha / 2) - 3)
+               for alpha, mu in zip(alphas, mus, strict=True))
+
+
 def ogden_term(cbar, *, alpha, mu):
-    """One term of (5.26): ``2 mu_p/alpha_p^2 (lb1^a_p + lb2^a_p + lb3^a_p - 3)`` from the
-    three eigenvalues ``cbar = (lb1^2, lb2^2, lb3^2)`` of ``Cbar``
-    (:func:`isochoric_right_cauchy_green`); the ``2 mu_p/alpha_p^2`` convention of (5.26),
-    consistent with the Kirchhoff stress (5.27)."""
-    return 2 * mu / alpha**2 * (sum(c ** (alpha / 2) for c in cbar) - 3)
+    """One term of (5.26) from the three eigenvalues ``cbar = (lb1^2, lb2^2, lb3^2)`` of
+    ``Cbar`` (:func:`isochoric_right_cauchy_green`, :func:`ogden_isochoric_from_power_sums`)."""
+    return ogden_isochoric_from_power_sums(lambda b: sum(c**b for c in cbar),
+                                           alphas=(alpha,), mus=(mu,))
 
 
 def ogden_isochoric(cbar, *, alphas, mus):

@@ -100,6 +100,132 @@ def ogden_mechanical(F, *, alphas, mus, k, delta=OGDEN_DELTA):
     return w + E.volumetric(J, k=k)
 
 
+SERIES_U = 0.1
+"""Below this relative half-gap ``u`` of two eigenvalues the closed forms of
+:func:`power_pair_sum` and :func:`power_divided_difference` are replaced by their Taylor
+series in ``u^2``: the closed forms lose ~eps_mach/u^k to cancellation (k <= 3 for the second
+derivatives), the series of SERIES_TERMS terms is exact to ~u^(2 SERIES_TERMS) (1e-18 at
+the switch; every binomial coefficient of the library's Ogden exponents is below 1)."""
+SERIES_TERMS = 9
+
+
+def _binomial(a: float, k: int) -> float:
+    """The generalised binomial coefficient ``a (a-1) ... (a-k+1) / k!``."""
+    out = 1.0
+    for i in range(k):
+        out *= (a - i) / (i + 1)
+    return out
+
+
+def _horner(coefficients, x):
+    """``sum_k coefficients[k] x^k`` by Horner's rule (the shortest expression tree)."""
+    out = coefficients[-1]
+    for coef in reversed(coefficients[:-1]):
+        out = coef + x * out
+    return out
+
+
+def power_pair_sum(m, s, b: float):
+    """``(m + sqrt(s))^b + (m - sqrt(s))^b`` for ``0 <= s < m^2``: the power sum of the two
+    eigenvalues ``m +- sqrt(s)`` of a symmetric 2x2 matrix (mean ``m``, squared half-gap
+    ``s``), an even function of ``sqrt(s)`` and hence smooth in ``s`` (the series
+    ``2 m^b sum_k C(b, 2k) (s/m^2)^k`` below ``s = (SERIES_U m)^2``)."""
+    u2 = s / (m * m)
+    series = 2 * _horner([_binomial(b, 2 * j) for j in range(SERIES_TERMS)], u2)
+    u = ng.sqrt(ng.IfPos(u2 - SERIES_U**2, u2, SERIES_U**2))   # finite on both branches
+    exact = (1 + u) ** b + (1 - u) ** b
+    return m**b * ng.IfPos(u2 - SERIES_U**2, exact, series)
+
+
+def power_divided_difference(x, y, g: float):
+    """``(x^g - y^g)/(x - y)`` for ``x, y > 0``, ``g y^(g-1)`` at ``x = y``: with
+    ``m = (x + y)/2``, ``u = (x - y)/(x + y)`` it is ``m^(g-1) ((1+u)^g - (1-u)^g)/(2u)``,
+    the series ``m^(g-1) sum_k C(g, 2k+1) u^2k`` below ``|u| = SERIES_U``."""
+    m = 0.5 * (x + y)
+    u = (x - y) / (x + y)
+    u2 = u * u
+    series = _horner([_binomial(g, 2 * j + 1) for j in range(SERIES_TERMS)], u2)
+    us = ng.IfPos(u2 - SERIES_U**2, u, SERIES_U)                # finite on both branches
+    exact = ((1 + us) ** g - (1 - us) ** g) / (2 * us)
+    return m ** (g - 1) * ng.IfPos(u2 - SERIES_U**2, exact, series)
+
+
+def _isochoric_cauchy_green(F):
+    J = NGSOLVE.det(F)
+    return E.isochoric_right_cauchy_green(E.right_cauchy_green(F, xp=NGSOLVE), J), J
+
+
+def ogden_mechanical_axisymmetric(F, *, alphas, mus, k):
+    """(5.26) + k/2 (J-1)^2, exactly, at an axisymmetric ``F`` in cylindrical components
+    ``(r, theta, z)`` (its entries coupling theta with r or z are zero, so ``Cbar`` has the
+    hoop eigenvalue ``Cbar_tt`` and the (r, z) block): the power sums
+    ``Cbar_tt^b + power_sum_pair(m, s, b)`` with the block's mean ``m`` and squared half-gap
+    ``s = ((Cbar_rr - Cbar_zz)/2)^2 + Cbar_rz^2``.
+
+    No eigenvector and no regularisation: the pair sum is smooth at repeated eigenvalues, so
+    NGSolve's symbolic derivatives are the exact stresses and tangents of every axisymmetric
+    state (for perturbations that leave the axisymmetric states:
+    :func:`ogden_mechanical_about`)."""
+    Cb, J = _isochoric_cauchy_green(F)
+    a, d, crz, ct = Cb[0, 0], Cb[2, 2], Cb[0, 2], Cb[1, 1]
+    m = 0.5 * (a + d)
+    s = 0.25 * (a - d) * (a - d) + crz * crz
+    iso = E.ogden_isochoric_from_power_sums(lambda b: ct**b + power_pair_sum(m, s, b),
+                                            alphas=alphas, mus=mus)
+    return iso + E.volumetric(J, k=k)
+
+
+def axisymmetric_principal_frame(F):
+    """The orthonormal eigenvectors of ``Cbar`` at an axisymmetric ``F`` (cylindrical
+    components ``(r, theta, z)``), as the columns of a 3x3 CF: the (r, z) block's larger and
+    smaller eigenvector and the hoop direction between them. The larger eigenvector is
+    taken from the row of ``Cbar - lambda_1 I`` that has no cancellation; at a repeated
+    (r, z) pair (e.g. the undeformed body) any frame is principal and ``(r, theta, z)`` is
+    returned."""
+    Cb, _ = _isochoric_cauchy_green(F)
+    a, d, crz = Cb[0, 0], Cb[2, 2], Cb[0, 2]
+    w = 0.5 * ng.IfPos(a - d, a - d, d - a) + ng.sqrt(0.25 * (a - d) * (a - d) + crz * crz)
+    vr = ng.IfPos(a - d, w, crz)        # (lambda_1 - d, crz) for a >= d, else (crz, lambda_1 - a)
+    vz = ng.IfPos(a - d, crz, w)
+    n2 = vr * vr + vz * vz
+    tiny = 1e-28 * (a * a + d * d)
+    n = ng.sqrt(ng.IfPos(n2 - tiny, n2, 1.0))
+    er = ng.IfPos(n2 - tiny, vr / n, 1.0)
+    ez = ng.IfPos(n2 - tiny, vz / n, 0.0)
+    return ng.CoefficientFunction((er, 0, -ez, 0, 1, 0, ez, 0, er), dims=(3, 3))
+
+
+def ogden_mechanical_about(F, F0, *, alphas, mus, k):
+    """(5.26) + k/2 (J-1)^2 to second order in ``F - F0`` about an axisymmetric state ``F0``
+    (cylindrical components): with the principal frame ``Q`` of ``Cbar(F0)``
+    (:func:`axisymmetric_principal_frame`), its eigenvalues ``l_i`` and
+    ``A = Q^T Cbar(F) Q``, the power sums ``sum_i A_ii^b + b sum_{i<j} A_ij^2
+    (l_i^(b-1) - l_j^(b-1))/(l_i - l_j)``.
+
+    The eigenvalues of ``A`` are ``A_ii + sum_j A_ij^2/(A_ii - A_jj) + O(|A_offdiag|^3)``
+    (second-order perturbation theory) and ``A_ij = O(F - F0)`` off the diagonal, so the pair
+    terms (divided differences of ``d(c^b)/dc`` at the state,
+    :func:`power_divided_difference`) carry the energy of the off-diagonal part, also at
+    repeated eigenvalues, where their limit is the second derivative. The energy and its
+    first and second derivatives at ``F0`` are those of (5.26): the stability operators of
+    the Ogden film without regularisation, for perturbations that leave the axisymmetric
+    states (``F0 = Id(3)``: about the undeformed body). The pair factors depend on ``F0``
+    only, so derivatives in ``F`` do not expand them."""
+    Cb, J = _isochoric_cauchy_green(F)
+    Q = axisymmetric_principal_frame(F0)
+    Cb0, _ = _isochoric_cauchy_green(F0)
+    A, A0 = Q.trans * Cb * Q, Q.trans * Cb0 * Q
+    pairs = ((0, 1), (0, 2), (1, 2))
+
+    def power_sum(b):
+        return (sum(A[i, i] ** b for i in range(3))
+                + b * sum(A[i, j] * A[i, j] * power_divided_difference(A0[i, i], A0[j, j], b - 1)
+                          for i, j in pairs))
+
+    return (E.ogden_isochoric_from_power_sums(power_sum, alphas=alphas, mus=mus)
+            + E.volumetric(J, k=k))
+
+
 def ideal_dielectric(F, D_L, *, eps):
     """(5.9): ``I5/(2 eps J)``."""
     I = E.invariants(F, D_L, xp=NGSOLVE)
@@ -135,6 +261,24 @@ def mechanical_energy_cf(material, F, *, delta=OGDEN_DELTA):
         return ogden_mechanical(F, alphas=material.alphas, mus=material.mus, k=material.k,
                                 delta=delta)
     raise NotImplementedError(f"no NGSolve mechanical energy for {type(material).__name__}")
+
+
+def axisymmetric_mechanical_energy(material, F, about=None):
+    """The mechanical energy of a library neo-Hookean or Ogden material [Pa] in the
+    axisymmetric models, exact (no regularisation): at an axisymmetric ``F`` (cylindrical
+    components, ``about`` None) or to second order in ``F - about`` about the axisymmetric
+    state ``about`` (:func:`ogden_mechanical_about`; the neo-Hookean energy is exact
+    everywhere and ignores ``about``)."""
+    from debench.models.materials import library as lib
+
+    if isinstance(material, lib.NeoHookeanIdealDielectric):
+        return neo_hookean_mechanical(F, mu=material.mu, k=material.k)
+    if isinstance(material, lib.OgdenIdealDielectric):
+        kw = {"alphas": material.alphas, "mus": material.mus, "k": material.k}
+        if about is None:
+            return ogden_mechanical_axisymmetric(F, **kw)
+        return ogden_mechanical_about(F, about, **kw)
+    raise NotImplementedError(f"no axisymmetric NGSolve energy for {type(material).__name__}")
 
 
 def ti_neo_hookean_dielectric(F, D_L, *, mu, xi, alpha, beta, eps, A):

@@ -137,8 +137,12 @@ class AxisymModel(ModeAnalysis):
         E = referential_field(self._ginv(), pp)
         return F, E
 
-    def _enthalpy(self, F, E):
-        return self._mechanical_energy(F) + ngf.ideal_dielectric_enthalpy(F, E, eps=1.0)
+    def _enthalpy(self, F, E, about=None):
+        """The enthalpy density (units of ``mu_ref``) at ``F``, ``E``: exact at an
+        axisymmetric state (``about`` None), or to second order in ``F - about`` about the
+        axisymmetric state ``about`` (:meth:`_mechanical_energy`)."""
+        return (self._mechanical_energy(F, about)
+                + ngf.ideal_dielectric_enthalpy(F, E, eps=1.0))
 
     # --------------------------------------------------------------- state
     @property

@@ -36,8 +36,7 @@ class AxisymDiscretisation:
     radial element, a check of the axis regularity conditions (the smooth fields they admit
     need no resolution there: every wavenumber's critical voltage is unchanged by them to
     1e-9, tools/probe_n1_axis_grading.py); 0 (default) keeps the uniform inner mesh.
-    ``order``: polynomial order of every field (H1, quadrilaterals). ``ogden_delta``: the
-    numerical parameter of the library's Ogden evaluation (error O(delta^2)).
+    ``order``: polynomial order of every field (H1, quadrilaterals).
     """
 
     order: int = 6
@@ -47,7 +46,6 @@ class AxisymDiscretisation:
     edge_layers: int = 6
     face_layers: int = 6
     grading: float = 0.25
-    ogden_delta: float = 1e-3
     axis_layers: int = 0
 
     def __post_init__(self):
@@ -61,7 +59,6 @@ class AxisymDiscretisation:
             val.integer_at_least(name, v, 0)
             require(v <= MAX_LAYERS, f"{name} = {v} must be <= {MAX_LAYERS}")
         val.in_range("grading", self.grading, 0.0, 1.0, lo_open=True, hi_open=True)
-        val.in_range("ogden_delta", self.ogden_delta, 0.0, 0.1, lo_open=True, hi_open=True)
 
 
 def _graded(length: float, layers: int, ratio: float) -> np.ndarray:

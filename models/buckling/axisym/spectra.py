@@ -32,7 +32,6 @@ from debench.models.buckling.axisym.kinematics import (
 )
 from debench.models.buckling.axisym.linalg import Factor, csr_of, embed_block
 from debench.models.buckling.eigen import negative_pivots, negative_pivots_of
-from debench.models.buckling.parameters import Ogden
 from debench.models.errors import ConvergenceError, require
 from debench.models.materials import ngsolve_forms as ngf
 from scipy.sparse.linalg import LinearOperator, eigsh
@@ -142,8 +141,11 @@ class ModeAnalysis:
         if tangent == "initial_stress":
             energy = self._initial_stress_energy(Gx0 * gi, E0, dGc * gi, dGs * gi)
             return energy + 0 * Q * Q         # the potential block is unused
-        return (self._enthalpy((Gx0 + dGc) * gi, E0 + dEc)
-                + self._enthalpy((Gx0 + dGs) * gi, E0 + dEs))
+        # the sin group leaves the axisymmetric states (it couples theta): the energy to
+        # second order about the state, exact in the Hessian
+        F0 = Gx0 * gi
+        return (self._enthalpy((Gx0 + dGc) * gi, E0 + dEc, F0)
+                + self._enthalpy((Gx0 + dGs) * gi, E0 + dEs, F0))
 
     def _second_variation(self, n: int, tangent: str):
         """(grid function of the perturbation, the integrand of its second variation
@@ -200,16 +202,16 @@ class ModeAnalysis:
         S0 = ngs.Inv(F0) * self._enthalpy(F0, E0).Diff(F0)
         energy = 0
         for dF in (dFc, dFs):
-            energy = energy + (self._mechanical_energy(ngs.Id(3) + dF)
+            energy = energy + (self._mechanical_energy(ngs.Id(3) + dF, ngs.Id(3))
                                + 0.5 * ngs.InnerProduct(S0, dF.trans * dF))
         return energy
 
-    def _mechanical_energy(self, F):
-        """The material's strain energy at ``F`` in units of ``mu_ref`` (the Ogden energy
-        by the averaged spectral evaluation of half-width ``disc.ogden_delta``)."""
-        mat = self.material
-        kw = {"delta": self.disc.ogden_delta} if isinstance(mat, Ogden) else {}
-        return ngf.mechanical_energy_cf(mat, F, **kw) / self.mu_ref
+    def _mechanical_energy(self, F, about=None):
+        """The material's strain energy at ``F`` in units of ``mu_ref``, exact at an
+        axisymmetric ``F`` (``about`` None) or to second order in ``F - about`` about the
+        axisymmetric state ``about``
+        (:func:`~debench.models.materials.ngsolve_forms.axisymmetric_mechanical_energy`)."""
+        return ngf.axisymmetric_mechanical_energy(self.material, F, about) / self.mu_ref
 
     def mode_blocks(self, n: int) -> np.ndarray:
         """Block index (0: U or S, 1: V or D, 2: W, 3: Q) of each free DOF of the
