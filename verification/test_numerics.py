@@ -615,3 +615,34 @@ def test_p_grading_estimate_has_its_floor_and_refuses_what_it_cannot_judge():
         p_grading_estimate(np.ones(3), PG_PLAN)
     with pytest.raises(ValueError, match="floor"):
         p_grading_estimate(np.ones(4), PG_PLAN, floor=-1.0)
+
+
+SCIPY_ROOT_FINDERS = {"brentq", "brenth", "ridder", "bisect", "toms748", "root_scalar"}
+
+
+def test_scipy_scalar_root_finders_are_called_only_in_numerics():
+    """One home for root finding: outside ``debench.models.numerics`` no module of the
+    package imports or calls SciPy's scalar root finders (they are reached through
+    :mod:`debench.models.numerics.roots`, whose results and failures are uniform)."""
+    import ast
+    import pathlib
+
+    import debench
+    import debench.models
+    import debench.models.numerics
+    import debench.reference
+
+    packages = {pathlib.Path(m.__file__).parent
+                for m in (debench, debench.models, debench.reference)}
+    numerics = pathlib.Path(debench.models.numerics.__file__).parent
+    found = []
+    for path in sorted({p for pkg in packages for p in pkg.rglob("*.py")}):
+        if numerics in path.parents:
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            names = ([a.name for a in node.names] if isinstance(node, ast.ImportFrom)
+                     and node.module and node.module.startswith("scipy.optimize") else
+                     [node.attr] if isinstance(node, ast.Attribute) else [])
+            found += [f"{path.name}:{node.lineno} {n}" for n in names
+                      if n in SCIPY_ROOT_FINDERS]
+    assert not found, found

@@ -30,7 +30,7 @@ from debench.models import validation as val
 from debench.models.buckling.parameters import MU_REF, NeoHookean, Ogden
 from debench.models.errors import ConvergenceError
 from debench.models.materials import energies as E
-from scipy.optimize import brentq
+from debench.models.numerics.roots import bracketed_root
 from scipy.special import jn_zeros
 
 J11_SQ = float(jn_zeros(1, 1)[0] ** 2)   # 14.6820, clamped circular plate coefficient
@@ -97,7 +97,8 @@ def homogeneous_film(v: float, mat: NeoHookean | Ogden, mu_ref: float = MU_REF) 
     if v > 0 and not g(S_MIN) < 0:
         raise ValueError(f"v = {v:.6g} is past the thinning limit of the clamped film "
                          f"(no traction-free thickness stretch above {S_MIN})")
-    s = brentq(g, S_MIN, 1.0 + 1e-12, xtol=1e-15, rtol=1e-15) if v > 0 else 1.0
+    s = (bracketed_root(g, S_MIN, 1.0 + 1e-12, xtol=1e-15, rtol=1e-15,
+                        what="homogeneous_film: thickness stretch").root if v > 0 else 1.0)
     e = v / s
     tau = kirchhoff_principal([1, 1, s], mat)
     sig11 = tau[0] / s / mu_ref - 0.5 * e**2
@@ -137,8 +138,8 @@ def critical_voltage_plate(mat, aspect: float, *, mindlin: bool = True,
     def gap(v):
         try:
             return homogeneous_film(v, mat, mu_ref)["sigma11"] - target
-        except ValueError:          # past the thinning limit: the film is crushed
-            return -np.inf
+        except ValueError:          # past the thinning limit: the film is crushed, counted
+            return target - 1.0     # as compressed beyond the critical stress (finite)
 
     if not gap(1e-6) > 0:
         raise ValueError(f"the plate is unstable at zero voltage (critical in-plane stress "
@@ -151,7 +152,7 @@ def critical_voltage_plate(mat, aspect: float, *, mindlin: bool = True,
             f"{type(mat).__name__} with shear modulus {mat.shear_modulus:.6g} Pa, k = "
             f"{mat.k:.6g} Pa: a bulk modulus this close to the shear modulus thins the film "
             "instead of compressing it in-plane)")
-    return brentq(gap, 1e-6, hi, xtol=1e-14)
+    return bracketed_root(gap, 1e-6, hi, xtol=1e-14, what="critical_voltage_plate").root
 
 
 def membrane_pullin_nh() -> tuple[float, float]:

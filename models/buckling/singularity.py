@@ -64,7 +64,7 @@ import scipy.linalg as sla
 from debench.models import validation as val
 from debench.models.buckling.parameters import MAX_ORDER
 from debench.models.errors import ConvergenceError
-from scipy.optimize import brentq
+from debench.models.numerics.roots import bracketed_root
 
 __all__ = [
     "INTEGER_TOL", "MATCH_RTOL", "characteristic_function", "edge_singularity_exponent",
@@ -230,7 +230,8 @@ def williams_eigenvalues(nu: float, angle: float = math.pi / 2, *,
         if db == 0.0:
             real.append(b)
         elif da * db < 0:
-            real.append(brentq(f, a, b, xtol=1e-15, rtol=4 * np.finfo(float).eps))
+            real.append(bracketed_root(f, a, b, xtol=1e-15, rtol=4 * np.finfo(float).eps,
+                                       what="williams_eigenvalues: real zero").root)
     # complex zeros (upper half): Newton from a grid of starts
     cplx: list[complex] = []
     if count > len(real):
