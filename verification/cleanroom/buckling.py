@@ -11,10 +11,9 @@ insulated. The flat state is the saddle point of int Omega dV with the electric 
 reached by continuation in Phi from 0; v_cr is the first Phi/t0 sqrt(eps/mu_ref) at which
 the lowest eigenvalue of the fixed-voltage tangent condensed over the potential,
 S = K_uu - K_up K_pp^-1 K_pu, crosses zero in the axisymmetric wavenumber n = 0.
-The page's second quantity, v_cr_n1 (wavenumber n = 1), is not computed here: it needs the
-energy's second derivatives in the non-axisymmetric components of F and E_L and the n = 1
-axis conditions (U + V = 0, W = Q = 0), which the sibling clean room ``wrinkling`` has for
-the Ogden film (aspect 20, imperfect); not yet for this film or the neo-Hookean energy.
+The page's second quantity, v_cr_n1 (wavenumber n = 1), is computed by the sibling clean
+room ``buckling_n1`` on these flat states (``critical_voltage`` and
+``converged_critical_voltage`` take the film type whose lambda_1 they track).
 
 Units: lengths in t0, stresses in mu_ref, permittivity in eps, so Phi itself is v.
 
@@ -511,8 +510,9 @@ def critical_voltage(case: str, order: int = 2, n_r: int = 40, n_z: int = 4,
                      film_type: type = Film) -> Critical:
     """v_cr of ``case`` on one discretisation: continuation in v from 0 by v_step until
     lambda_1 of S_0 changes sign (``film_type``: Film, or a subclass tracking another
-    wavenumber's lambda_1 by its ``lowest_at`` and ``smallest_algebraic_at``), then the Illinois variant of regula falsi on
-    lambda_1(v) (each evaluation a Newton solve from the nearer bracket end) until the
+    wavenumber's lambda_1 by its ``lowest_at`` and ``smallest_algebraic_at``), then the
+    Illinois variant of regula falsi on lambda_1(v) (each evaluation a Newton solve from
+    the nearer bracket end) until the
     bracket is ROOT_RTOL narrow; the lower end certified by LOBPCG.
 
     v_start > 0 (e.g. just below a coarser discretisation's v_cr): the continuation goes

@@ -158,10 +158,13 @@ class FilmN1(buckling.Film):
         E = np.stack((-g[5], np.zeros_like(g[5]), -g[6]), axis=-1)
         return wrinkling.enthalpy(F, E, terms=self.terms)[2]
 
-    def tangent1(self, x):
-        """The wavenumber-1 second variation (per pi) on the admissible dofs (the
-        displacements U, V, W first, nu1 of them, then Q)."""
-        C = block_coefficients(self.hessian(x), N1)
+    def tangent(self, x, n: int = N1, reduced: bool = True):
+        """The wavenumber-n second variation (per pi) at the axisymmetric state x: on all
+        4 N dofs (U, V, W, Q) (``reduced`` False), or for n = 1 on the admissible dofs
+        (the displacements U, V, W first, nu1 of them, then Q)."""
+        if reduced and n != N1:
+            raise ValueError(f"the admissible dofs are those of n = {N1}, got n = {n}")
+        C = block_coefficients(self.hessian(x), n)
         blocks = [[None] * 4 for _ in range(4)]
         for a in range(4):
             for b in range(a, 4):
@@ -169,17 +172,17 @@ class FilmN1(buckling.Film):
                 if b != a:
                     blocks[b][a] = blocks[a][b].T
         K = sp.bmat(blocks, format="csr")
-        return (self.T1.T @ K @ self.T1).tocsc()
+        return (self.T1.T @ K @ self.T1).tocsc() if reduced else K
 
     def lowest_at(self, x, K) -> float:
         """The algebraically smallest of the CONDENSED_K eigenvalues of S_1 x = lambda M x
         nearest zero."""
-        w = buckling.condensed_eigenvalues(self.tangent1(x), self.nu1, self.M1, CONDENSED_K)
+        w = buckling.condensed_eigenvalues(self.tangent(x), self.nu1, self.M1, CONDENSED_K)
         return float(np.min(w))
 
     def smallest_algebraic_at(self, x, K, shift: float) -> np.ndarray:
         """The three smallest algebraic eigenvalues of S_1 (LOBPCG)."""
-        return buckling.smallest_condensed(self.tangent1(x), self.nu1, self.M1, shift)
+        return buckling.smallest_condensed(self.tangent(x), self.nu1, self.M1, shift)
 
 
 def critical_voltage(case: str, order: int = 2, n_r: int = 40, n_z: int = 4,
