@@ -163,7 +163,6 @@ class FilmN1(buckling.Film):
         tol = buckling.face_tolerance(self.mesh)
         rim = np.flatnonzero(np.abs(x[0] - buckling.ASPECT) <= tol)
         axis = np.flatnonzero(np.abs(x[0]) <= tol)
-        self.axis1 = axis
         fixed = np.unique(np.concatenate((U * N + rim, V * N + rim, W * N + rim,
                                           V * N + axis, W * N + axis, Q * N + axis,
                                           Q * N + self.bottom, Q * N + self.top)))
