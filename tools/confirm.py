@@ -215,6 +215,23 @@ def balloon(which: str) -> Computation:
     return run
 
 
+def critical_voltage(wavenumber: int) -> Computation:
+    """test_cleanroom_buckling(_n1)_converged_confirms_reference_at_stated_accuracy: the
+    buckling clean room's converged critical voltage of every case (P4, N x N/4 for
+    N = 16, 24, 32, 40, 15 corner refinements, Richardson-extrapolated) in wavenumber 0
+    (v_cr) or 1 (v_cr_n1)."""
+    def run(problem_id):
+        from verification.cleanroom import buckling as cr
+        from verification.cleanroom import buckling_n1 as cr1
+
+        conv = cr.converged_critical_voltage if wavenumber == 0 else \
+            cr1.converged_critical_voltage
+        name = "v_cr" if wavenumber == 0 else "v_cr_n1"
+        values = np.array([conv(case).value for case in cr.CASES])
+        return {name: (values, {"case": np.array(cr.CASES)})}
+    return run
+
+
 #: the test each computation reproduces -> the computation
 COMPUTATIONS: dict[str, Computation] = {
     f"{TC}::test_cleanroom_free_membrane_passes_check[ch3_free_membrane_nh-inf-5.0]":
@@ -230,6 +247,10 @@ COMPUTATIONS: dict[str, Computation] = {
     f"{TC}::test_cleanroom_plate_passes_check_on_every_curve": plate(voltage=False),
     f"{TC}::test_cleanroom_plate_voltage_control_passes_check_on_every_curve":
         plate(voltage=True),
+    f"{TC}::test_cleanroom_buckling_converged_confirms_reference_at_stated_accuracy":
+        critical_voltage(0),
+    f"{TC}::test_cleanroom_buckling_n1_converged_confirms_reference_at_stated_accuracy":
+        critical_voltage(1),
     f"{TB}::test_pressure_curves_match_the_clean_room_at_the_stated_accuracy":
         balloon("pbar"),
     f"{TB}::test_pressure_extrema_match_the_clean_room_at_the_stated_accuracy":

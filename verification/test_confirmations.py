@@ -133,7 +133,8 @@ def _decorators(fn: ast.FunctionDef) -> set[str]:
                          ids=[f"{p.id}-{q.name}-{i}" for i, (p, q, _) in enumerate(_specs())])
 def test_spec_record_names_an_existing_test_in_its_tier(p, q, rec):
     """A confirmed record: its implementation exists, its test exists (parametrized when
-    the id has parameters), is marked slow exactly when the tier is slow, the command is
+    the id has parameters; a parametrized test named without them stands for all of them,
+    as the command runs it), is marked slow exactly when the tier is slow, the command is
     that test in that tier, and tools/confirm.py knows its computation."""
     if rec["status"] == "missing":
         return
@@ -144,7 +145,7 @@ def test_spec_record_names_an_existing_test_in_its_tier(p, q, rec):
     assert fn is not None, rec["test"]
     marks = _decorators(fn)
     assert ("pytest.mark.slow" in marks) == (rec["tier"] == "slow"), (rec["test"], marks)
-    assert ("pytest.mark.parametrize" in marks) == bool(bracket), rec["test"]
+    assert "pytest.mark.parametrize" in marks or not bracket, rec["test"]
     full = "--full " if rec["tier"] == "slow" else ""
     assert rec["command"] == f'python -m pytest {full}"{rec["test"]}"'
     assert rec["test"] in _confirm_tool().COMPUTATIONS
@@ -190,6 +191,37 @@ def test_a_computation_off_by_more_than_the_accuracy_is_measured_above_one(monke
 
     monkeypatch.setitem(tool.COMPUTATIONS, test, wrong)
     assert tool.measure("ch3_free_membrane_nh", test)["phibar"]["ratio"] > 10
+
+
+@pytest.mark.parametrize("quantity, n", [("v_cr", 0), ("v_cr_n1", 1)])
+def test_critical_voltage_confirmation_compares_every_case_at_the_stated_accuracy(
+        quantity, n, monkeypatch):
+    """tools/confirm.py measures ch5_critical_voltage from the buckling clean rooms'
+    converged values of both cases (their runs take minutes and are the slow tests; here
+    they are replaced by the reference itself plus an offset): full coverage of the two
+    cases, ratio ~0 at the reference and > 1 at twice the stated accuracy off it."""
+    from debench.reference.datasets import read_dataset
+
+    from verification.cleanroom import buckling, buckling_n1
+
+    tool = _confirm_tool()
+    test = next(t for t in tool.COMPUTATIONS if t.endswith(
+        f"test_cleanroom_buckling{'_n1' if n else ''}_converged_confirms_reference_at_stated_"
+        "accuracy"))
+    ds = read_dataset("ch5_axisym").sel(n=n)
+
+    class Stub:
+        def __init__(self, case):
+            self.value = float(ds["v_cr_converged"].sel(case=case)) + offset * float(
+                ds["v_cr_error"].sel(case=case))
+
+    module = buckling if n == 0 else buckling_n1
+    monkeypatch.setattr(module, "converged_critical_voltage", Stub)
+    offset = 0.0
+    got = tool.measure("ch5_critical_voltage", test)[quantity]
+    assert got["points"] == len(buckling.CASES) and got["ratio"] < 1e-6
+    offset = 2.0
+    assert tool.measure("ch5_critical_voltage", test)[quantity]["ratio"] > 1
 
 
 # ------------------------------------------------------------------ shown to users

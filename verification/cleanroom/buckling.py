@@ -11,10 +11,9 @@ insulated. The flat state is the saddle point of int Omega dV with the electric 
 reached by continuation in Phi from 0; v_cr is the first Phi/t0 sqrt(eps/mu_ref) at which
 the lowest eigenvalue of the fixed-voltage tangent condensed over the potential,
 S = K_uu - K_up K_pp^-1 K_pu, crosses zero in the axisymmetric wavenumber n = 0.
-The page's second quantity, v_cr_n1 (wavenumber n = 1), is not computed here: it needs the
-energy's second derivatives in the non-axisymmetric components of F and E_L and the n = 1
-axis conditions (U + V = 0, W = Q = 0), which the sibling clean room ``wrinkling`` has for
-the Ogden film (aspect 20, imperfect); not yet for this film or the neo-Hookean energy.
+The page's second quantity, v_cr_n1 (wavenumber n = 1), is computed by the sibling clean
+room ``buckling_n1`` on these flat states (``critical_voltage`` and
+``converged_critical_voltage`` take the film type whose lambda_1 they track).
 
 Units: lengths in t0, stresses in mu_ref, permittivity in eps, so Phi itself is v.
 
@@ -432,67 +431,95 @@ class Film:
                 return x, K
         raise RuntimeError(f"Newton did not converge at v = {v} in {MAX_NEWTON} steps")
 
-    def _operators(self, K, shift: float = 0.0):
-        """S_0 = K_uu - K_up K_pp^-1 K_pu as an operator on the free displacements, and
-        (S_0 + shift M)^-1 (one solve with the free block of K, the shift on K_uu)."""
-        Kf = K[self.free][:, self.free].tocsc()
-        nu, nf = self.nu, self.free.size
-        Kuu, Kup = Kf[:nu, :nu], Kf[:nu, nu:]
-        Kpp = spla.splu(Kf[nu:, nu:].tocsc())
-        lu = spla.splu((Kf + shift * sp.block_diag((self.M, sp.csc_matrix((nf - nu,
-                                                                            nf - nu))))
-                        ).tocsc()) if shift else spla.splu(Kf)
-
-        def s_mv(y):
-            y = np.asarray(y).reshape(nu, -1)
-            return Kuu @ y - Kup @ Kpp.solve(np.asarray(Kup.T @ y))
-
-        def s_inv(y):
-            y = np.asarray(y).reshape(nu, -1)
-            rhs = np.zeros((nf, y.shape[1]))
-            rhs[:nu] = y
-            return lu.solve(rhs)[:nu]
-
-        S = spla.LinearOperator((nu, nu), matvec=s_mv, matmat=s_mv, dtype=float)
-        Sinv = spla.LinearOperator((nu, nu), matvec=s_inv, matmat=s_inv, dtype=float)
-        return S, Sinv
+    def _free(self, K):
+        """The free block of K (displacements first) and the number of displacements."""
+        return K[self.free][:, self.free].tocsc(), self.nu
 
     def lowest(self, K, k: int = 3) -> float:
         """The eigenvalue of S_0 x = lambda M x nearest zero (shift-invert at 0)."""
-        S, Sinv = self._operators(K)
-        w = spla.eigsh(S, k=k, M=self.M, sigma=0.0, OPinv=Sinv, which="LM",
-                       return_eigenvectors=False, tol=1e-13)
+        w = condensed_eigenvalues(*self._free(K), self.M, k)
         return float(w[np.argmin(np.abs(w))])
 
     def smallest_algebraic(self, K, shift: float, k: int = 3) -> np.ndarray:
-        """The k smallest algebraic eigenvalues of S_0 x = lambda M x (LOBPCG, whose
-        smallest-first search does not depend on a shift, preconditioned by
-        (S_0 + shift M)^-1, shift > 0 of the order of the eigenvalues): the certificate
-        that none lies below the tracked one."""
-        S, T = self._operators(K, shift)
-        X = np.random.default_rng(0).standard_normal((self.nu, k))
-        w, _, res = spla.lobpcg(S, X, B=self.M, M=T, largest=False,
-                                tol=0.1 * LOBPCG_RTOL * shift, maxiter=200,
-                                retResidualNormsHistory=True)
-        first = int(np.argmin(w))  # only the smallest must converge; the rest help
-        if not np.all(np.isfinite(w)) or res[-1][first] > LOBPCG_RTOL * shift:
-            raise RuntimeError(f"LOBPCG did not converge (residuals {res[-1]})")
-        return np.sort(w)
+        """The k smallest algebraic eigenvalues of S_0 x = lambda M x
+        (``smallest_condensed``): the certificate that none lies below the tracked one."""
+        return smallest_condensed(*self._free(K), self.M, shift, k)
+
+    def lowest_at(self, x, K) -> float:
+        """lambda_1 tracked by ``critical_voltage`` at the flat state x with tangent K."""
+        return self.lowest(K)
+
+    def smallest_algebraic_at(self, x, K, shift: float) -> np.ndarray:
+        """The certificate of ``critical_voltage`` at the flat state x with tangent K."""
+        return self.smallest_algebraic(K, shift)
+
+
+def condensed_operators(Kf, nu: int, M, shift: float = 0.0):
+    """S = K_uu - K_up K_pp^-1 K_pu of the symmetric free block Kf (its first nu dofs the
+    displacements u, the rest the potential p) as an operator on u, and (S + shift M)^-1
+    (one solve with Kf, the shift on K_uu)."""
+    Kf = Kf.tocsc()
+    nf = Kf.shape[0]
+    Kuu, Kup = Kf[:nu, :nu], Kf[:nu, nu:]
+    Kpp = spla.splu(Kf[nu:, nu:].tocsc())
+    lu = spla.splu((Kf + shift * sp.block_diag((M, sp.csc_matrix((nf - nu, nf - nu))))
+                    ).tocsc()) if shift else spla.splu(Kf)
+
+    def s_mv(y):
+        y = np.asarray(y).reshape(nu, -1)
+        return Kuu @ y - Kup @ Kpp.solve(np.asarray(Kup.T @ y))
+
+    def s_inv(y):
+        y = np.asarray(y).reshape(nu, -1)
+        rhs = np.zeros((nf, y.shape[1]))
+        rhs[:nu] = y
+        return lu.solve(rhs)[:nu]
+
+    S = spla.LinearOperator((nu, nu), matvec=s_mv, matmat=s_mv, dtype=float)
+    Sinv = spla.LinearOperator((nu, nu), matvec=s_inv, matmat=s_inv, dtype=float)
+    return S, Sinv
+
+
+def condensed_eigenvalues(Kf, nu: int, M, k: int = 3) -> np.ndarray:
+    """The k eigenvalues of S x = lambda M x nearest zero (``condensed_operators``;
+    shift-invert at 0, ARPACK to 1e-13)."""
+    S, Sinv = condensed_operators(Kf, nu, M)
+    return spla.eigsh(S, k=k, M=M, sigma=0.0, OPinv=Sinv, which="LM",
+                      return_eigenvectors=False, tol=1e-13)
+
+
+def smallest_condensed(Kf, nu: int, M, shift: float, k: int = 3) -> np.ndarray:
+    """The k smallest algebraic eigenvalues of S x = lambda M x (LOBPCG, whose
+    smallest-first search does not depend on a shift, preconditioned by (S + shift M)^-1,
+    shift > 0 of the order of the eigenvalues), sorted; raises unless the smallest
+    converged to LOBPCG_RTOL shift."""
+    S, T = condensed_operators(Kf, nu, M, shift)
+    X = np.random.default_rng(0).standard_normal((nu, k))
+    w, _, res = spla.lobpcg(S, X, B=M, M=T, largest=False,
+                            tol=0.1 * LOBPCG_RTOL * shift, maxiter=200,
+                            retResidualNormsHistory=True)
+    first = int(np.argmin(w))  # only the smallest must converge; the rest help
+    if not np.all(np.isfinite(w)) or res[-1][first] > LOBPCG_RTOL * shift:
+        raise RuntimeError(f"LOBPCG did not converge (residuals {res[-1]})")
+    return np.sort(w)
 
 
 def critical_voltage(case: str, order: int = 2, n_r: int = 40, n_z: int = 4,
                      levels: int = 6, ratio: float = 1.0, v_step: float = 0.05,
-                     v_max: float = 0.6, v_start: float = 0.0) -> Critical:
+                     v_max: float = 0.6, v_start: float = 0.0,
+                     film_type: type = Film) -> Critical:
     """v_cr of ``case`` on one discretisation: continuation in v from 0 by v_step until
-    lambda_1 of S_0 changes sign, then the Illinois variant of regula falsi on
-    lambda_1(v) (each evaluation a Newton solve from the nearer bracket end) until the
+    lambda_1 of S_0 changes sign (``film_type``: Film, or a subclass tracking another
+    wavenumber's lambda_1 by its ``lowest_at`` and ``smallest_algebraic_at``), then the
+    Illinois variant of regula falsi on lambda_1(v) (each evaluation a Newton solve from
+    the nearer bracket end) until the
     bracket is ROOT_RTOL narrow; the lower end certified by LOBPCG.
 
     v_start > 0 (e.g. just below a coarser discretisation's v_cr): the continuation goes
     from v = 0 straight to v_start (Newton from the undeformed film) and steps by v_step
     from there; lambda_1 must be positive at v_start. The lower bracket end's certificate
     (no eigenvalue of S_0 below the tracked positive one) holds as without it."""
-    film = Film(case, order, n_r, n_z, levels, ratio)
+    film = film_type(case, order, n_r, n_z, levels, ratio)
 
     def solve(v, near):
         """Newton at v from the state near = (v', x', ...), its potential scaled by v/v'."""
@@ -500,7 +527,7 @@ def critical_voltage(case: str, order: int = 2, n_r: int = 40, n_z: int = 4,
         if near[0] > 0:
             guess[2 * film.n:] *= v / near[0]
         x, K = film.flat_state(v, guess)
-        return v, x, film.lowest(K)
+        return v, x, film.lowest_at(x, K)
 
     lo = solve(0.0, (0.0, None))
     if not lo[2] > 0:
@@ -540,8 +567,8 @@ def critical_voltage(case: str, order: int = 2, n_r: int = 40, n_z: int = 4,
     v_cr = lo[0] - lo[2] * (hi[0] - lo[0]) / (hi[2] - lo[2])
     # certificate: at the lower end, S_0's smallest algebraic eigenvalue is the tracked
     # one (nothing crossed unseen); its scale is lambda_1 at v = 0
-    _, K_lo = film.flat_state(lo[0], lo[1])
-    low = film.smallest_algebraic(K_lo, shift=l_zero)
+    x_lo, K_lo = film.flat_state(lo[0], lo[1])
+    low = film.smallest_algebraic_at(x_lo, K_lo, shift=l_zero)
     if not abs(low[0] - lo[2]) <= 1e-6 * l_zero:
         raise RuntimeError(f"lower bracket end not certified: smallest eigenvalue {low[0]}, "
                            f"tracked {lo[2]}")
@@ -588,20 +615,23 @@ class Converged:
 
 def converged_critical_voltage(case: str, sizes=CONVERGED_SIZES,
                                levels: int = CONVERGED_LEVELS,
-                               order: int = CONVERGED_ORDER) -> Converged:
+                               order: int = CONVERGED_ORDER,
+                               film_type: type = Film) -> Converged:
     """v_cr of ``case`` extrapolated over the meshes N x N/4 (N in sizes, at least four):
     v(N) = v_inf + C N^-r fitted through each consecutive three levels; the value is the
     last triple's limit, its error estimate CONVERGED_SAFETY times the larger of the change
     of the limit from the previous triple and the change of the last limit when the
     previous triple's rate is used. Each level's continuation starts 1e-5 below the
-    previous level's v_cr (their differences are < 1e-6)."""
+    previous level's v_cr (their differences are < 1e-6). ``film_type`` as in
+    ``critical_voltage``."""
     if len(sizes) < 4 or any(n % 8 for n in sizes):
         raise ValueError("converged: need >= 4 sizes, each a multiple of 8 (even n_z = N/4)")
     values = []
     for n in sizes:
         start = ({"v_start": values[-1] - 1e-5, "v_step": 2e-5, "v_max": values[-1] + 1e-3}
                  if values else {})
-        values.append(critical_voltage(case, order, n, n // 4, levels, **start).v_cr)
+        values.append(critical_voltage(case, order, n, n // 4, levels, film_type=film_type,
+                                       **start).v_cr)
     fits = [richardson(sizes[i:i + 3], values[i:i + 3]) for i in range(len(sizes) - 2)]
     (r_prev, v_prev), v_last = fits[-2], fits[-1][1]
     n2, n3 = sizes[-2], sizes[-1]

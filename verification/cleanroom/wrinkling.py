@@ -93,10 +93,11 @@ def _power_dd(x, y, p):
     return y ** (p - 1) * ratio
 
 
-def _spectral(c):
+def _spectral(c, terms=OGDEN):
     """phi_i (..., 3), phi_ij (..., 3, 3) and G_ij (..., 3, 3; diagonal unused) of the
     mechanical energy as a function of the eigenvalues c (..., 3) of C (module
-    docstring). Each Ogden term k P T, P = (c1 c2 c3)^s, s = -alpha/6, T = sum c^beta,
+    docstring), the Ogden terms (alpha_p, mu_p / mu_ref) ``terms``. Each Ogden term
+    k P T, P = (c1 c2 c3)^s, s = -alpha/6, T = sum c^beta,
     beta = alpha/2: phi_i = k P h(c_i), h(x) = beta x^(beta-1) + s T/x, so G_ij =
     k P (beta DD[x^(beta-1)] - s T/(c_i c_j)); the volumetric k/2 (J - 1)^2 likewise."""
     prod = c[..., 0] * c[..., 1] * c[..., 2]
@@ -106,7 +107,7 @@ def _spectral(c):
     d1 = np.zeros(c.shape)
     d2 = np.zeros(c.shape + (3,))
     G = np.zeros(c.shape + (3,))
-    for alpha, mu in OGDEN:
+    for alpha, mu in terms:
         k, s, beta = 2 * mu / alpha**2, -alpha / 6, alpha / 2
         P = prod**s
         T = np.sum(c**beta, axis=-1)
@@ -154,8 +155,10 @@ def _electric_gradient(F, E):
     return np.concatenate((dF.reshape(*F.shape[:-2], 9), dE), axis=-1)
 
 
-def enthalpy(F, E, directions=range(12)):
-    """Omega per mu_ref (module docstring) at F (..., 3, 3), E_L (..., 3): its value
+def enthalpy(F, E, directions=range(12), terms=OGDEN):
+    """Omega per mu_ref (module docstring) at F (..., 3, 3), E_L (..., 3), the Ogden terms
+    (alpha_p, mu_p / mu_ref) ``terms`` (the neo-Hookean (5.15) is the one term (2, mu /
+    mu_ref): 2 mu/alpha^2 (J^(-2/3) I1 - 3) = mu/2 (J^(-2/3) I1 - 3)): its value
     (...), gradient (..., 12) and Hessian (..., 12, 12) in (F_ab at 3 a + b, E_L at 9 +
     i); the Hessian's rows of the electric part only at ``directions`` (the others
     zero: the axisymmetric path needs AXI only). Raises ValueError where det F <= 0 or
@@ -168,11 +171,11 @@ def enthalpy(F, E, directions=range(12)):
         raise ValueError(f"enthalpy: det F must be > 0, got min {np.min(J)}")
     C = np.swapaxes(F, -1, -2) @ F
     c, Q = np.linalg.eigh(C)
-    d1, d2, G = _spectral(c)
+    d1, d2, G = _spectral(c, terms)
     psi = np.einsum("...ik,...k,...jk->...ij", Q, d1, Q)  # dphi/dC
     # the value
     val = K_BULK / 2 * (J - 1) ** 2
-    for alpha, mu in OGDEN:
+    for alpha, mu in terms:
         val = val + 2 * mu / alpha**2 * (J ** (-alpha / 3) * np.sum(c ** (alpha / 2), -1) - 3)
     e = np.einsum("...ji,...j->...i", Finv, E)
     val = val - 0.5 * J * np.sum(e * e, axis=-1)
