@@ -5,7 +5,7 @@ dataset of the problem ``lit_bilayer``.
 rotation theta at each normalised voltage of :data:`VOLTAGES`
 (:func:`debench.models.bilayer.converged`) with their error estimates, and every
 discretisation's values (``*_levels``, along ``disc``). ``full``: the reference plan
-:data:`debench.models.bilayer.PLAN` (orders 3 .. 5 with two geometric layers, minutes of
+:data:`debench.models.bilayer.PLAN` (orders 4 .. 6 with two geometric layers, minutes of
 CPU: the curated dataset); otherwise the coarse plan
 :data:`debench.models.bilayer.COARSE_PLAN` (seconds; what the default-run test checks).
 """

@@ -45,8 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
-from skfem import (Basis, BilinearForm, ElementTriP2, ElementTriP3, ElementTriP4,
-                   LinearForm, MeshTri)
+from skfem import Basis, BilinearForm, ElementTriP2, ElementTriP3, ElementTriP4, LinearForm, MeshTri
 
 LENGTH = 10.0
 PASSIVE = 0.5
