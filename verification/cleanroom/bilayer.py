@@ -54,6 +54,7 @@ GRADING = 0.2
 STEP = 0.025
 NEWTON_RTOL = 1e-10
 NEWTON_ATOL = 1e-12
+NEWTON_STOL = 1e-12  # a Newton update this small (relative) is converged
 MAX_NEWTON = 40
 HALVINGS = 12
 CS = 1e-30  # complex step
@@ -205,6 +206,10 @@ class Strip:
             K = self.tangent(x)
             dx = spla.spsolve(K[f][:, f], r[f])
             self.iterations += 1
+            if np.max(np.abs(dx)) <= NEWTON_STOL * max(1.0, np.max(np.abs(x))):
+                # the update is at round-off: converged (the residual's own floor)
+                x[f] -= dx
+                return x
             alpha = 1.0
             for _ in range(HALVINGS + 1):
                 trial = x.copy()
