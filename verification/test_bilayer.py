@@ -92,6 +92,28 @@ def test_small_voltage_response_is_quadratic_in_the_voltage(ds):
     assert np.all(w < 0) and abs(w[1] / w[0] - 4.0) < 0.05, w
 
 
+@pytest.mark.parametrize("kwargs,fragment", [
+    ({"order": 0}, "order"), ({"levels": -1}, "levels"), ({"voltages": [0.2, 0.1]}, "increasing"),
+    ({"voltages": [-0.1]}, "voltages"), ({"voltages": [float("nan")]}, "voltages"),
+    ({"voltages": []}, "non-empty")])
+def test_bad_inputs_to_the_model_raise_naming_them(kwargs, fragment):
+    from debench.models import bilayer
+
+    args = {"voltages": [0.05], "order": 2, "levels": 0, **kwargs}
+    with pytest.raises(ValueError, match=fragment):
+        bilayer.solve(args.pop("voltages"), **args)
+
+
+@pytest.mark.parametrize("kwargs,fragment", [
+    ({"length": 0.0}, "length"), ({"passive": 1.0}, "passive"), ({"passive": 0.0}, "passive"),
+    ({"bulk_ratio": -1.0}, "bulk_ratio"), ({"nx": 0}, "nx"), ({"ny": 1}, "ny")])
+def test_bad_parameters_raise_naming_them(kwargs, fragment):
+    from debench.models import bilayer
+
+    with pytest.raises(ValueError, match=fragment):
+        bilayer.BilayerParameters(**kwargs)
+
+
 def test_problem_page_renders_with_quantities_and_boundary_conditions():
     from debench.reference.consensus import problem_page
 

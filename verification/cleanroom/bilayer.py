@@ -39,9 +39,6 @@ theta = atan2(-(dx), H + dy) with (dx, dy) = u(L, H) - u(L, 0).
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
-
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
@@ -138,15 +135,14 @@ BLOCKS = {(a, b): _block(a, b) for a in range(3) for b in range(a, 3)}
 RESIDUALS = tuple(_res(a) for a in range(3))
 
 
-@dataclass
 class Result:
-    order: int
-    levels: int
-    voltages: np.ndarray
-    tip_deflection: np.ndarray
-    tip_rotation: np.ndarray
-    ndofs: int
-    newton_iterations: int
+    """Tip values at each voltage of one discretisation, its size and Newton count."""
+
+    def __init__(self, order, levels, voltages, tip_deflection, tip_rotation, ndofs,
+                 newton_iterations):
+        self.order, self.levels, self.voltages = order, levels, voltages
+        self.tip_deflection, self.tip_rotation = tip_deflection, tip_rotation
+        self.ndofs, self.newton_iterations = ndofs, newton_iterations
 
 
 class Strip:
@@ -230,14 +226,14 @@ class Strip:
         ux, uy = x[:n], x[n:2 * n]
         dx = ux[self.tip_top] - ux[self.tip_bot]
         dy = 1.0 + uy[self.tip_top] - uy[self.tip_bot]
-        return float(uy[self.tip_bot]), math.atan2(-dx, dy)
+        return float(uy[self.tip_bot]), float(np.arctan2(-dx, dy))
 
 
 def solve(voltages, order=3, nx=20, ny=2, levels=2) -> Result:
     s = Strip(order, nx, ny, levels)
     path, marks, v0 = [], [], 0.0
     for v in voltages:
-        k = max(1, math.ceil((v - v0) / STEP - 1e-12))
+        k = max(1, int(np.ceil((v - v0) / STEP - 1e-12)))
         path += list(np.linspace(v0, v, k + 1)[1:])
         marks.append(len(path) - 1)
         v0 = v
