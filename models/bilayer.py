@@ -201,8 +201,10 @@ def solve(voltages, *, order: int, levels: int,
           inverse: str = "umfpack", on_state=None) -> BilayerResult:
     """The tip deflection and rotation at each normalised voltage of ``voltages``
     (increasing, > 0) with elements of degree ``order`` on the mesh with ``levels``
-    hp-refinements (module docstring). ConvergenceError when a Newton step of the
-    continuation does not converge."""
+    geometric layers (module docstring). ConvergenceError when a Newton step of the
+    continuation does not converge. ``on_state(v, a, gf, free)``, if given, is called
+    after each converged step (every voltage of the path) with the NGSolve bilinear form,
+    the state and the free dofs (diagnostics such as the stability of the state)."""
     params = params or BilayerParameters()
     order = val.integer_at_least("order", order, 1)
     levels = val.integer_at_least("levels", levels, 0)
