@@ -229,7 +229,7 @@ def run_adapter(library: str, problem: str, *, label: str, out: Path | None,
                 adapter_args: list[str], command: str, log=sys.stderr) -> Path:
     """Run ``peers/LIBRARY/PROBLEM.py`` in the library's venv and write the submission
     folder; returns its path."""
-    from debench.reference import problems
+    from debench.reference import problems, problems_reference
 
     adapter = library_dir(library) / f"{problem}.py"
     if not adapter.is_file():
@@ -241,7 +241,7 @@ def run_adapter(library: str, problem: str, *, label: str, out: Path | None,
     work = Path(tempfile.mkdtemp(prefix=f"{library}-{problem}-"))
     try:
         pj = work / "problem.json"
-        pj.write_text(json.dumps(problems.reference_json(prob)))
+        pj.write_text(json.dumps(problems_reference.reference_json(prob)))
         result_dir = work / "out"
         result_dir.mkdir()
         cmd = [str(venv / "bin" / "python"), str(adapter), "--problem-json", str(pj),

@@ -35,6 +35,7 @@ BUILD_CPU_S = {
     "ch4_fe": 18.0, "ch5_thickness": 15.0, "ch5_methods": 12.0, "ch4": 10.0,
     "ch4_inplane": 8.0, "ch5_axisym_methods": 8.0, "ch3": 3.0, "ch3_fe": 3.0,
     "ch2_appendix": 0.4, "ch5_imperfection": 0.0, "ch5_wrinkling": 0.0, "lit_balloon": 1.0,
+    "lit_bilayer": 20.0,
 }
 UNLISTED_BUILD_CPU_S = 60.0
 

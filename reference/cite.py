@@ -65,8 +65,25 @@ ZHU_CAI_SUO_2010 = {
     "container-title": "Polymer International", "volume": "59", "page": "378-383",
     "issued": {"date-parts": [[2010]]}, "DOI": "10.1002/pi.2767",
 }
+TIMOSHENKO_1925 = {
+    "id": "timoshenko_1925", "type": "article-journal",
+    "title": "Analysis of bi-metal thermostats",
+    "author": [{"family": "Timoshenko", "given": "S."}],
+    "container-title": "Journal of the Optical Society of America", "volume": "11",
+    "issue": "3", "page": "233-255", "issued": {"date-parts": [[1925]]},
+    "DOI": "10.1364/JOSA.11.000233",
+}
+LAND_2015 = {
+    "id": "land_2015", "type": "article-journal",
+    "title": "Verification of cardiac mechanics software: benchmark problems and solutions "
+             "for testing active and passive material behaviour",
+    "author": [{"family": "Land", "given": "S."}, {"literal": "et al."}],
+    "container-title": "Proceedings of the Royal Society A", "volume": "471",
+    "page": "20150641", "issued": {"date-parts": [[2015]]}, "DOI": "10.1098/rspa.2015.0641",
+}
 REFERENCES = {r["id"]: r for r in (THESIS, ZENG_GAO_2019, ZHAO_SUO_2007, ROACHE_1994,
-                                   HUANG_1964, ZHU_CAI_SUO_2010)}
+                                   HUANG_1964, ZHU_CAI_SUO_2010, TIMOSHENKO_1925,
+                                   LAND_2015)}
 
 
 def _chapter(text: str) -> int | None:
