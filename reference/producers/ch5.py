@@ -453,8 +453,7 @@ def axisym_coarse_guards() -> list:
     p, L = int(par["guard_order"]), int(par["guard_layers"])
     disc = AxisymDiscretisation(order=p, edge_layers=L, face_layers=L, n_r=int(par["n_r"]),
                                 n_z=int(par["n_z"]), edge_zone=float(par["edge_zone"]),
-                                grading=float(par["grading"]),
-                                ogden_delta=float(par["ogden_delta"]))
+                                grading=float(par["grading"]))
     plate = Plate(thickness=float(par["thickness_m"]), aspect=float(par["aspect"]))
     out = []
     for case in ds.case.values:
