@@ -1,8 +1,21 @@
 """The constitutive library: frozen parameter dataclasses that are also the energies.
 
-Every material has ``energy(F, D_L)`` and ``response(F, D_L, second=True) -> Response``
-(energy, dW/dF, dW/dD_L and the moduli (2.65)-(2.67)); invariant-based ones also expose
-``invariant_derivatives(I) -> (W, W_n, W_mn)``. ``incompressible`` materials are meant
+Every material follows one protocol (:class:`Material`), so that no caller asks which
+material it holds:
+
+* the energy, one expression for every backend: ``energy_expression(F, D_L, *, xp)`` and,
+  where the energy has a purely mechanical part, ``mechanical_energy(F, *, xp)`` (``W`` at
+  ``D_L = 0``), with ``xp`` a math namespace (:data:`~debench.models.materials.energies.NUMPY`,
+  :data:`~debench.models.materials.ngsolve_forms.NGSOLVE` and its variants);
+* the numpy API ``energy(F, D_L)`` and ``response(F, D_L, second=True) -> Response``
+  (energy, dW/dF, dW/dD_L and the moduli (2.65)-(2.67)); invariant-based materials also
+  expose ``invariant_derivatives(I) -> (W, W_n, W_mn)``;
+* the moduli ``shear_modulus`` and ``bulk_modulus`` (``k``; infinite when incompressible);
+* admissibility: ``check_admissible(F, D_L)`` raises ``ValueError`` naming the bound.
+
+:class:`IdealDielectricElastomer` is the part of the protocol the Chapter 5 finite-element
+models need: a compressible elastic energy plus the ideal dielectric (5.9), whose electric
+enthalpy they assemble. ``incompressible`` materials are meant
 for det F = 1 with a Lagrange multiplier p (eqs (2.29)-(2.34)); their energy is still
 evaluated off the constraint (needed for derivatives), as printed in the thesis.
 
@@ -16,6 +29,7 @@ Units: SI (Pa, F/m, C/m^2) or any consistent non-dimensional set.
 
 from __future__ import annotations
 
+import functools
 import math
 import numbers
 from dataclasses import dataclass, field
@@ -63,14 +77,42 @@ def _invariant_vector(I) -> np.ndarray:
     return I
 
 
-class _InvariantMaterial:
-    """Mixin: energy and response of an invariant-based energy via the chain rule."""
+class Material:
+    """The protocol of every library material (module docstring).
+
+    Subclasses provide ``energy_expression`` (and ``mechanical_energy`` where the energy has
+    a mechanical part of its own), ``energy``, ``response`` and ``shear_modulus``; the
+    defaults here raise ``NotImplementedError`` naming the class.
+    """
 
     numbering: ClassVar[str] = "iso"
     incompressible: ClassVar[bool] = False
 
     def _fibre(self):
         return None
+
+    def energy_expression(self, F, D_L, *, xp):
+        """``W(F, D_L)`` evaluated by the math namespace ``xp`` (no validation)."""
+        raise NotImplementedError(f"{type(self).__name__} has no energy expression")
+
+    def mechanical_energy(self, F, *, xp):
+        """``W(F, 0)``, the strain energy, evaluated by the math namespace ``xp``."""
+        raise NotImplementedError(f"{type(self).__name__} has no mechanical energy")
+
+    @property
+    def bulk_modulus(self) -> float:
+        """Initial bulk modulus: infinite for an incompressible material, 0 without one."""
+        return math.inf if self.incompressible else 0.0
+
+    def check_admissible(self, F, D_L=None) -> None:
+        """Raise ``ValueError`` naming the bound unless ``(F, D_L)`` is a state of this
+        material's domain (finite, ``det F > 0``; ``D_L`` None: zero)."""
+        validate_state(F, np.zeros(3) if D_L is None else D_L, self._fibre(),
+                       numbering=self.numbering)
+
+
+class _InvariantMaterial(Material):
+    """Mixin: energy and response of an invariant-based energy via the chain rule."""
 
     @v.finite_result
     def energy(self, F, D_L) -> float:
@@ -110,6 +152,19 @@ class GentIdealDielectric(_InvariantMaterial):
         _positive("Jm", self.Jm)
         _positive("eps", self.eps)
 
+    def energy_expression(self, F, D_L, *, xp):
+        I = E.invariants(F, D_L, xp=xp)
+        return E.gent_ideal_dielectric(I["I1"], I["DCD"], mu=self.mu, Jm=self.Jm, eps=self.eps,
+                                       xp=xp)
+
+    def mechanical_energy(self, F, *, xp):
+        return E.gent(E.invariants(F, xp=xp)["I1"], mu=self.mu, Jm=self.Jm, xp=xp)
+
+    def check_admissible(self, F, D_L=None) -> None:
+        """Also ``I1 - 3 < Jm`` (short of the Gent lock)."""
+        super().check_admissible(F, D_L)
+        self.invariant_derivatives(invariants(F, np.zeros(3)))
+
     def invariant_derivatives(self, I):
         """``(W, W_n, W_mn)`` at ``I = [I1, ..., I6]``; ValueError past the Gent lock."""
         I = _invariant_vector(I)
@@ -132,9 +187,33 @@ class GentIdealDielectric(_InvariantMaterial):
         return self.mu
 
 
+# ------------------------------------------- elastomers with the ideal dielectric (Ch. 5)
+class IdealDielectricElastomer(Material):
+    """A compressible elastic energy plus the ideal dielectric (5.9)::
+
+        W(F, D_L) = mechanical_energy(F) + I5/(2 eps J)
+
+    Subclasses are dataclasses with the fields ``k`` (bulk modulus) and ``eps`` and provide
+    ``mechanical_energy``. The Chapter 5 finite-element models accept any of them: they
+    assemble ``mechanical_energy`` and the enthalpy of (5.9)
+    (:func:`~debench.models.materials.energies.ideal_dielectric_enthalpy`).
+    """
+
+    incompressible: ClassVar[bool] = False
+
+    def energy_expression(self, F, D_L, *, xp):
+        I = E.invariants(F, D_L, xp=xp)
+        return self.mechanical_energy(F, xp=xp) + E.ideal_dielectric(I["DCD"], I["J"],
+                                                                     eps=self.eps)
+
+    @property
+    def bulk_modulus(self) -> float:
+        return self.k
+
+
 # ---------------------------------------------------------------- neo-Hookean (Ch. 5)
 @dataclass(frozen=True)
-class NeoHookeanIdealDielectric(_InvariantMaterial):
+class NeoHookeanIdealDielectric(IdealDielectricElastomer, _InvariantMaterial):
     """Compressible neo-Hookean (5.15) + ideal dielectric (5.9), Ch. 5.
 
     ``W = C10 (J^{-2/3} I1 - 3) + (J - 1)^2/D1 + J^{-1} I5/(2 eps)`` with ``C10 = mu/2``
@@ -153,6 +232,10 @@ class NeoHookeanIdealDielectric(_InvariantMaterial):
         _positive("mu", self.mu)
         _positive("k", self.k)
         _positive("eps", self.eps)
+
+    def mechanical_energy(self, F, *, xp):
+        I = E.invariants(F, xp=xp)
+        return E.neo_hookean(I["I1"], I["J"], mu=self.mu, k=self.k)
 
     @property
     def C10(self) -> float:
@@ -204,6 +287,10 @@ class IdealDielectric(_InvariantMaterial):
     def shear_modulus(self) -> float:
         return 0.0
 
+    def energy_expression(self, F, D_L, *, xp):
+        I = E.invariants(F, D_L, xp=xp)
+        return E.ideal_dielectric(I["DCD"], I["J"], eps=self.eps)
+
     def invariant_derivatives(self, I):
         """``(W, W_n, W_mn)`` at ``I = [I1, ..., I6]`` (I3 > 0)."""
         I = _invariant_vector(I)
@@ -243,6 +330,11 @@ class DorfmannOgdenElectric(_InvariantMaterial):
     def shear_modulus(self) -> float:
         return 0.0
 
+    def energy_expression(self, F, D_L, *, xp):
+        I = E.invariants(F, D_L, xp=xp)
+        return E.dorfmann_ogden_electric(I["DD"], I["DCD"], alpha=self.alpha, beta=self.beta,
+                                         eps=self.eps)
+
     def invariant_derivatives(self, I):
         """``(W, W_n, W_mn)`` at ``I = [I1, ..., I6]``."""
         I = _invariant_vector(I)
@@ -256,7 +348,7 @@ class DorfmannOgdenElectric(_InvariantMaterial):
 
 # ------------------------------------------------------------- Ogden (Ch. 5, 5.26)
 @dataclass(frozen=True)
-class OgdenIdealDielectric:
+class OgdenIdealDielectric(IdealDielectricElastomer):
     """Compressible three-term Ogden (5.26) + volumetric (J-1)^2/D1 + ideal dielectric (5.9).
 
     ``W = sum_p 2 mu_p/alpha_p^2 (lb1^a_p + lb2^a_p + lb3^a_p - 3) + k/2 (J - 1)^2
@@ -301,6 +393,16 @@ class OgdenIdealDielectric:
     def shear_modulus(self) -> float:
         """Initial shear modulus ``sum_p mu_p`` (convention 2 mu_p/alpha_p^2 of (5.26))."""
         return float(sum(self.mus))
+
+    def mechanical_energy(self, F, *, xp):
+        """(5.26) + k/2 (J - 1)^2 through the power sums of the eigenvalues of ``Cbar``,
+        which the namespace evaluates (``xp.spectral``: numpy exactly, NGSolve by its
+        regularised or axisymmetric forms)."""
+        J = xp.det(F)
+        Cb = E.isochoric_right_cauchy_green(E.right_cauchy_green(F, xp=xp), J)
+        isochoric = functools.partial(E.ogden_isochoric_from_power_sums, alphas=self.alphas,
+                                      mus=self.mus)
+        return xp.spectral(Cb, isochoric) + E.volumetric(J, k=self.k)
 
     def _phi(self, c):
         """Energy of the eigenvalues c_k of C and its derivatives (see spectral_response):
@@ -385,6 +487,16 @@ class TransverselyIsotropicNeoHookean(_InvariantMaterial):
     def _fibre(self):
         return np.asarray(self.A, dtype=float)
 
+    def energy_expression(self, F, D_L, *, xp):
+        I = E.invariants(F, D_L, xp.vector(self.A), xp=xp)
+        return E.ti_neo_hookean_dielectric(I["I1"], I["ACA"], I["DD"], I["DCD"], mu=self.mu,
+                                           xi=self.xi, alpha=self.alpha, beta=self.beta,
+                                           eps=self.eps)
+
+    def mechanical_energy(self, F, *, xp):
+        I = E.invariants(F, A=xp.vector(self.A), xp=xp)
+        return E.ti_neo_hookean_elastic(I["I1"], I["ACA"], mu=self.mu, xi=self.xi)
+
     @property
     def shear_modulus(self) -> float:
         """Shear modulus for shear in the plane transverse to A: mu."""
@@ -404,3 +516,4 @@ class TransverselyIsotropicNeoHookean(_InvariantMaterial):
         Wn[5] = self.alpha / (2 * self.eps)
         Wmn[3, 3] = mu * xi
         return W, Wn, Wmn
+
