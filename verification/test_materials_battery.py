@@ -318,6 +318,26 @@ def test_battery_protocol_admissibility_and_moduli(name):
                                                                     rel=ROUNDING_RTOL)
 
 
+def test_registry_lookup_raises_naming_the_argument_and_the_valid_names():
+    """One lookup of materials by name: registry names and the Chapter 5 aliases resolve;
+    any other name raises ValueError naming the argument and the valid names (also through
+    the Chapter 5 studies' lookups, which once turned every unknown name into Ogden)."""
+    from debench.models.materials import ALIASES, material
+    from debench.reference.studies import ch5_axisym_tasks, ch5_tasks
+
+    for name in NAMES:
+        assert material(name) is MATERIALS[name]
+    assert material("nh") == NeoHookeanIdealDielectric()
+    assert material("ogden") == OgdenIdealDielectric()
+    assert ch5_tasks.material("nh") == NeoHookeanIdealDielectric()
+    assert ch5_axisym_tasks.material("ogden_r10") == OgdenIdealDielectric()
+    for lookup in (material, ch5_tasks.material, ch5_axisym_tasks.material):
+        for bad in ("mooney", "NH", "", None):
+            with pytest.raises(ValueError, match="name must be a library material") as err:
+                lookup(bad)
+            assert all(n in str(err.value) for n in [*NAMES, *ALIASES])
+
+
 def test_gent_past_lock_raises():
     """Stretch past the Gent lock (I1 - 3 >= Jm, eq. (3.23)) raises ValueError."""
     mat = GentIdealDielectric()

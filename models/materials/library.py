@@ -517,3 +517,41 @@ class TransverselyIsotropicNeoHookean(_InvariantMaterial):
         Wmn[3, 3] = mu * xi
         return W, Wn, Wmn
 
+
+# ------------------------------------------------------------------------ registry
+MATERIALS: dict[str, Material] = {
+    "gent_ideal_dielectric": GentIdealDielectric(),
+    "neo_hookean_ideal_dielectric": NeoHookeanIdealDielectric(),
+    "ogden_ideal_dielectric": OgdenIdealDielectric(),
+    "ideal_dielectric": IdealDielectric(),
+    "ti_neo_hookean_dielectric": TransverselyIsotropicNeoHookean(),
+    "dorfmann_ogden_electric": DorfmannOgdenElectric(alpha=0.3, beta=0.5),
+}
+"""Every 3-D material of the library, by name: the one registry (the battery and the
+backend tests loop over it, :func:`material` looks names up in it). A material is added to
+the library by its class and one entry here.
+
+``ti_neo_hookean_dielectric`` is non-dimensional (mu = eps = 1, xi = 5, alpha = 0,
+beta = 0.5 of Sec. 4.4); ``dorfmann_ogden_electric`` (4.20) alone is non-dimensional with
+alpha = 0.3 (the thesis uses alpha = 0; nonzero here so the battery exercises the I4 = D.D
+term); the others are SI with the thesis parameters.
+"""
+
+THESIS_MATERIALS = ("gent_ideal_dielectric", "neo_hookean_ideal_dielectric",
+                    "ogden_ideal_dielectric", "ideal_dielectric", "ti_neo_hookean_dielectric",
+                    "dorfmann_ogden_electric")
+"""The names of :data:`MATERIALS` that are materials of the thesis (the Chapter 2 kernel
+dataset holds these)."""
+
+ALIASES = {"nh": "neo_hookean_ideal_dielectric", "ogden": "ogden_ideal_dielectric"}
+"""Short names of the Chapter 5 cases for entries of :data:`MATERIALS`."""
+
+
+def material(name: str) -> Material:
+    """The material of :data:`MATERIALS` registered as ``name`` (or as its alias in
+    :data:`ALIASES`); ``ValueError`` naming the argument and the valid names otherwise."""
+    key = ALIASES.get(name, name) if isinstance(name, str) else None
+    if key not in MATERIALS:
+        raise ValueError(f"name must be a library material, one of "
+                         f"{sorted(MATERIALS) + sorted(ALIASES)}, got {name!r}")
+    return MATERIALS[key]
