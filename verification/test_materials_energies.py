@@ -67,6 +67,7 @@ GENT = MATERIALS["gent_ideal_dielectric"]
 OGDEN = MATERIALS["ogden_ideal_dielectric"]
 TI = MATERIALS["ti_neo_hookean_dielectric"]
 DO = MATERIALS["dorfmann_ogden_electric"]
+MR = MATERIALS["mooney_rivlin_ideal_dielectric"]
 MEMBRANE = GentMembrane(mu=1.0, Jm=K.VHB_GENT_JM,
                         permittivity=ZhaoSuoPermittivity(eps_bar=1.0,
                                                          c=dict(K.TABLE_3_1)[56]))
@@ -145,6 +146,7 @@ def _cases(F, D, A, l1, l2, I4):
         "gent": ((I1,), dict(mu=GENT.mu, Jm=GENT.Jm), GENT.mu),
         "neo_hookean_isochoric": ((I1, J), dict(mu=NH.mu), NH.mu),
         "volumetric": ((J,), dict(k=NH.k), NH.mu),
+        "mooney_rivlin_isochoric": ((I1, Isi["I2"], J), dict(C10=MR.C10, C01=MR.C01), MR.C10),
         "neo_hookean": ((I1, J), dict(mu=NH.mu, k=NH.k), NH.mu),
         "ogden_term": ((cbar,), dict(alpha=OGDEN.alphas[1], mu=OGDEN.mus[1]),
                        OGDEN.shear_modulus),
@@ -272,6 +274,8 @@ PARTS = {
     "ideal_dielectric": ("ideal_dielectric",),
     "ti_neo_hookean_dielectric": ("ti_neo_hookean_elastic", "dorfmann_ogden_electric"),
     "dorfmann_ogden_electric": ("dorfmann_ogden_electric",),
+    "mooney_rivlin_ideal_dielectric": ("mooney_rivlin_isochoric", "volumetric",
+                                       "ideal_dielectric"),
 }
 """The functions of ``energies`` each material's energy is built from."""
 

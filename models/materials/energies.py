@@ -123,6 +123,13 @@ def neo_hookean_isochoric(I1, J, *, mu):
     return 0.5 * mu * (J ** (-2 / 3) * I1 - 3)
 
 
+def mooney_rivlin_isochoric(I1, I2, J, *, C10, C01):
+    """The isochoric compressible Mooney-Rivlin energy:
+    ``C10 (J^{-2/3} I1 - 3) + C01 (J^{-4/3} I2 - 3)`` (the invariants of ``Cbar``;
+    ``C01 = 0`` is :func:`neo_hookean_isochoric` with ``mu = 2 C10``)."""
+    return C10 * (J ** (-2 / 3) * I1 - 3) + C01 * (J ** (-4 / 3) * I2 - 3)
+
+
 def volumetric(J, *, k):
     """The volumetric part of (5.15) and of the Ogden energy: ``(J - 1)^2/D1 =
     k/2 (J - 1)^2`` with ``D1 = 2/k`` (5.17)."""

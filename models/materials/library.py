@@ -270,6 +270,64 @@ class NeoHookeanIdealDielectric(IdealDielectricElastomer, _InvariantMaterial):
 
 
 @dataclass(frozen=True)
+class MooneyRivlinIdealDielectric(IdealDielectricElastomer, _InvariantMaterial):
+    """Compressible Mooney-Rivlin elastomer with the ideal dielectric (5.9)::
+
+        W = C10 (J^{-2/3} I1 - 3) + C01 (J^{-4/3} I2 - 3) + k/2 (J - 1)^2 + I5/(2 eps J)
+
+    iso numbering, ``J = sqrt(I3)``; initial shear modulus ``2 (C10 + C01)``. ``C01 = 0``
+    is the neo-Hookean (5.15) with ``mu = 2 C10``. Not a thesis material: the defaults
+    split the Table 5.1 neo-Hookean shear modulus 70/30 between ``C10`` and ``C01`` (same
+    initial response), with the Table 5.1 bulk modulus.
+    """
+
+    C10: float = 0.35 * TABLE_5_1_NH_SHEAR_MODULUS
+    C01: float = 0.15 * TABLE_5_1_NH_SHEAR_MODULUS
+    k: float = TABLE_5_1_BULK_MODULUS
+    eps: float = field(default=EPS_R_ASSUMED * VACUUM_PERMITTIVITY)
+
+    def __post_init__(self):
+        _positive("C10", self.C10)
+        _finite("C01", self.C01)
+        if self.C01 < 0:
+            raise ValueError(f"C01 must be >= 0, got {self.C01}")
+        _positive("k", self.k)
+        _positive("eps", self.eps)
+
+    @property
+    def shear_modulus(self) -> float:
+        """Initial shear modulus ``2 (C10 + C01)``."""
+        return 2 * (self.C10 + self.C01)
+
+    def mechanical_energy(self, F, *, xp):
+        I = E.invariants(F, xp=xp)
+        return (E.mooney_rivlin_isochoric(I["I1"], I["I2"], I["J"], C10=self.C10, C01=self.C01)
+                + E.volumetric(I["J"], k=self.k))
+
+    def invariant_derivatives(self, I):
+        """``(W, W_n, W_mn)`` at ``I = [I1, ..., I6]`` (I3 > 0)."""
+        I = _invariant_vector(I)
+        I1, I2, I3, I5 = I[0], I[1], I[2], I[4]
+        C10, C01, k, eps = self.C10, self.C01, self.k, self.eps
+        J = math.sqrt(I3)
+        W = (E.mooney_rivlin_isochoric(I1, I2, J, C10=C10, C01=C01) + E.volumetric(J, k=k)
+             + E.ideal_dielectric(I5, J, eps=eps))
+        Wn = np.zeros(6)
+        Wmn = np.zeros((6, 6))
+        Wn[0] = C10 * I3 ** (-1 / 3)
+        Wn[1] = C01 * I3 ** (-2 / 3)
+        Wn[2] = (-C10 / 3 * I1 * I3 ** (-4 / 3) - 2 * C01 / 3 * I2 * I3 ** (-5 / 3)
+                 + k / 2 * (1 - I3**-0.5) - I5 * I3**-1.5 / (4 * eps))
+        Wn[4] = I3**-0.5 / (2 * eps)
+        Wmn[0, 2] = Wmn[2, 0] = -C10 / 3 * I3 ** (-4 / 3)
+        Wmn[1, 2] = Wmn[2, 1] = -2 * C01 / 3 * I3 ** (-5 / 3)
+        Wmn[2, 2] = (4 * C10 / 9 * I1 * I3 ** (-7 / 3) + 10 * C01 / 9 * I2 * I3 ** (-8 / 3)
+                     + k / 4 * I3**-1.5 + 3 * I5 * I3**-2.5 / (8 * eps))
+        Wmn[2, 4] = Wmn[4, 2] = -(I3**-1.5) / (4 * eps)
+        return W, Wn, Wmn
+
+
+@dataclass(frozen=True)
 class IdealDielectric(_InvariantMaterial):
     """The electrical part alone, ``W_ele = J^{-1} I5/(2 eps)`` (eq. (5.9)); iso numbering.
 
@@ -526,6 +584,7 @@ MATERIALS: dict[str, Material] = {
     "ideal_dielectric": IdealDielectric(),
     "ti_neo_hookean_dielectric": TransverselyIsotropicNeoHookean(),
     "dorfmann_ogden_electric": DorfmannOgdenElectric(alpha=0.3, beta=0.5),
+    "mooney_rivlin_ideal_dielectric": MooneyRivlinIdealDielectric(),
 }
 """Every 3-D material of the library, by name: the one registry (the battery and the
 backend tests loop over it, :func:`material` looks names up in it). A material is added to
