@@ -34,6 +34,9 @@ looked up by :func:`material`, which raises ``ValueError`` naming the valid name
                                             2.3252, 2.561, mu = 8580, 84300, -23300 Pa; initial
                                             shear modulus sum mu_p = 69580 Pa; bulk k of the
                                             neo-Hookean (assumed)
+:class:`MooneyRivlinIdealDielectric`        C10 (J^{-2/3} I1 - 3) + C01 (J^{-4/3} I2 - 3) +
+                                            k/2 (J-1)^2 + (5.9); not a thesis material
+                                            (C01 = 0: neo-Hookean with mu = 2 C10)
 :class:`IdealDielectric`                    (5.9) W = I5/(2 eps J)
 :class:`DorfmannOgdenElectric`              (4.20) (alpha D_L.D_L + beta D_L.C D_L)/(2 eps)
 :class:`TransverselyIsotropicNeoHookean`    (4.22) mu/2 (I1-3) + mu xi/2 (I4-1)^2 +
@@ -73,6 +76,7 @@ from debench.models.materials.library import (
     IdealDielectric,
     IdealDielectricElastomer,
     Material,
+    MooneyRivlinIdealDielectric,
     NeoHookeanIdealDielectric,
     OgdenIdealDielectric,
     TransverselyIsotropicNeoHookean,
@@ -108,7 +112,7 @@ __all__ = [
     "ALIASES", "MATERIALS", "MEMBRANE_MODELS", "THESIS_MATERIALS", "VACUUM_PERMITTIVITY",
     "DorfmannOgdenElectric", "GentIdealDielectric",
     "GentMembrane", "IdealDielectric", "IdealDielectricElastomer",
-    "JimenezMcMeekingPermittivity", "Material",
+    "JimenezMcMeekingPermittivity", "Material", "MooneyRivlinIdealDielectric",
     "NeoHookeanIdealDielectric", "OgdenIdealDielectric", "Response",
     "TransverselyIsotropicNeoHookean", "ZhaoSuoPermittivity", "cauchy_stress",
     "electric_field", "eulerian_displacement", "first_piola", "invariant_chain_rule",
