@@ -144,6 +144,7 @@ def _cases(F, D, A, l1, l2, I4):
         "isochoric_right_cauchy_green": ((C, J), {}, 0),
         "membrane_first_invariant": ((l1, l2), {}, 0),
         "gent": ((I1,), dict(mu=GENT.mu, Jm=GENT.Jm), GENT.mu),
+        "gent_lock_margin": ((I1,), dict(kappa=1 / GENT.Jm), 1.0),
         "neo_hookean_isochoric": ((I1, J), dict(mu=NH.mu), NH.mu),
         "volumetric": ((J,), dict(k=NH.k), NH.mu),
         "mooney_rivlin_isochoric": ((I1, Isi["I2"], J), dict(C10=MR.C10, C01=MR.C01), MR.C10),
@@ -199,6 +200,17 @@ def test_numpy_and_ngsolve_evaluate_each_expression_alike(name, F, D, A, l1, l2,
     for a, b in _both(getattr(E, name), args, kwargs):
         s = max(float(np.max(np.abs(a))), scale)
         assert np.max(np.abs(a - b)) <= BACKEND_RTOL * s, (name, a, b)
+
+
+@pytest.mark.parametrize("I1", [3.0, 3.5, 20.0, 100.0])
+def test_gent_lock_margin_is_the_inverse_stiffening_of_the_gent_energy(I1):
+    """``gent_lock_margin`` (the Gent factor of the Chapter 3 membrane kernels) is
+    ``mu/2 / (dWs/dI1)`` of the Gent energy (3.23), the derivative by complex step (exact
+    to rounding: no subtraction)."""
+    h = 1e-30
+    dW = E.gent(I1 + 1j * h, mu=GENT.mu, Jm=GENT.Jm, xp=E.NUMPY).imag / h
+    margin = E.gent_lock_margin(I1, kappa=1 / GENT.Jm)
+    assert margin == pytest.approx(0.5 * GENT.mu / dW, rel=BACKEND_RTOL)
 
 
 def test_numpy_kinematics_of_the_expressions_are_the_library_invariants():

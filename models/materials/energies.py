@@ -117,6 +117,14 @@ def gent(I1, *, mu, Jm, xp):
     return -0.5 * mu * Jm * xp.log1p(-(I1 - 3) / Jm)
 
 
+def gent_lock_margin(I1, *, kappa):
+    """``1 - kappa (I1 - 3)`` with ``kappa = 1/Jm``: the argument of the logarithm of Gent
+    (3.23), positive short of the locking stretch; its inverse is the Gent stiffening
+    ``(2/mu) dWs/dI1`` that multiplies the neo-Hookean stresses (``kappa = 0``:
+    neo-Hookean, margin 1)."""
+    return 1 - kappa * (I1 - 3)
+
+
 def neo_hookean_isochoric(I1, J, *, mu):
     """The isochoric neo-Hookean part of (5.15): ``C10 (J^{-2/3} I1 - 3)``, ``C10 = mu/2``
     (5.16)."""
