@@ -32,7 +32,7 @@ from debench.models import validation as val
 from debench.models.buckling.parameters import MU_REF
 from debench.models.errors import ConvergenceError
 from debench.models.materials import energies as E
-from debench.models.materials.library import IdealDielectricElastomer
+from debench.models.materials.protocol import IdealDielectricElastomer
 from scipy.optimize import brentq
 from scipy.special import jn_zeros
 

@@ -3,7 +3,7 @@ the electric enthalpy as an NGSolve CoefficientFunction and its compilation.
 
 The energies come from the constitutive library's NGSolve path
 (:mod:`debench.models.materials.ngsolve_forms`): the strain energy of any library elastomer
-with the ideal dielectric (:class:`~debench.models.materials.library.IdealDielectricElastomer`:
+with the ideal dielectric (:class:`~debench.models.materials.protocol.IdealDielectricElastomer`:
 neo-Hookean (5.15), Ogden (5.26) by the averaged spectral perturbation, error O(delta^2),
 ``Discretisation.ogden_delta``, Mooney-Rivlin, ...), and the enthalpy of the ideal
 dielectric. Both Chapter 5 models (this 3D one and the axisymmetric one) build their
@@ -25,7 +25,7 @@ from debench.models.buckling.parameters import MU_REF
 from debench.models.errors import require
 from debench.models.materials import ngsolve_forms as ngf
 from debench.models.materials.constants import OGDEN_DELTA
-from debench.models.materials.library import IdealDielectricElastomer
+from debench.models.materials.protocol import IdealDielectricElastomer
 from netgen.meshing import Element3D, MeshPoint, Pnt
 from netgen.meshing import Mesh as NGMesh
 

@@ -61,7 +61,7 @@ from debench.models.buckling.fem_stability import MembraneStability
 from debench.models.buckling.mesh import disk_prism_mesh
 from debench.models.buckling.parameters import MU_REF, Discretisation, Plate
 from debench.models.errors import ConvergenceError, require
-from debench.models.materials.library import IdealDielectricElastomer
+from debench.models.materials.protocol import IdealDielectricElastomer
 
 NEWTON_TOL = 1e-9
 """Newton stops when max |correction| < NEWTON_TOL * t0 (1e-9 t0: the displacements are

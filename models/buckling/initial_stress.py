@@ -49,7 +49,7 @@ from debench.models.buckling.energy import enthalpy_cf
 from debench.models.buckling.fem import MembraneModel
 from debench.models.buckling.parameters import Discretisation, Plate
 from debench.models.errors import ConvergenceError
-from debench.models.materials.library import IdealDielectricElastomer
+from debench.models.materials.protocol import IdealDielectricElastomer
 from scipy.sparse.linalg import LinearOperator, eigsh, splu
 
 #: the three linearised buckling eigenproblems (``method=``), described in the module docstring

@@ -17,7 +17,7 @@ from debench.models.buckling.fem import MembraneModel
 from debench.models.buckling.modes import deflection_asymmetry, mode_harmonics
 from debench.models.buckling.parameters import Discretisation, Plate
 from debench.models.errors import ConvergenceError, require
-from debench.models.materials.library import IdealDielectricElastomer
+from debench.models.materials.protocol import IdealDielectricElastomer
 
 CRITICAL_VTOL = 1e-6
 """The secant on lambda_1(v^2) = 0 stops when its step |dv| < CRITICAL_VTOL (normalised

@@ -28,7 +28,7 @@ Energy per unit mu (library forms :mod:`debench.models.materials.ngsolve_forms`)
     eps/eps_bar = 1 + c (lambda_R + lambda_theta - 2),                         (3.27)
 
 ``W_Gent`` = the library Gent's
-:meth:`~debench.models.materials.library.Material.mechanical_energy`,
+:meth:`~debench.models.materials.protocol.Material.mechanical_energy`,
 ``w_e`` = :func:`~debench.models.materials.ngsolve_forms.ideal_dielectric_enthalpy` with
 eps = eps/eps_bar, ``Phibar^2 = eps_bar Phi^2/(mu H^2)`` (Sec. 3.5);
 ``lambda_R = sqrt(C_RR)``, ``lambda_theta = 1 + u_R/R``. In a homogeneous state

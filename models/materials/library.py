@@ -1,7 +1,7 @@
 """The constitutive library: frozen parameter dataclasses that are also the energies.
 
-Every material follows one protocol (:class:`Material`), so that no caller asks which
-material it holds:
+Every material follows one protocol (:class:`~debench.models.materials.protocol.Material`),
+so that no caller asks which material it holds:
 
 * the energy, one expression for every backend: ``energy_expression(F, D_L, *, xp)`` and,
   where the energy has a purely mechanical part, ``mechanical_energy(F, *, xp)`` (``W`` at
@@ -13,11 +13,13 @@ material it holds:
 * the moduli ``shear_modulus`` and ``bulk_modulus`` (``k``; infinite when incompressible);
 * admissibility: ``check_admissible(F, D_L)`` raises ``ValueError`` naming the bound.
 
-:class:`IdealDielectricElastomer` is the part of the protocol the Chapter 5 finite-element
-models need: a compressible elastic energy plus the ideal dielectric (5.9), whose electric
-enthalpy they assemble. ``incompressible`` materials are meant
-for det F = 1 with a Lagrange multiplier p (eqs (2.29)-(2.34)); their energy is still
-evaluated off the constraint (needed for derivatives), as printed in the thesis.
+:class:`~debench.models.materials.protocol.IdealDielectricElastomer` is the part of the
+protocol the Chapter 5 finite-element models need: a compressible elastic energy plus the
+ideal dielectric (5.9), whose electric enthalpy they assemble.
+
+``incompressible`` materials are meant for det F = 1 with a Lagrange multiplier p
+(eqs (2.29)-(2.34)); their energy is still evaluated off the constraint (needed for
+derivatives), as printed in the thesis.
 
 Each energy ``W`` is the one expression of :mod:`debench.models.materials.energies`
 (evaluated here with numpy, by NGSolve in :mod:`debench.models.materials.ngsolve_forms`);
@@ -55,6 +57,7 @@ from debench.models.materials.kernel import (
     invariant_chain_rule,
     spectral_response,
 )
+from debench.models.materials.protocol import IdealDielectricElastomer, Material
 
 
 def _positive(name: str, value: float) -> None:
@@ -75,40 +78,6 @@ def _invariant_vector(I) -> np.ndarray:
     if not I[2] > 0:
         raise ValueError(f"I3 = det C = {I[2]:.6g} must be > 0")
     return I
-
-
-class Material:
-    """The protocol of every library material (module docstring).
-
-    Subclasses provide ``energy_expression`` (and ``mechanical_energy`` where the energy has
-    a mechanical part of its own), ``energy``, ``response`` and ``shear_modulus``; the
-    defaults here raise ``NotImplementedError`` naming the class.
-    """
-
-    numbering: ClassVar[str] = "iso"
-    incompressible: ClassVar[bool] = False
-
-    def _fibre(self):
-        return None
-
-    def energy_expression(self, F, D_L, *, xp):
-        """``W(F, D_L)`` evaluated by the math namespace ``xp`` (no validation)."""
-        raise NotImplementedError(f"{type(self).__name__} has no energy expression")
-
-    def mechanical_energy(self, F, *, xp):
-        """``W(F, 0)``, the strain energy, evaluated by the math namespace ``xp``."""
-        raise NotImplementedError(f"{type(self).__name__} has no mechanical energy")
-
-    @property
-    def bulk_modulus(self) -> float:
-        """Initial bulk modulus: infinite for an incompressible material, 0 without one."""
-        return math.inf if self.incompressible else 0.0
-
-    def check_admissible(self, F, D_L=None) -> None:
-        """Raise ``ValueError`` naming the bound unless ``(F, D_L)`` is a state of this
-        material's domain (finite, ``det F > 0``; ``D_L`` None: zero)."""
-        validate_state(F, np.zeros(3) if D_L is None else D_L, self._fibre(),
-                       numbering=self.numbering)
 
 
 class _InvariantMaterial(Material):
@@ -185,30 +154,6 @@ class GentIdealDielectric(_InvariantMaterial):
     def shear_modulus(self) -> float:
         """Initial shear modulus: mu."""
         return self.mu
-
-
-# ------------------------------------------- elastomers with the ideal dielectric (Ch. 5)
-class IdealDielectricElastomer(Material):
-    """A compressible elastic energy plus the ideal dielectric (5.9)::
-
-        W(F, D_L) = mechanical_energy(F) + I5/(2 eps J)
-
-    Subclasses are dataclasses with the fields ``k`` (bulk modulus) and ``eps`` and provide
-    ``mechanical_energy``. The Chapter 5 finite-element models accept any of them: they
-    assemble ``mechanical_energy`` and the enthalpy of (5.9)
-    (:func:`~debench.models.materials.energies.ideal_dielectric_enthalpy`).
-    """
-
-    incompressible: ClassVar[bool] = False
-
-    def energy_expression(self, F, D_L, *, xp):
-        I = E.invariants(F, D_L, xp=xp)
-        return self.mechanical_energy(F, xp=xp) + E.ideal_dielectric(I["DCD"], I["J"],
-                                                                     eps=self.eps)
-
-    @property
-    def bulk_modulus(self) -> float:
-        return self.k
 
 
 # ---------------------------------------------------------------- neo-Hookean (Ch. 5)

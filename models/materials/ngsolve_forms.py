@@ -4,7 +4,7 @@ Import on demand (``import debench.models.materials.ngsolve_forms``): it imports
 
 A library material builds its energy ``W`` from CF arguments ``F`` (3x3) and ``D_L``
 (3-vector) through its own protocol method
-(:meth:`~debench.models.materials.library.Material.energy_expression`) evaluated
+(:meth:`~debench.models.materials.protocol.Material.energy_expression`) evaluated
 with the NGSolve namespace :data:`NGSOLVE`: the one expression of
 :mod:`debench.models.materials.energies` (this module writes no energy of its own and asks
 no material which class it is); stress and moduli follow from NGSolve's symbolic

@@ -21,7 +21,7 @@ from debench.models.buckling.axisym.section import AxisymDiscretisation
 from debench.models.buckling.axisym.spectra import TANGENTS
 from debench.models.buckling.parameters import Plate
 from debench.models.errors import ConvergenceError
-from debench.models.materials.library import IdealDielectricElastomer
+from debench.models.materials.protocol import IdealDielectricElastomer
 
 CRITICAL_STEP = 1e-6
 """The secant on lambda_1(v^2) = 0 stops evaluating when its next step would be below

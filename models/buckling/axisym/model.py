@@ -36,7 +36,7 @@ from debench.models.buckling.energy import enthalpy_cf
 from debench.models.buckling.parameters import MU_REF, Plate
 from debench.models.errors import ConvergenceError, require
 from debench.models.materials import ngsolve_forms as ngf
-from debench.models.materials.library import IdealDielectricElastomer
+from debench.models.materials.protocol import IdealDielectricElastomer
 from scipy.sparse.linalg import splu
 
 NEWTON_RTOL = 1e-11
