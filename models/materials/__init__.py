@@ -74,8 +74,6 @@ from debench.models.materials.library import (
     DorfmannOgdenElectric,
     GentIdealDielectric,
     IdealDielectric,
-    IdealDielectricElastomer,
-    Material,
     MooneyRivlinIdealDielectric,
     NeoHookeanIdealDielectric,
     OgdenIdealDielectric,
@@ -87,6 +85,7 @@ from debench.models.materials.membrane import (
     JimenezMcMeekingPermittivity,
     ZhaoSuoPermittivity,
 )
+from debench.models.materials.protocol import IdealDielectricElastomer, Material
 from debench.models.materials.response import (
     cauchy_stress,
     electric_field,
