@@ -9,8 +9,8 @@ squares of the unit square cut along a diagonal, or the ``n^3`` cubes of the uni
 into tetrahedra, ``h = 1/n``), with ``u`` and ``phi``
 prescribed on the whole boundary by NGSolve's boundary interpolation of the exact fields.
 ``Omega`` is built from the constitutive library's NGSolve path
-(:func:`~debench.models.materials.ngsolve_forms.neo_hookean_mechanical` or the library's
-Gent and volumetric energies, and
+(the library neo-Hookean's ``mechanical_energy`` or the library's Gent and volumetric
+energies, and
 :func:`~debench.models.materials.ngsolve_forms.ideal_dielectric_enthalpy`); ``b`` and ``q``
 are the generated formulas of :mod:`debench.models.mms_generated` evaluated as NGSolve
 CoefficientFunctions; residual and tangent are NGSolve's symbolic derivatives of the
@@ -32,6 +32,7 @@ from debench.models import validation as val
 from debench.models.errors import ConvergenceError
 from debench.models.materials import energies as E
 from debench.models.materials import ngsolve_forms as forms
+from debench.models.materials.library import NeoHookeanIdealDielectric
 from debench.models.mms import ManufacturedSolution
 from ngsolve.meshes import MakeStructured2DMesh, MakeStructured3DMesh
 
@@ -89,7 +90,8 @@ def _kinematics(geometry, u, p, R):
 
 def _mechanical(solution: ManufacturedSolution, F):
     if solution.material == "neo_hookean":
-        return forms.neo_hookean_mechanical(F, mu=1.0, k=solution.kappa)
+        return NeoHookeanIdealDielectric(mu=1.0, k=solution.kappa).mechanical_energy(
+            F, xp=forms.NGSOLVE)
     inv = E.invariants(F, xp=forms.NGSOLVE)
     I1bar = inv["J"] ** (-2 / 3) * inv["I1"]
     return (E.gent(I1bar, mu=1.0, Jm=solution.Jm, xp=forms.NGSOLVE)

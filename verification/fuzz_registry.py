@@ -54,6 +54,10 @@ EXCLUDED_MODULES = {
         "inputs are validated once by the library's public boundary (the material classes, "
         "GentMembrane, ZhaoSuoPermittivity), which is fuzzed here; both backends are checked "
         "against each other in verification/test_materials_energies.py"),
+    "debench.models.materials.protocol": (
+        "the material protocol's base classes (Material, IdealDielectricElastomer), which "
+        "are not materials themselves: every method of the protocol is fuzzed here through "
+        "each material of the library that inherits or implements it"),
     "debench.models.materials.ngsolve_forms": (
         "NGSolve CoefficientFunction builders (symbolic, no numbers in or out); owned "
         "with the Chapter 5 FE model"),
@@ -338,7 +342,7 @@ def _invariant_cases():
 
 
 def _material_cases():
-    from debench.models.materials import kernel, library, membrane, response
+    from debench.models.materials import energies, kernel, library, membrane, response
 
     out = []
     mats = {
@@ -353,6 +357,9 @@ def _material_cases():
         "TransverselyIsotropicNeoHookean": (
             {"mu": 1.0, "xi": 5.0, "alpha": 0.0, "beta": 0.5, "eps": 1.0},
             {"mu": "pos", "xi": "nonneg", "alpha": "real", "beta": "real", "eps": "pos"}),
+        "MooneyRivlinIdealDielectric": ({"C10": 54.6e3, "C01": 23.4e3, "k": 7.7e6, "eps": 4e-11},
+                                        {"C10": "pos", "C01": "nonneg", "k": "pos",
+                                         "eps": "pos"}),
     }
     for cname, (valid, kinds) in mats.items():
         cls = getattr(library, cname)
@@ -367,6 +374,16 @@ def _material_cases():
                             getattr(m0, meth)(F, D_L), {"F": F, "D_L": D},
                             {"F": "F", "D_L": "D"}))
         out.append(Case(f"{base}.shear_modulus", lambda m0=m0: m0.shear_modulus, {}, {}))
+        out.append(Case(f"{base}.bulk_modulus", lambda m0=m0: m0.bulk_modulus, {}, {},
+                        check=lambda r: r > 0))
+        out.append(Case(f"{base}.check_admissible", lambda F, D_L, m0=m0:
+                        m0.check_admissible(F, D_L), {"F": F, "D_L": D},
+                        {"F": "F", "D_L": "D"}))
+        # the expression methods build W for any backend without validation (like
+        # debench.models.materials.energies): their valid call, in numpy
+        for meth, args in (("energy_expression", (F, D)), ("mechanical_energy", (F,))):
+            out.append(Case(f"{base}.{meth}", lambda m0=m0, meth=meth, args=args:
+                            getattr(m0, meth)(*args, xp=energies.NUMPY), {}, {}))
         if hasattr(cls, "invariant_derivatives"):
             from debench.models.invariants import invariants
             I0 = invariants(_F0, D, np.asarray(getattr(m0, "A", _A0), float),
@@ -375,6 +392,8 @@ def _material_cases():
                             {"I": I0}, {"I": "W6"}))
     nh = library.NeoHookeanIdealDielectric()
     out += [
+        Case("debench.models.materials.library.material", library.material, {"name": "nh"},
+             {"name": "choice"}),
         Case("debench.models.materials.library.NeoHookeanIdealDielectric.C10",
              lambda: nh.C10, {}, {}),
         Case("debench.models.materials.library.NeoHookeanIdealDielectric.D1",

@@ -12,8 +12,8 @@ Claims checked (thesis Zeng 2020, §5.2.2):
   care (§5.2.2.2);
 * the homogeneous clamped film (the pre-buckled state) satisfies sigma_33 = 0 with the
   in-plane compression equal to the Maxwell stress eps E^2 up to the compressibility
-  correction, computed two ways (closed-form principal stresses vs the kernel's Cauchy
-  stress).
+  correction; the principal Kirchhoff stresses it is solved with (the library's stress)
+  equal the closed forms written out independently (Eq. 5.27 and its neo-Hookean analogue).
 """
 
 from __future__ import annotations
@@ -118,6 +118,22 @@ def test_homogeneous_clamped_film_is_traction_free_and_compressed_by_maxwell_str
     # compressibility correction: |sigma_11| < eps E^2 and within k-induced O(mu/k)
     assert -h["sigma11"] < h["e"] ** 2
     assert -h["sigma11"] / h["e"] ** 2 == pytest.approx(1.0, abs=5 * mat.shear_modulus / mat.k)
+
+
+@pytest.mark.parametrize("stretches", [(1.0, 1.0, 1.0), (1.0, 1.0, 0.8), (1.3, 0.9, 0.85),
+                                       (0.7, 1.4, 1.1)])
+def test_library_principal_kirchhoff_stresses_equal_the_closed_forms(stretches):
+    """``tau_i = lambda_i dW/dlambda_i`` from the library's stress
+    (:func:`analytic.kirchhoff_principal`, used for the homogeneous film) equals Eq. (5.27)
+    for Ogden and its neo-Hookean analogue, written out independently, to IDENTITY_RTOL of
+    the shear modulus."""
+    nh, og = NeoHookean(), Ogden()
+    closed = {"nh": analytic.kirchhoff_neo_hookean(stretches, mu=nh.mu, k=nh.k),
+              "ogden": analytic.kirchhoff_ogden(stretches, alphas=og.alphas, mus=og.mus,
+                                                k=og.k)}
+    for name, mat in (("nh", nh), ("ogden", og)):
+        got = analytic.kirchhoff_principal(stretches, mat)
+        assert np.max(np.abs(got - closed[name])) <= IDENTITY_RTOL * mat.bulk_modulus, name
 
 
 def test_homogeneous_film_tends_to_maxwell_stress_when_incompressible():

@@ -299,12 +299,53 @@ def test_gent_3d_stress_equals_membrane_equation_of_state_3_21():
         assert Dm == pytest.approx(DL3 / (l1 * l2), rel=1e-12)
 
 
+@pytest.mark.parametrize("name", NAMES)
+def test_battery_protocol_admissibility_and_moduli(name):
+    """The protocol: ``check_admissible`` accepts the reference state and raises naming the
+    bound at det F <= 0; the bulk modulus is infinite exactly for the incompressible
+    materials; the energy expression evaluated by numpy is the energy."""
+    from debench.models.materials import energies as E
+
+    mat = MATERIALS[name]
+    mat.check_admissible(np.eye(3), np.zeros(3))
+    with pytest.raises(ValueError, match="det F must be > 0"):
+        mat.check_admissible(np.diag([1.0, 1.0, -1.0]))
+    assert math.isinf(mat.bulk_modulus) == mat.incompressible
+    F = np.array([[1.1, 0.1, 0.0], [0.0, 0.95, 0.05], [0.02, 0.0, 1.0]])
+    F = F / np.cbrt(np.linalg.det(F)) if mat.incompressible else F
+    D = np.array([0.2, -0.1, 0.3]) * _scale(mat)[1]
+    assert mat.energy_expression(F, D, xp=E.NUMPY) == pytest.approx(mat.energy(F, D),
+                                                                    rel=ROUNDING_RTOL)
+
+
+def test_registry_lookup_raises_naming_the_argument_and_the_valid_names():
+    """One lookup of materials by name: registry names and the Chapter 5 aliases resolve;
+    any other name raises ValueError naming the argument and the valid names (also through
+    the Chapter 5 studies' lookups, which once turned every unknown name into Ogden)."""
+    from debench.models.materials import ALIASES, material
+    from debench.reference.studies import ch5_axisym_tasks, ch5_tasks
+
+    for name in NAMES:
+        assert material(name) is MATERIALS[name]
+    assert material("nh") == NeoHookeanIdealDielectric()
+    assert material("ogden") == OgdenIdealDielectric()
+    assert ch5_tasks.material("nh") == NeoHookeanIdealDielectric()
+    assert ch5_axisym_tasks.material("ogden_r10") == OgdenIdealDielectric()
+    for lookup in (material, ch5_tasks.material, ch5_axisym_tasks.material):
+        for bad in ("mooney", "NH", "", None):
+            with pytest.raises(ValueError, match="name must be a library material") as err:
+                lookup(bad)
+            assert all(n in str(err.value) for n in [*NAMES, *ALIASES])
+
+
 def test_gent_past_lock_raises():
     """Stretch past the Gent lock (I1 - 3 >= Jm, eq. (3.23)) raises ValueError."""
     mat = GentIdealDielectric()
     lam = 8.0  # I1 - 3 = 2*64 + 1/4096 - 3 = 125 > 120
     with pytest.raises(ValueError, match="Gent lock"):
         mat.energy(np.diag([lam, lam, lam**-2]), np.zeros(3))
+    with pytest.raises(ValueError, match="Gent lock"):
+        mat.check_admissible(np.diag([lam, lam, lam**-2]))
 
 
 @pytest.mark.parametrize("cls, field", [

@@ -67,6 +67,7 @@ GENT = MATERIALS["gent_ideal_dielectric"]
 OGDEN = MATERIALS["ogden_ideal_dielectric"]
 TI = MATERIALS["ti_neo_hookean_dielectric"]
 DO = MATERIALS["dorfmann_ogden_electric"]
+MR = MATERIALS["mooney_rivlin_ideal_dielectric"]
 MEMBRANE = GentMembrane(mu=1.0, Jm=K.VHB_GENT_JM,
                         permittivity=ZhaoSuoPermittivity(eps_bar=1.0,
                                                          c=dict(K.TABLE_3_1)[56]))
@@ -143,8 +144,10 @@ def _cases(F, D, A, l1, l2, I4):
         "isochoric_right_cauchy_green": ((C, J), {}, 0),
         "membrane_first_invariant": ((l1, l2), {}, 0),
         "gent": ((I1,), dict(mu=GENT.mu, Jm=GENT.Jm), GENT.mu),
+        "gent_lock_margin": ((I1,), dict(kappa=1 / GENT.Jm), 1.0),
         "neo_hookean_isochoric": ((I1, J), dict(mu=NH.mu), NH.mu),
         "volumetric": ((J,), dict(k=NH.k), NH.mu),
+        "mooney_rivlin_isochoric": ((I1, Isi["I2"], J), dict(C10=MR.C10, C01=MR.C01), MR.C10),
         "neo_hookean": ((I1, J), dict(mu=NH.mu, k=NH.k), NH.mu),
         "ogden_term": ((cbar,), dict(alpha=OGDEN.alphas[1], mu=OGDEN.mus[1]),
                        OGDEN.shear_modulus),
@@ -199,16 +202,28 @@ def test_numpy_and_ngsolve_evaluate_each_expression_alike(name, F, D, A, l1, l2,
         assert np.max(np.abs(a - b)) <= BACKEND_RTOL * s, (name, a, b)
 
 
+@pytest.mark.parametrize("I1", [3.0, 3.5, 20.0, 100.0])
+def test_gent_lock_margin_is_the_inverse_stiffening_of_the_gent_energy(I1):
+    """``gent_lock_margin`` (the Gent factor of the Chapter 3 membrane kernels) is
+    ``mu/2 / (dWs/dI1)`` of the Gent energy (3.23), the derivative by complex step (exact
+    to rounding: no subtraction)."""
+    h = 1e-30
+    dW = E.gent(I1 + 1j * h, mu=GENT.mu, Jm=GENT.Jm, xp=E.NUMPY).imag / h
+    margin = E.gent_lock_margin(I1, kappa=1 / GENT.Jm)
+    assert margin == pytest.approx(0.5 * GENT.mu / dW, rel=BACKEND_RTOL)
+
+
 def test_numpy_kinematics_of_the_expressions_are_the_library_invariants():
-    """``energies.invariants`` (numpy) is the library's closed-form I1, I3 = J^2, I4, I5 of
-    both numberings (iso: I4 = D.D; ti: I4 = A.CA, I6 = D.D)."""
+    """``energies.invariants`` (numpy) is the library's closed-form I1, I2, I3 = J^2, I4, I5
+    of both numberings (iso: I4 = D.D; ti: I4 = A.CA, I6 = D.D)."""
     rng = np.random.default_rng(3)
     F = np.eye(3) + 0.2 * rng.standard_normal((3, 3))
     D, A = rng.standard_normal(3), np.array([0.0, 0.6, 0.8])
     got = E.invariants(F, D, A, xp=E.NUMPY)
     iso = closed_form_invariants(F, D, numbering="iso")
     ti = closed_form_invariants(F, D, A, numbering="ti")
-    want = {"I1": iso[0], "J": math.sqrt(iso[2]), "DD": iso[3], "DCD": iso[4], "ACA": ti[3]}
+    want = {"I1": iso[0], "I2": iso[1], "J": math.sqrt(iso[2]), "DD": iso[3], "DCD": iso[4],
+            "ACA": ti[3]}
     assert ti[5] == pytest.approx(iso[3], rel=1e-14)
     for k, w in want.items():
         assert got[k] == pytest.approx(w, rel=1e-13), k
@@ -266,10 +281,13 @@ def test_ogden_expression_at_unperturbed_eigenvalues_agrees_to_rounding(data):
 PARTS = {
     "gent_ideal_dielectric": ("gent", "ideal_dielectric"),
     "neo_hookean_ideal_dielectric": ("neo_hookean_isochoric", "volumetric", "ideal_dielectric"),
-    "ogden_ideal_dielectric": ("ogden_term", "volumetric", "ideal_dielectric"),
+    "ogden_ideal_dielectric": ("ogden_isochoric_from_power_sums", "volumetric",
+                               "ideal_dielectric"),
     "ideal_dielectric": ("ideal_dielectric",),
     "ti_neo_hookean_dielectric": ("ti_neo_hookean_elastic", "dorfmann_ogden_electric"),
     "dorfmann_ogden_electric": ("dorfmann_ogden_electric",),
+    "mooney_rivlin_ideal_dielectric": ("mooney_rivlin_isochoric", "volumetric",
+                                       "ideal_dielectric"),
 }
 """The functions of ``energies`` each material's energy is built from."""
 
@@ -331,8 +349,8 @@ def test_membrane_energy_of_the_library_and_of_the_fe_is_one_expression(part, mo
 @pytest.mark.parametrize(("mat", "part"),
                          [(NeoHookean(), p) for p in ("neo_hookean_isochoric", "volumetric",
                                                       "ideal_dielectric_enthalpy")]
-                         + [(Ogden(), p) for p in ("ogden_term", "volumetric",
-                                                   "ideal_dielectric_enthalpy")])
+                         + [(Ogden(), p) for p in ("ogden_isochoric_from_power_sums",
+                                                   "volumetric", "ideal_dielectric_enthalpy")])
 def test_chapter_5_enthalpy_of_the_closed_forms_and_of_the_fe_is_one_expression(mat, part,
                                                                              monkeypatch):
     """The electric enthalpy ``W_mech - eps/2 J C^-1:(E_L x E_L)`` assembled by the Ch. 5

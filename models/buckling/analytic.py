@@ -1,9 +1,11 @@
 """Closed-form references for the Chapter 5 model (numpy only, no ngsolve).
 
-* The Kirchhoff stresses of (5.15) and (5.26) in principal form, written out
-  independently of the constitutive library (Eq. 5.27 and its neo-Hookean analogue): the
-  closed-form check of the library and of the finite-element model.  The energies
-  themselves come from the library (:mod:`debench.models.materials`).
+* The principal Kirchhoff stresses of any library elastomer (from the library's stress,
+  :func:`kirchhoff_principal`) and, written out independently of the library, those of
+  (5.15) and (5.26) (Eq. 5.27 and its neo-Hookean analogue, :func:`kirchhoff_neo_hookean`,
+  :func:`kirchhoff_ogden`): the closed-form check of the library and of the
+  finite-element model.  The energies themselves come from the library
+  (:mod:`debench.models.materials`).
 * The ideal dielectric (5.9) ``W_ele = D_L.C D_L/(2 eps J)`` and its partial Legendre
   transform ``Omega = W_mech - eps/2 J C^-1:(E_L x E_L)`` (the library's expressions,
   :mod:`debench.models.materials.energies`, evaluated by numpy).
@@ -27,9 +29,10 @@ import math
 
 import numpy as np
 from debench.models import validation as val
-from debench.models.buckling.parameters import MU_REF, NeoHookean, Ogden
+from debench.models.buckling.parameters import MU_REF
 from debench.models.errors import ConvergenceError
 from debench.models.materials import energies as E
+from debench.models.materials.protocol import IdealDielectricElastomer
 from debench.models.numerics.roots import bracketed_root
 from scipy.special import jn_zeros
 
@@ -50,23 +53,41 @@ def _check_F(F):
     return J
 
 
-def mechanical_energy_numpy(F: np.ndarray, mat: NeoHookean | Ogden) -> float:
+def mechanical_energy_numpy(F: np.ndarray, mat: IdealDielectricElastomer) -> float:
     """W_mech(F) [Pa] of (5.15) or (5.26) + k/2 (J-1)^2: the library energy at D_L = 0."""
     _check_F(F)
     return float(mat.energy(np.asarray(F, dtype=float), np.zeros(3)))
 
 
-def kirchhoff_principal(stretches, mat: NeoHookean | Ogden) -> np.ndarray:
-    """Principal Kirchhoff stresses, Eq. (5.27) (Ogden) and its neo-Hookean analogue."""
+def _principal(stretches):
     lam = np.asarray(stretches, dtype=float)
-    if np.any(lam <= 0):
-        raise ValueError(f"stretches must be > 0, got {lam}")
+    if lam.shape != (3,) or np.any(lam <= 0):
+        raise ValueError(f"stretches must be three numbers > 0, got {lam}")
     J = float(np.prod(lam))
-    lb = lam * J ** (-1 / 3)
-    tau = np.full(3, mat.k * J * (J - 1))
-    if isinstance(mat, NeoHookean):
-        return tau + mat.mu * (lb**2 - np.sum(lb**2) / 3)
-    for a, m in zip(mat.alphas, mat.mus, strict=True):
+    return lam, J, lam * J ** (-1 / 3)
+
+
+def kirchhoff_principal(stretches, mat: IdealDielectricElastomer) -> np.ndarray:
+    """Principal Kirchhoff stresses ``tau_i = lambda_i dW/dlambda_i`` of the material's
+    mechanical energy at ``F = diag(stretches)``: the diagonal of ``P F^T`` with the
+    library's stress ``P = dW/dF`` at ``D_L = 0``."""
+    lam, _, _ = _principal(stretches)
+    return mat.response(np.diag(lam), np.zeros(3), second=False).P.diagonal() * lam
+
+
+def kirchhoff_neo_hookean(stretches, *, mu: float, k: float) -> np.ndarray:
+    """The neo-Hookean analogue of (5.27): ``mu (lb_i^2 - sum lb^2/3) + k J (J - 1)``
+    (written out independently of the library)."""
+    _, J, lb = _principal(stretches)
+    return np.full(3, k * J * (J - 1)) + mu * (lb**2 - np.sum(lb**2) / 3)
+
+
+def kirchhoff_ogden(stretches, *, alphas, mus, k: float) -> np.ndarray:
+    """Eq. (5.27): ``sum_p 2 mu_p/alpha_p (lb_i^alpha_p - sum lb^alpha_p/3) + k J (J - 1)``
+    (written out independently of the library)."""
+    _, J, lb = _principal(stretches)
+    tau = np.full(3, k * J * (J - 1))
+    for a, m in zip(alphas, mus, strict=True):
         tau = tau + 2 * m / a * (lb**a - np.sum(lb**a) / 3)
     return tau
 
@@ -80,7 +101,7 @@ def enthalpy_numpy(F, EL, mat, eps) -> float:
 
 
 # --------------------------------------------------------------------------- flat film
-def homogeneous_film(v: float, mat: NeoHookean | Ogden, mu_ref: float = MU_REF) -> dict:
+def homogeneous_film(v: float, mat: IdealDielectricElastomer, mu_ref: float = MU_REF) -> dict:
     """Clamped homogeneous film at normalised voltage ``v = Phi/t0 sqrt(eps/mu_ref)``.
 
     F = diag(1, 1, s); the thickness stretch ``s`` solves sigma_33 = 0:
@@ -106,9 +127,10 @@ def homogeneous_film(v: float, mat: NeoHookean | Ogden, mu_ref: float = MU_REF) 
 
 
 # --------------------------------------------------------------------------- plates
-def plate_constants(mat: NeoHookean | Ogden):
-    """Small-strain E, nu, G of the material (G = initial shear modulus)."""
-    G, k = mat.shear_modulus, mat.k
+def plate_constants(mat: IdealDielectricElastomer):
+    """Small-strain E, nu, G of the material (G = initial shear modulus, k the bulk
+    modulus)."""
+    G, k = mat.shear_modulus, mat.bulk_modulus
     E = 9 * k * G / (3 * k + G)
     nu = (3 * k - 2 * G) / (2 * (3 * k + G))
     return E, nu, G
@@ -150,8 +172,8 @@ def critical_voltage_plate(mat, aspect: float, *, mindlin: bool = True,
             f"critical_voltage_plate: the flat film's compression does not reach the plate's "
             f"critical stress {-target:.3g} mu_ref for v up to {hi} (material "
             f"{type(mat).__name__} with shear modulus {mat.shear_modulus:.6g} Pa, k = "
-            f"{mat.k:.6g} Pa: a bulk modulus this close to the shear modulus thins the film "
-            "instead of compressing it in-plane)")
+            f"{mat.bulk_modulus:.6g} Pa: a bulk modulus this close to the shear modulus thins "
+            "the film instead of compressing it in-plane)")
     return bracketed_root(gap, 1e-6, hi, xtol=1e-14, what="critical_voltage_plate").root
 
 

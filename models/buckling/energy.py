@@ -2,9 +2,12 @@
 the electric enthalpy as an NGSolve CoefficientFunction and its compilation.
 
 The energies come from the constitutive library's NGSolve path
-(:mod:`debench.models.materials.ngsolve_forms`): neo-Hookean (5.15) and Ogden (5.26)
-(averaged spectral perturbation, error O(delta^2), ``Discretisation.ogden_delta``), and the
-enthalpy of the ideal dielectric.  The energy is compiled to C++
+(:mod:`debench.models.materials.ngsolve_forms`): the strain energy of any library elastomer
+with the ideal dielectric (:class:`~debench.models.materials.protocol.IdealDielectricElastomer`:
+neo-Hookean (5.15), Ogden (5.26) by the averaged spectral perturbation, error O(delta^2),
+``Discretisation.ogden_delta``, Mooney-Rivlin, ...), and the enthalpy of the ideal
+dielectric. Both Chapter 5 models (this 3D one and the axisymmetric one) build their
+enthalpy with :func:`enthalpy_cf`.  The energy is compiled to C++
 (``Compile(realcompile=True)``) when the problem is large enough to repay the compile time
 (seconds), with a fall-back to the interpreted compiled tree.
 """
@@ -18,9 +21,11 @@ from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
-from debench.models.buckling.parameters import MU_REF, NeoHookean, Ogden
+from debench.models.buckling.parameters import MU_REF
 from debench.models.errors import require
 from debench.models.materials import ngsolve_forms as ngf
+from debench.models.materials.constants import OGDEN_DELTA
+from debench.models.materials.protocol import IdealDielectricElastomer
 from netgen.meshing import Element3D, MeshPoint, Pnt
 from netgen.meshing import Mesh as NGMesh
 
@@ -30,13 +35,18 @@ REALCOMPILE_MIN_DOFS = 20000
 problems assembled hundreds of times at >= 20k DOFs."""
 
 
-def enthalpy_cf(F, EL_hat, mat: NeoHookean | Ogden, *, mu_ref: float = MU_REF,
-                ogden_delta: float | None = None):
+def enthalpy_cf(F, EL_hat, mat: IdealDielectricElastomer, *, mu_ref: float = MU_REF,
+                ogden_delta: float = OGDEN_DELTA, xp=None):
     """Electric enthalpy Omega/mu_ref with the scaled referential field
     ``EL_hat = E_L sqrt(eps/mu_ref)``: ``W_mech/mu_ref - 1/2 J C^-1:(EL x EL)``
-    (library energies, :mod:`debench.models.materials.ngsolve_forms`)."""
-    kw = {} if ogden_delta is None else {"delta": ogden_delta}
-    return (ngf.mechanical_energy_cf(mat, F, **kw) / mu_ref
+    (library energies, :mod:`debench.models.materials.ngsolve_forms`).
+
+    ``W_mech`` is the material's ``mechanical_energy`` in the NGSolve namespace ``xp``
+    (default: :func:`~debench.models.materials.ngsolve_forms.regularised` with
+    ``ogden_delta``, which only spectral energies use; the axisymmetric model passes its
+    exact namespaces)."""
+    xp = ngf.regularised(ogden_delta) if xp is None else xp
+    return (mat.mechanical_energy(F, xp=xp) / mu_ref
             + ngf.ideal_dielectric_enthalpy(F, EL_hat, eps=1.0))
 
 
@@ -67,7 +77,7 @@ def compiler_available() -> bool:
     return False
 
 
-def energies_at(F: np.ndarray, E_hat: np.ndarray, mat: NeoHookean | Ogden,
+def energies_at(F: np.ndarray, E_hat: np.ndarray, mat: IdealDielectricElastomer,
                 mu_ref: float = MU_REF) -> tuple[float, float]:
     """Evaluate the CoefficientFunction energies at a constant ``F`` and scaled field.
 

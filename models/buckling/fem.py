@@ -14,8 +14,9 @@ Formulation (re-derived; the thesis uses Abaqus UEL with D_L-based energy (5.1)-
   of ``int Omega dV``: minimum in ``u``, maximum in ``phi``.  Dividing by ``mu_ref`` and
   scaling the potential makes the discrete problem depend on eps only through the
   normalised voltage ``v = Phi/t0 sqrt(eps/mu_ref)``.
-* Energies: neo-Hookean (5.15) and Ogden (5.26) from the constitutive library's NGSolve
-  path and the enthalpy of the ideal dielectric, compiled to C++ when the problem is large
+* Energies: any library elastomer with the ideal dielectric (neo-Hookean (5.15), Ogden
+  (5.26), ...) from the constitutive library's NGSolve path and the enthalpy of the ideal
+  dielectric, compiled to C++ when the problem is large
   (:mod:`debench.models.buckling.energy`).
 * Mesh: a netgen triangulation of the disk extruded into ``layers`` prism layers, lifted
   by the imperfection ``w0`` (:mod:`debench.models.buckling.mesh`).  Edge (lateral face)
@@ -58,8 +59,9 @@ from debench.models import validation as val
 from debench.models.buckling.energy import compile_energy, enthalpy_cf
 from debench.models.buckling.fem_stability import MembraneStability
 from debench.models.buckling.mesh import disk_prism_mesh
-from debench.models.buckling.parameters import MU_REF, Discretisation, NeoHookean, Ogden, Plate
+from debench.models.buckling.parameters import MU_REF, Discretisation, Plate
 from debench.models.errors import ConvergenceError, require
+from debench.models.materials.protocol import IdealDielectricElastomer
 
 NEWTON_TOL = 1e-9
 """Newton stops when max |correction| < NEWTON_TOL * t0 (1e-9 t0: the displacements are
@@ -118,7 +120,7 @@ class MembraneModel(MembraneStability):
     """
 
     plate: Plate
-    material: NeoHookean | Ogden
+    material: IdealDielectricElastomer
     disc: Discretisation = field(default_factory=Discretisation)
     with_imperfection: bool = True
     inverse: str = "sparsecholesky"
@@ -129,7 +131,7 @@ class MembraneModel(MembraneStability):
 
     def __post_init__(self):
         val.instance("plate", self.plate, Plate)
-        val.instance("material", self.material, (NeoHookean, Ogden))
+        val.instance("material", self.material, IdealDielectricElastomer)
         val.instance("disc", self.disc, Discretisation)
         avail = [s for s in INVERSES if s in ngs.la.GetAvailableSolvers()]
         val.choice("inverse", self.inverse, avail)
@@ -144,9 +146,9 @@ class MembraneModel(MembraneStability):
         self.X = V * Q
         (u, p), (du, dp) = self.X.TnT()
         F = ngs.Id(3) + ngs.Grad(u)
-        delta = self.disc.ogden_delta if isinstance(self.material, Ogden) else None
-        energy, how = compile_energy(enthalpy_cf(F, -ngs.Grad(p), self.material, ogden_delta=delta),
-                               self.compile, self.X.ndof)
+        energy, how = compile_energy(
+            enthalpy_cf(F, -ngs.Grad(p), self.material, ogden_delta=self.disc.ogden_delta),
+            self.compile, self.X.ndof)
         self.a = ngs.BilinearForm(self.X, symmetric=False)
         self.a += ngs.Variation(energy * ngs.dx)
         self.m = ngs.BilinearForm(self.X, symmetric=False)

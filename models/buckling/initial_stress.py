@@ -47,8 +47,9 @@ from debench.models import validation as val
 from debench.models.buckling.analytic import critical_voltage_plate
 from debench.models.buckling.energy import enthalpy_cf
 from debench.models.buckling.fem import MembraneModel
-from debench.models.buckling.parameters import Discretisation, NeoHookean, Ogden, Plate
+from debench.models.buckling.parameters import Discretisation, Plate
 from debench.models.errors import ConvergenceError
+from debench.models.materials.protocol import IdealDielectricElastomer
 from scipy.sparse.linalg import LinearOperator, eigsh, splu
 
 #: the three linearised buckling eigenproblems (``method=``), described in the module docstring
@@ -102,8 +103,7 @@ def _stress_stiffness(model: MembraneModel) -> sp.csr_matrix:
     (normalised by mu_ref) on the free displacement dofs."""
     u, p = model.gf.components
     F = ngs.Id(3) + ngs.Grad(u)
-    delta = model.disc.ogden_delta if isinstance(model.material, Ogden) else None
-    omega = enthalpy_cf(F, -ngs.Grad(p), model.material, ogden_delta=delta)
+    omega = enthalpy_cf(F, -ngs.Grad(p), model.material, ogden_delta=model.disc.ogden_delta)
     S = ngs.Inv(F) * omega.Diff(F)
     V = model.X.components[0]
     du, dw = V.TnT()
@@ -171,7 +171,7 @@ def _load_factors(apply_dK, K0, K0inv, n: int, method: str, v_t: float):
     return mu, lam, eig_res
 
 
-def linearised_critical_voltage(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation,
+def linearised_critical_voltage(plate: Plate, mat: IdealDielectricElastomer, disc: Discretisation,
                                 *, method: str = "initial_stress", v_start: float | None = None,
                                 vtol: float = FIXED_POINT_VTOL, maxit: int = 20
                                 ) -> LinearisedBucklingResult:

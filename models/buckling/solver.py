@@ -15,8 +15,9 @@ from debench.models import validation as val
 from debench.models.buckling.analytic import critical_voltage_plate
 from debench.models.buckling.fem import MembraneModel
 from debench.models.buckling.modes import deflection_asymmetry, mode_harmonics
-from debench.models.buckling.parameters import Discretisation, NeoHookean, Ogden, Plate
+from debench.models.buckling.parameters import Discretisation, Plate
 from debench.models.errors import ConvergenceError, require
+from debench.models.materials.protocol import IdealDielectricElastomer
 
 CRITICAL_VTOL = 1e-6
 """The secant on lambda_1(v^2) = 0 stops when its step |dv| < CRITICAL_VTOL (normalised
@@ -57,7 +58,7 @@ class CriticalResult:
     stats: dict = field(default_factory=dict)
 
 
-def critical_voltage(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation,
+def critical_voltage(plate: Plate, mat: IdealDielectricElastomer, disc: Discretisation,
                      *, inverse: str = "sparsecholesky", reuse: bool = True,
                      eigensolver: str = "lobpcg", chord: bool = True, maxit: int = 20,
                      vtol: float = CRITICAL_VTOL) -> CriticalResult:
@@ -207,7 +208,7 @@ class RampResult:
     end: str = ""
 
 
-def voltage_ramp(plate: Plate, mat: NeoHookean | Ogden, disc: Discretisation, *,
+def voltage_ramp(plate: Plate, mat: IdealDielectricElastomer, disc: Discretisation, *,
                  v_max: float = 1.5, dv0: float = 0.02, dv_max: float = 0.02,
                  dw_max: float = 0.5, inverse: str = "sparsecholesky", reuse: bool = True,
                  eigensolver: str = "lobpcg", chord: bool = True, progress=None,

@@ -27,12 +27,20 @@ from __future__ import annotations
 
 import numpy as np
 from debench.models import validation as v
+from debench.models.materials import energies as E
 
 from .params import EB_COEFF, EB_EXPONENT, EPS0, locking_stretch_equibiaxial
 
 
+def _margin(lam, kappa):
+    """The library's Gent lock margin
+    (:func:`~debench.models.materials.energies.gent_lock_margin`) at the equibiaxial
+    ``I1 = 2 lam^2 + lam^-4``."""
+    return E.gent_lock_margin(2 * lam**2 + lam**-4, kappa=kappa)
+
+
 def _s(lam, kappa):
-    return (lam**2 - lam**-4) / (1 - kappa * (2 * lam**2 + lam**-4 - 3))
+    return (lam**2 - lam**-4) / _margin(lam, kappa)
 
 
 def _K(lam, c):
@@ -49,7 +57,7 @@ def _check_lam(lam, kappa=None):
     if kappa is not None:
         kappa = v.nonnegative("kappa", kappa)
         lr = np.real(lam)
-        if not np.all(1 - kappa * (2 * lr**2 + lr**-4 - 3) > 0):
+        if not np.all(_margin(lr, kappa) > 0):
             lock = locking_stretch_equibiaxial(1 / kappa)
             raise ValueError(f"lam = {v._show(lr)} is past the Gent locking stretch "
                              f"{lock:.6g} (Jm = {1 / kappa:.6g})")
@@ -179,4 +187,4 @@ def voltage_weight(lam, c: float, kappa: float):
     lam = np.asarray(v.positive("lam", lam), dtype=float)
     c = v.finite("c", c)
     kappa = v.nonnegative("kappa", kappa)
-    return lam**4 * _K(lam, c) * (1 - kappa * (2 * lam**2 + lam**-4 - 3))
+    return lam**4 * _K(lam, c) * _margin(lam, kappa)

@@ -27,9 +27,10 @@ Energy per unit mu (library forms :mod:`debench.models.materials.ngsolve_forms`)
     w_e = -1/2 (eps/eps_bar) J C^-1 : (Grad psi x Grad psi),                   (3.20), (5.13)
     eps/eps_bar = 1 + c (lambda_R + lambda_theta - 2),                         (3.27)
 
-``W_Gent`` = :func:`~debench.models.materials.ngsolve_forms.gent_ideal_dielectric` with
-D_L = 0, ``w_e`` = :func:`~debench.models.materials.ngsolve_forms.ideal_dielectric_enthalpy`
-with eps = eps/eps_bar, ``Phibar^2 = eps_bar Phi^2/(mu H^2)`` (Sec. 3.5);
+``W_Gent`` = the library Gent's
+:meth:`~debench.models.materials.protocol.Material.mechanical_energy`,
+``w_e`` = :func:`~debench.models.materials.ngsolve_forms.ideal_dielectric_enthalpy` with
+eps = eps/eps_bar, ``Phibar^2 = eps_bar Phi^2/(mu H^2)`` (Sec. 3.5);
 ``lambda_R = sqrt(C_RR)``, ``lambda_theta = 1 + u_R/R``. In a homogeneous state
 (``psi = Z``, J = 1) ``w`` is :meth:`~debench.models.materials.membrane.GentMembrane.free_energy`
 with ``I4 = Phibar^2`` (tested). The equations are the stationarity of ``int w R dR dZ``
@@ -98,6 +99,7 @@ import scipy.sparse as sp
 from debench.models import validation as v
 from debench.models.materials import energies as E
 from debench.models.materials import ngsolve_forms as forms
+from debench.models.materials.library import GentIdealDielectric
 from netgen.meshing import Element1D, Element2D, MeshPoint, Pnt
 from netgen.meshing import Mesh as NetgenMesh
 
@@ -183,8 +185,7 @@ def radial_nodes(H: float, radius_ratio: float, mesh: SolidMesh) -> np.ndarray:
 def energy_parts(F, grad_psi, c: float, Jm: float):
     """``(W_Gent(F), w_e(F, Grad psi))`` per unit mu as NGSolve CFs (module docstring);
     ``F`` a 3x3 CF in (R, Z, theta), ``grad_psi`` a 3-vector CF."""
-    zero = ng.CoefficientFunction((0.0, 0.0, 0.0))
-    wm = forms.gent_ideal_dielectric(F, zero, mu=1.0, Jm=Jm, eps=1.0)
+    wm = GentIdealDielectric(mu=1.0, Jm=Jm, eps=1.0).mechanical_energy(F, xp=forms.NGSOLVE)
     C = F.trans * F
     eps = E.zhao_suo_permittivity(ng.sqrt(C[0, 0]), F[2, 2], eps_bar=1.0, c=c)
     we = forms.ideal_dielectric_enthalpy(F, grad_psi, eps=eps)

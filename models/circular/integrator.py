@@ -4,9 +4,13 @@ The kernels of :mod:`debench.models.circular.shooting` (which checks the argumen
 turns inadmissible trajectories into errors): no argument checks here, NaN marks an
 inadmissible trajectory. In ``t = ln(R/R_A)`` the annulus ODE is (3.34)-(3.35)
 (equilibrium as printed, (3.33)) or the thin-membrane balance d(R T1)/dR = T2, with the
-Gent stresses written by hand from (3.36)-(3.37) (per unit mu):
+Gent stresses of (3.36)-(3.37) (per unit mu):
 
-    sigma_i = g (lambda_i^2 - lambda_1^-2 lambda_2^-2),  g = 1/(1 - (I1 - 3)/Jm).
+    sigma_i = g (lambda_i^2 - lambda_1^-2 lambda_2^-2),  g = 1/(1 - (I1 - 3)/Jm),
+
+``1/g`` the library's Gent lock margin
+(:func:`~debench.models.materials.energies.gent_lock_margin`; the optimised kernels fuse it
+into in-place operations and are tested equal to the reference transcription).
 
 * :func:`stresses`, :func:`rhs_reference`: the stresses and the right-hand side written
   term by term (the reference transcription);
@@ -26,6 +30,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from debench.models.materials import energies as E
 
 from .params import Annulus
 
@@ -47,7 +52,7 @@ def stresses(l1, l2, kappa):
     l1s = l1 * l1
     l2s = l2 * l2
     J = 1.0 / (l1s * l2s)                    # lambda_3^2
-    den = 1.0 - kappa * (l1s + l2s + J - 3.0)
+    den = E.gent_lock_margin(l1s + l2s + J, kappa=kappa)
     g = 1.0 / den
     a1 = l1s - J
     s1 = g * a1
@@ -109,7 +114,7 @@ def rhs(l1, l2, kappa, membrane):
         den += l1s
         den += J
         den *= -kappa
-        den += 1.0 + 3.0 * kappa
+        den += 1.0 + 3.0 * kappa    # the library's gent_lock_margin, fused in place
         ks1 = a1 * kappa
         ks1 /= den                  # kappa sigma1
         A1 = l1 - Jl1
@@ -335,7 +340,7 @@ def _rhs_stacked(Y, kappa, k_printed, out, worst):
         den = L[0] + L[1]
         den += J
         den *= -kappa
-        den += 1.0 + 3.0 * kappa      # 1 - (I1 - 3)/Jm
+        den += 1.0 + 3.0 * kappa      # the library's gent_lock_margin, fused in place
         ks1 = a1 * kappa
         ks1 /= den                    # kappa sigma1
         np.minimum(worst, den.real, out=worst)

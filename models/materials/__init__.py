@@ -12,14 +12,18 @@ moduli or NaN raise ``ValueError`` naming the bound) with
     moduli ``AA[i,a,j,b]``, ``AAA[i,a,b]``, ``A[a,b]`` of eqs (2.65)-(2.67) - all by one
     chain rule over the invariants (2.68)-(2.70) (Ogden: spectral formula).
 
-``mat.incompressible``, ``mat.numbering`` (``"iso"`` or ``"ti"``), ``mat.shear_modulus``.
+``mat.incompressible``, ``mat.numbering`` (``"iso"`` or ``"ti"``), ``mat.shear_modulus``,
+``mat.bulk_modulus``, ``mat.check_admissible(F, D_L)``; every backend (numpy, NGSolve)
+evaluates the one expression ``mat.energy_expression(F, D_L, xp=...)`` (and
+``mat.mechanical_energy(F, xp=...)``): the protocol :class:`Material`.
 
 Functions (:mod:`debench.models.materials.response`): :func:`first_piola`, :func:`cauchy_stress`
 (2.31/2.33, with p), :func:`electric_field` (2.32/2.34), :func:`eulerian_displacement`,
 :func:`moduli`, :func:`push_forward` (2.72-2.73), :func:`pressure_from_traction_free_face`.
 
-Materials (thesis parameters as defaults; see :data:`MATERIALS`)
-----------------------------------------------------------------
+Materials (thesis parameters as defaults; the one registry by name is :data:`MATERIALS`,
+looked up by :func:`material`, which raises ``ValueError`` naming the valid names)
+----------------------------------------------------------------------------------------
 ==========================================  ========================================================
 :class:`GentIdealDielectric`                (3.23) mu = 51 kPa, Jm = 120 + I5/(2 eps);
                                             incompressible
@@ -30,6 +34,9 @@ Materials (thesis parameters as defaults; see :data:`MATERIALS`)
                                             2.3252, 2.561, mu = 8580, 84300, -23300 Pa; initial
                                             shear modulus sum mu_p = 69580 Pa; bulk k of the
                                             neo-Hookean (assumed)
+:class:`MooneyRivlinIdealDielectric`        C10 (J^{-2/3} I1 - 3) + C01 (J^{-4/3} I2 - 3) +
+                                            k/2 (J-1)^2 + (5.9); not a thesis material
+                                            (C01 = 0: neo-Hookean with mu = 2 C10)
 :class:`IdealDielectric`                    (5.9) W = I5/(2 eps J)
 :class:`DorfmannOgdenElectric`              (4.20) (alpha D_L.D_L + beta D_L.C D_L)/(2 eps)
 :class:`TransverselyIsotropicNeoHookean`    (4.22) mu/2 (I1-3) + mu xi/2 (I4-1)^2 +
@@ -60,19 +67,25 @@ from __future__ import annotations
 from debench.models.materials.constants import EPS_R_ASSUMED, TABLE_3_1
 from debench.models.materials.kernel import Response, invariant_chain_rule, spectral_response
 from debench.models.materials.library import (
+    ALIASES,
+    MATERIALS,
+    THESIS_MATERIALS,
     VACUUM_PERMITTIVITY,
     DorfmannOgdenElectric,
     GentIdealDielectric,
     IdealDielectric,
+    MooneyRivlinIdealDielectric,
     NeoHookeanIdealDielectric,
     OgdenIdealDielectric,
     TransverselyIsotropicNeoHookean,
+    material,
 )
 from debench.models.materials.membrane import (
     GentMembrane,
     JimenezMcMeekingPermittivity,
     ZhaoSuoPermittivity,
 )
+from debench.models.materials.protocol import IdealDielectricElastomer, Material
 from debench.models.materials.response import (
     cauchy_stress,
     electric_field,
@@ -82,23 +95,6 @@ from debench.models.materials.response import (
     pressure_from_traction_free_face,
     push_forward,
 )
-
-#: the materials of the thesis with their thesis parameters, by name
-MATERIALS = {
-    "gent_ideal_dielectric": GentIdealDielectric(),
-    "neo_hookean_ideal_dielectric": NeoHookeanIdealDielectric(),
-    "ogden_ideal_dielectric": OgdenIdealDielectric(),
-    "ideal_dielectric": IdealDielectric(),
-    "ti_neo_hookean_dielectric": TransverselyIsotropicNeoHookean(),
-    "dorfmann_ogden_electric": DorfmannOgdenElectric(alpha=0.3, beta=0.5),
-}
-"""Every 3-D material of the library with thesis parameters (the battery loops over it).
-
-``ti_neo_hookean_dielectric`` is non-dimensional (mu = eps = 1, xi = 5, alpha = 0,
-beta = 0.5 of Sec. 4.4); ``dorfmann_ogden_electric`` (4.20) alone is non-dimensional with
-alpha = 0.3 (the thesis uses alpha = 0; nonzero here so the battery exercises the I4 = D.D
-term); the others are SI.
-"""
 
 _C_TABLE_3_1 = dict(TABLE_3_1)[59]  # c = -0.0236 of Table 3.1 (data of ref. [59])
 
@@ -112,11 +108,13 @@ MEMBRANE_MODELS = {
 linearisation gives the same c)."""
 
 __all__ = [
-    "MATERIALS", "MEMBRANE_MODELS", "VACUUM_PERMITTIVITY", "DorfmannOgdenElectric",
-    "GentIdealDielectric",
-    "GentMembrane", "IdealDielectric", "JimenezMcMeekingPermittivity",
+    "ALIASES", "MATERIALS", "MEMBRANE_MODELS", "THESIS_MATERIALS", "VACUUM_PERMITTIVITY",
+    "DorfmannOgdenElectric", "GentIdealDielectric",
+    "GentMembrane", "IdealDielectric", "IdealDielectricElastomer",
+    "JimenezMcMeekingPermittivity", "Material", "MooneyRivlinIdealDielectric",
     "NeoHookeanIdealDielectric", "OgdenIdealDielectric", "Response",
     "TransverselyIsotropicNeoHookean", "ZhaoSuoPermittivity", "cauchy_stress",
     "electric_field", "eulerian_displacement", "first_piola", "invariant_chain_rule",
-    "moduli", "pressure_from_traction_free_face", "push_forward", "spectral_response",
+    "material", "moduli", "pressure_from_traction_free_face", "push_forward",
+    "spectral_response",
 ]

@@ -35,7 +35,16 @@ class MathNamespace:
 
     ``det``, ``trace``, ``inv``, ``transpose`` of a 3x3 matrix; ``matmul(A, B)`` the matrix
     product (matrix or vector ``B``); ``inner(a, b)`` the full contraction of two equal-shaped
-    tensors (``a.b`` for vectors, ``A:B`` for matrices); ``log1p(x) = log(1 + x)``.
+    tensors (``a.b`` for vectors, ``A:B`` for matrices); ``log1p(x) = log(1 + x)``;
+    ``vector(values)`` a constant 3-vector (a material's fibre).
+
+    ``spectral(M, energy)`` evaluates an isotropic function of the eigenvalues ``m_i`` of a
+    symmetric 3x3 ``M`` that is written through their power sums: ``energy(power_sum)``
+    with ``power_sum(b) = sum_i m_i^b`` (Ogden (5.26)). This is the one operation a backend
+    may evaluate in its own way: numpy by the eigenvalues of ``M``; NGSolve, which has no
+    symmetric eigen-decomposition, by the forms of
+    :mod:`debench.models.materials.ngsolve_forms` (regularised, or exact on the
+    axisymmetric states), each its own namespace.
     """
 
     name: str
@@ -46,13 +55,22 @@ class MathNamespace:
     matmul: Callable
     inner: Callable
     log1p: Callable
+    vector: Callable
+    spectral: Callable
+
+
+def _numpy_spectral(M, energy):
+    """``energy(power_sum)`` at the eigenvalues of the symmetric (real) matrix ``M``."""
+    eigenvalues = np.linalg.eigvalsh(M)
+    return energy(lambda b: sum(m**b for m in eigenvalues))
 
 
 NUMPY = MathNamespace(
     name="numpy", det=np.linalg.det, trace=np.trace, inv=np.linalg.inv,
     transpose=np.transpose, matmul=np.matmul,
-    inner=lambda a, b: np.tensordot(a, b, axes=np.ndim(a)), log1p=np.log1p)
-"""The numpy namespace (real or complex scalars and arrays)."""
+    inner=lambda a, b: np.tensordot(a, b, axes=np.ndim(a)), log1p=np.log1p,
+    vector=lambda values: np.asarray(values, dtype=float), spectral=_numpy_spectral)
+"""The numpy namespace (real or complex scalars and arrays; ``spectral`` real only)."""
 
 
 # ----------------------------------------------------------------------- kinematics
@@ -65,12 +83,14 @@ def invariants(F, D_L=None, A=None, *, xp) -> dict:
     """The arguments of the energies at ``(F, D_L[, A])``, by name (Ch. 2 (2.35)-(2.40),
     Ch. 4 (4.12)-(4.17), Ch. 5 (5.5)-(5.7))::
 
-        I1 = tr C,  J = det F,  DD = D_L.D_L,  DCD = D_L.C D_L,  ACA = A.C A
+        I1 = tr C,  I2 = ((tr C)^2 - C:C)/2,  J = det F,
+        DD = D_L.D_L,  DCD = D_L.C D_L,  ACA = A.C A
 
     ``DD``, ``DCD`` only with ``D_L``, ``ACA`` only with a fibre ``A``.
     """
     C = right_cauchy_green(F, xp=xp)
-    out = {"I1": xp.trace(C), "J": xp.det(F)}
+    I1 = xp.trace(C)
+    out = {"I1": I1, "I2": 0.5 * (I1 * I1 - xp.inner(C, C)), "J": xp.det(F)}
     if D_L is not None:
         out["DD"] = xp.inner(D_L, D_L)
         out["DCD"] = xp.inner(D_L, xp.matmul(C, D_L))
@@ -97,10 +117,25 @@ def gent(I1, *, mu, Jm, xp):
     return -0.5 * mu * Jm * xp.log1p(-(I1 - 3) / Jm)
 
 
+def gent_lock_margin(I1, *, kappa):
+    """``1 - kappa (I1 - 3)`` with ``kappa = 1/Jm``: the argument of the logarithm of Gent
+    (3.23), positive short of the locking stretch; its inverse is the Gent stiffening
+    ``(2/mu) dWs/dI1`` that multiplies the neo-Hookean stresses (``kappa = 0``:
+    neo-Hookean, margin 1)."""
+    return 1 - kappa * (I1 - 3)
+
+
 def neo_hookean_isochoric(I1, J, *, mu):
     """The isochoric neo-Hookean part of (5.15): ``C10 (J^{-2/3} I1 - 3)``, ``C10 = mu/2``
     (5.16)."""
     return 0.5 * mu * (J ** (-2 / 3) * I1 - 3)
+
+
+def mooney_rivlin_isochoric(I1, I2, J, *, C10, C01):
+    """The isochoric compressible Mooney-Rivlin energy:
+    ``C10 (J^{-2/3} I1 - 3) + C01 (J^{-4/3} I2 - 3)`` (the invariants of ``Cbar``;
+    ``C01 = 0`` is :func:`neo_hookean_isochoric` with ``mu = 2 C10``)."""
+    return C10 * (J ** (-2 / 3) * I1 - 3) + C01 * (J ** (-4 / 3) * I2 - 3)
 
 
 def volumetric(J, *, k):

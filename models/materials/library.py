@@ -1,10 +1,25 @@
 """The constitutive library: frozen parameter dataclasses that are also the energies.
 
-Every material has ``energy(F, D_L)`` and ``response(F, D_L, second=True) -> Response``
-(energy, dW/dF, dW/dD_L and the moduli (2.65)-(2.67)); invariant-based ones also expose
-``invariant_derivatives(I) -> (W, W_n, W_mn)``. ``incompressible`` materials are meant
-for det F = 1 with a Lagrange multiplier p (eqs (2.29)-(2.34)); their energy is still
-evaluated off the constraint (needed for derivatives), as printed in the thesis.
+Every material follows one protocol (:class:`~debench.models.materials.protocol.Material`),
+so that no caller asks which material it holds:
+
+* the energy, one expression for every backend: ``energy_expression(F, D_L, *, xp)`` and,
+  where the energy has a purely mechanical part, ``mechanical_energy(F, *, xp)`` (``W`` at
+  ``D_L = 0``), with ``xp`` a math namespace (:data:`~debench.models.materials.energies.NUMPY`,
+  :data:`~debench.models.materials.ngsolve_forms.NGSOLVE` and its variants);
+* the numpy API ``energy(F, D_L)`` and ``response(F, D_L, second=True) -> Response``
+  (energy, dW/dF, dW/dD_L and the moduli (2.65)-(2.67)); invariant-based materials also
+  expose ``invariant_derivatives(I) -> (W, W_n, W_mn)``;
+* the moduli ``shear_modulus`` and ``bulk_modulus`` (``k``; infinite when incompressible);
+* admissibility: ``check_admissible(F, D_L)`` raises ``ValueError`` naming the bound.
+
+:class:`~debench.models.materials.protocol.IdealDielectricElastomer` is the part of the
+protocol the Chapter 5 finite-element models need: a compressible elastic energy plus the
+ideal dielectric (5.9), whose electric enthalpy they assemble.
+
+``incompressible`` materials are meant for det F = 1 with a Lagrange multiplier p
+(eqs (2.29)-(2.34)); their energy is still evaluated off the constraint (needed for
+derivatives), as printed in the thesis.
 
 Each energy ``W`` is the one expression of :mod:`debench.models.materials.energies`
 (evaluated here with numpy, by NGSolve in :mod:`debench.models.materials.ngsolve_forms`);
@@ -16,6 +31,7 @@ Units: SI (Pa, F/m, C/m^2) or any consistent non-dimensional set.
 
 from __future__ import annotations
 
+import functools
 import math
 import numbers
 from dataclasses import dataclass, field
@@ -41,6 +57,7 @@ from debench.models.materials.kernel import (
     invariant_chain_rule,
     spectral_response,
 )
+from debench.models.materials.protocol import IdealDielectricElastomer, Material
 
 
 def _positive(name: str, value: float) -> None:
@@ -63,14 +80,8 @@ def _invariant_vector(I) -> np.ndarray:
     return I
 
 
-class _InvariantMaterial:
+class _InvariantMaterial(Material):
     """Mixin: energy and response of an invariant-based energy via the chain rule."""
-
-    numbering: ClassVar[str] = "iso"
-    incompressible: ClassVar[bool] = False
-
-    def _fibre(self):
-        return None
 
     @v.finite_result
     def energy(self, F, D_L) -> float:
@@ -110,6 +121,19 @@ class GentIdealDielectric(_InvariantMaterial):
         _positive("Jm", self.Jm)
         _positive("eps", self.eps)
 
+    def energy_expression(self, F, D_L, *, xp):
+        I = E.invariants(F, D_L, xp=xp)
+        return E.gent_ideal_dielectric(I["I1"], I["DCD"], mu=self.mu, Jm=self.Jm, eps=self.eps,
+                                       xp=xp)
+
+    def mechanical_energy(self, F, *, xp):
+        return E.gent(E.invariants(F, xp=xp)["I1"], mu=self.mu, Jm=self.Jm, xp=xp)
+
+    def check_admissible(self, F, D_L=None) -> None:
+        """Also ``I1 - 3 < Jm`` (short of the Gent lock)."""
+        super().check_admissible(F, D_L)
+        self.invariant_derivatives(invariants(F, np.zeros(3)))
+
     def invariant_derivatives(self, I):
         """``(W, W_n, W_mn)`` at ``I = [I1, ..., I6]``; ValueError past the Gent lock."""
         I = _invariant_vector(I)
@@ -134,7 +158,7 @@ class GentIdealDielectric(_InvariantMaterial):
 
 # ---------------------------------------------------------------- neo-Hookean (Ch. 5)
 @dataclass(frozen=True)
-class NeoHookeanIdealDielectric(_InvariantMaterial):
+class NeoHookeanIdealDielectric(IdealDielectricElastomer, _InvariantMaterial):
     """Compressible neo-Hookean (5.15) + ideal dielectric (5.9), Ch. 5.
 
     ``W = C10 (J^{-2/3} I1 - 3) + (J - 1)^2/D1 + J^{-1} I5/(2 eps)`` with ``C10 = mu/2``
@@ -153,6 +177,10 @@ class NeoHookeanIdealDielectric(_InvariantMaterial):
         _positive("mu", self.mu)
         _positive("k", self.k)
         _positive("eps", self.eps)
+
+    def mechanical_energy(self, F, *, xp):
+        I = E.invariants(F, xp=xp)
+        return E.neo_hookean(I["I1"], I["J"], mu=self.mu, k=self.k)
 
     @property
     def C10(self) -> float:
@@ -187,6 +215,64 @@ class NeoHookeanIdealDielectric(_InvariantMaterial):
 
 
 @dataclass(frozen=True)
+class MooneyRivlinIdealDielectric(IdealDielectricElastomer, _InvariantMaterial):
+    """Compressible Mooney-Rivlin elastomer with the ideal dielectric (5.9)::
+
+        W = C10 (J^{-2/3} I1 - 3) + C01 (J^{-4/3} I2 - 3) + k/2 (J - 1)^2 + I5/(2 eps J)
+
+    iso numbering, ``J = sqrt(I3)``; initial shear modulus ``2 (C10 + C01)``. ``C01 = 0``
+    is the neo-Hookean (5.15) with ``mu = 2 C10``. Not a thesis material: the defaults
+    split the Table 5.1 neo-Hookean shear modulus 70/30 between ``C10`` and ``C01`` (same
+    initial response), with the Table 5.1 bulk modulus.
+    """
+
+    C10: float = 0.35 * TABLE_5_1_NH_SHEAR_MODULUS
+    C01: float = 0.15 * TABLE_5_1_NH_SHEAR_MODULUS
+    k: float = TABLE_5_1_BULK_MODULUS
+    eps: float = field(default=EPS_R_ASSUMED * VACUUM_PERMITTIVITY)
+
+    def __post_init__(self):
+        _positive("C10", self.C10)
+        _finite("C01", self.C01)
+        if self.C01 < 0:
+            raise ValueError(f"C01 must be >= 0, got {self.C01}")
+        _positive("k", self.k)
+        _positive("eps", self.eps)
+
+    @property
+    def shear_modulus(self) -> float:
+        """Initial shear modulus ``2 (C10 + C01)``."""
+        return 2 * (self.C10 + self.C01)
+
+    def mechanical_energy(self, F, *, xp):
+        I = E.invariants(F, xp=xp)
+        return (E.mooney_rivlin_isochoric(I["I1"], I["I2"], I["J"], C10=self.C10, C01=self.C01)
+                + E.volumetric(I["J"], k=self.k))
+
+    def invariant_derivatives(self, I):
+        """``(W, W_n, W_mn)`` at ``I = [I1, ..., I6]`` (I3 > 0)."""
+        I = _invariant_vector(I)
+        I1, I2, I3, I5 = I[0], I[1], I[2], I[4]
+        C10, C01, k, eps = self.C10, self.C01, self.k, self.eps
+        J = math.sqrt(I3)
+        W = (E.mooney_rivlin_isochoric(I1, I2, J, C10=C10, C01=C01) + E.volumetric(J, k=k)
+             + E.ideal_dielectric(I5, J, eps=eps))
+        Wn = np.zeros(6)
+        Wmn = np.zeros((6, 6))
+        Wn[0] = C10 * I3 ** (-1 / 3)
+        Wn[1] = C01 * I3 ** (-2 / 3)
+        Wn[2] = (-C10 / 3 * I1 * I3 ** (-4 / 3) - 2 * C01 / 3 * I2 * I3 ** (-5 / 3)
+                 + k / 2 * (1 - I3**-0.5) - I5 * I3**-1.5 / (4 * eps))
+        Wn[4] = I3**-0.5 / (2 * eps)
+        Wmn[0, 2] = Wmn[2, 0] = -C10 / 3 * I3 ** (-4 / 3)
+        Wmn[1, 2] = Wmn[2, 1] = -2 * C01 / 3 * I3 ** (-5 / 3)
+        Wmn[2, 2] = (4 * C10 / 9 * I1 * I3 ** (-7 / 3) + 10 * C01 / 9 * I2 * I3 ** (-8 / 3)
+                     + k / 4 * I3**-1.5 + 3 * I5 * I3**-2.5 / (8 * eps))
+        Wmn[2, 4] = Wmn[4, 2] = -(I3**-1.5) / (4 * eps)
+        return W, Wn, Wmn
+
+
+@dataclass(frozen=True)
 class IdealDielectric(_InvariantMaterial):
     """The electrical part alone, ``W_ele = J^{-1} I5/(2 eps)`` (eq. (5.9)); iso numbering.
 
@@ -203,6 +289,10 @@ class IdealDielectric(_InvariantMaterial):
     @property
     def shear_modulus(self) -> float:
         return 0.0
+
+    def energy_expression(self, F, D_L, *, xp):
+        I = E.invariants(F, D_L, xp=xp)
+        return E.ideal_dielectric(I["DCD"], I["J"], eps=self.eps)
 
     def invariant_derivatives(self, I):
         """``(W, W_n, W_mn)`` at ``I = [I1, ..., I6]`` (I3 > 0)."""
@@ -243,6 +333,11 @@ class DorfmannOgdenElectric(_InvariantMaterial):
     def shear_modulus(self) -> float:
         return 0.0
 
+    def energy_expression(self, F, D_L, *, xp):
+        I = E.invariants(F, D_L, xp=xp)
+        return E.dorfmann_ogden_electric(I["DD"], I["DCD"], alpha=self.alpha, beta=self.beta,
+                                         eps=self.eps)
+
     def invariant_derivatives(self, I):
         """``(W, W_n, W_mn)`` at ``I = [I1, ..., I6]``."""
         I = _invariant_vector(I)
@@ -256,7 +351,7 @@ class DorfmannOgdenElectric(_InvariantMaterial):
 
 # ------------------------------------------------------------- Ogden (Ch. 5, 5.26)
 @dataclass(frozen=True)
-class OgdenIdealDielectric:
+class OgdenIdealDielectric(IdealDielectricElastomer):
     """Compressible three-term Ogden (5.26) + volumetric (J-1)^2/D1 + ideal dielectric (5.9).
 
     ``W = sum_p 2 mu_p/alpha_p^2 (lb1^a_p + lb2^a_p + lb3^a_p - 3) + k/2 (J - 1)^2
@@ -301,6 +396,16 @@ class OgdenIdealDielectric:
     def shear_modulus(self) -> float:
         """Initial shear modulus ``sum_p mu_p`` (convention 2 mu_p/alpha_p^2 of (5.26))."""
         return float(sum(self.mus))
+
+    def mechanical_energy(self, F, *, xp):
+        """(5.26) + k/2 (J - 1)^2 through the power sums of the eigenvalues of ``Cbar``,
+        which the namespace evaluates (``xp.spectral``: numpy exactly, NGSolve by its
+        regularised or axisymmetric forms)."""
+        J = xp.det(F)
+        Cb = E.isochoric_right_cauchy_green(E.right_cauchy_green(F, xp=xp), J)
+        isochoric = functools.partial(E.ogden_isochoric_from_power_sums, alphas=self.alphas,
+                                      mus=self.mus)
+        return xp.spectral(Cb, isochoric) + E.volumetric(J, k=self.k)
 
     def _phi(self, c):
         """Energy of the eigenvalues c_k of C and its derivatives (see spectral_response):
@@ -385,6 +490,16 @@ class TransverselyIsotropicNeoHookean(_InvariantMaterial):
     def _fibre(self):
         return np.asarray(self.A, dtype=float)
 
+    def energy_expression(self, F, D_L, *, xp):
+        I = E.invariants(F, D_L, xp.vector(self.A), xp=xp)
+        return E.ti_neo_hookean_dielectric(I["I1"], I["ACA"], I["DD"], I["DCD"], mu=self.mu,
+                                           xi=self.xi, alpha=self.alpha, beta=self.beta,
+                                           eps=self.eps)
+
+    def mechanical_energy(self, F, *, xp):
+        I = E.invariants(F, A=xp.vector(self.A), xp=xp)
+        return E.ti_neo_hookean_elastic(I["I1"], I["ACA"], mu=self.mu, xi=self.xi)
+
     @property
     def shear_modulus(self) -> float:
         """Shear modulus for shear in the plane transverse to A: mu."""
@@ -404,3 +519,43 @@ class TransverselyIsotropicNeoHookean(_InvariantMaterial):
         Wn[5] = self.alpha / (2 * self.eps)
         Wmn[3, 3] = mu * xi
         return W, Wn, Wmn
+
+
+# ------------------------------------------------------------------------ registry
+MATERIALS: dict[str, Material] = {
+    "gent_ideal_dielectric": GentIdealDielectric(),
+    "neo_hookean_ideal_dielectric": NeoHookeanIdealDielectric(),
+    "ogden_ideal_dielectric": OgdenIdealDielectric(),
+    "ideal_dielectric": IdealDielectric(),
+    "ti_neo_hookean_dielectric": TransverselyIsotropicNeoHookean(),
+    "dorfmann_ogden_electric": DorfmannOgdenElectric(alpha=0.3, beta=0.5),
+    "mooney_rivlin_ideal_dielectric": MooneyRivlinIdealDielectric(),
+}
+"""Every 3-D material of the library, by name: the one registry (the battery and the
+backend tests loop over it, :func:`material` looks names up in it). A material is added to
+the library by its class and one entry here.
+
+``ti_neo_hookean_dielectric`` is non-dimensional (mu = eps = 1, xi = 5, alpha = 0,
+beta = 0.5 of Sec. 4.4); ``dorfmann_ogden_electric`` (4.20) alone is non-dimensional with
+alpha = 0.3 (the thesis uses alpha = 0; nonzero here so the battery exercises the I4 = D.D
+term); the others are SI with the thesis parameters.
+"""
+
+THESIS_MATERIALS = ("gent_ideal_dielectric", "neo_hookean_ideal_dielectric",
+                    "ogden_ideal_dielectric", "ideal_dielectric", "ti_neo_hookean_dielectric",
+                    "dorfmann_ogden_electric")
+"""The names of :data:`MATERIALS` that are materials of the thesis (the Chapter 2 kernel
+dataset holds these)."""
+
+ALIASES = {"nh": "neo_hookean_ideal_dielectric", "ogden": "ogden_ideal_dielectric"}
+"""Short names of the Chapter 5 cases for entries of :data:`MATERIALS`."""
+
+
+def material(name: str) -> Material:
+    """The material of :data:`MATERIALS` registered as ``name`` (or as its alias in
+    :data:`ALIASES`); ``ValueError`` naming the argument and the valid names otherwise."""
+    key = ALIASES.get(name, name) if isinstance(name, str) else None
+    if key not in MATERIALS:
+        raise ValueError(f"name must be a library material, one of "
+                         f"{sorted(MATERIALS) + sorted(ALIASES)}, got {name!r}")
+    return MATERIALS[key]

@@ -2,22 +2,30 @@
 
 Import on demand (``import debench.models.materials.ngsolve_forms``): it imports ``ngsolve``.
 
-One function per energy builds ``W`` from CF arguments ``F`` (3x3) and ``D_L`` (3-vector)
-and the parameters, by evaluating the one expression of the energy in
-:mod:`debench.models.materials.energies` with the NGSolve namespace :data:`NGSOLVE` (this
-module writes no energy of its own); stress and moduli follow from NGSolve's symbolic
+A library material builds its energy ``W`` from CF arguments ``F`` (3x3) and ``D_L``
+(3-vector) through its own protocol method
+(:meth:`~debench.models.materials.protocol.Material.energy_expression`) evaluated
+with the NGSolve namespace :data:`NGSOLVE`: the one expression of
+:mod:`debench.models.materials.energies` (this module writes no energy of its own and asks
+no material which class it is); stress and moduli follow from NGSolve's symbolic
 differentiation::
 
     F = CoefficientFunction(..., dims=(3, 3)).MakeVariable()
     D = CoefficientFunction(...).MakeVariable()
-    W = neo_hookean_ideal_dielectric(F, D, mu=..., k=..., eps=...)
+    W = energy_cf(material, F, D)            # material.energy_expression(F, D, xp=NGSOLVE)
     P, E_L = W.Diff(F), W.Diff(D)           # (2.27), (2.28)
     AA, AAA, A = P.Diff(F), P.Diff(D), E_L.Diff(D)   # (2.65)-(2.67)
 
-The Chapter 5 finite-element model (:mod:`debench.models.buckling.fem`) uses these
-functions with ``F = Id(3) + Grad(u)``: :func:`mechanical_energy_cf` for the mechanical
-part and :func:`ideal_dielectric_enthalpy` for the partial Legendre transform of (5.9) in
-the referential field. :func:`evaluate` evaluates a library material this way at one state
+The namespaces differ only in how they evaluate the eigenvalue power sums of Ogden (5.26)
+(``spectral``): :data:`NGSOLVE` (and :func:`regularised` with another delta) by the
+averaged perturbation below, :data:`AXISYMMETRIC` exactly at axisymmetric states, and
+:func:`about` to second order about an axisymmetric state; invariant-based energies read
+the same in all of them.
+
+The Chapter 5 finite-element model (:mod:`debench.models.buckling.fem`) uses
+:func:`mechanical_energy_cf` with ``F = Id(3) + Grad(u)`` for the mechanical part and
+:func:`ideal_dielectric_enthalpy` for the partial Legendre transform of (5.9) in the
+referential field. :func:`evaluate` evaluates a library material this way at one state
 (used by the verification suite to cross-check the numpy chain rule).
 
 Ogden (5.26) at repeated principal stretches
@@ -25,7 +33,7 @@ Ogden (5.26) at repeated principal stretches
 NGSolve CFs have no symmetric eigen-decomposition, and the closed-form (trigonometric)
 eigenvalues of ``Cbar`` have a singular derivative (0 * inf) exactly at repeated
 eigenvalues -- the reference state and the flat pre-buckled film (lam1 = lam2, thesis
-§5.2.2.2). :func:`ogden_mechanical` evaluates (5.26) at ``Cbar + delta P`` and
+§5.2.2.2). The namespace :data:`NGSOLVE` evaluates (5.26) at ``Cbar + delta P`` and
 ``Cbar - delta P`` for a fixed traceless ``P = diag(1, 0, -1)`` in a frame rotated away
 from the model axes and averages: the odd term cancels, the energy is that of (5.26) up to
 O(delta^2) (relative ~1e-6 for the default :data:`OGDEN_DELTA`), and every evaluated
@@ -35,6 +43,7 @@ and tangents without the case distinction (5.37)-(5.50).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import ngsolve as ng
@@ -42,22 +51,41 @@ import numpy as np
 from debench.models.materials import energies as E
 from debench.models.materials.constants import OGDEN_DELTA
 
-NGSOLVE = E.MathNamespace(
+
+def _vector(values):
+    return ng.CoefficientFunction(tuple(float(x) for x in values))
+
+
+def _unavailable_spectral(M, energy):
+    raise NotImplementedError("this namespace has no eigenvalue power sums")
+
+
+_BASE = E.MathNamespace(
     name="ngsolve", det=ng.Det, trace=ng.Trace, inv=ng.Inv, transpose=lambda A: A.trans,
-    matmul=lambda A, B: A * B, inner=ng.InnerProduct, log1p=lambda x: ng.log(1 + x))
-"""The NGSolve namespace of :mod:`debench.models.materials.energies` (CoefficientFunctions)."""
+    matmul=lambda A, B: A * B, inner=ng.InnerProduct, log1p=lambda x: ng.log(1 + x),
+    vector=_vector, spectral=_unavailable_spectral)
 
 
-def gent_ideal_dielectric(F, D_L, *, mu, Jm, eps):
-    """(3.23) + I5/(2 eps): ``-mu Jm/2 log(1 - (I1 - 3)/Jm) + I5/(2 eps)`` (incompressible)."""
-    I = E.invariants(F, D_L, xp=NGSOLVE)
-    return E.gent_ideal_dielectric(I["I1"], I["DCD"], mu=mu, Jm=Jm, eps=eps, xp=NGSOLVE)
+def regularised(delta: float = OGDEN_DELTA) -> E.MathNamespace:
+    """The NGSolve namespace whose ``spectral`` is the averaged perturbation of half-width
+    ``delta`` (module docstring; error O(delta^2))."""
+    if not 0 < delta < 0.1:
+        raise ValueError(f"delta = {delta!r} must lie in (0, 0.1)")
+
+    def spectral(M, energy):
+        P = ng.CoefficientFunction(tuple(_perturbation_direction().ravel()), dims=(3, 3))
+        w = 0
+        for sign in (1.0, -1.0):    # 0.5: the mean of the +- delta pair
+            eigenvalues = symmetric_eigenvalues(M + sign * delta * P)
+            w = w + 0.5 * energy(lambda b, c=eigenvalues: sum(x**b for x in c))
+        return w
+
+    return dataclasses.replace(_BASE, spectral=spectral)
 
 
-def neo_hookean_mechanical(F, *, mu, k):
-    """(5.15)-(5.17): ``mu/2 (J^{-2/3} I1 - 3) + k/2 (J - 1)^2`` (C10 = mu/2, D1 = 2/k)."""
-    I = E.invariants(F, xp=NGSOLVE)
-    return E.neo_hookean(I["I1"], I["J"], mu=mu, k=k)
+NGSOLVE = regularised(OGDEN_DELTA)
+"""The NGSolve namespace of :mod:`debench.models.materials.energies` (CoefficientFunctions;
+Ogden's power sums by the averaged perturbation of half-width ``OGDEN_DELTA``)."""
 
 
 def symmetric_eigenvalues(M):
@@ -83,21 +111,17 @@ def _perturbation_direction() -> np.ndarray:
     return R @ np.diag([1.0, 0.0, -1.0]) @ R.T
 
 
+def _ogden(alphas, mus, k):
+    from debench.models.materials.library import OgdenIdealDielectric
+
+    return OgdenIdealDielectric(alphas=tuple(alphas), mus=tuple(mus), k=k)
+
+
 def ogden_mechanical(F, *, alphas, mus, k, delta=OGDEN_DELTA):
     """(5.26) + k/2 (J-1)^2: ``sum_p 2 mu_p/alpha_p^2 (sum_i lb_i^alpha_p - 3)``,
     ``lb_i`` the deviatoric principal stretches, by the averaged perturbation at
     ``Cbar +- delta P`` (module docstring; error O(delta^2))."""
-    if not 0 < delta < 0.1:
-        raise ValueError(f"delta = {delta!r} must lie in (0, 0.1)")
-    J = NGSOLVE.det(F)
-    Cb = E.isochoric_right_cauchy_green(E.right_cauchy_green(F, xp=NGSOLVE), J)
-    P = ng.CoefficientFunction(tuple(_perturbation_direction().ravel()), dims=(3, 3))
-    w = 0
-    for sign in (1.0, -1.0):
-        cbar = symmetric_eigenvalues(Cb + sign * delta * P)
-        for a, mu in zip(alphas, mus, strict=True):   # 0.5: the mean of the +- delta pair
-            w = w + 0.5 * E.ogden_term(cbar, alpha=a, mu=mu)
-    return w + E.volumetric(J, k=k)
+    return _ogden(alphas, mus, k).mechanical_energy(F, xp=regularised(delta))
 
 
 SERIES_U = 0.1
@@ -155,24 +179,32 @@ def _isochoric_cauchy_green(F):
     return E.isochoric_right_cauchy_green(E.right_cauchy_green(F, xp=NGSOLVE), J), J
 
 
+def _axisymmetric_spectral(Cb, energy):
+    """``energy(power_sum)`` at an axisymmetric ``Cbar`` (cylindrical components): the hoop
+    eigenvalue ``Cbar_tt`` and the (r, z) pair's power sum (:func:`power_pair_sum`)."""
+    a, d, crz, ct = Cb[0, 0], Cb[2, 2], Cb[0, 2], Cb[1, 1]
+    m = 0.5 * (a + d)
+    s = 0.25 * (a - d) * (a - d) + crz * crz
+    return energy(lambda b: ct**b + power_pair_sum(m, s, b))
+
+
+AXISYMMETRIC = dataclasses.replace(_BASE, name="ngsolve-axisymmetric",
+                                   spectral=_axisymmetric_spectral)
+"""The NGSolve namespace exact at axisymmetric states (no regularisation)."""
+
+
 def ogden_mechanical_axisymmetric(F, *, alphas, mus, k):
     """(5.26) + k/2 (J-1)^2, exactly, at an axisymmetric ``F`` in cylindrical components
     ``(r, theta, z)`` (its entries coupling theta with r or z are zero, so ``Cbar`` has the
     hoop eigenvalue ``Cbar_tt`` and the (r, z) block): the power sums
     ``Cbar_tt^b + power_sum_pair(m, s, b)`` with the block's mean ``m`` and squared half-gap
-    ``s = ((Cbar_rr - Cbar_zz)/2)^2 + Cbar_rz^2``.
+    ``s = ((Cbar_rr - Cbar_zz)/2)^2 + Cbar_rz^2`` (:data:`AXISYMMETRIC`).
 
     No eigenvector and no regularisation: the pair sum is smooth at repeated eigenvalues, so
     NGSolve's symbolic derivatives are the exact stresses and tangents of every axisymmetric
     state (for perturbations that leave the axisymmetric states:
     :func:`ogden_mechanical_about`)."""
-    Cb, J = _isochoric_cauchy_green(F)
-    a, d, crz, ct = Cb[0, 0], Cb[2, 2], Cb[0, 2], Cb[1, 1]
-    m = 0.5 * (a + d)
-    s = 0.25 * (a - d) * (a - d) + crz * crz
-    iso = E.ogden_isochoric_from_power_sums(lambda b: ct**b + power_pair_sum(m, s, b),
-                                            alphas=alphas, mus=mus)
-    return iso + E.volumetric(J, k=k)
+    return _ogden(alphas, mus, k).mechanical_energy(F, xp=AXISYMMETRIC)
 
 
 def axisymmetric_principal_frame(F):
@@ -195,6 +227,28 @@ def axisymmetric_principal_frame(F):
     return ng.CoefficientFunction((er, 0, -ez, 0, 1, 0, ez, 0, er), dims=(3, 3))
 
 
+def about(F0) -> E.MathNamespace:
+    """The NGSolve namespace whose ``spectral`` is exact to second order in ``F - F0`` about
+    the axisymmetric state ``F0`` (:func:`ogden_mechanical_about`)."""
+    Q = axisymmetric_principal_frame(F0)
+    Cb0, _ = _isochoric_cauchy_green(F0)
+    A0 = Q.trans * Cb0 * Q
+    pairs = ((0, 1), (0, 2), (1, 2))
+
+    def spectral(Cb, energy):
+        A = Q.trans * Cb * Q
+
+        def power_sum(b):
+            return (sum(A[i, i] ** b for i in range(3))
+                    + b * sum(A[i, j] * A[i, j]
+                              * power_divided_difference(A0[i, i], A0[j, j], b - 1)
+                              for i, j in pairs))
+
+        return energy(power_sum)
+
+    return dataclasses.replace(_BASE, name="ngsolve-about", spectral=spectral)
+
+
 def ogden_mechanical_about(F, F0, *, alphas, mus, k):
     """(5.26) + k/2 (J-1)^2 to second order in ``F - F0`` about an axisymmetric state ``F0``
     (cylindrical components): with the principal frame ``Q`` of ``Cbar(F0)``
@@ -211,25 +265,7 @@ def ogden_mechanical_about(F, F0, *, alphas, mus, k):
     the Ogden film without regularisation, for perturbations that leave the axisymmetric
     states (``F0 = Id(3)``: about the undeformed body). The pair factors depend on ``F0``
     only, so derivatives in ``F`` do not expand them."""
-    Cb, J = _isochoric_cauchy_green(F)
-    Q = axisymmetric_principal_frame(F0)
-    Cb0, _ = _isochoric_cauchy_green(F0)
-    A, A0 = Q.trans * Cb * Q, Q.trans * Cb0 * Q
-    pairs = ((0, 1), (0, 2), (1, 2))
-
-    def power_sum(b):
-        return (sum(A[i, i] ** b for i in range(3))
-                + b * sum(A[i, j] * A[i, j] * power_divided_difference(A0[i, i], A0[j, j], b - 1)
-                          for i, j in pairs))
-
-    return (E.ogden_isochoric_from_power_sums(power_sum, alphas=alphas, mus=mus)
-            + E.volumetric(J, k=k))
-
-
-def ideal_dielectric(F, D_L, *, eps):
-    """(5.9): ``I5/(2 eps J)``."""
-    I = E.invariants(F, D_L, xp=NGSOLVE)
-    return E.ideal_dielectric(I["DCD"], I["J"], eps=eps)
+    return _ogden(alphas, mus, k).mechanical_energy(F, xp=about(F0))
 
 
 def ideal_dielectric_enthalpy(F, E_L, *, eps):
@@ -239,84 +275,39 @@ def ideal_dielectric_enthalpy(F, E_L, *, eps):
     return E.ideal_dielectric_enthalpy(F, E_L, eps=eps, xp=NGSOLVE)
 
 
-def neo_hookean_ideal_dielectric(F, D_L, *, mu, k, eps):
-    """(5.15) + (5.9): ``mu/2 (J^{-2/3} I1 - 3) + k/2 (J - 1)^2 + I5/(2 eps J)``."""
-    I = E.invariants(F, D_L, xp=NGSOLVE)
-    return E.neo_hookean_ideal_dielectric(I["I1"], I["J"], I["DCD"], mu=mu, k=k, eps=eps)
+def _protocol_method(material, name: str):
+    method = getattr(material, name, None)
+    if method is None:
+        raise NotImplementedError(f"no NGSolve form for {type(material).__name__}: it does "
+                                  f"not follow the material protocol ({name})")
+    return method
 
 
-def ogden_ideal_dielectric(F, D_L, *, alphas, mus, k, eps, delta=OGDEN_DELTA):
-    """(5.26) + k/2 (J-1)^2 + (5.9), see :func:`ogden_mechanical`."""
-    return (ogden_mechanical(F, alphas=alphas, mus=mus, k=k, delta=delta)
-            + ideal_dielectric(F, D_L, eps=eps))
+def energy_cf(material, F, D_L, *, xp=None):
+    """The CF energy ``W(F, D_L)`` of a library material (its ``energy_expression`` in the
+    namespace ``xp``, default :data:`NGSOLVE`)."""
+    return _protocol_method(material, "energy_expression")(F, D_L, xp=xp or NGSOLVE)
 
 
 def mechanical_energy_cf(material, F, *, delta=OGDEN_DELTA):
-    """The mechanical energy (``D_L = 0``) of a library neo-Hookean or Ogden material [Pa]."""
-    from debench.models.materials import library as lib
-
-    if isinstance(material, lib.NeoHookeanIdealDielectric):
-        return neo_hookean_mechanical(F, mu=material.mu, k=material.k)
-    if isinstance(material, lib.OgdenIdealDielectric):
-        return ogden_mechanical(F, alphas=material.alphas, mus=material.mus, k=material.k,
-                                delta=delta)
-    raise NotImplementedError(f"no NGSolve mechanical energy for {type(material).__name__}")
+    """The mechanical energy ``W(F, 0)`` of a library material [Pa] (its
+    ``mechanical_energy``; spectral energies regularised with half-width ``delta``)."""
+    return _protocol_method(material, "mechanical_energy")(F, xp=regularised(delta))
 
 
-def axisymmetric_mechanical_energy(material, F, about=None):
-    """The mechanical energy of a library neo-Hookean or Ogden material [Pa] in the
-    axisymmetric models, exact (no regularisation): at an axisymmetric ``F`` (cylindrical
-    components, ``about`` None) or to second order in ``F - about`` about the axisymmetric
-    state ``about`` (:func:`ogden_mechanical_about`; the neo-Hookean energy is exact
-    everywhere and ignores ``about``)."""
-    from debench.models.materials import library as lib
-
-    if isinstance(material, lib.NeoHookeanIdealDielectric):
-        return neo_hookean_mechanical(F, mu=material.mu, k=material.k)
-    if isinstance(material, lib.OgdenIdealDielectric):
-        kw = {"alphas": material.alphas, "mus": material.mus, "k": material.k}
-        if about is None:
-            return ogden_mechanical_axisymmetric(F, **kw)
-        return ogden_mechanical_about(F, about, **kw)
-    raise NotImplementedError(f"no axisymmetric NGSolve energy for {type(material).__name__}")
+def axisymmetric_mechanical_energy(material, F, about_state=None):
+    """The mechanical energy of a library material [Pa] in the axisymmetric models, exact
+    (no regularisation): at an axisymmetric ``F`` (cylindrical components, ``about_state``
+    None, :data:`AXISYMMETRIC`) or to second order in ``F - about_state`` about that
+    axisymmetric state (:func:`about`; invariant-based energies are exact everywhere and
+    ignore it)."""
+    return _protocol_method(material, "mechanical_energy")(F, xp=axisymmetric(about_state))
 
 
-def ti_neo_hookean_dielectric(F, D_L, *, mu, xi, alpha, beta, eps, A):
-    """(4.22): ``mu/2 (I1-3) + mu xi/2 (A.CA - 1)^2 + (alpha D.D + beta D.CD)/(2 eps)``."""
-    a = ng.CoefficientFunction(tuple(float(x) for x in A))
-    I = E.invariants(F, D_L, a, xp=NGSOLVE)
-    return E.ti_neo_hookean_dielectric(I["I1"], I["ACA"], I["DD"], I["DCD"], mu=mu, xi=xi,
-                                       alpha=alpha, beta=beta, eps=eps)
-
-
-def dorfmann_ogden_electric(F, D_L, *, alpha, beta, eps):
-    """(4.20): ``(alpha D.D + beta D.CD)/(2 eps)``."""
-    I = E.invariants(F, D_L, xp=NGSOLVE)
-    return E.dorfmann_ogden_electric(I["DD"], I["DCD"], alpha=alpha, beta=beta, eps=eps)
-
-
-def energy_cf(material, F, D_L):
-    """The CF energy of a library material instance (dispatch on its class)."""
-    from debench.models.materials import library as lib
-
-    if isinstance(material, lib.GentIdealDielectric):
-        return gent_ideal_dielectric(F, D_L, mu=material.mu, Jm=material.Jm, eps=material.eps)
-    if isinstance(material, lib.NeoHookeanIdealDielectric):
-        return neo_hookean_ideal_dielectric(F, D_L, mu=material.mu, k=material.k,
-                                            eps=material.eps)
-    if isinstance(material, lib.OgdenIdealDielectric):
-        return ogden_ideal_dielectric(F, D_L, alphas=material.alphas, mus=material.mus,
-                                      k=material.k, eps=material.eps)
-    if isinstance(material, lib.IdealDielectric):
-        return ideal_dielectric(F, D_L, eps=material.eps)
-    if isinstance(material, lib.DorfmannOgdenElectric):
-        return dorfmann_ogden_electric(F, D_L, alpha=material.alpha, beta=material.beta,
-                                       eps=material.eps)
-    if isinstance(material, lib.TransverselyIsotropicNeoHookean):
-        return ti_neo_hookean_dielectric(F, D_L, mu=material.mu, xi=material.xi,
-                                         alpha=material.alpha, beta=material.beta,
-                                         eps=material.eps, A=material.A)
-    raise NotImplementedError(f"no NGSolve form for {type(material).__name__}")
+def axisymmetric(about_state=None) -> E.MathNamespace:
+    """The namespace of the axisymmetric models: :data:`AXISYMMETRIC` (``about_state``
+    None) or :func:`about` the axisymmetric state ``about_state``."""
+    return AXISYMMETRIC if about_state is None else about(about_state)
 
 
 class _Evaluator:

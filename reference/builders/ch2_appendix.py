@@ -4,8 +4,8 @@ Table 5.1 / Ch. 3 models in incompressible uniaxial tension.
 
 ``build(out_dir, full=False)`` writes
 
-* ``ch2_kernel_reference_states.nc`` - for each material of
-  :data:`debench.models.materials.MATERIALS` (the non-dimensional ones in SI units, see
+* ``ch2_kernel_reference_states.nc`` - for each thesis material of the library
+  (:data:`debench.models.materials.THESIS_MATERIALS`; the non-dimensional ones in SI units, see
   :data:`TI_SI`, :data:`DO_SI`) and each state of :data:`STATES` (isochoric F, D_L in units of
   ``sqrt(eps mu)``): W, dW/dF, dW/dD_L, Cauchy stress (p = 0), the traction-free p
   (variable ``pressure``) on the face with current normal e3 (incompressible materials;
@@ -47,12 +47,13 @@ DO_SI = dict(alpha=0.3, beta=0.5, eps=EPS_R_ASSUMED * VACUUM_PERMITTIVITY)
 
 def _materials():
     from debench.models.materials import (
-        MATERIALS,
+        THESIS_MATERIALS,
         DorfmannOgdenElectric,
         TransverselyIsotropicNeoHookean,
+        material,
     )
 
-    mats = dict(MATERIALS)
+    mats = {name: material(name) for name in THESIS_MATERIALS}
     mats["ti_neo_hookean_dielectric"] = TransverselyIsotropicNeoHookean(**TI_SI)
     mats["dorfmann_ogden_electric"] = DorfmannOgdenElectric(**DO_SI)
     return mats
@@ -146,7 +147,7 @@ def _parameters():
 def figure(path: Path) -> list[Path]:
     """sigma11 - sigma22 in incompressible uniaxial tension (Gent, Table 5.1 NH and Ogden);
     ``path`` without suffix, written as PNG and SVG."""
-    from debench.models.materials import MATERIALS, cauchy_stress
+    from debench.models.materials import cauchy_stress, material
     from debench.reference.figures import LABELS, pyplot, save
 
     plt = pyplot()
@@ -156,7 +157,7 @@ def figure(path: Path) -> list[Path]:
                         ("neo_hookean_ideal_dielectric",
                          r"neo-Hookean, $\mu$ = 156 kPa (Tab. 5.1)"),
                         ("ogden_ideal_dielectric", r"Ogden, $\sum\mu_p$ = 69.6 kPa (Tab. 5.1)")):
-        mat = MATERIALS[name]
+        mat = material(name)
         s = [np.diff(np.diag(cauchy_stress(mat, np.diag([x, x**-0.5, x**-0.5]),
                                             np.zeros(3)))[[1, 0]])[0] for x in lam]
         ax.plot(lam, np.array(s) / 1e3, label=label)

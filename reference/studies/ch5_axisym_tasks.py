@@ -40,9 +40,10 @@ the paths end one record past their maximum)."""
 
 def material(case: str):
     """The Table 5.1 material of a case or material name (``nh``, ``nh_t1``, ``nh_r10``:
-    neo-Hookean; ``ogden...``: Ogden)."""
-    from debench.models.buckling.parameters import NeoHookean, Ogden
-    return {"nh": NeoHookean, "ogden": Ogden}[case.split("_")[0]]()
+    neo-Hookean; ``ogden...``: Ogden; the part before the first ``_`` is looked up in the
+    library registry, which raises ``ValueError`` naming the valid names)."""
+    from debench.models.materials import material as library_material
+    return library_material(case.split("_")[0] if isinstance(case, str) else case)
 
 
 def path_task(case: str, order: int, layers: int, n_max: int | None = None) -> dict:

@@ -28,9 +28,10 @@ RAMP_DV_MAX = 0.02  # largest voltage step of the ramps (normalised): >= 3 point
 
 
 def material(name):
-    """The Table 5.1 material of a case's material name (``"nh"`` or ``"ogden"``)."""
-    from debench.models.buckling.parameters import NeoHookean, Ogden
-    return NeoHookean() if name == "nh" else Ogden()
+    """The Table 5.1 material of a case's material name (``"nh"``, ``"ogden"`` or any name
+    of the library registry); ``ValueError`` naming the valid names otherwise."""
+    from debench.models.materials import material as library_material
+    return library_material(name)
 
 
 def critical_task(case: str, h_rel: float, layers: int = 1, aspect: float = 10.0) -> dict:

@@ -19,8 +19,9 @@ from debench.models.buckling.analytic import critical_voltage_plate
 from debench.models.buckling.axisym.model import AxisymModel
 from debench.models.buckling.axisym.section import AxisymDiscretisation
 from debench.models.buckling.axisym.spectra import TANGENTS
-from debench.models.buckling.parameters import NeoHookean, Ogden, Plate
+from debench.models.buckling.parameters import Plate
 from debench.models.errors import ConvergenceError
+from debench.models.materials.protocol import IdealDielectricElastomer
 
 CRITICAL_STEP = 1e-6
 """The secant on lambda_1(v^2) = 0 stops evaluating when its next step would be below
@@ -62,7 +63,7 @@ class AxisymCritical:
 
 
 
-def critical_voltage(plate: Plate, material: NeoHookean | Ogden,
+def critical_voltage(plate: Plate, material: IdealDielectricElastomer,
                      disc: AxisymDiscretisation | None = None, *, n: int = 0,
                      v_start: float | None = None, start_step: float = 0.1,
                      maxit: int = 30, tangent: str = "coupled") -> AxisymCritical:

@@ -32,9 +32,11 @@ from debench.models.buckling.axisym.linalg import (
 )
 from debench.models.buckling.axisym.section import AxisymDiscretisation, section_mesh
 from debench.models.buckling.axisym.spectra import ModeAnalysis
-from debench.models.buckling.parameters import MU_REF, NeoHookean, Ogden, Plate
+from debench.models.buckling.energy import enthalpy_cf
+from debench.models.buckling.parameters import MU_REF, Plate
 from debench.models.errors import ConvergenceError, require
 from debench.models.materials import ngsolve_forms as ngf
+from debench.models.materials.protocol import IdealDielectricElastomer
 from scipy.sparse.linalg import splu
 
 NEWTON_RTOL = 1e-11
@@ -77,17 +79,18 @@ below the deflection steps of the path (>= 1e-6 t0 on a correction of O(1) t0)."
 class AxisymModel(ModeAnalysis):
     """The axisymmetric film: nonlinear state on the section, spectra per wavenumber.
 
-    ``plate``, ``material`` (library neo-Hookean or Ogden), ``disc``; ``with_imperfection``
+    ``plate``, ``material`` (a library elastomer with the ideal dielectric:
+    neo-Hookean, Ogden, ...), ``disc``; ``with_imperfection``
     lifts the reference body by the plate's axisymmetric imperfection (the non-axisymmetric
     ``wrinkle_imperfection`` of :class:`Plate` has no place in this model and is refused).
     ``mu_ref``: the normalising modulus.
     """
 
-    def __init__(self, plate: Plate, material: NeoHookean | Ogden,
+    def __init__(self, plate: Plate, material: IdealDielectricElastomer,
                  disc: AxisymDiscretisation | None = None, *, with_imperfection: bool = True,
                  mu_ref: float = MU_REF):
         val.instance("plate", plate, Plate)
-        val.instance("material", material, (NeoHookean, Ogden))
+        val.instance("material", material, IdealDielectricElastomer)
         disc = AxisymDiscretisation() if disc is None else disc
         val.instance("disc", disc, AxisymDiscretisation)
         require(plate.wrinkle_imperfection == 0.0,
@@ -141,8 +144,7 @@ class AxisymModel(ModeAnalysis):
         """The enthalpy density (units of ``mu_ref``) at ``F``, ``E``: exact at an
         axisymmetric state (``about`` None), or to second order in ``F - about`` about the
         axisymmetric state ``about`` (:meth:`_mechanical_energy`)."""
-        return (self._mechanical_energy(F, about)
-                + ngf.ideal_dielectric_enthalpy(F, E, eps=1.0))
+        return enthalpy_cf(F, E, self.material, mu_ref=self.mu_ref, xp=ngf.axisymmetric(about))
 
     # --------------------------------------------------------------- state
     @property
