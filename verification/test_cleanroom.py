@@ -294,18 +294,8 @@ def test_buckling_richardson_recovers_rate_and_limit():
         buckling.richardson(sizes, [0.3, 0.1, 0.2])
 
 
-OGDEN_EVALUATION_FLOOR = pytest.mark.xfail(strict=True, reason=(
-    "the reference's Ogden value (0.1471543372 +- 6.1e-8) lies 3.6e-7 above the converged "
-    "clean room (0.1471539798 +- 1.6e-8) and three outside codes (0.1471540): the "
-    "reference evaluates (5.26) at Cbar +- delta P averaged, whose round-off floor stops "
-    "Newton at ~5e-9 of the load and moves v by up to ~5e-7 (its p-sequence is not "
-    "monotone: 0.14715502, 0.14715429, 0.14715434), which its error estimate does not "
-    "state (the problem page says so); an exact Ogden evaluation is the fix"))
-
-
 @pytest.mark.slow
-@pytest.mark.parametrize("case", [c if c != "ogden_t1" else pytest.param(
-    c, marks=OGDEN_EVALUATION_FLOOR) for c in buckling.CASES])
+@pytest.mark.parametrize("case", buckling.CASES)
 def test_cleanroom_buckling_converged_confirms_reference_at_stated_accuracy(case):
     """The clean room's converged v_cr (P4, N x N/4 for N = 16, 24, 32, 40, 15 corner
     refinements, Richardson-extrapolated; buckling.converged_critical_voltage) confirms
@@ -314,7 +304,9 @@ def test_cleanroom_buckling_converged_confirms_reference_at_stated_accuracy(case
     nothing). Measured: neo-Hookean 0.2202706688 +- 9.9e-9 (rates 1.48, 1.58; 108 s CPU),
     Ogden 0.1471539798 +- 1.6e-8 (rates 1.45, 1.68; 192 s CPU); a second run 0.2202706674
     +- 7.7e-9, 0.1471539785 +- 1.3e-8 (268 s CPU in all). Against the dataset before the
-    axisym Newton fix (0.2202677957, 0.1471534052, +- 2e-7) it fails: 2.9e-6 and 5.7e-7."""
+    axisym Newton fix (0.2202677957, 0.1471534052, +- 2e-7) it fails: 2.9e-6 and 5.7e-7;
+    against the Ogden value of the regularised evaluation (0.1471543372 +- 6.1e-8) by 3.6e-7
+    = 5.9x; the exact evaluation's 0.1471539805 +- 8.5e-8 lies 1.8e-9 from it."""
     reference, stated = _buckling_reference(case)
     conv = buckling.converged_critical_voltage(case)
     assert conv.error < stated, (case, conv.value, conv.error, stated)

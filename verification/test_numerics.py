@@ -627,10 +627,11 @@ def test_scipy_scalar_root_finders_are_called_only_in_numerics():
     import ast
     import pathlib
 
-    import debench
     import debench.models
     import debench.models.numerics
     import debench.reference
+
+    import debench
 
     packages = {pathlib.Path(m.__file__).parent
                 for m in (debench, debench.models, debench.reference)}
