@@ -41,6 +41,7 @@ if str(ROOT) not in sys.path:
 
 TC = "verification/test_cleanroom.py"
 TB = "verification/test_cleanroom_balloon.py"
+TP = "verification/test_cleanroom_pullin.py"
 
 #: a computation: problem id -> {quantity: (values, coords)} at the test's points
 Computation = Callable[[str], dict]
@@ -232,6 +233,19 @@ def critical_voltage(wavenumber: int) -> Computation:
     return run
 
 
+def pullin_refined(problem_id):
+    """test_cleanroom_pullin_passes_check_refined[p4_40x8]: the pull-in clean room's voltage
+    maximum (v and w) of both films on its refined discretisation (P4, 40 x 8, 6 corner
+    refinements)."""
+    from verification.cleanroom import pullin as cr
+    from verification.test_cleanroom_pullin import PULLIN_REFINED
+
+    res = {c: cr.pullin(c, **PULLIN_REFINED["p4_40x8"]) for c in cr.CASES}
+    coords = {"case": np.array(cr.CASES)}
+    return {"v_pullin": (np.array([res[c].v_pullin for c in cr.CASES]), coords),
+            "w_pullin": (np.array([res[c].w_pullin for c in cr.CASES]), coords)}
+
+
 #: the test each computation reproduces -> the computation
 COMPUTATIONS: dict[str, Computation] = {
     f"{TC}::test_cleanroom_free_membrane_passes_check[ch3_free_membrane_nh-inf-5.0]":
@@ -251,6 +265,7 @@ COMPUTATIONS: dict[str, Computation] = {
         critical_voltage(0),
     f"{TC}::test_cleanroom_buckling_n1_converged_confirms_reference_at_stated_accuracy":
         critical_voltage(1),
+    f"{TP}::test_cleanroom_pullin_passes_check_refined[p4_40x8]": pullin_refined,
     f"{TB}::test_pressure_curves_match_the_clean_room_at_the_stated_accuracy":
         balloon("pbar"),
     f"{TB}::test_pressure_extrema_match_the_clean_room_at_the_stated_accuracy":
