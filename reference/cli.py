@@ -18,8 +18,10 @@ Examples
     debench check ch5_pullin pullin.csv   # columns case, v_pullin, w_pullin: each checked
     debench check --submission submissions/ch5_critical_voltage/dolfinx-axisym
     debench cite ch3.pullin.voltage_lamP_1p25
-    debench orders errors.csv --write orders.csv  # fitted orders of an MMS study, then
-    debench check mms_electroelastic orders.csv   # judged like any reference problem
+    debench check mms_electroelastic errors.csv   # errors per mesh level of an MMS study
+                                                  # (degree, h, u_L2, ...): orders fitted
+                                                  # and judged like any reference problem
+    debench orders errors.csv --write orders.csv  # the fitted orders alone
 """
 
 from __future__ import annotations
