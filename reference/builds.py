@@ -233,6 +233,19 @@ def build_concurrently(chapters: list[str], out: Path, full: bool, scheduler: st
     return {c: written[c] for c in chapters if c in written}
 
 
+def not_recomputed(chapters, full: bool) -> list[str]:
+    """One line per dataset of ``chapters`` that this plan does not recompute (the
+    converged-only studies in the default run: their builders' ``not_recomputed(full)``),
+    saying why and what their figures are drawn from."""
+    lines = []
+    for chapter in chapters:
+        mod = builder(chapter)
+        line = mod.not_recomputed(full) if hasattr(mod, "not_recomputed") else None
+        if line:
+            lines.append(line)
+    return lines
+
+
 def build_catalogue(out: Path, full: bool, results, guards) -> list[Path]:
     """The catalogue builder with the command's catalogue evaluation ``results`` and model
     guards ``guards`` (:func:`debench.reference.values.extra_guards`)."""

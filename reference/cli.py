@@ -196,6 +196,7 @@ def cmd_reproduce(args) -> int:
     else:
         compared = [regeneration.compare_with_curated(p, data_dir())
                     for p in written if p.suffix == ".nc"]
+        compared += builds.not_recomputed(builders, args.full)
         for line in compared:
             print(f"  {line}", file=sys.stderr)
     path = report.write_report(Path(args.out), results, regeneration=compared,
