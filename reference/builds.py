@@ -34,7 +34,7 @@ BUILD_CPU_S = {
     "ch5_axisym": 53.0, "ch5": 36.0, "ch5_axisym_path": 35.0, "ch3_fe_thickness": 22.0,
     "ch4_fe": 18.0, "ch5_thickness": 15.0, "ch5_methods": 12.0, "ch4": 10.0,
     "ch4_inplane": 8.0, "ch5_axisym_methods": 8.0, "ch3": 3.0, "ch3_fe": 3.0,
-    "ch2_appendix": 0.4, "ch5_imperfection": 0.0, "ch5_wrinkling": 0.0, "lit_balloon": 1.0,
+    "ch2_appendix": 0.4, "ch5_imperfection": 1.2, "ch5_wrinkling": 1.2, "lit_balloon": 1.0,
 }
 UNLISTED_BUILD_CPU_S = 60.0
 
