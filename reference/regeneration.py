@@ -135,10 +135,9 @@ def _on_shared(new, old, var: str, key: str | None = None):
     if var not in new or var not in old:
         return None
     a, b = new, old
-    if key is not None:
+    if key is not None and new[key].dims[0] != key:
         dim = new[key].dims[0]
-        a, b = a.swap_dims({dim: key}) if dim != key else a, \
-            b.swap_dims({dim: key}) if dim != key else b
+        a, b = a.swap_dims({dim: key}), b.swap_dims({dim: key})
     try:
         a, b = xr.align(a, b, join="inner", exclude=set(a.dims) - set(a[var].dims))
     except ValueError:
