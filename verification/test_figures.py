@@ -235,3 +235,14 @@ def test_default_build_of_a_converged_only_study_draws_its_figure_from_curated_d
     assert builds.not_recomputed([chapter, "ch3"], False) == [
         line for line in err.splitlines() if line.startswith(f"{chapter}.nc:")]
     assert builds.not_recomputed([chapter], True) == []
+
+
+def test_converged_only_default_build_without_curated_data_says_so(tmp_path, monkeypatch,
+                                                                   capsys):
+    """Without the curated dataset (another data directory) the default build still
+    succeeds: no figure, and stderr says why."""
+    from debench.reference import builds, datasets
+
+    monkeypatch.setenv(datasets.DATA_DIR_ENV, str(tmp_path / "empty"))
+    assert builds.builder("ch5_wrinkling").build(tmp_path, full=False) == []
+    assert "figure not drawn: no curated dataset" in capsys.readouterr().err

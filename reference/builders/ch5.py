@@ -536,13 +536,20 @@ def draw_from_curated(name: str, cost: str, draw, out_dir: Path) -> list[Path]:
     fig_dir, note)`` from the curated dataset ``name`` (sha256 verified on reading) into
     ``out_dir/figures``, stated on stderr and on the figure (:func:`curated_note`); the
     dataset itself is not written. Nothing is drawn where figures are not written
-    (:func:`debench.reference.figures.written`)."""
-    from debench.reference.datasets import read_dataset
+    (:func:`debench.reference.figures.written`) or without the curated dataset (then
+    stderr says so)."""
+    from debench.reference.datasets import DatasetError, read_dataset
 
     print(not_recomputed_line(name, cost), file=sys.stderr)
     if not figure_io.written():
         return []
-    return draw(read_dataset(name), Path(out_dir) / "figures", curated_note(name))
+    try:
+        ds = read_dataset(name)
+    except (DatasetError, FileNotFoundError) as exc:
+        print(f"{name}: figure not drawn: no curated dataset to draw it from ({exc})",
+              file=sys.stderr)
+        return []
+    return draw(ds, Path(out_dir) / "figures", curated_note(name))
 
 
 def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) -> list[Path]:
