@@ -165,11 +165,23 @@ def test_documented_command_block_runs_in_a_fresh_clone_and_venv(block, tmp_path
     if all(c in NOT_RUN for c in block.commands):
         pytest.skip("every command of this block is in NOT_RUN: "
                     + "; ".join(sorted(set(NOT_RUN[c] for c in block.commands))))
+    import signal
+
     clone = _clone(tmp_path / "clone")
-    proc = subprocess.run(["bash", "-c", script(block)], cwd=clone,
-                          env=_clean_env(tmp_path), capture_output=True, text=True,
-                          timeout=TIMEOUT_S)
-    ran = [line for line in proc.stdout.splitlines() if line.startswith("+ ")]
+    # its own process group: a timeout ends the block's commands and their pool processes
+    proc = subprocess.Popen(["bash", "-c", script(block)], cwd=clone, env=_clean_env(tmp_path),
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)
+    try:
+        out, err = proc.communicate(timeout=TIMEOUT_S)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        out, err = proc.communicate()
+        ran = [line for line in out.splitlines() if line.startswith("+ ")]
+        pytest.fail(f"{block.id}: `{ran[-1][2:] if ran else '?'}` still running after "
+                    f"{TIMEOUT_S} s (machine load {os.getloadavg()[0]:.1f}); ended",
+                    pytrace=False)
+    ran = [line for line in out.splitlines() if line.startswith("+ ")]
     assert proc.returncode == 0, (
         f"{block.id}: `{ran[-1][2:] if ran else '?'}` exited {proc.returncode}:\n"
-        f"{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")
+        f"{out[-3000:]}\n{err[-3000:]}")
