@@ -18,8 +18,10 @@ Examples
     debench check ch5_pullin pullin.csv   # columns case, v_pullin, w_pullin: each checked
     debench check --submission submissions/ch5_critical_voltage/dolfinx-axisym
     debench cite ch3.pullin.voltage_lamP_1p25
-    debench orders errors.csv --write orders.csv  # fitted orders of an MMS study, then
-    debench check mms_electroelastic orders.csv   # judged like any reference problem
+    debench check mms_electroelastic errors.csv   # errors per mesh level of an MMS study
+                                                  # (degree, h, u_L2, ...): orders fitted
+                                                  # and judged like any reference problem
+    debench orders errors.csv --write orders.csv  # the fitted orders alone
 """
 
 from __future__ import annotations
@@ -195,6 +197,7 @@ def cmd_reproduce(args) -> int:
     else:
         compared = [regeneration.compare_with_curated(p, data_dir())
                     for p in written if p.suffix == ".nc"]
+        compared += builds.not_recomputed(builders, args.full)
         for line in compared:
             print(f"  {line}", file=sys.stderr)
     path = report.write_report(Path(args.out), results, regeneration=compared,

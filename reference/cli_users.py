@@ -137,6 +137,35 @@ def _rtol(given: list[str] | None, quantities: tuple[str, ...]):
     return plain[0] if plain else named
 
 
+def _results_of(prob, path: Path, quantity: str | None):
+    """``(quantities found, {column: values})`` of a user's file for ``prob``
+    (:func:`~debench.reference.results_files.read_results`). For the manufactured-solution
+    problem a table of errors per mesh level is read too: its orders are fitted and judged
+    as ``debench orders`` does (the lines printed), and the fitted orders are checked."""
+    from debench.reference import mms_check
+
+    if prob.id != mms_check.PROBLEM or not path.is_file() or path.suffix == ".nc" \
+            or not mms_check.is_error_table(path):
+        return read_results(path, quantity, prob)
+    try:   # the problem is plane strain: h ~ ndof^(-1/2) for a table of ndof
+        fits = mms_check.fit_error_table(path, dim=mms_check.PROBLEM_DIM)
+    except (ValueError, TypeError) as exc:
+        raise UsageError(
+            f"{path}: a table of errors per mesh level ({exc}); `debench check` reads one "
+            "with a degree column and h or ndof; otherwise fit it first: "
+            f"debench orders {path} --degree P --write orders.csv, then: "
+            "debench check mms_electroelastic orders.csv") from None
+    print(f"{path}: errors per mesh level; fitted orders (as `debench orders {path}`):")
+    for line in mms_check.order_lines(fits):
+        print(f"  {line}")
+    cols = mms_check.order_columns(fits)
+    found = tuple(n for n in cols if n != "degree" and quantity in (None, n))
+    if not found:
+        raise UsageError(f"{path}: no column for quantity {quantity!r}; the fitted orders "
+                         f"are {[n for n in cols if n != 'degree']}")
+    return found, cols
+
+
 def cmd_check(args) -> int:
     from debench.reference import problems
 
@@ -151,7 +180,7 @@ def cmd_check(args) -> int:
         prob = problems.get(args.problem)
     except problems.ProblemError as exc:
         raise UsageError(str(exc)) from None
-    found, cols = read_results(Path(args.file), args.quantity, prob)
+    found, cols = _results_of(prob, Path(args.file), args.quantity)
     rtol = _rtol(args.rtol, found)
     qs = [prob.quantity(n) for n in found]
     coords = {c: cols[c] for c in qs[0].coordinates if c in cols}

@@ -107,6 +107,14 @@ def save(fig, path: Path | str) -> list[Path]:
     return out
 
 
+def footnote(fig, text: str | None) -> None:
+    """Write ``text`` (e.g. where the data of the figure come from) in small grey type below
+    the axes of ``fig``; nothing when ``text`` is None."""
+    if text:
+        fig.text(0.01, -0.01, text, fontsize=8, color="0.35", ha="left", va="top",
+                 wrap=True)
+
+
 def tight_bbox(fig):
     """The box (inches) that ``savefig(..., bbox_inches="tight")`` crops ``fig`` to at
     :data:`DPI`: the tight bounding box of every artist after one layout pass without

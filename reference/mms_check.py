@@ -194,43 +194,95 @@ def read_table(path) -> dict[str, np.ndarray]:
     return {n: values[:, k] for k, n in enumerate(names)}
 
 
+#: the problem whose quantities are the fitted orders of an error table
+PROBLEM = "mms_electroelastic"
+PROBLEM_DIM = 2
+"""Space dimension of that problem's reference (plane strain): ``h ~ ndof^(-1/2)``."""
+ERROR_COLUMNS = tuple(f"{f}_{n}" for f in FIELDS for n in NORMS)
+
+
+def _header(path) -> list[str]:
+    """The column names (units dropped) of the first row of a CSV that is not a comment."""
+    from pathlib import Path
+
+    for line in Path(path).read_text(encoding="utf-8-sig").splitlines():
+        if line.strip() and not line.lstrip().startswith("#"):
+            return [c.split("[")[0].strip() for c in line.split(",")]
+    return []
+
+
+def is_error_table(path) -> bool:
+    """Whether a CSV is a table of errors per mesh level (columns ``h`` or ``ndof`` and
+    any of :data:`ERROR_COLUMNS`), the input of :func:`fit_error_table`, rather than a table
+    of fitted orders (``*_order`` columns)."""
+    names = set(_header(path))
+    return bool(names & set(ERROR_COLUMNS)) and bool(names & {"h", "ndof"})
+
+
+def fit_error_table(path, *, degree: int | None = None, dim: int | None = None,
+                    finest: int = FINEST_LEVELS) -> dict[int, dict[str, OrderFit]]:
+    """Every error column of the CSV ``path`` (:func:`read_table`) fitted and judged per
+    degree (:func:`check_table`): ``{degree: {column: OrderFit}}``. The degree comes from
+    a ``degree`` column or ``degree``; ValueError when neither or both disagree."""
+    table = read_table(path)
+    if "degree" in table:
+        degrees = table.pop("degree")
+        if degree is not None and not np.all(degrees == degree):
+            raise ValueError("--degree contradicts the table's degree column")
+    elif degree is None:
+        raise ValueError("give --degree or a degree column")
+    else:
+        degrees = np.full(len(next(iter(table.values()))), float(degree))
+    results = {}
+    for p in sorted(set(degrees.tolist())):
+        rows = degrees == p
+        results[int(p)] = check_table({k: v[rows] for k, v in table.items()}, int(p),
+                                      dim=dim, finest=finest)
+    return results
+
+
+def order_lines(results: dict[int, dict[str, OrderFit]]) -> list[str]:
+    """One line per degree and column: observed and expected order, verdict, local orders."""
+    return [f"p = {p} {col:7s} observed {fit.order:6.3f} expected {fit.expected:g} "
+            f"(|diff| <= {fit.atol:g}): {'PASS' if fit.passed else 'FAIL'}; local "
+            f"{', '.join(f'{x:.3f}' for x in fit.local)}; misfit {fit.misfit:.2g}"
+            for p, res in results.items() for col, fit in res.items()]
+
+
+def order_columns(results: dict[int, dict[str, OrderFit]]) -> dict[str, np.ndarray]:
+    """The fitted orders as the columns of problem :data:`PROBLEM`: ``degree`` and
+    ``<column>_order`` (NaN where a degree lacks the column)."""
+    cols = sorted({c for res in results.values() for c in res})
+    out = {"degree": np.array(list(results), dtype=float)}
+    for c in cols:
+        out[f"{c}_order"] = np.array([res[c].order if c in res else np.nan
+                                      for res in results.values()], dtype=float)
+    return out
+
+
 def cmd_orders(args) -> int:
     """``debench orders TABLE.csv``: fit and judge the orders of a manufactured-solution
-    study; ``--write`` saves them as a table ``debench check mms_electroelastic`` reads."""
+    study; ``--write`` saves them as a table ``debench check mms_electroelastic`` reads
+    (which also reads the error table itself when it has a ``degree`` column and ``h``)."""
     from debench.reference.results_files import UsageError
 
     try:
-        table = read_table(args.table)
-        if "degree" in table:
-            degrees = table.pop("degree")
-            if args.degree is not None and not np.all(degrees == args.degree):
-                raise ValueError("--degree contradicts the table's degree column")
-        elif args.degree is None:
-            raise ValueError("give --degree or a degree column")
-        else:
-            degrees = np.full(len(next(iter(table.values()))), float(args.degree))
-        results = {}
-        for p in sorted(set(degrees.tolist())):
-            rows = degrees == p
-            sub = {k: v[rows] for k, v in table.items()}
-            results[int(p)] = check_table(sub, int(p), dim=args.dim, finest=args.finest)
+        results = fit_error_table(args.table, degree=args.degree, dim=args.dim,
+                                  finest=args.finest)
     except (ValueError, TypeError) as exc:
         raise UsageError(f"{args.table}: {exc}") from None
-    ok = True
-    for p, res in results.items():
-        for col, fit in res.items():
-            ok &= bool(fit.passed)
-            print(f"p = {p} {col:7s} observed {fit.order:6.3f} expected {fit.expected:g} "
-                  f"(|diff| <= {fit.atol:g}): {'PASS' if fit.passed else 'FAIL'}; local "
-                  f"{', '.join(f'{x:.3f}' for x in fit.local)}; misfit {fit.misfit:.2g}")
+    for line in order_lines(results):
+        print(line)
+    ok = all(bool(fit.passed) for res in results.values() for fit in res.values())
     if args.write:
-        cols = sorted({c for res in results.values() for c in res})
-        lines = [",".join(["degree [1]"] + [f"{c}_order [1]" for c in cols])]
-        for p, res in results.items():
-            lines.append(",".join([str(p)] + [f"{res[c].order:.6g}" if c in res else "nan"
-                                               for c in cols]))
         from pathlib import Path
 
+        cols = order_columns(results)
+        names = list(cols)
+        lines = [",".join(f"{n} [1]" for n in names)]
+        for k in range(len(cols["degree"])):
+            lines.append(",".join([str(int(cols["degree"][k]))]
+                                  + [f"{cols[n][k]:.6g}" for n in names[1:]]))
         Path(args.write).write_text("\n".join(lines) + "\n", encoding="utf-8")
         print(f"wrote {args.write}: debench check mms_electroelastic {args.write}")
     return 0 if ok else 1

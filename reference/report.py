@@ -819,10 +819,9 @@ def report_figures(figures: Path) -> Path:
     if missing:
         print(f"debench: warning: {figures} lacks {len(missing)} of the {len(expected)} "
               f"expected figures, which the report omits: {', '.join(missing)}. To include "
-              "them, run `debench reproduce` for the chapters that make them (figures of "
-              "converged-only studies, such as the radius/thickness 20 ones, need `--full`: "
-              "hours of FE), or `debench report --out DIR` with a DIR that has no figures/ "
-              "to use the curated figures", file=sys.stderr)
+              "them, run `debench reproduce` with the chapters that make them (every "
+              "chapter by default), or `debench report --out DIR` with a DIR that has no "
+              "figures/ to use the curated figures", file=sys.stderr)
     elif not present:
         print(f"debench: warning: no figures in {figures}; the report has none "
               "(`debench reproduce` makes them)", file=sys.stderr)

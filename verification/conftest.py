@@ -4,6 +4,9 @@
   sweeps). Without it they are skipped, and a fast but real version of every check runs.
 * ``--docs`` opts in to tests marked ``docs``: the documentation site is built and opened
   in headless Chromium (a missing Sphinx or Chromium then fails, with how to install it).
+* ``--commands`` opts in to tests marked ``commands``: every command block of the README
+  and the site's pages runs in a fresh copy of the repository with a fresh venv
+  (``test_documented_commands.py``; a failed install or command fails the test).
 * ``--peers`` opts in to tests marked ``peers``: they build the peer libraries'
   environments from their pinned requirements (``peers/run.py``) and rerun every curated
   submission's adapter. Opted in, nothing is skipped: a missing Python or a failed install
@@ -62,6 +65,11 @@ def pytest_addoption(parser: pytest.Parser) -> None:
         help="run tests marked docs (build the documentation site, check it in Chromium)",
     )
     parser.addoption(
+        "--commands", action="store_true", default=False,
+        help="run tests marked commands (every documented command block in a fresh clone "
+             "and venv)",
+    )
+    parser.addoption(
         "--peers", action="store_true", default=False,
         help="run tests marked peers (build the peer codes' venvs, rerun their adapters "
              "and compare with the curated submissions)",
@@ -73,6 +81,7 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     skip_install = pytest.mark.skip(reason="install: opt in with --install")
     skip_docs = pytest.mark.skip(reason="docs: opt in with --docs")
     skip_peers = pytest.mark.skip(reason="peers: opt in with --peers")
+    skip_commands = pytest.mark.skip(reason="commands: opt in with --commands")
     for item in items:
         if "slow" in item.keywords and not config.getoption("--full"):
             item.add_marker(skip_slow)
@@ -82,3 +91,5 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
             item.add_marker(skip_docs)
         if "peers" in item.keywords and not config.getoption("--peers"):
             item.add_marker(skip_peers)
+        if "commands" in item.keywords and not config.getoption("--commands"):
+            item.add_marker(skip_commands)

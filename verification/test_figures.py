@@ -210,3 +210,39 @@ def test_save_crops_both_formats_as_savefig_tight(tmp_path):
 
     # the SVG's box from the PNG's layout: equal to a point (text metrics at 72 vs 120 dpi)
     assert size(svg) == pytest.approx(size(tmp_path / "ref.svg"), abs=1.0)
+
+
+@pytest.mark.parametrize("chapter, stem", [
+    ("ch5_wrinkling", "fig5_5_nonaxisymmetric_modes_r20"),
+    ("ch5_imperfection", "fig5_4_imperfection_sensitivity_r20"),
+])
+def test_default_build_of_a_converged_only_study_draws_its_figure_from_curated_data(
+        chapter, stem, tmp_path, capsys):
+    """The radius/thickness 20 studies cost CPU hours, so the default `debench reproduce`
+    does not recompute them; it still draws their figures, from the curated datasets
+    (checksum verified), says so on stderr and on the figure, and writes no dataset; the
+    line `debench reproduce` reports for the dataset names the command that recomputes it."""
+    from debench.reference import builds
+
+    paths = builds.builder(chapter).build(tmp_path, full=False)
+    assert sorted(p.name for p in paths) == [f"{stem}.png", f"{stem}.svg"]
+    assert not list(tmp_path.glob("*.nc"))
+    err = capsys.readouterr().err
+    assert f"{chapter}.nc: not recomputed by the default run" in err
+    assert f"debench reproduce {chapter} --full" in err
+    svg = (tmp_path / "figures" / f"{stem}.svg").read_text()
+    assert f"Drawn from the curated dataset {chapter}.nc" in svg
+    assert builds.not_recomputed([chapter, "ch3"], False) == [
+        line for line in err.splitlines() if line.startswith(f"{chapter}.nc:")]
+    assert builds.not_recomputed([chapter], True) == []
+
+
+def test_converged_only_default_build_without_curated_data_says_so(tmp_path, monkeypatch,
+                                                                   capsys):
+    """Without the curated dataset (another data directory) the default build still
+    succeeds: no figure, and stderr says why."""
+    from debench.reference import builds, datasets
+
+    monkeypatch.setenv(datasets.DATA_DIR_ENV, str(tmp_path / "empty"))
+    assert builds.builder("ch5_wrinkling").build(tmp_path, full=False) == []
+    assert "figure not drawn: no curated dataset" in capsys.readouterr().err

@@ -416,3 +416,35 @@ def test_solver_refuses_bad_degree_mesh_and_levels():
         mms_fem.convergence(sol, 1, (8, 4))
     with pytest.raises(TypeError, match="solution must be a ManufacturedSolution"):
         mms_fem.solve("plane_strain", 1, 4)
+
+
+def test_check_reads_an_error_table_directly(tmp_path, capsys):
+    """`debench check mms_electroelastic errors.csv` on the raw errors per mesh level (the
+    table `debench orders` reads) fits the orders as `debench orders` does and checks them:
+    exact powers of p = 1 match, a stalled column fails (exit 1), and a table without its
+    degree names the two commands that judge it (exit 2)."""
+    from debench.reference import cli
+
+    h = np.array([1 / 8, 1 / 16, 1 / 32, 1 / 64])
+    lines = ["degree,h [1],u_L2,u_H1,phi_L2,phi_H1"]
+    lines += [f"1,{x},{x**2},{x},{2 * x**2},{3 * x}" for x in map(float, h)]
+    errors = tmp_path / "errors.csv"
+    errors.write_text("\n".join(lines) + "\n")
+    assert cli.main(["check", "mms_electroelastic", str(errors), "--partial"]) == 0
+    out = capsys.readouterr().out
+    assert "fitted orders" in out and "u_L2" in out
+    ndof = tmp_path / "ndof.csv"   # plane strain: h ~ ndof^(-1/2)
+    ndof.write_text("\n".join(["degree,ndof,u_L2"] + [f"1,{x**-2},{x**2}" for x in
+                                                      map(float, h)]) + "\n")
+    assert cli.main(["check", "mms_electroelastic", str(ndof), "--partial"]) == 0
+    stalled = tmp_path / "stalled.csv"
+    stalled.write_text("\n".join(lines[:1] + [f"1,{x},1e-3,{x},{x**2},{x}"
+                                              for x in map(float, h)]) + "\n")
+    assert cli.main(["check", "mms_electroelastic", str(stalled), "--partial"]) == 1
+    capsys.readouterr()
+    bare = tmp_path / "bare.csv"
+    bare.write_text("\n".join(["h,u_L2"] + [f"{x},{x**2}" for x in map(float, h)]) + "\n")
+    assert cli.main(["check", "mms_electroelastic", str(bare), "--partial"]) == 2
+    err = capsys.readouterr().err
+    assert f"debench orders {bare} --degree P --write orders.csv" in err
+    assert "debench check mms_electroelastic orders.csv" in err

@@ -109,3 +109,77 @@ def test_values_are_judged_by_their_stored_tolerance_and_residuals_by_size(tmp_p
     new = _write_store(tmp_path / "new", value + np.array([1e-9, 0.0]),
                        np.array([np.nan, 0.05]), res, "thesis_like")
     assert compare_with_curated(new, tmp_path / "curated").endswith("DIFFERS in value")
+
+
+def _cheaper_plan(tmp_path, name, select, shift):
+    """The curated dataset ``name`` as a cheaper plan would write it: other parameters,
+    the coordinates ``select`` only, and ``shift(ds)`` applied to its values."""
+    from debench.reference.datasets import read_dataset
+
+    ds = read_dataset(name).isel(select)
+    ds = shift(ds.copy(deep=True))
+    attrs = {k: v for k, v in ds.attrs.items() if k in ("title", "summary")}
+    return write_dataset(ds, name, title=attrs.get("title", "t"),
+                         summary=attrs.get("summary", "s"), parameters={"full": False},
+                         out_dir=tmp_path, overwrite=True)
+
+
+@pytest.mark.parametrize("factor, agrees", [(0.5, True), (2.0, False)])
+def test_a_cheaper_plan_is_checked_within_the_sum_of_both_error_estimates(tmp_path, factor,
+                                                                          agrees):
+    """A default plan's converged value (here the axisymmetric pull-in voltage) agrees with
+    the curated one when it lies within the sum of the two error estimates, and differs
+    beyond: checked, never 'not comparable'."""
+    from debench.reference.datasets import data_dir
+
+    def shift(ds):
+        bound = ds.v_max_error + ds.v_max_error
+        ds["v_max_converged"] = (ds.v_max_converged + factor * bound).assign_attrs(
+            ds.v_max_converged.attrs)
+        return ds
+
+    path = _cheaper_plan(tmp_path, "ch5_axisym_path", {"case": [0], "n": [0, 1, 2, 3]}, shift)
+    line = compare_with_curated(path, data_dir())
+    assert "not comparable" not in line and "v_max_converged" in line
+    assert ("agrees with curated" in line) is agrees
+    assert ("DIFFERS in v_max_converged" in line) is not agrees
+
+
+@pytest.mark.parametrize("rel, agrees", [(0.5e-3, True), (2e-3, False)])
+def test_a_one_mesh_plan_is_checked_on_the_mesh_both_plans_compute(tmp_path, rel, agrees):
+    """The default ramps have one mesh (no error estimate): their pull-in is checked on the
+    mesh the curated plan ramps too, within the vertex's stated 1e-3 relative accuracy."""
+    from debench.reference.datasets import data_dir
+    from debench.reference.regeneration import PULLIN_VERTEX_RTOL
+
+    assert PULLIN_VERTEX_RTOL == 1e-3
+
+    def shift(ds):
+        ds["v_pullin_levels"] = (ds.v_pullin_levels * (1 + rel)).assign_attrs(
+            ds.v_pullin_levels.attrs)
+        return ds
+
+    path = _cheaper_plan(tmp_path, "ch5_ramps", {"ramp_level": [0]}, shift)
+    line = compare_with_curated(path, data_dir())
+    assert "not comparable" not in line and "v_pullin_levels at ramp_level 3" in line
+    assert ("agrees with curated" in line) is agrees
+
+
+def test_every_curated_full_plan_dataset_is_checked_or_stated_as_not_recomputed():
+    """Every curated dataset made by a --full plan is, in the default run, either checked
+    against its curated values (PLAN_CHECKS) or not recomputed with the reason stated (the
+    converged-only studies): no dataset of the default run is 'not comparable'."""
+    import json
+
+    from debench.reference import builds, cli
+    from debench.reference.datasets import data_dir, read_dataset
+    from debench.reference.regeneration import PLAN_CHECKS
+
+    stated = {line.split(".nc:")[0] for line in builds.not_recomputed(cli.CHAPTERS, False)}
+    full = set()
+    for path in sorted(data_dir().glob("*.nc")):
+        params = json.loads(read_dataset(path.stem).attrs.get("parameters", "{}"))
+        if params.get("full") is True:
+            full.add(path.stem)
+    assert full and full <= set(PLAN_CHECKS) | stated, full - set(PLAN_CHECKS) - stated
+    assert not set(PLAN_CHECKS) & stated

@@ -516,13 +516,40 @@ def _fig_convergence(plt, crit, ramps):
     return fig
 
 
-def converged_only(name: str, levels) -> bool:
-    """Whether the build of a converged-only chapter has nothing to compute (no mesh
-    ``levels`` in this mode, the default build): then it says so on stderr."""
-    if len(levels):
-        return False
-    print(f"{name}: converged-only (run with --full); nothing written", file=sys.stderr)
-    return True
+def curated_note(name: str) -> str:
+    """What a figure drawn from the curated dataset ``name`` says about its data."""
+    return (f"Drawn from the curated dataset {name}.nc (converged-only study, computed by "
+            f"`debench reproduce {name} --full`); not recomputed by the default run.")
+
+
+def not_recomputed_line(name: str, cost: str) -> str:
+    """The line ``debench reproduce`` reports for the dataset of a converged-only study in
+    its default run: why it is not recomputed and what its figure is drawn from."""
+    return (f"{name}.nc: not recomputed by the default run (converged-only: {cost}); its "
+            f"figure is drawn from the curated {name}.nc, checksum verified; recompute it "
+            f"with `debench reproduce {name} --full`")
+
+
+def draw_from_curated(name: str, cost: str, draw, out_dir: Path) -> list[Path]:
+    """The default build of a converged-only study (no mesh of its plan is cheap enough
+    for the default run: ``cost`` says what one costs): its figure drawn by ``draw(ds,
+    fig_dir, note)`` from the curated dataset ``name`` (sha256 verified on reading) into
+    ``out_dir/figures``, stated on stderr and on the figure (:func:`curated_note`); the
+    dataset itself is not written. Nothing is drawn where figures are not written
+    (:func:`debench.reference.figures.written`) or without the curated dataset (then
+    stderr says so)."""
+    from debench.reference.datasets import DatasetError, read_dataset
+
+    print(not_recomputed_line(name, cost), file=sys.stderr)
+    if not figure_io.written():
+        return []
+    try:
+        ds = read_dataset(name)
+    except (DatasetError, FileNotFoundError) as exc:
+        print(f"{name}: figure not drawn: no curated dataset to draw it from ({exc})",
+              file=sys.stderr)
+        return []
+    return draw(ds, Path(out_dir) / "figures", curated_note(name))
 
 
 def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) -> list[Path]:

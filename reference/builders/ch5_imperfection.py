@@ -19,8 +19,9 @@ the wrinkled film.
 :data:`LEVELS` (:mod:`debench.reference.studies.ch5_imperfection`) and writes
 ``ch5_imperfection.nc``: the paths (voltage, centre deflection, amplitude of the
 non-axisymmetric deflection), the eigen-records, and per path its voltage maximum (vertex
-of the parabola through three path points) and where it lies. The default build writes
-nothing (each path costs 5-15 CPU minutes).
+of the parabola through three path points) and where it lies. The default build recomputes
+nothing (each path costs 5-15 CPU minutes) and draws the figure from the curated dataset
+(:func:`debench.reference.builders.ch5.draw_from_curated`).
 
 The reading is fixed before the data (:func:`wrinkling_governs`): the wavenumber-1
 bifurcation governs the failure if on every mesh the voltage maximum of every seeded path
@@ -45,6 +46,16 @@ from debench.reference.studies.ch5_imperfection import (
 NAME = "ch5_imperfection"
 W_ZOOM = 0.6
 """The voltage panel of the figure starts at W_ZOOM x W_SPLIT: the paths agree before."""
+COST = "one seeded radius/thickness 20 path costs 5-15 CPU minutes, 6 paths"
+"""Why the default run does not recompute the study."""
+
+
+def not_recomputed(full: bool) -> str | None:
+    """The line ``debench reproduce`` reports for ``ch5_imperfection.nc`` when this plan
+    does not recompute it (the default run), else None."""
+    from debench.reference.builders.ch5 import not_recomputed_line
+
+    return None if LEVELS[full] else not_recomputed_line(NAME, COST)
 
 
 def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dataset:
@@ -124,11 +135,12 @@ def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dat
         "mode": ("mode", np.arange(3), a("mode index (ascending eigenvalue)"))})
 
 
-def figure(ds: xr.Dataset, fig_dir: Path, perfect: xr.Dataset | None = None) -> list[Path]:
+def figure(ds: xr.Dataset, fig_dir: Path, perfect: xr.Dataset | None = None,
+           note: str | None = None) -> list[Path]:
     """Fig. 5.4 counterpart at radius/thickness 20: voltage against centre deflection of the
     seeded films (and the perfect film of ``ch5_wrinkling.nc`` when given), and the growth
-    of the wavenumber-1 deflection."""
-    from debench.reference.figures import pyplot, save
+    of the wavenumber-1 deflection; ``note`` below the axes (where the data come from)."""
+    from debench.reference.figures import footnote, pyplot, save
     plt = pyplot()
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4.2))
     colours = ("C0", "C1", "C2", "C3")
@@ -162,25 +174,36 @@ def figure(ds: xr.Dataset, fig_dir: Path, perfect: xr.Dataset | None = None) -> 
     fig.suptitle("Ogden, radius/thickness 20: films with a wavenumber-1 seed "
                  "(dashed h = 2.5 t0, solid h = 2 t0)")
     ax1.legend(fontsize=7)
+    footnote(fig, note)
     return save(fig, fig_dir / "fig5_4_imperfection_sensitivity_r20")
+
+
+def _perfect_film():
+    """The perfect film's paths of the curated ``ch5_wrinkling.nc``, or None without it."""
+    from debench.reference.datasets import DatasetError, read_dataset
+
+    try:
+        return read_dataset("ch5_wrinkling")
+    except (DatasetError, FileNotFoundError):
+        return None      # the figure then shows the seeded paths only
 
 
 def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) -> list[Path]:
     """Compute and write ``ch5_imperfection.nc`` and its figure into ``out_dir``
-    (``scheduler``: as :func:`debench.reference.builders.ch5.build`)."""
+    (``scheduler``: as :func:`debench.reference.builders.ch5.build`); the default build
+    (no level in its plan) draws the figure from the curated dataset and writes no
+    dataset."""
     from debench.models.buckling.parameters import Plate
-    from debench.reference.builders.ch5 import converged_only
-    from debench.reference.datasets import DatasetError, read_dataset
+    from debench.reference.builders.ch5 import draw_from_curated
     from debench.reference.studies.ch5 import CASES
     from debench.reference.tasks import resolve_scheduler
     out_dir = Path(out_dir)
-    if converged_only(NAME, LEVELS[full]):
-        return []
+    if not LEVELS[full]:
+        return draw_from_curated(
+            NAME, COST, lambda ds, fig_dir, note: figure(ds, fig_dir, _perfect_film(), note),
+            out_dir)
     ds = compute(full, scheduler=resolve_scheduler(scheduler))
-    try:
-        perfect = read_dataset("ch5_wrinkling")
-    except (DatasetError, FileNotFoundError):
-        perfect = None      # the figure then shows the seeded paths only
+    perfect = _perfect_film()
     return [write_dataset(
         ds, NAME, out_dir=out_dir, overwrite=True,
         title="Chapter 5 imperfection sensitivity of the wrinkling bifurcation, R/t0 = 20",
