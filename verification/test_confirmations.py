@@ -264,6 +264,6 @@ def test_problem_page_shows_the_confirmation_of_each_quantity(capsys):
     assert cli.main(["problems", "ch4_plate_critical_stretch", "--markdown"]) == 0
     page = capsys.readouterr().out
     assert "slow (opt in with `--full`)" in page and "| not confirmed | roots 1 to 7" in page
-    assert cli.main(["problems", "ch5_pullin", "--markdown"]) == 0
+    assert cli.main(["problems", "ch5_wrinkling", "--markdown"]) == 0
     page = capsys.readouterr().out
     assert page.count("**Confirmation: missing.** reference being regenerated") == 2
