@@ -27,7 +27,7 @@ every other face traction free and insulated. A fully clamped end (u = 0 on x = 
 strong stress singularities at the clamped corners of the electroded layer, where the
 fixed-voltage Newton iterations fail under geometric refinement: it is not this problem.
 The energies are the constitutive library's NGSolve path
-(:func:`~debench.models.materials.ngsolve_forms.neo_hookean_mechanical`,
+(:meth:`~debench.models.materials.library.NeoHookeanIdealDielectric.mechanical_energy`,
 :func:`~debench.models.materials.ngsolve_forms.ideal_dielectric_enthalpy`); residual and
 tangent are NGSolve's symbolic derivatives of the energy.
 
@@ -66,6 +66,7 @@ from debench.models.materials.constants import (
     TABLE_5_1_BULK_MODULUS,
     TABLE_5_1_NH_SHEAR_MODULUS,
 )
+from debench.models.materials.library import NeoHookeanIdealDielectric
 from debench.models.numerics import p_grading_estimate
 
 NEWTON_RTOL = 1e-10
@@ -191,7 +192,9 @@ def _energy(params: BilayerParameters, ux, uy, phi):
                                 gy[0], 1 + gy[1], 0,
                                 0, 0, 1), dims=(3, 3))
     EL = ng.CoefficientFunction((-gp[0], -gp[1], 0))
-    mech = forms.neo_hookean_mechanical(F, mu=1.0, k=params.bulk_ratio)
+    # the library's neo-Hookean in units of mu (its mechanical energy does not read eps)
+    material = NeoHookeanIdealDielectric(mu=1.0, k=params.bulk_ratio, eps=1.0)
+    mech = material.mechanical_energy(F, xp=forms.NGSOLVE)
     elec = forms.ideal_dielectric_enthalpy(F, EL, eps=1.0)
     return mech, elec
 
