@@ -14,7 +14,7 @@ y = h_p at potential 0 and the top face y = 1 at potential phi_top = v h_a (the 
 voltage v = (Phi/h_a) sqrt(eps/mu), potentials in units of H sqrt(mu/eps)). The passive
 layer carries no field (its potential is grounded on both faces, so it is identically 0).
 In plane strain F = [[1 + u_x,x, u_x,y, 0], [u_y,x, 1 + u_y,y, 0],
-[0, 0, 1]] and E_L = -(phi_,x, phi_,y, 0); the equilibrium is the saddle point of
+[0, 0, 1]] and E_L = ``-(phi_,x, phi_,y, 0)``; the equilibrium is the saddle point of
 
 .. math::
 

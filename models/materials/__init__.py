@@ -21,9 +21,11 @@ Functions (:mod:`debench.models.materials.response`): :func:`first_piola`, :func
 (2.31/2.33, with p), :func:`electric_field` (2.32/2.34), :func:`eulerian_displacement`,
 :func:`moduli`, :func:`push_forward` (2.72-2.73), :func:`pressure_from_traction_free_face`.
 
-Materials (thesis parameters as defaults; the one registry by name is :data:`MATERIALS`,
-looked up by :func:`material`, which raises ``ValueError`` naming the valid names)
-----------------------------------------------------------------------------------------
+Materials
+---------
+Thesis parameters as defaults; the one registry by name is :data:`MATERIALS`, looked up by
+:func:`material`, which raises ``ValueError`` naming the valid names.
+
 ==========================================  ========================================================
 :class:`GentIdealDielectric`                (3.23) mu = 51 kPa, Jm = 120 + I5/(2 eps);
                                             incompressible
