@@ -47,8 +47,7 @@ NOT_RUN = {
     "git checkout A": "A and B are placeholders for two commits the reader compares",
     "git checkout B": "A and B are placeholders for two commits the reader compares",
     "python -m pytest benchmarks --benchmark-autosave": (
-        "one step of the comparison of two commits A and B (placeholders); the benchmarks "
-        "run in CI"),
+        "one step of the comparison of two commits A and B (placeholders)"),
     "pytest-benchmark compare 0001 0002 --group-by=name --columns=min,median,stddev": (
         "compares the two saved runs of the steps above, which are not run"),
 }
