@@ -48,7 +48,8 @@ levels) and states the error of the top discretisation by
 
 Load path: continuation in v from 0 in steps of at most :data:`MAX_STEP`, each state by
 Newton (with a backtracking line search on the free residual) from the linear extrapolation
-of the two previous ones; a step that does not reach :data:`NEWTON_RTOL` raises
+of the two previous ones (:func:`~debench.models.numerics.newton.damped_newton`, the
+package's Newton policy); a step that does not converge raises
 :class:`~debench.models.errors.ConvergenceError`.
 """
 
@@ -60,7 +61,6 @@ from dataclasses import dataclass, field
 import ngsolve as ng
 import numpy as np
 from debench.models import validation as val
-from debench.models.errors import ConvergenceError
 from debench.models.materials import ngsolve_forms as forms
 from debench.models.materials.constants import (
     TABLE_5_1_BULK_MODULUS,
@@ -68,17 +68,12 @@ from debench.models.materials.constants import (
 )
 from debench.models.materials.library import NeoHookeanIdealDielectric
 from debench.models.numerics import p_grading_estimate
+from debench.models.numerics.newton import damped_newton
 
-NEWTON_RTOL = 1e-10
-"""Newton stops when the free residual is below NEWTON_RTOL x the residual of the step's
-starting point (at least :data:`NEWTON_ATOL`): the tip values then change by < 1e-12
-(quadratic convergence: the last step takes the residual from ~1e-6 to ~1e-12 relative)."""
 NEWTON_ATOL = 1e-12
 """Absolute floor of the free residual (energies per mu H^2; round-off of the assembly)."""
 NEWTON_MAXIT = 25
 """Newton steps allowed per voltage (from the extrapolated start it takes 2-4)."""
-LINE_SEARCH_HALVINGS = 12
-"""Halvings of a Newton step allowed before a step counts as failed."""
 MAX_STEP = 0.025
 """Largest voltage step of the continuation (normalised v)."""
 HP_FACTOR = 0.2
@@ -239,6 +234,14 @@ def solve(voltages, *, order: int, levels: int,
         a.Apply(gf.vec, res)
         return float(np.linalg.norm(res.FV().NumPy()[mask]))
 
+    def correction():
+        a.AssembleLinearization(gf.vec)
+        du.data = a.mat.Inverse(free, inverse=inverse) * res
+        return du
+
+    def move(step, s):
+        gf.vec.data -= s * step
+
     # the path: every requested voltage, with intermediate steps of at most MAX_STEP
     path, requested = [], []
     v_prev = 0.0
@@ -260,34 +263,13 @@ def solve(voltages, *, order: int, levels: int,
             start = history[-1]
         gf.vec.FV().NumPy()[:] = start
         gf.components[2].Set(ng.CoefficientFunction(v * ha), definedon=top_bnd)
-        r0 = residual()
-        r = r0
-        for it in range(NEWTON_MAXIT + 1):
-            if r <= max(NEWTON_RTOL * r0, NEWTON_ATOL):
-                break
-            if it == NEWTON_MAXIT:
-                raise ConvergenceError(
-                    f"bilayer Newton (order {order}, levels {levels}) at v = {v:.6g} did not "
-                    f"reach {NEWTON_RTOL:g} x {r0:.3e} in {NEWTON_MAXIT} steps "
-                    f"(residual {r:.3e})")
-            a.AssembleLinearization(gf.vec)
-            du.data = a.mat.Inverse(free, inverse=inverse) * res
-            # backtracking on the free residual: the slender strip's soft bending mode makes
-            # full steps overshoot at large rotations; near the solution the full step is
-            # taken (quadratic convergence)
-            r_old, alpha = r, 1.0
-            for _ in range(LINE_SEARCH_HALVINGS + 1):
-                gf.vec.data -= alpha * du
-                r = residual()
-                if math.isfinite(r) and r < r_old:
-                    break
-                gf.vec.data += alpha * du
-                alpha *= 0.5
-            else:
-                raise ConvergenceError(
-                    f"bilayer Newton (order {order}, levels {levels}) at v = {v:.6g}: no "
-                    f"decrease of the residual {r_old:.3e} along the Newton direction "
-                    f"(step halved {LINE_SEARCH_HALVINGS} times)")
+        # backtracking on the free residual: the slender strip's soft bending mode makes
+        # full steps overshoot at large rotations; near the solution the full step is
+        # taken (quadratic convergence)
+        result = damped_newton(
+            residual, correction, move, atol=NEWTON_ATOL, maxit=NEWTON_MAXIT,
+            what=f"bilayer Newton (order {order}, levels {levels}) at v = {v:.6g}")
+        it, r = result.iterations, result.residual
         iters.append(it)
         resid.append(r)
         state = gf.vec.FV().NumPy().copy()

@@ -16,9 +16,11 @@ are the generated formulas of :mod:`debench.models.mms_generated` evaluated as N
 CoefficientFunctions; residual and tangent are NGSolve's symbolic derivatives of the
 energy. Axisymmetric: ``F_TT = 1 + u_R/R`` and the volume element ``R dR dZ``.
 
-Newton from the solution of the problem linearised at the undeformed state stops when the
-residual on the free degrees of freedom has dropped by :data:`NEWTON_RTOL`; otherwise it
-raises :class:`~debench.models.errors.ConvergenceError`.
+Newton from the solution of the problem linearised at the undeformed state
+(:func:`~debench.models.numerics.newton.damped_newton`) stops when the residual on the free
+degrees of freedom has dropped by :data:`~debench.models.numerics.newton.RTOL` (the
+discretisation errors measured are >= 1e-9 relative, so the algebraic error is negligible);
+otherwise it raises :class:`~debench.models.errors.ConvergenceError`.
 """
 
 from __future__ import annotations
@@ -29,17 +31,13 @@ from dataclasses import dataclass, field
 import ngsolve as ng
 import numpy as np
 from debench.models import validation as val
-from debench.models.errors import ConvergenceError
 from debench.models.materials import energies as E
 from debench.models.materials import ngsolve_forms as forms
 from debench.models.materials.library import NeoHookeanIdealDielectric
 from debench.models.mms import ManufacturedSolution
+from debench.models.numerics.newton import damped_newton
 from ngsolve.meshes import MakeStructured2DMesh, MakeStructured3DMesh
 
-NEWTON_RTOL = 1e-11
-"""Newton stops when the free residual is below NEWTON_RTOL x its first value: the
-discretisation errors measured are >= 1e-9 relative, so the algebraic error is negligible
-(Newton converges quadratically: the last step takes the residual from ~1e-7 to ~1e-14)."""
 NEWTON_MAXIT = 20
 """Newton steps allowed (from the linearised solution it takes 4-6)."""
 QUADRATURE_EXTRA = 4
@@ -175,24 +173,20 @@ def solve(solution: ManufacturedSolution, order: int, n: int, *,
     residual(gf.vec)
     res.data += a.mat * lift.vec
     gf.vec.data = lift.vec - a.mat.Inverse(X.FreeDofs(), inverse=inverse) * res
-    history = [residual(gf.vec)]
-    for _ in range(NEWTON_MAXIT):
-        if history[-1] <= NEWTON_RTOL * history[0] or history[-1] == 0.0:
-            break
+    inverse_of = X.FreeDofs()
+
+    def correction():
         a.AssembleLinearization(gf.vec)
         residual(gf.vec)
-        du.data = a.mat.Inverse(X.FreeDofs(), inverse=inverse) * res
-        gf.vec.data -= du
-        r = residual(gf.vec)
-        if not np.isfinite(r):
-            raise ConvergenceError(
-                f"MMS Newton ({solution.name}, order {order}, n {n}): the step left the "
-                f"domain of the energy (residual {r}); residuals {history}")
-        history.append(r)
-    else:
-        raise ConvergenceError(
-            f"MMS Newton ({solution.name}, order {order}, n {n}) did not reach "
-            f"NEWTON_RTOL = {NEWTON_RTOL:g} in {NEWTON_MAXIT} steps; residuals {history}")
+        du.data = a.mat.Inverse(inverse_of, inverse=inverse) * res
+        return du
+
+    def move(step, s):
+        gf.vec.data -= s * step
+
+    result = damped_newton(lambda: residual(gf.vec), correction, move, maxit=NEWTON_MAXIT,
+                           what=f"MMS Newton ({solution.name}, order {order}, n {n})")
+    history = list(result.history)
 
     uh, ph = gf.components
     io = 2 * order + QUADRATURE_EXTRA

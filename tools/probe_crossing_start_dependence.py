@@ -99,7 +99,7 @@ def main(argv: list[str]) -> int:
             lam = float(model.spectrum(n, nev=1).lam[0])
             print(f"from the record {side} (w = {start.w:.4f}): w = {w:.6f} "
                   f"lambda_{n} = {lam:+.6e} v = {float(model.v):.9f} "
-                  f"(Newton residual {model.last_newton['residual_rel']:.1e} relative)")
+                  f"(Newton residual {model.last_newton.residual_rel:.1e} relative)")
     return 0
 
 

@@ -13,15 +13,20 @@ from debench.models.numerics import (
     Memo,
     asymptotic_fit,
     bisect_boundary,
+    bordered_solve,
     bracketed_root,
     convergence_fit,
+    damped_newton,
     gci,
     level_fit,
+    newton,
     p_grading_estimate,
     p_grading_safety,
     reference_fit,
     regula_falsi_many,
+    residual_converged,
     richardson,
+    round_off_floor,
     scan_brackets,
     scan_roots,
     secant,
@@ -646,4 +651,127 @@ def test_scipy_scalar_root_finders_are_called_only_in_numerics():
                      [node.attr] if isinstance(node, ast.Attribute) else [])
             found += [f"{path.name}:{node.lineno} {n}" for n in names
                       if n in SCIPY_ROOT_FINDERS]
+    assert not found, found
+
+
+# ------------------------------------------------------------------ Newton
+
+
+def _quadratic_system(a=0.5):
+    """R(x) = (x0^2 + x1 - 1 - a, x0 - x1^3 + ... ) with the known root x = (1, a): a
+    small nonlinear system whose state the driver's callbacks own."""
+    root = np.array([1.0, a])
+    state = {"x": np.array([3.0, -2.0])}
+
+    def R(x):
+        return np.array([x[0] ** 2 + x[1] - 1.0 - a, x[0] * x[1] - a + (x[1] - a) ** 3])
+
+    def J(x):
+        return np.array([[2 * x[0], 1.0], [x[1], x[0] + 3 * (x[1] - a) ** 2]])
+
+    def residual():
+        return float(np.linalg.norm(R(state["x"])))
+
+    def correction():
+        return np.linalg.solve(J(state["x"]), R(state["x"]))
+
+    def move(du, s):
+        state["x"] = state["x"] - s * du
+
+    return state, root, residual, correction, move
+
+
+def test_damped_newton_converges_to_the_policy_and_reports_it():
+    """From a far start the backtracking driver reaches the known root; it stops at the
+    policy's relative residual RTOL (the history decreasing) and says so."""
+    state, root, residual, correction, move = _quadratic_system()
+    res = damped_newton(residual, correction, move, what="test system")
+    assert res.reason == "relative residual"
+    assert res.residual == res.history[-1] <= newton.RTOL * res.reference
+    assert all(b < a for a, b in zip(res.history, res.history[1:], strict=False))
+    # the root to the conditioning of the system (J ~ O(1)) times the residual reached
+    np.testing.assert_allclose(state["x"], root, rtol=0, atol=1e-10)
+
+
+def test_damped_newton_raises_naming_the_problem_when_it_cannot_converge():
+    """A residual without a root (x^2 + 1) makes no progress: ConvergenceError naming the
+    problem, never a silent return; maxit = 1 on a solvable system raises too."""
+    x = {"v": np.array([0.3])}
+    with pytest.raises(ConvergenceError, match="no root here"):
+        damped_newton(lambda: float(abs(x["v"][0] ** 2 + 1.0)),
+                      lambda: np.array([(x["v"][0] ** 2 + 1.0) / (2 * x["v"][0])]),
+                      lambda du, s: x.__setitem__("v", x["v"] - s * du),
+                      what="no root here")
+    state, root, residual, correction, move = _quadratic_system()
+    with pytest.raises(ConvergenceError, match="did not reach"):
+        damped_newton(residual, correction, move, maxit=1)
+
+
+def test_bordered_solve_equals_the_dense_bordered_system_and_survives_a_singular_block():
+    """Block elimination gives the solution of the whole bordered matrix (random
+    well-conditioned K to 1e-12); with K singular along the border's direction (the
+    voltage maximum) and refinement it still does (the bordered matrix is regular); a
+    border that misses the singular direction raises ConvergenceError."""
+    rng = np.random.default_rng(7)
+    n = 12
+    A = rng.standard_normal((n, n))
+    K = A @ A.T + n * np.eye(n)
+    col, row, rhs = rng.standard_normal(n), rng.standard_normal(n), rng.standard_normal(n)
+    B = np.block([[K, col[:, None]], [row[None, :], np.zeros((1, 1))]])
+    want = np.linalg.solve(B, np.append(rhs, 0.7))
+    dx, dl = bordered_solve(lambda b: np.linalg.solve(K, b), col, row, rhs, 0.7)
+    np.testing.assert_allclose(np.append(dx, dl), want, rtol=1e-12, atol=1e-12)
+    # nearly singular K (one eigenvalue 1e-10 along q), border along q: regular B
+    q = np.linalg.qr(rng.standard_normal((n, n)))[0]
+    ev = np.linspace(1.0, 5.0, n)
+    ev[0] = 1e-10
+    Ks = (q * ev) @ q.T
+    B = np.block([[Ks, q[:, :1]], [q[:, 0][None, :], np.zeros((1, 1))]])
+    want = np.linalg.solve(B, np.append(rhs, 0.3))
+    dx, dl = bordered_solve(lambda b: np.linalg.solve(Ks, b), q[:, 0], q[:, 0], rhs, 0.3,
+                            apply=Ks.__matmul__, refinements=4, rtol=1e-14)
+    # 1e-8: the elimination works through K^-1 of condition 5e10, which refinement
+    # brings back to the bordered matrix's own conditioning (O(10)) times eps
+    np.testing.assert_allclose(np.append(dx, dl), want, rtol=0, atol=1e-8)
+    with pytest.raises(ConvergenceError, match="singular border"):
+        bordered_solve(lambda b: np.zeros_like(b), col, row, rhs, 0.0, what="the test")
+    with pytest.raises(ValueError, match="apply"):
+        bordered_solve(lambda b: b, col, row, rhs, 0.0, refinements=1)
+
+
+def test_round_off_floor_and_residual_test_follow_the_policy():
+    """The floor is FLOOR_FACTOR eps || |K| |x| || over the given rows; the residual test
+    names why it accepts, and refuses above both bounds."""
+    K = np.array([[2.0, -1.0], [-1.0, 4.0]])
+    x = np.array([1.0, -3.0])
+    want = newton.FLOOR_FACTOR * np.finfo(float).eps * np.linalg.norm(np.abs(K) @ np.abs(x))
+    assert round_off_floor(np.abs(K), np.abs(x)) == pytest.approx(want, rel=1e-15)
+    assert round_off_floor(np.abs(K), np.abs(x), np.array([False, True])) == pytest.approx(
+        newton.FLOOR_FACTOR * np.finfo(float).eps * 13.0, rel=1e-15)
+    assert residual_converged(1e-12, 1.0) == "relative residual"
+    assert residual_converged(1e-9, 1.0, floor=1e-8) == "floor"
+    assert residual_converged(1e-9, 1.0, floor=1e-10) is None
+
+
+def test_newton_tolerances_are_defined_only_in_numerics():
+    """One Newton policy: no module of the package outside ``debench.models.numerics``
+    assigns a name NEWTON_RTOL, NEWTON_FLOOR_FACTOR or *_RTOL used as Newton's relative
+    residual tolerance; the models import :data:`debench.models.numerics.newton.RTOL`."""
+    import ast
+    import pathlib
+
+    import debench.models
+    import debench.models.numerics
+
+    root = pathlib.Path(debench.models.__file__).parent
+    numerics = pathlib.Path(debench.models.numerics.__file__).parent
+    found = []
+    for path in sorted(root.rglob("*.py")):
+        if numerics in path.parents:
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Assign):
+                found += [f"{path.name}:{node.lineno} {t.id}" for t in node.targets
+                          if isinstance(t, ast.Name)
+                          and t.id in {"NEWTON_RTOL", "NEWTON_FLOOR_FACTOR"}]
     assert not found, found

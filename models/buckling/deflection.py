@@ -9,8 +9,9 @@ from __future__ import annotations
 import ngsolve as ngs
 import numpy as np
 from debench.models import validation as val
-from debench.models.buckling.fem import NEWTON_MAXIT, NEWTON_RTOL, NEWTON_TOL, MembraneModel
+from debench.models.buckling.fem import NEWTON_MAXIT, NEWTON_TOL, MembraneModel
 from debench.models.errors import ConvergenceError
+from debench.models.numerics.newton import RTOL, NewtonResult, bordered_solve
 
 
 def _control_dofs(model: MembraneModel) -> tuple[int, int]:
@@ -41,11 +42,12 @@ def control_deflection(model: MembraneModel) -> float:
 
 
 def newton_deflection(model: MembraneModel, c: float, *, tol: float = NEWTON_TOL,
-                      maxit: int = NEWTON_MAXIT) -> int:
+                      maxit: int = NEWTON_MAXIT) -> NewtonResult:
     """Bordered Newton with the voltage as unknown and the centre deflection prescribed.
 
-    Solves R(x, v) = 0, g(x) = c (g: :func:`control_deflection`) by
-    ``dx = -a - dv b``, ``K a = R``, ``K b = dR/dv``, ``dv = (g(x) - c - g(a)) / g(b)``;
+    Solves R(x, v) = 0, g(x) = c (g: :func:`control_deflection`) by block elimination
+    (:func:`~debench.models.numerics.newton.bordered_solve`): ``dx = -a - dv b``,
+    ``K a = R``, ``K b = dR/dv``, ``dv = (g(x) - c - g(a)) / g(b)``;
     dR/dv by a central difference, exact because R is quadratic in the potential.
     Every step assembles a new tangent (a reused one was measured not to pay here: the
     bordered iteration past buckling contracts too slowly with a stale tangent).
@@ -63,6 +65,14 @@ def newton_deflection(model: MembraneModel, c: float, *, tol: float = NEWTON_TOL
     control_deflection(model)
     it_, ib_ = model._ctrl
     res_p, res_m = model.res.CreateVector(), model.res.CreateVector()
+    rhs = model.res.CreateVector()
+    row = np.zeros(len(rhs))
+    row[[it_, ib_]] = 0.5 / t0          # the control g(x) = (x_top + x_bottom) / (2 t0)
+
+    def solve(y):
+        rhs.FV().NumPy()[:] = y
+        return model.solve(rhs).FV().NumPy().copy()
+
     r_first = model.residual_norm()
     floor = None
     for k in range(1, maxit + 1):
@@ -79,16 +89,11 @@ def newton_deflection(model: MembraneModel, c: float, *, tol: float = NEWTON_TOL
         if floor is None:
             floor = model.residual_floor()
         model.factor()
-        a = model.solve(model.res).FV().NumPy().copy()
-        b = model.solve(rv).FV().NumPy().copy()
         x = model.gf.vec.FV().NumPy()
         gx = 0.5 * (x[it_] + x[ib_]) / t0
-        ga = 0.5 * (a[it_] + a[ib_]) / t0
-        gb = 0.5 * (b[it_] + b[ib_]) / t0
-        if gb == 0 or not np.isfinite(gb):
-            raise ConvergenceError(f"bordered Newton: singular border at c={c}")
-        dv = (gx - c - ga) / gb
-        dx = -a - dv * b
+        dx, dv = bordered_solve(solve, rv.FV().NumPy().copy(), row,
+                                -model.res.FV().NumPy(), c - gx,
+                                what=f"bordered Newton at c={c}")
         dmax = float(np.max(np.abs(dx)))
         if not np.isfinite(dmax) or abs(dv) > 0.5:
             raise ConvergenceError(f"bordered Newton: diverged at c={c} (dv={dv:.3g})")
@@ -97,9 +102,7 @@ def newton_deflection(model: MembraneModel, c: float, *, tol: float = NEWTON_TOL
         model.stats["newton_steps"] += 1
         rn = model.residual_norm()
         if dmax < tol * t0 and abs(dv) < tol:
-            model._record(k, rn, r_first, floor, "correction")
-            return k
-        if rn <= max(NEWTON_RTOL * r_first, floor) and abs(dv) < tol ** 0.5:
-            model._record(k, rn, r_first, floor, "residual")
-            return k
+            return model._record(k, rn, r_first, floor, "correction")
+        if rn <= max(RTOL * r_first, floor) and abs(dv) < tol ** 0.5:
+            return model._record(k, rn, r_first, floor, "residual")
     raise ConvergenceError(f"bordered Newton: no convergence in {maxit} steps at c={c}")

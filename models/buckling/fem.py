@@ -32,10 +32,12 @@ Linear algebra (chosen by measurement, ``benchmarks/test_bench_ch5.py``):
   singular tangent (what UMFPACK reports as "WARNING: matrix is singular": the step landed
   on a bifurcation or a voltage limit point, where the tangent at fixed voltage has a zero
   eigenvalue) -- the continuation then steps back and retries with a smaller step;
-* Newton stops when the residual has dropped by :data:`NEWTON_RTOL` relative to its first
-  residual, or is at its round-off floor (``|K| |x|`` times machine epsilon, measured at
-  the state), or the correction is below ``tol * t0``; a residual that stagnates above the
-  floor raises;
+* Newton stops (the package's policy, :mod:`debench.models.numerics.newton`) when the
+  residual has dropped by :data:`~debench.models.numerics.newton.RTOL` relative to its
+  reference (the larger of its first value and the load residual, the residual of the
+  undeformed plate at the same voltage), or is at its round-off floor (``|K| |x|`` times
+  machine epsilon, measured at the state), or the correction is below ``tol * t0``; a
+  residual that stagnates above the floor raises;
 * the stability eigen-analysis (condensed tangent ``S`` at fixed voltage, L2 mass ``M``)
   uses LOBPCG for the *algebraically* smallest eigenvalues -- negative ones included, at
   any distance below zero -- preconditioned with the factorised saddle-point tangent.
@@ -49,6 +51,7 @@ is a subclass.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 
@@ -62,18 +65,11 @@ from debench.models.buckling.mesh import disk_prism_mesh
 from debench.models.buckling.parameters import MU_REF, Discretisation, Plate
 from debench.models.errors import ConvergenceError, require
 from debench.models.materials.protocol import IdealDielectricElastomer
+from debench.models.numerics.newton import RTOL, NewtonResult, round_off_floor
 
 NEWTON_TOL = 1e-9
 """Newton stops when max |correction| < NEWTON_TOL * t0 (1e-9 t0: the displacements are
 O(t0), so 7 digits above double round-off)."""
-NEWTON_RTOL = 1e-10
-"""... or when the residual norm is below NEWTON_RTOL times its reference: the larger of
-its first value and the load residual (the residual of the undeformed plate at the same
-voltage, the scale of the forces the voltage applies)."""
-NEWTON_FLOOR_FACTOR = 100.0
-"""... or when it is below NEWTON_FLOOR_FACTOR * eps_mach * || |K| |x| || (free rows): the
-round-off floor of assembling the residual at the state x (|K| |x| bounds the sum of the
-magnitudes of the terms; 100x allows for the quadrature sums and the nonlinear terms)."""
 NEWTON_STAGNATION = 0.5
 """A step that reduces the residual by less than this factor, twice in a row, is
 stagnation: accepted only below NEWTON_STAGNATION_RTOL x the reference residual, otherwise
@@ -172,9 +168,8 @@ class MembraneModel(MembraneStability):
                       "factorisations": 0, "solves": 0, "refinements": 0,
                       "eigen_analyses": 0, "energy": how, "inverse": self.inverse,
                       "reuse": self.reuse}
-        self.last_newton = {"iterations": 0, "residual": float("nan"),
-                            "residual_rel": float("nan"), "floor": float("nan"),
-                            "stopped_by": ""}
+        self.last_newton = NewtonResult(0, math.nan, math.nan, "not run",
+                                        details={"floor": math.nan})
         self.last_eig = {"residual": float("nan"), "iterations": 0}
 
     # ----------------------------------------------------------------- basics
@@ -279,16 +274,16 @@ class MembraneModel(MembraneStability):
         return r
 
     def residual_floor(self) -> float:
-        """Round-off floor of the residual at the current state:
-        NEWTON_FLOOR_FACTOR * eps * || |K| |x| || over the free rows (K assembled)."""
+        """Round-off floor of the residual at the current state
+        (:func:`~debench.models.numerics.newton.round_off_floor` over the free rows; K
+        assembled)."""
         rows, cols, vals = self.a.mat.COO()
         K = sp.csr_matrix((np.abs(np.asarray(vals)), (np.asarray(rows), np.asarray(cols))),
                           shape=(self.ndof, self.ndof))
-        y = K @ np.abs(self.gf.vec.FV().NumPy())
-        return NEWTON_FLOOR_FACTOR * np.finfo(float).eps * float(np.linalg.norm(y[self._free]))
+        return round_off_floor(K, np.abs(self.gf.vec.FV().NumPy()), self._free)
 
-    def newton(self, *, tol: float = NEWTON_TOL, maxit: int = NEWTON_MAXIT) -> int:
-        """Newton for the saddle point at the current voltage; returns the iterations.
+    def newton(self, *, tol: float = NEWTON_TOL, maxit: int = NEWTON_MAXIT) -> NewtonResult:
+        """Newton for the saddle point at the current voltage; returns its NewtonResult.
         (``_newton``; after a failure no later step reuses this solve's tangent.)"""
         try:
             return self._newton(tol=tol, maxit=maxit)
@@ -302,8 +297,8 @@ class MembraneModel(MembraneStability):
         self._inv_state = None
         self._fresh = False
 
-    def _newton(self, *, tol: float, maxit: int) -> int:
-        """Newton for the saddle point at the current voltage; returns the iterations.
+    def _newton(self, *, tol: float, maxit: int) -> NewtonResult:
+        """Newton for the saddle point at the current voltage; returns its NewtonResult.
 
         With ``chord`` a step uses the last factorised tangent (:meth:`chord_usable`) while
         it contracts the residual by :data:`CHORD_RATE` (:meth:`_chord_verdict`), else the
@@ -311,7 +306,7 @@ class MembraneModel(MembraneStability):
         below ``tol t0`` -- for a step with the tangent of its own iterate the correction
         ``max|du|`` bounds it (quadratic convergence), for a chord step with contraction
         ``theta`` the estimate ``max|du| theta / (1 - theta)`` does -- or when the residual
-        is below NEWTON_RTOL times its reference (the larger of its first value and the load
+        is below RTOL times its reference (the larger of its first value and the load
         residual), or below its round-off floor (:meth:`residual_floor`); a stagnating
         residual is accepted only below NEWTON_STAGNATION_RTOL times the reference.
         Records the achieved residual in ``last_newton``.  Raises ConvergenceError.
@@ -334,11 +329,11 @@ class MembraneModel(MembraneStability):
             if floor is None:
                 floor = self.residual_floor()
                 if r_first <= floor:
-                    self._record(0, r_first, r_first, floor, "floor")
+                    result = self._record(0, r_first, r_ref, floor, "floor")
                     if not chord:
                         self.factor()
                         self._fresh = True
-                    return 0
+                    return result
             if not chord:
                 self.factor()
             fresh_step = not chord
@@ -364,13 +359,13 @@ class MembraneModel(MembraneStability):
                 stalls = stalls + 1 if rn > NEWTON_STAGNATION * hist[-2] else 0
             how = self._stopped_by(err, rn, tol * t0, r_ref, floor, stalls)
             if how is not None:
-                self._record(it, rn, r_first, floor, how)
+                result = self._record(it, rn, r_ref, floor, how)
                 if how == "correction":
                     # a factor of the state before a correction < tol t0 is the tangent at
                     # the converged state to O(tol) (used by the eigen-analysis); a chord
                     # step's factor belongs to an older state
                     self._fresh = fresh_step
-                return it
+                return result
         raise ConvergenceError(f"Newton: no convergence in {maxit} steps at v={self.v:.6g}, "
                                f"last |du|/t0={dmax / t0:.3g}, residual {rn:.3g} "
                                f"(first {r_first:.3g}, floor {floor:.3g})")
@@ -398,7 +393,7 @@ class MembraneModel(MembraneStability):
         above that raise ConvergenceError."""
         if err < tol_abs:
             return "correction"
-        if rn <= NEWTON_RTOL * r_ref:
+        if rn <= RTOL * r_ref:
             return "relative residual"
         if rn <= floor:
             return "floor"
@@ -426,10 +421,10 @@ class MembraneModel(MembraneStability):
             return "undo", theta
         return ("keep" if theta <= CHORD_RATE else "refresh"), theta
 
-    def _record(self, it, rn, r_first, floor, how):
-        self.last_newton = {"iterations": it, "residual": rn,
-                            "residual_rel": rn / r_first if r_first > 0 else 0.0,
-                            "floor": floor, "stopped_by": how}
+    def _record(self, it, rn, r_ref, floor, how) -> NewtonResult:
+        """Record (``last_newton``) and return the result of a converged Newton."""
+        self.last_newton = NewtonResult(it, rn, r_ref, how, details={"floor": floor})
+        return self.last_newton
 
     # ----------------------------------------------------------------- outputs
     #: relative offsets (of t0) towards the mid-plane tried when a point on a face is not

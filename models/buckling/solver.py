@@ -150,8 +150,8 @@ def _certified_critical(model: MembraneModel, disc: Discretisation, v: float, la
     return CriticalResult(
         v=v, e=v / th, thickness=th, ndof=model.ndof, nelements=model.nelements,
         iterations=iterations, history=tuple(hist), lam=lam,
-        eig_residual=model.last_eig["residual"], newton_residual=ln["residual"],
-        newton_residual_rel=ln["residual_rel"], newton_iterations=ln["iterations"],
+        eig_residual=model.last_eig["residual"], newton_residual=ln.residual,
+        newton_residual_rel=ln.residual_rel, newton_iterations=ln.iterations,
         vtol=vtol, h_rel=disc.h_rel, layers=disc.layers, order=disc.order,
         stats=dict(model.stats))
 
@@ -302,7 +302,7 @@ class _RampPath:
         rec["w_asym"].append(amp)
         rec["n_asym"].append(n)
         rec["its"].append(its)
-        rec["res"].append(model.last_newton["residual"] if its else 0.0)
+        rec["res"].append(model.last_newton.residual if its else 0.0)
         if self.eig_every and len(rec["v"]) % self.eig_every == 0:
             self.eig_record()
         if self.progress is not None:
@@ -363,7 +363,7 @@ def _voltage_control(path: _RampPath, states: list, v_switch, dv0, dv_max, dw_ma
         model.set_voltage(v_try)
         ok = True
         try:
-            its = model.newton()
+            its = model.newton().iterations
             w_new = model.centre_midplane_deflection()   # free of the symmetric thinning
             if w_new < rec["w_mid"][-1] - 1e-12 or abs(w_new - rec["w_mid"][-1]) > dw_max:
                 ok = False
@@ -402,7 +402,7 @@ def _deflection_control(path: _RampPath, states: list, steps: int, dc, c_max, dr
             raise ConvergenceError(f"voltage_ramp: exceeded {max_steps} steps at c={c}")
         x_prev, v_prev = model.state(), model.v
         try:
-            its = newton_deflection(model, c + step)
+            its = newton_deflection(model, c + step).iterations
         except ConvergenceError:
             model.set_state(x_prev)
             model.set_voltage(v_prev)

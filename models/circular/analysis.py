@@ -17,6 +17,7 @@ import math
 import numpy as np
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError
+from debench.models.numerics.newton import SCALAR_STEP_RTOL
 from debench.models.numerics.roots import bracketed_root
 from scipy.interpolate import CubicHermiteSpline
 
@@ -290,9 +291,6 @@ def _lot_grids(brs, lam_lots) -> list[Branch]:
                                       for br, lot in zip(brs, lam_lots, strict=True)]))
 
 
-#: relative Newton tolerance on the shooting parameter of :func:`branches_at` (that of
-#: :func:`~debench.models.circular.shooting.q_for_stretch`, which it batches)
-NEWTON_RTOL = 1e-13
 
 
 def branches_at(brs, lams, maxiter: int = 30) -> list[Branch]:
@@ -305,7 +303,8 @@ def branches_at(brs, lams, maxiter: int = 30) -> list[Branch]:
     the branch (measured: within 4e-14 relative of the solution on the 800-point
     c-threshold branches, where PCHIP is within 4e-11), so no scan is needed and one
     integration usually suffices. The iteration stops, as in ``q_for_stretch``, when
-    every step satisfies ``|dq| <= NEWTON_RTOL |q|``; that last step is applied to the
+    every step satisfies ``|dq| <= SCALAR_STEP_RTOL |q|`` (the package's Newton policy,
+    :mod:`debench.models.numerics.newton`); that last step is applied to the
     outputs of the last integration with their exact q-derivatives (lam - dlam dq, ...:
     the neglected terms are O(dq^2), below rounding) instead of integrating again, so the
     points agree with those of :func:`~debench.models.circular.actuator.branch` to that
@@ -352,7 +351,7 @@ def _branches_at_gen(brs, lams, maxiter: int = 30):
                                    f"lam = {lam[~np.isfinite(r)][:3]}")
         dq = r / st.dlam
         q = q - dq
-        if np.all(np.abs(dq) <= NEWTON_RTOL * np.abs(q)):
+        if np.all(np.abs(dq) <= SCALAR_STEP_RTOL * np.abs(q)):
             break
     else:
         raise ConvergenceError(f"shooting Newton: max |dq| = {np.max(np.abs(dq)):.3g} "

@@ -41,8 +41,8 @@ pull-in maximum of Phibar. ``dPhibar^2/dlam`` comes from the same bordered tange
 Accuracy contract
 -----------------
 Newton (:mod:`~debench.models.circular.fe_continuation`) stops when the update satisfies
-``|dx|_inf <= NEWTON_RTOL (1 + |x|_inf)`` (after quadratic convergence the residual is at
-round-off). The discretisation error is that of
+``|dx|_inf <= STEP_RTOL (1 + |x|_inf)`` (:mod:`debench.models.numerics.newton`; after
+quadratic convergence the residual is at round-off). The discretisation error is that of
 the mesh (``n_a`` elements in circle A, ``n_b`` elements in annulus B uniform in ln R,
 order ``order``); its observed order is measured in ``verification/test_ch3_fe.py``.
 The model is the membrane limit (thickness t -> 0): the film thickness does not enter.

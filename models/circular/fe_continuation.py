@@ -21,12 +21,9 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError
+from debench.models.numerics.newton import STEP_RTOL
 from debench.models.numerics.roots import bracketed_root
 
-#: Newton stops on a relative update below this (quadratic convergence: the next update
-#: would be ~1e-20; the bordered system has condition ~1e8 on the finest meshes, so a
-#: relative round-off floor ~1e-12 leaves a margin of 100)
-NEWTON_RTOL = 1e-10
 NEWTON_MAXITER = 40
 #: a Newton step is taken when the simplified correction at the trial state is smaller
 #: than the update by this factor (contraction, theta < 1): an update that does not
@@ -73,7 +70,8 @@ class BorderedContinuation:
         accepted step contracts towards the solution next to the start, and a start from
         which Newton would wander (|dz| growing, landing after tens of iterations on a
         state that depends on round-off) is refused. Converged when a full update is below
-        NEWTON_RTOL relative; no admissible, contracting step down to s =
+        STEP_RTOL relative (the package's Newton policy,
+        :mod:`debench.models.numerics.newton`); no admissible, contracting step down to s =
         NEWTON_DAMPING_MIN, or no convergence in NEWTON_MAXITER steps: ConvergenceError
         (the continuation then takes a shorter step).
         ``monotone=False`` (a first state from an inconsistent start, where no shorter step
@@ -98,7 +96,7 @@ class BorderedContinuation:
                 pt = p + scale * dz[-1]
                 rt, _ = self._system(xt, pt)
                 ok = bool(np.all(np.isfinite(rt[E])) and self._admissible(xt))
-                if ok and scale == 1.0 and step <= NEWTON_RTOL * (1 + np.max(np.abs(xt))
+                if ok and scale == 1.0 and step <= STEP_RTOL * (1 + np.max(np.abs(xt))
                                                                  + abs(pt)):
                     return xt, pt, it, float(np.max(np.abs(rt[E])))
                 if ok and (not monotone or np.linalg.norm(solve(-rt[E]) * w)

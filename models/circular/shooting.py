@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError
+from debench.models.numerics.newton import SCALAR_STEP_RTOL
 
 from .integrator import DEFAULT_STEPS, integrate, stresses
 from .lockstep import Request, run
@@ -147,7 +148,7 @@ def _interface_state_gen(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
 
 
 def q_for_stretch(annulus: Annulus, lam, q0, *, steps: int = DEFAULT_STEPS,
-                  rtol: float = 1e-13, maxiter: int = 30) -> np.ndarray:
+                  rtol: float = SCALAR_STEP_RTOL, maxiter: int = 30) -> np.ndarray:
     """Newton on q so that lambda_2(R_A) = lam (vectorised); raises ConvergenceError.
 
     Converged when every Newton step satisfies ``|dq| <= rtol |q|`` (``rtol`` a finite

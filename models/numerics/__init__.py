@@ -1,7 +1,8 @@
 """Shared numerics of every chapter: scalar roots (:mod:`.roots`: bracketed, secant,
 near an estimate, many brackets at once, grid scans), adaptive sign-change scans that do
-not lose close zeros (:mod:`.scan`), and mesh-convergence and limit fits with Roache's
-grid convergence index (:mod:`.convergence`).
+not lose close zeros (:mod:`.scan`), Newton's stopping policy, result, bordered solve and
+damped driver (:mod:`.newton`), and mesh-convergence and limit fits with Roache's grid
+convergence index (:mod:`.convergence`).
 
 Each routine is tested once on synthetic problems with known answers, through every method
 (``verification/test_numerics.py``), the way SciPy's ``test_zeros`` runs one collection of
@@ -24,6 +25,13 @@ from debench.models.numerics.convergence import (
     reference_fit,
     richardson,
     two_term_limits,
+)
+from debench.models.numerics.newton import (
+    NewtonResult,
+    bordered_solve,
+    damped_newton,
+    residual_converged,
+    round_off_floor,
 )
 from debench.models.numerics.roots import (
     Memo,
@@ -48,14 +56,17 @@ __all__ = [
     "GCI",
     "LimitFit",
     "Memo",
+    "NewtonResult",
     "PGradingEstimate",
     "RootResult",
     "ScanRoots",
     "ThreePointFit",
     "asymptotic_fit",
     "bisect_boundary",
+    "bordered_solve",
     "bracketed_root",
     "convergence_fit",
+    "damped_newton",
     "gci",
     "gci_safety",
     "grid_samples",
@@ -64,10 +75,12 @@ __all__ = [
     "p_grading_safety",
     "propagated_accuracy",
     "reference_fit",
+    "residual_converged",
     "refine_samples",
     "refinement_points",
     "regula_falsi_many",
     "richardson",
+    "round_off_floor",
     "scan_brackets",
     "scan_roots",
     "secant",

@@ -32,6 +32,7 @@ REFERENCES = ("Timoshenko S (1925) Analysis of bi-metal thermostats. J. Opt. Soc
 def compute(full: bool = False) -> tuple[xr.Dataset, dict]:
     """The bilayer dataset and its parameters (pure computation, no I/O)."""
     from debench.models import bilayer
+    from debench.models.numerics import newton
 
     plan = bilayer.PLAN if full else bilayer.COARSE_PLAN
     c = bilayer.converged(VOLTAGES, plan=plan)
@@ -75,7 +76,7 @@ def compute(full: bool = False) -> tuple[xr.Dataset, dict]:
     params = {"full": full, "plan": [list(x) for x in plan], "voltages": list(VOLTAGES),
               "length": p.length, "passive": p.passive, "bulk_ratio": p.bulk_ratio,
               "nx": p.nx, "ny": p.ny, "hp_factor": bilayer.HP_FACTOR,
-              "max_step": bilayer.MAX_STEP, "newton_rtol": bilayer.NEWTON_RTOL,
+              "max_step": bilayer.MAX_STEP, "newton_rtol": newton.RTOL,
               "error_floor": bilayer.ERROR_FLOOR}
     return xr.Dataset(data_vars, coords=coords), params
 

@@ -133,7 +133,7 @@ class _FlatFilm:
         spec = model.spectrum(self.n, nev=1, tangent=self.tangent)
         self.history.append((math.sqrt(x), float(spec.lam[0])))
         self.last.update(residual=spec.residual, ndof=spec.ndof,
-                         newton=model.last_newton["residual_rel"])
+                         newton=model.last_newton.residual_rel)
         return float(spec.lam[0])
 
 

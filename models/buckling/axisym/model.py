@@ -37,17 +37,9 @@ from debench.models.buckling.parameters import MU_REF, Plate
 from debench.models.errors import ConvergenceError, require
 from debench.models.materials import ngsolve_forms as ngf
 from debench.models.materials.protocol import IdealDielectricElastomer
+from debench.models.numerics.newton import RTOL, NewtonResult, bordered_solve, round_off_floor
 from scipy.sparse.linalg import splu
 
-NEWTON_RTOL = 1e-11
-"""Newton stops when the residual norm is below NEWTON_RTOL times its reference, or below
-its round-off floor (NEWTON_FLOOR_FACTOR eps_mach || |K| |x| ||). The reference is the
-larger of the first residual and the load scale (:meth:`AxisymModel.load_scale`): the
-residual of the undeformed film under the uniform field of the voltage, i.e. the nodal
-forces of the Maxwell traction on the faces, a physical scale that does not change with the
-mesh (5.66e-7 on 1 .. 8 graded layers at v = 0.2, measured). At this tolerance a flat state
-moves the critical voltage by < 1e-11 (measured against solves to the round-off floor)."""
-NEWTON_FLOOR_FACTOR = 100.0
 NEWTON_STAGNATION_RTOL = 1e-5
 """A Newton step that cannot reduce the residual is accepted as converged only below this
 residual relative to its reference: next to a singular tangent (the critical voltage of the
@@ -126,8 +118,7 @@ class AxisymModel(ModeAnalysis):
         self.v = 0.0
         self.stats = {"newton_steps": 0, "assemble_s": 0.0, "solve_s": 0.0, "eig_s": 0.0,
                       "eigen_analyses": 0, "domain_halvings": 0}
-        self.last_newton = {"iterations": 0, "residual": float("nan"),
-                            "residual_rel": float("nan")}
+        self.last_newton = NewtonResult(0, math.nan, math.nan, "not run")
         self._forms: dict[int, tuple] = {}
 
     # --------------------------------------------------------------- kinematics
@@ -197,11 +188,21 @@ class AxisymModel(ModeAnalysis):
         self.set_state(x)
         return r0
 
-    def newton(self, *, rtol: float = NEWTON_RTOL, maxit: int = NEWTON_MAXIT) -> int:
+    def _converged(self, it: int, residual: float, ref: float, reason: str,
+                   **details) -> NewtonResult:
+        """Record (``last_newton``) and return the result of a converged Newton."""
+        self.last_newton = NewtonResult(it, residual, ref, reason, details=details)
+        return self.last_newton
+
+    def newton(self, *, rtol: float = RTOL, maxit: int = NEWTON_MAXIT) -> NewtonResult:
         """Equilibrate the state at the current voltage (full Newton with the exact tangent,
         damped by halving when a step does not reduce the residual). Stops on the residual
-        relative to its reference or at its round-off floor; raises ConvergenceError when
-        neither is reached in ``maxit`` steps."""
+        relative to its reference (the larger of the first residual and
+        :meth:`load_scale`, a physical scale that does not change with the mesh: 5.66e-7 on
+        1 .. 8 graded layers at v = 0.2) or at its round-off floor (the package's policy,
+        :mod:`debench.models.numerics.newton`); returns the
+        :class:`~debench.models.numerics.newton.NewtonResult` (also ``last_newton``);
+        raises ConvergenceError when neither is reached in ``maxit`` steps."""
         rtol = val.tolerance("rtol", rtol)
         maxit = val.integer_at_least("maxit", maxit, 1)
         fr = self.free
@@ -213,27 +214,20 @@ class AxisymModel(ModeAnalysis):
         for it in range(maxit + 1):
             if rn <= rtol * ref:
                 # converged on the residual alone: no tangent is needed to decide
-                self.last_newton = {"iterations": it, "residual": rn,
-                                    "residual_rel": rn / ref}
-                return it
+                return self._converged(it, rn, ref, "relative residual")
             K = self._tangent()
             require_finite_step(r[fr], K, f"AxisymModel.newton at v = {self.v:.8g} (step {it})")
             x = self.state()
-            floor = NEWTON_FLOOR_FACTOR * np.finfo(float).eps * float(
-                np.linalg.norm((abs(K) @ np.abs(x))[fr]))
+            floor = round_off_floor(abs(K), np.abs(x), fr)
             if rn <= floor:
-                self.last_newton = {"iterations": it, "residual": rn,
-                                    "residual_rel": rn / ref}
-                return it
+                return self._converged(it, rn, ref, "floor")
             if rn < best[0]:
                 best = (rn, x, it)
             elif it - best[2] >= NEWTON_STALL_STEPS and best[0] <= NEWTON_STAGNATION_RTOL * ref:
                 # the local phase oscillates along the near-null mode without improving on
                 # its best iterate: that iterate, as for a step without descent
                 self.set_state(best[1])
-                self.last_newton = {"iterations": it, "residual": best[0],
-                                    "residual_rel": best[0] / ref}
-                return it
+                return self._converged(it, best[0], ref, "stagnation (best iterate)")
             if it == maxit:
                 break
             dx = self._solve(K[fr][:, fr], -r[fr])
@@ -253,9 +247,7 @@ class AxisymModel(ModeAnalysis):
             else:
                 self.set_state(x)
                 if rn <= NEWTON_STAGNATION_RTOL * ref:
-                    self.last_newton = {"iterations": it, "residual": rn,
-                                        "residual_rel": rn / ref}
-                    return it
+                    return self._converged(it, rn, ref, "stagnation (no descent)")
                 raise ConvergenceError(
                     f"AxisymModel.newton: no descent at v = {self.v:.8g} (residual {rn:.3e}, "
                     f"relative {rn / ref:.3e})")
@@ -281,15 +273,15 @@ class AxisymModel(ModeAnalysis):
                 return self.X.components[0].ndof + k
         raise RuntimeError("no mesh vertex at the top-surface centre")
 
-    def newton_deflection(self, c: float, *, rtol: float = NEWTON_RTOL,
-                          maxit: int = NEWTON_MAXIT, stall: int | None = None) -> int:
+    def newton_deflection(self, c: float, *, rtol: float = RTOL,
+                          maxit: int = NEWTON_MAXIT, stall: int | None = None) -> NewtonResult:
         """Equilibrate at the prescribed centre deflection ``c`` (units of t0, the top-surface
         centre, :meth:`centre_deflection`), the voltage an unknown: Newton on the bordered
         system ``[[K_ff, K_fd dx_d/dv], [e_c^T, 0]]`` (regular at a voltage maximum, where
         K_ff is singular), solved by block elimination with iterative refinement of the
         bordered residual. Once the stopping rule of :meth:`newton` holds it takes one more
         step (:meth:`_polish`), so that the state at a prescribed deflection is independent
-        of the start to round-off. Returns the steps to the stopping rule; raises
+        of the start to round-off. Returns the NewtonResult (steps to the stopping rule); raises
         ConvergenceError when it is not reached in ``maxit``, or (``stall``: a number of
         steps, e.g. :data:`~debench.models.buckling.axisym.path.PATH_STALL_STEPS`) when
         ``stall`` steps in a row have not lowered the best residual."""
@@ -313,16 +305,14 @@ class AxisymModel(ModeAnalysis):
             K = self._tangent()
             require_finite_step(r[fr], K, f"AxisymModel.newton_deflection at c = {c:.6g} "
                                       f"(step {it})")
-            floor = NEWTON_FLOOR_FACTOR * np.finfo(float).eps * float(
-                np.linalg.norm((abs(K) @ np.abs(self.state()))[fr]))
+            floor = round_off_floor(abs(K), np.abs(self.state()), fr)
             if (rn <= rtol * ref or rn <= floor) and abs(g) <= 1e-12 * t0:
                 # one more step even at the floor estimate, which bounds the residual's
                 # round-off from above (the residual itself reaches ~1e-3 of it, measured)
                 rn_final = self._polish(K, r, g, kf, dirv, c, rn)
                 polished, rn = rn_final < rn, rn_final
-                self.last_newton = {"iterations": it, "polished": bool(polished),
-                                    "residual": rn, "residual_rel": rn / ref}
-                return it
+                return self._converged(it, rn, ref, "relative residual or floor",
+                                       polished=bool(polished))
             if it == maxit:
                 break
             if rn < best[0]:
@@ -425,18 +415,11 @@ class AxisymModel(ModeAnalysis):
         """Solve ``[[Kff, b], [e_kf^T, 0]] (dx, dv) = (rhs_x, rhs_g)`` by block elimination
         with one factorisation of Kff and iterative refinement of the bordered residual."""
         fac = Factor(Kff, f"AxisymModel.newton_deflection at c = {c:.6g}")
-        dx, dv = np.zeros(Kff.shape[0]), 0.0
-        y2 = fac.solve(b, check=False)
-        for _ in range(REFINEMENTS + 1):
-            ex = rhs_x - (Kff @ dx + b * dv)
-            eg = rhs_g - dx[kf]
-            y1 = fac.solve(ex, check=False)
-            ddv = (y1[kf] - eg) / y2[kf]
-            dx += y1 - ddv * y2
-            dv += ddv
-            if np.linalg.norm(ex) <= REFINE_RTOL * max(np.linalg.norm(rhs_x), 1e-300):
-                break
-        return dx, dv
+        row = np.zeros(Kff.shape[0])
+        row[kf] = 1.0
+        return bordered_solve(lambda y: fac.solve(y, check=False), b, row, rhs_x, rhs_g,
+                              apply=Kff.__matmul__, refinements=REFINEMENTS, rtol=REFINE_RTOL,
+                              what=f"AxisymModel.newton_deflection at c = {c:.6g}")
 
     # --------------------------------------------------------------- point values
     def _at(self, comp: int, r: float, z: float) -> float:

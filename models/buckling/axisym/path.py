@@ -38,7 +38,7 @@ def _record(model: AxisymModel, wavenumbers) -> PathPoint:
     lam = {int(n): float(model.spectrum(int(n), nev=1).lam[0]) for n in wavenumbers}
     return PathPoint(w=model.centre_deflection(), v=model.v, thickness=model.centre_thickness(),
                      e=model.centre_field(), lam=lam,
-                     newton_residual_rel=model.last_newton["residual_rel"],
+                     newton_residual_rel=model.last_newton.residual_rel,
                      state=model.state())
 
 
@@ -241,7 +241,7 @@ def follow_path(model: AxisymModel, w_end: float, *, v_switch: float, dv: float 
             model.set_state(x0 + f * (x0 - xp))
             model.v = v0 + f * (v0 - vp)
         try:
-            its = model.newton_deflection(target, stall=PATH_STALL_STEPS)
+            its = model.newton_deflection(target, stall=PATH_STALL_STEPS).iterations
         except ConvergenceError:
             model.set_state(x0)
             model.v = v0
