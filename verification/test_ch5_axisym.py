@@ -22,12 +22,12 @@ from debench.models.buckling.analytic import KIRCHHOFF_N1_RATIO, critical_voltag
 from debench.models.buckling.axisym import linalg as ax_linalg
 from debench.models.buckling.axisym import model as ax_model
 from debench.models.buckling.axisym import path as ax_path
-from debench.models.buckling.axisym import secant_zero
-from debench.models.buckling.axisym.path import ZERO_STALL_W, ZERO_WTOL
+from debench.models.buckling.axisym.path import ZERO_STALL_COUNT, ZERO_STALL_W, ZERO_WTOL
 from debench.models.buckling.axisym.spectra import EIG_RTOL
 from debench.models.buckling.parameters import NeoHookean, Ogden, Plate
 from debench.models.errors import ConvergenceError
 from debench.models.numerics import newton as newton_policy
+from debench.models.numerics import roots
 
 pytestmark = pytest.mark.fe
 
@@ -450,6 +450,11 @@ def test_a_wrinkling_crossing_does_not_depend_on_the_record_its_trial_states_sta
     # 1e-5 t0: lambda_12's start spread (3e-9) over its slope (3.9e-3 per t0) is 1e-6 t0,
     # the linear interpolation over 2e-3 t0 adds < 1e-7; the start dependence gave 4.9e-3
     assert abs(w_upper - zero.w) < 1e-5
+
+
+#: the zero finder of the path's crossings with the path's tolerances
+secant_zero = functools.partial(roots.secant_zero, xtol=ZERO_WTOL, stall_width=ZERO_STALL_W,
+                                stall_count=ZERO_STALL_COUNT)
 
 
 def test_secant_zero_converges_on_a_smooth_function():

@@ -26,6 +26,7 @@ from debench.models.numerics import (
     regula_falsi_many,
     residual_converged,
     richardson,
+    roots,
     round_off_floor,
     scan_brackets,
     scan_roots,
@@ -775,3 +776,40 @@ def test_newton_tolerances_are_defined_only_in_numerics():
                           if isinstance(t, ast.Name)
                           and t.id in {"NEWTON_RTOL", "NEWTON_FLOOR_FACTOR"}]
     assert not found, found
+
+
+def test_secant_step_and_inverse_quadratic_root_are_exact_where_they_should_be():
+    """The secant step is exact for a linear f, the inverse quadratic root for an x(f)
+    quadratic; a flat secant, a step leaving its bounds and repeated values raise
+    ConvergenceError naming the caller."""
+    assert roots.secant_step(1.0, -2.0, 3.0, 2.0) == 2.0
+    with pytest.raises(ConvergenceError, match="my secant: flat"):
+        roots.secant_step(1.0, 0.5, 2.0, 0.5, what="my secant")
+    with pytest.raises(ConvergenceError, match="leaves"):
+        roots.secant_step(1.0, 1.0, 2.0, 0.5, bounds=(0.0, 2.5))
+
+    def x_of(f):
+        return 1.25 - 0.5 * f + 0.75 * f**2
+
+    fs = [-0.4, 0.1, 0.9]
+    xs = [x_of(f) for f in fs]
+    assert roots.inverse_quadratic_root(xs, fs) == pytest.approx(1.25, rel=4e-16, abs=0)
+    with pytest.raises(ConvergenceError, match="repeated"):
+        roots.inverse_quadratic_root([0.0, 1.0, 2.0], [1.0, 1.0, 2.0])
+
+
+def test_secant_zero_answers_with_an_evaluated_point_of_every_function_in_the_collection():
+    """secant_zero from two points about each root of the synthetic collection (bracketed:
+    Illinois) and from two points on one side (the secant): the answer is an evaluated
+    point within its stated tolerance of the root (a last step below xtol, or a bracket
+    narrower than stall_width), every evaluation appended."""
+    for f, root in ((lambda x: x**3 - 2.0, 2.0 ** (1 / 3)),
+                    (lambda x: math.exp(x) - 3.0, math.log(3.0)),
+                    (lambda x: math.atan(x - 0.4), 0.4)):
+        for x0, x1 in ((root - 0.3, root + 0.2), (root + 0.05, root + 0.1)):
+            xs, fs = [x0, x1], [f(x0), f(x1)]
+            k, tol = roots.secant_zero(f, xs, fs, xtol=1e-10, stall_width=1e-8)
+            assert fs[k] == f(xs[k]) and len(xs) == len(fs) > 2
+            # the stated tolerance: the bracket's width, or the last step (10 x: a step
+            # bounds the error of a superlinear iteration to a small factor)
+            assert tol < 1e-8 and abs(xs[k] - root) <= 10 * tol

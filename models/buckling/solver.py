@@ -18,6 +18,7 @@ from debench.models.buckling.modes import deflection_asymmetry, mode_harmonics
 from debench.models.buckling.parameters import Discretisation, Plate
 from debench.models.errors import ConvergenceError, require
 from debench.models.materials.protocol import IdealDielectricElastomer
+from debench.models.numerics.roots import secant_step
 
 CRITICAL_VTOL = 1e-6
 """The secant on lambda_1(v^2) = 0 stops when its step |dv| < CRITICAL_VTOL (normalised
@@ -126,13 +127,8 @@ def critical_voltage(plate: Plate, mat: IdealDielectricElastomer, disc: Discreti
 def _secant(xs, ls, hist) -> float:
     """The next secant iterate in v^2 of :func:`critical_voltage` from its last two points
     (``hist``: the (v, lambda) evaluated so far, for the error message)."""
-    if ls[-1] == ls[-2]:
-        raise ConvergenceError(f"critical_voltage: flat secant (lambda {ls[-1]}) at "
-                               f"v = {math.sqrt(xs[-1]):.6g}: {hist}")
-    x_new = xs[-1] - ls[-1] * (xs[-1] - xs[-2]) / (ls[-1] - ls[-2])
-    if not (x_new > 0 and math.isfinite(x_new)):
-        raise ConvergenceError(f"critical_voltage: secant left the domain (v^2={x_new})")
-    return x_new
+    return secant_step(xs[-2], ls[-2], xs[-1], ls[-1], bounds=(0.0, math.inf),
+                       what=f"critical_voltage at v = {math.sqrt(xs[-1]):.6g}: {hist}")
 
 
 def _certified_critical(model: MembraneModel, disc: Discretisation, v: float, lam: float,

@@ -1,9 +1,15 @@
 """Scalar roots, every method returning a :class:`RootResult` that states what was
-achieved, every failure a :class:`~debench.models.errors.ConvergenceError`:
+achieved (the steps and :func:`secant_zero`, which answers with an index into its
+evaluations, excepted), every failure a :class:`~debench.models.errors.ConvergenceError`:
 
 * :func:`bracketed_root` -- one zero in a bracket with a sign change, by Brent's method
   (:func:`scipy.optimize.brentq`);
 * :func:`secant` -- the secant iteration from two starting points (no bracket needed);
+  :func:`secant_step` its one step, :func:`inverse_quadratic_root` the root through three
+  points;
+* :func:`secant_zero` -- a zero of an expensive, noisy function from two evaluated
+  points, answering with an *evaluated* point (its state is what the caller keeps):
+  Illinois inside a starting bracket, else the secant with a stop at the round-off floor;
 * :func:`zero_near` -- a zero near an estimate: secant steps from it supply a certified
   narrow bracket, which :func:`bracketed_root` finishes;
 * :func:`regula_falsi_many` -- many brackets refined at once by the Illinois variant of
@@ -222,6 +228,96 @@ def secant(f: Callable[[float], float], x0: float, x1: float, *, xtol: float,
                         b - a)
     raise ConvergenceError(f"{what}: the secant did not converge to xtol = {xtol} in "
                            f"{maxiter} steps (last step {x1 - x0:.3g})")
+
+
+def secant_step(x0: float, f0: float, x1: float, f1: float, *, what: str = "secant",
+                bounds: tuple[float, float] = (-math.inf, math.inf)) -> float:
+    """The secant iterate ``x1 - f1 (x1 - x0) / (f1 - f0)`` through (x0, f0), (x1, f1).
+    ConvergenceError naming ``what`` on a flat secant (``f1 == f0``) or when the iterate
+    is not finite or leaves the open interval ``bounds``."""
+    if f1 == f0:
+        raise ConvergenceError(f"{what}: flat secant (f = {f1!r} at {x0!r} and {x1!r})")
+    x2 = x1 - f1 * (x1 - x0) / (f1 - f0)
+    if not (math.isfinite(x2) and bounds[0] < x2 < bounds[1]):
+        raise ConvergenceError(f"{what}: the secant step to {x2!r} leaves {bounds}")
+    return x2
+
+
+def inverse_quadratic_root(xs, fs) -> float:
+    """The zero of the quadratic x(f) through three points (Lagrange in f at f = 0);
+    ConvergenceError when two values of f are equal."""
+    (x0, x1, x2), (f0, f1, f2) = xs, fs
+    if len({f0, f1, f2}) < 3:
+        raise ConvergenceError("inverse quadratic interpolation: repeated values of f")
+    return (x0 * f1 * f2 / ((f0 - f1) * (f0 - f2)) + x1 * f0 * f2 / ((f1 - f0) * (f1 - f2))
+            + x2 * f0 * f1 / ((f2 - f0) * (f2 - f1)))
+
+
+def secant_zero(f: Callable[[float], float], xs: list[float], fs: list[float], *,
+                xtol: float, stall_width: float, stall_count: int = 4, maxit: int = 30,
+                what: str = "secant_zero") -> tuple[int, float]:
+    """Zero of ``f`` from the two evaluated points (``xs``, ``fs``), appending every
+    evaluation to them: returns (index of the answer in ``xs``, its tolerance). The
+    answer is an evaluated point, for a caller whose evaluations carry a state.
+
+    When the two starting values of f have opposite signs, the iterates stay inside the
+    bracket they span: the Illinois variant of false position (Dowell and Jarratt 1971),
+    whose retained end has its f halved when it is kept twice in a row, so that the bracket
+    shrinks from both sides (plain false position can approach the root from one side
+    only and stagnate). It stops when a step is below ``xtol`` (the last iterate,
+    tolerance the step) or when the bracket is narrower than ``stall_width`` (the end
+    with the smaller |f|, tolerance the bracket's width): at the round-off floor of f the
+    computed signs still bound the root. Without a bracket it is the secant iteration, which
+    stops on a step below ``xtol`` or when it has stagnated at the round-off floor (the
+    last ``stall_count`` iterates within ``stall_width`` and f of both signs among them:
+    the one with the smallest |f|, tolerance their spread). ConvergenceError after
+    ``maxit`` evaluations, or on a flat secant."""
+    require(len(xs) >= 2 and len(xs) == len(fs), "secant_zero needs two evaluated points")
+    if fs[-2] * fs[-1] < 0:
+        return _illinois(f, xs, fs, xtol=xtol, stall_width=stall_width, maxit=maxit,
+                         what=what)
+    for _ in range(maxit):
+        x_new = secant_step(xs[-2], fs[-2], xs[-1], fs[-1],
+                            what=f"{what} {list(zip(xs, fs, strict=True))}")
+        step = abs(x_new - xs[-1])
+        xs.append(x_new)
+        fs.append(f(x_new))
+        if step < xtol:
+            return len(xs) - 1, step
+        last, signs = xs[-stall_count:], np.sign(fs[-stall_count:])
+        if (len(xs) >= stall_count + 2 and max(last) - min(last) < stall_width
+                and signs.min() < 0 < signs.max()):
+            tail = range(len(xs) - stall_count, len(xs))
+            return min(tail, key=lambda i: abs(fs[i])), max(last) - min(last)
+    raise ConvergenceError(f"{what}: no convergence in {maxit} steps: "
+                           f"{list(zip(xs, fs, strict=True))}")
+
+
+def _illinois(f, xs: list[float], fs: list[float], *, xtol: float, stall_width: float,
+              maxit: int, what: str) -> tuple[int, float]:
+    """The bracketed branch of :func:`secant_zero` (its last two points bracket a root)."""
+    ends = [len(xs) - 2, len(xs) - 1]
+    weights = [fs[-2], fs[-1]]
+    kept = None
+    for _ in range(maxit):
+        (ia, ib), (fa, fb) = ends, weights
+        x_new = xs[ia] - fa * (xs[ib] - xs[ia]) / (fb - fa)
+        step = abs(x_new - xs[-1])
+        fx = f(x_new)
+        xs.append(x_new)
+        fs.append(fx)
+        if fx == 0 or step < xtol:
+            return len(xs) - 1, step
+        side = 0 if np.sign(fx) == np.sign(fs[ia]) else 1
+        ends[side], weights[side] = len(xs) - 1, fx
+        if kept == 1 - side:
+            weights[1 - side] *= 0.5
+        kept = 1 - side
+        width = abs(xs[ends[1]] - xs[ends[0]])
+        if width < stall_width:
+            return min(ends, key=lambda i: abs(fs[i])), width
+    raise ConvergenceError(f"{what}: no convergence in {maxit} steps: "
+                           f"{list(zip(xs, fs, strict=True))}")
 
 
 def zero_near(f: Callable[[float], float], guess: float | None, lo: float, hi: float,

@@ -90,7 +90,6 @@ from debench.models.buckling.axisym.path import (
     Crossing,
     PathPoint,
     follow_path,
-    secant_zero,
     zero_crossing,
 )
 from debench.models.buckling.axisym.section import (
@@ -101,5 +100,5 @@ from debench.models.buckling.axisym.section import (
 from debench.models.buckling.axisym.spectra import TANGENTS, ModeSpectrum
 
 __all__ = ["TANGENTS", "AxisymCritical", "AxisymDiscretisation", "AxisymModel", "Crossing",
-           "ModeSpectrum", "PathPoint", "critical_voltage", "follow_path", "secant_zero",
+           "ModeSpectrum", "PathPoint", "critical_voltage", "follow_path",
            "section_mesh", "section_nodes", "zero_crossing"]

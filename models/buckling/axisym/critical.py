@@ -22,6 +22,7 @@ from debench.models.buckling.axisym.spectra import TANGENTS
 from debench.models.buckling.parameters import Plate
 from debench.models.errors import ConvergenceError
 from debench.models.materials.protocol import IdealDielectricElastomer
+from debench.models.numerics.roots import inverse_quadratic_root, secant_step
 
 CRITICAL_STEP = 1e-6
 """The secant on lambda_1(v^2) = 0 stops evaluating when its next step would be below
@@ -148,23 +149,10 @@ def _secant_in_v2(flat: _FlatFilm, v0: float, step: float,
     xs = [((1.0 - step) * v0) ** 2, v0**2]
     ls = [flat(x) for x in xs]
     for it in range(maxit):
-        if ls[-1] == ls[-2]:
-            raise ConvergenceError(f"{what}: flat secant: {flat.history}")
-        x_new = xs[-1] - ls[-1] * (xs[-1] - xs[-2]) / (ls[-1] - ls[-2])
-        if not (x_new > 0 and math.isfinite(x_new)):
-            raise ConvergenceError(f"{what}: secant left the domain: {flat.history}")
+        x_new = secant_step(xs[-2], ls[-2], xs[-1], ls[-1], bounds=(0.0, math.inf),
+                            what=f"{what} {flat.history}")
         if abs(x_new - xs[-1]) < CRITICAL_STEP * xs[-1] and len(xs) >= 3:
-            return _inverse_quadratic_root(xs[-3:], ls[-3:]), x_new, it + 2
+            return inverse_quadratic_root(xs[-3:], ls[-3:]), x_new, it + 2
         xs.append(x_new)
         ls.append(flat(x_new))
     raise ConvergenceError(f"{what}: no convergence in {maxit} steps: {flat.history}")
-
-
-def _inverse_quadratic_root(xs, ls) -> float:
-    """Root of x(lambda) by inverse quadratic interpolation through three (x, lambda) points
-    (Lagrange in lambda at lambda = 0)."""
-    (x0, x1, x2), (l0, l1, l2) = xs, ls
-    if len({l0, l1, l2}) < 3:
-        raise ConvergenceError("inverse quadratic interpolation: repeated eigenvalues")
-    return (x0 * l1 * l2 / ((l0 - l1) * (l0 - l2)) + x1 * l0 * l2 / ((l1 - l0) * (l1 - l2))
-            + x2 * l0 * l1 / ((l2 - l0) * (l2 - l1)))

@@ -4,7 +4,8 @@
 control through the voltage maximum) and records the lowest eigenvalue of chosen
 wavenumbers at its states; :func:`zero_crossing` locates where one of them vanishes (for
 n = 0 the voltage maximum, pull-in; for n >= 1 a bifurcation into wrinkles) by
-:func:`secant_zero`. The formulation: :mod:`debench.models.buckling.axisym`.
+:func:`~debench.models.numerics.roots.secant_zero`. The formulation:
+:mod:`debench.models.buckling.axisym`.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import numpy as np
 from debench.models import validation as val
 from debench.models.buckling.axisym.model import AxisymModel
 from debench.models.errors import ConvergenceError, require
+from debench.models.numerics.roots import secant_zero
 
 
 @dataclass(frozen=True)
@@ -94,7 +96,9 @@ def zero_crossing(model: AxisymModel, points: list[PathPoint], n: int,
         states.append((model.state(), model.v))
         return lam
 
-    k, wtol = secant_zero(lam_at, ws, ls, maxit=maxit, what=f"zero_crossing(n={n})")
+    k, wtol = secant_zero(lam_at, ws, ls, xtol=ZERO_WTOL, stall_width=ZERO_STALL_W,
+                          stall_count=ZERO_STALL_COUNT, maxit=maxit,
+                          what=f"zero_crossing(n={n})")
     model.set_state(states[k][0])
     model.v = states[k][1]
     return Crossing(n=n, w=ws[k], v=model.v, thickness=model.centre_thickness(), wtol=wtol)
@@ -119,72 +123,6 @@ def deflect_from(model: AxisymModel, start: tuple[np.ndarray, float], w0: float,
             if 2 * m > max_substeps:
                 raise
             m *= 2
-
-
-def secant_zero(f, ws: list[float], ls: list[float], *, maxit: int = 30,
-                what: str = "secant_zero") -> tuple[int, float]:
-    """Root of f(w) = 0 from the two points (``ws``, ``ls``), appending every evaluation to
-    ``ws`` and ``ls``: returns (index of the answer in ``ws``, its tolerance).
-
-    When the two starting values of f have opposite signs, the iterates stay inside the
-    bracket they span (f is then only evaluated where the recorded states that bound it
-    are valid): the Illinois variant of false position (Dowell and Jarratt 1971), whose
-    retained end has its f halved when it is kept twice in a row, so that the bracket
-    shrinks from both sides (plain false position can approach the root from one side
-    only and stagnate). It stops when a step is below :data:`ZERO_WTOL` (the last iterate,
-    tolerance the step) or when the bracket is narrower than :data:`ZERO_STALL_W` (the end
-    with the smaller |f|, tolerance the bracket's width): at the round-off floor of f the
-    computed signs still bound the root. Without a bracket it is the secant iteration, which
-    stops on a step below :data:`ZERO_WTOL` or when it has stagnated at the round-off floor
-    (the last :data:`ZERO_STALL_COUNT` iterates within :data:`ZERO_STALL_W` and f of both
-    signs among them: the one with the smallest |f|, tolerance their spread).
-    ConvergenceError after ``maxit`` evaluations, or when two values of f are equal (a
-    flat secant)."""
-    if ls[-2] * ls[-1] < 0:
-        return _illinois(f, ws, ls, maxit=maxit, what=what)
-    for _ in range(maxit):
-        if ls[-1] == ls[-2]:
-            raise ConvergenceError(f"{what}: flat secant: {list(zip(ws, ls, strict=True))}")
-        w_new = ws[-1] - ls[-1] * (ws[-1] - ws[-2]) / (ls[-1] - ls[-2])
-        step = abs(w_new - ws[-1])
-        ws.append(w_new)
-        ls.append(f(w_new))
-        if step < ZERO_WTOL:
-            return len(ws) - 1, step
-        last, signs = ws[-ZERO_STALL_COUNT:], np.sign(ls[-ZERO_STALL_COUNT:])
-        if (len(ws) >= ZERO_STALL_COUNT + 2 and max(last) - min(last) < ZERO_STALL_W
-                and signs.min() < 0 < signs.max()):
-            tail = range(len(ws) - ZERO_STALL_COUNT, len(ws))
-            return min(tail, key=lambda i: abs(ls[i])), max(last) - min(last)
-    raise ConvergenceError(f"{what}: no convergence in {maxit} steps: "
-                           f"{list(zip(ws, ls, strict=True))}")
-
-
-def _illinois(f, ws: list[float], ls: list[float], *, maxit: int,
-              what: str) -> tuple[int, float]:
-    """The bracketed branch of :func:`secant_zero` (its last two points bracket a root)."""
-    ends = [len(ws) - 2, len(ws) - 1]
-    weights = [ls[-2], ls[-1]]
-    kept = None
-    for _ in range(maxit):
-        (ia, ib), (fa, fb) = ends, weights
-        w_new = ws[ia] - fa * (ws[ib] - ws[ia]) / (fb - fa)
-        step = abs(w_new - ws[-1])
-        lam = f(w_new)
-        ws.append(w_new)
-        ls.append(lam)
-        if lam == 0 or step < ZERO_WTOL:
-            return len(ws) - 1, step
-        side = 0 if np.sign(lam) == np.sign(ls[ia]) else 1
-        ends[side], weights[side] = len(ws) - 1, lam
-        if kept == 1 - side:
-            weights[1 - side] *= 0.5
-        kept = 1 - side
-        width = abs(ws[ends[1]] - ws[ends[0]])
-        if width < ZERO_STALL_W:
-            return min(ends, key=lambda i: abs(ls[i])), width
-    raise ConvergenceError(f"{what}: no convergence in {maxit} steps: "
-                           f"{list(zip(ws, ls, strict=True))}")
 
 
 PATH_STALL_STEPS = 8
