@@ -593,8 +593,6 @@ def update_readme(readme: Path, results: list[Result]) -> bool:
 
 def _chapter_of(name: str) -> str | None:
     """The chapter prefix of a figure file (``fig3_4_*``, ``table5_1_*``, ``ch4_*``)."""
-    import re
-
     m = re.match(r"^(?:fig|table|ch)(\d)[_.]", name)
     return f"ch{m[1]}" if m else None
 

@@ -163,3 +163,29 @@ def test_no_import_cycles(layer):
     nodes = {m for m in GRAPH if _under(layer)(m)
              and MODULES[m].name != "__init__.py"}
     assert _cycles(nodes) == []
+
+
+def _bound_names(node) -> set[tuple]:
+    """(module, name, alias) of every name an import statement binds."""
+    if isinstance(node, ast.Import):
+        return {(a.name, None, a.asname) for a in node.names}
+    return {(node.module, a.name, a.asname) for a in node.names}
+
+
+def test_no_function_imports_what_its_module_already_imports():
+    """An import inside a function is for a heavy or optional package, or to keep a
+    command's start-up light; one that repeats a module-level import of the same file
+    binds nothing new and only hides where the name comes from."""
+    found = []
+    for path in MODULES.values():
+        tree = ast.parse(path.read_text())
+        top = set().union(*(_bound_names(n) for n in tree.body
+                            if isinstance(n, (ast.Import, ast.ImportFrom))))
+        for fn in ast.walk(tree):
+            if not isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                continue
+            for node in ast.walk(fn):
+                if isinstance(node, (ast.Import, ast.ImportFrom)):
+                    found += [f"{path.relative_to(ROOT)}:{node.lineno} {m}.{n or ''}"
+                              for m, n, a in _bound_names(node) & top]
+    assert not found, found

@@ -427,7 +427,7 @@ def build(out_dir: Path, *, full: bool = False, progress: bool = True) -> list[P
 
 def _voltage_figure(out: Path, vc: xr.Dataset) -> list[Path]:
     from debench.reference.figures import LABELS as L
-    from debench.reference.figures import pyplot, save
+    from debench.reference.figures import save
 
     plt = pyplot()
     fig, axs = plt.subplots(1, 2, figsize=(11, 4), sharey=True)

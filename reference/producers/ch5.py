@@ -258,8 +258,6 @@ def recomputed_in_this_command(path):
     whether it is a level of its mesh sequence or a point of its through-thickness study;
     only such values are taken, any other case is solved as usual.
     """
-    from debench.reference.datasets import read_dataset
-
     path = Path(path)
     token = _RECOMPUTED.set(read_dataset(path.stem, data_dir=path.parent))
     try:
