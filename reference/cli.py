@@ -159,7 +159,7 @@ def _evaluate_with_guards(by_chapter, jobs: int, out: Path):
 def cmd_reproduce(args) -> int:
     import time
 
-    from debench.reference import catalogue, report
+    from debench.reference import catalogue, report, report_tables
     from debench.reference.datasets import data_dir
 
     started = time.monotonic()
@@ -202,7 +202,7 @@ def cmd_reproduce(args) -> int:
             print(f"  {line}", file=sys.stderr)
     path = report.write_report(Path(args.out), results, regeneration=compared,
                                figures_dir=report.report_figures(out / "figures"))
-    print(f"report: {path}  ({report.summary_line(results)})")
+    print(f"report: {path}  ({report_tables.summary_line(results)})")
     print(f"reproduce: {', '.join(chapters)}: wrote {len(written)} file(s) "
           f"({sum(p.suffix == '.nc' for p in written)} datasets) to {out.resolve()}, report "
           f"{Path(path).resolve()}, in {time.monotonic() - started:.1f} s")
@@ -275,7 +275,7 @@ def cmd_verify(args) -> int:
                   "recomputed": d.recomputed, "tolerance": d.tolerance} for d in deviations]
         print(json.dumps(rows, indent=1, ensure_ascii=False, default=str))
     else:
-        from debench.reference.report import summary_line
+        from debench.reference.report_tables import summary_line
 
         for r in results:
             if r.status in ("not_reproduced", "not_reproducible", "error") or r.regressed:
@@ -296,7 +296,7 @@ def cmd_verify(args) -> int:
 
 # --------------------------------------------------------------------------- report
 def cmd_report(args) -> int:
-    from debench.reference import catalogue, report
+    from debench.reference import catalogue, report, report_tables
 
     results = catalogue.evaluate_all(progress=lambda xs: progress_bar(xs, "verifying claims"))
     if args.datacard:
@@ -319,7 +319,7 @@ def cmd_report(args) -> int:
 
         figures = data_dir() / "figures"
     path = report.write_report(out, results, figures_dir=report.report_figures(figures))
-    print(f"report: {path}  ({report.summary_line(results)})")
+    print(f"report: {path}  ({report_tables.summary_line(results)})")
     return 0
 
 

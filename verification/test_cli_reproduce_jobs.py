@@ -30,7 +30,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 import xarray as xr
-from debench.reference import builds, catalogue, cli, regeneration, report
+from debench.reference import builds, catalogue, cli, regeneration, report, report_tables
 from debench.reference.datasets import read_dataset
 
 pytestmark = pytest.mark.skipif(
@@ -128,7 +128,7 @@ def test_jobs_2_builds_at_once_and_writes_what_jobs_1_writes(tmp_path, monkeypat
     summary = [ln for ln in out_a.splitlines() if ln.startswith("report:")]
     assert [s.split("(", 1)[1] for s in summary] == [
         ln.split("(", 1)[1] for ln in out_b.splitlines() if ln.startswith("report:")]
-    assert report.summary_line(few_results) in summary[0]
+    assert report_tables.summary_line(few_results) in summary[0]
     # each chapter's lines together: its announcement, its own output, its files
     for chapter in ("ch2_appendix", "ch3"):
         lines = err_b.splitlines()

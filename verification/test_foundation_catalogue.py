@@ -324,9 +324,9 @@ def test_every_report_row_compares_like_with_like(results):
     printed value and ours are both numbers, both booleans or both text, and a diagnosis
     predicts a quantity of the same unit and kind (voltage, field, displacement, share,
     Dhat) as the value it is compared with."""
-    from debench.reference import report
+    from debench.reference import report_tables
 
-    assert report.row_problems(results) == []
+    assert report_tables.row_problems(results) == []
 
 
 def test_readme_report_and_site_share_the_verdict(results, tmp_path):

@@ -8,7 +8,7 @@ import re
 from collections import Counter
 
 import pytest
-from debench.reference import catalogue, crosschecks, report
+from debench.reference import catalogue, crosschecks, report, report_tables
 from debench.reference.catalogue import Entry, Result
 
 
@@ -34,7 +34,7 @@ def test_report_has_a_verdict_per_chapter_and_shows_every_figure(results, tmp_pa
     text = report.write_report(tmp_path, results, figures_dir=figs).read_text()
     verdicts = text.split("## Verdict per chapter")[1].split("## ")[0]
     for prefix in {r.entry.id.split(".")[0] for r in results}:
-        title = report.CHAPTER_TITLES.get(prefix, prefix)
+        title = report_tables.CHAPTER_TITLES.get(prefix, prefix)
         assert f"**{title}.**" in verdicts
     for n in names:
         assert f"](figures/{n}.png)" in text and f"](figures/{n}.svg)" in text
@@ -45,7 +45,7 @@ def test_report_has_a_verdict_per_chapter_and_shows_every_figure(results, tmp_pa
 
 
 def test_errata_are_never_truncated(results):
-    table = report.errata_table(results)
+    table = report_tables.errata_table(results)
     for r in results:
         if r.entry.kind == "erratum":
             for text in (r.entry.as_printed, r.entry.corrected):
@@ -53,9 +53,9 @@ def test_errata_are_never_truncated(results):
 
 
 def test_fmt_renders_dicts_as_pairs_and_never_doubles_the_unit():
-    assert report.format_value({"x": 1.5, "y": "a"}) == "x = 1.5; y = a"
-    assert report.format_value("3.64 mm", "mm") == "3.64 mm"
-    assert report.format_value(3.64, "mm") == "3.64 mm"
+    assert report_tables.format_value({"x": 1.5, "y": "a"}) == "x = 1.5; y = a"
+    assert report_tables.format_value("3.64 mm", "mm") == "3.64 mm"
+    assert report_tables.format_value(3.64, "mm") == "3.64 mm"
 
 
 def test_every_crosscheck_names_an_existing_test_and_agrees_within_its_tolerance():
@@ -80,7 +80,7 @@ def test_figures_save_writes_png_and_svg(tmp_path):
 
 
 def test_row_check_flags_a_deflection_compared_with_a_voltage():
-    """:func:`report.row_problems` can fail: a hypothesis predicting a deflection (w/t0)
+    """:func:`report_tables.row_problems` can fail: a hypothesis predicting a deflection (w/t0)
     against a normalised voltage, a share against a voltage, and a boolean beside a
     number are each reported; the same hypothesis predicting a voltage is not."""
     from dataclasses import replace
@@ -97,16 +97,16 @@ def test_row_check_flags_a_deflection_compared_with_a_voltage():
     rows = [Result(target, True, "not_reproduced", ""),
             Result(deflection, 0.0026, "unexplained", ""),
             Result(share, 0.31, "unexplained", ""), Result(good, 0.08, "unexplained", "")]
-    problems = report.row_problems(rows)
+    problems = report_tables.row_problems(rows)
     assert [p.split(":")[0] for p in problems] == [
         "ch5.t.voltage", "ch5.hypothesis.t.read_off", "ch5.hypothesis.t.share"]
-    assert report.quantity_kind(target) == "voltage"
+    assert report_tables.quantity_kind(target) == "voltage"
 
 
 def test_errata_are_grouped_by_root_cause(results):
     """The errata table lists each root error first and the errata it causes after it;
     the root-cause table names the other entries that follow from a root."""
-    table = report.errata_table(results).splitlines()[2:]
+    table = report_tables.errata_table(results).splitlines()[2:]
     ids = [row.split("|")[2].strip(" `") for row in table]
     causes = [row.split("|")[1].strip(" `") for row in table]
     by_id = {r.entry.id: r.entry for r in results}
@@ -116,12 +116,12 @@ def test_errata_are_grouped_by_root_cause(results):
         if root != eid:       # a consequence comes after its root, within its group
             j = ids.index(root)
             assert j < i and all(by_id[x].root_cause == root for x in ids[j:i + 1])
-    roots = report.root_cause_table(results)
+    roots = report_tables.root_cause_table(results)
     assert "`ch4.erratum.eq4_55_b`" in roots and "`ch4.ellipticity.ti_curves_well_posed`" in roots
 
 
 # ----------------------------------------------------------------- counts and their tables
-MARK_STATUS = {mark: status for status, mark in report.STATUS_MARK.items()}
+MARK_STATUS = {mark: status for status, mark in report_tables.STATUS_MARK.items()}
 COUNTS = re.compile(r"([A-Z][^:.]*): (\d+) entr(?:y|ies): ((?:\d+ [a-z ]+?)(?:, \d+ [a-z ]+?)*)"
                     r"(?=[.;]|$)")
 
@@ -195,16 +195,16 @@ def test_thesis_claims_and_own_checks_are_counted_apart(results, tmp_path):
     sections = text.split("\n## ")
     by_id = {r.entry.id: r.entry for r in results}
     for prefix in {r.entry.id.split(".")[0] for r in results}:
-        title = report.CHAPTER_TITLES.get(prefix, prefix)
+        title = report_tables.CHAPTER_TITLES.get(prefix, prefix)
         verdict = next(v for v in verdicts.split("\n\n") if v.startswith(f"**{title}.**"))
         section = next(s for s in sections if s.startswith(f"{title}\n"))
         tables = {head[1]: (head, rows) for _, head, rows in _tables(section.splitlines())
                   if "status" in head}
         said = _sentence_counts(verdict)
         for group, column in (("claims", "thesis claim"), ("own checks", "check")):
-            chunk = report.in_group([r for r in results
+            chunk = report_tables.in_group([r for r in results
                                      if r.entry.id.split(".")[0] == prefix], group)
-            label = report.GROUP_LABELS[group]
+            label = report_tables.GROUP_LABELS[group]
             if not chunk:
                 assert column not in tables and label not in said
                 continue
@@ -228,12 +228,12 @@ def test_errata_counts_root_errors_and_the_errata_page_agree_with_their_tables(r
     from verification._loaders import load_script
 
     sentence = report.errata_sentence(results)
-    table = report.errata_table(results).splitlines()
+    table = report_tables.errata_table(results).splitlines()
     (n, counts), = _sentence_counts(sentence).values()
     _, head, rows = _tables(table)[0]
     assert (n, counts) == (len(rows), _status_column(head, rows))
     assert counts["refuted"] == 0 or "not errata of the thesis" in sentence
-    roots = report.root_cause_table(results).splitlines()[2:]
+    roots = report_tables.root_cause_table(results).splitlines()[2:]
     assert f"By root error ({len(roots)}):" in sentence
     listed = re.findall(r"`([^`]+)`(?: \(with [^)]*\))?", sentence.split("By root error")[1])
     assert listed == [row.split("|")[1].strip(" `") for row in roots]
@@ -250,7 +250,7 @@ def test_readme_tables_count_what_their_sentences_say(results):
     diagnoses and assumptions each sum, column by column, to the counts of the sentence
     above it; no table mixes thesis claims with own checks."""
     lines = report.readme_block(results).splitlines()
-    labels = {v: k for k, v in report.GROUP_LABELS.items()}
+    labels = {v: k for k, v in report_tables.GROUP_LABELS.items()}
     tables = _tables(lines)
     assert len(tables) == len(report.README_TABLES)
     for (i, head, rows), groups in zip(tables, report.README_TABLES, strict=True):
@@ -280,10 +280,10 @@ def test_crosscheck_sentence_counts_the_matrix_rows(results):
               if row[head.index("tolerance")] != "—"]
     agree, of = map(int, re.match(r"(\d+) of the (\d+) pairs", lines[2]).groups())
     assert (agree, of) == (judged.count("agree"), len(judged))
-    own = report.in_group(results, "own checks")
+    own = report_tables.in_group(results, "own checks")
     after = next(line for line in lines if line.startswith("Beyond this matrix"))
     (n, counts), = _sentence_counts(after).values()
-    assert (n, counts) == (len(own), report.status_counts(own))
+    assert (n, counts) == (len(own), report_tables.status_counts(own))
     for r in own:
         assert (f"`{r.entry.id}`" in after) == (r.status == "not_reproduced"), r.entry.id
 

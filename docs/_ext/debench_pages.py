@@ -139,7 +139,7 @@ def verdict_page(results) -> None:
 
 # --------------------------------------------------------------------------- errata
 def errata_page(results) -> None:
-    from debench.reference import report
+    from debench.reference import report, report_tables
 
     errata = [r for r in results if r.entry.kind == "erratum"]
     lines = [
@@ -152,17 +152,17 @@ def errata_page(results) -> None:
         "Claims that do not reproduce, and the hypotheses tested against them, are on the "
         "[verdict](verdict.md) page.", "",
         report.errata_sentence(results), "",
-        report.errata_table(results), "",
+        report_tables.errata_table(results), "",
         "## Root causes", "",
         "Each root error and what follows from it.", "",
-        report.root_cause_table(results), "",
+        report_tables.root_cause_table(results), "",
         "## Details", "",
     ]
     for r in errata:
         e = r.entry
         where = ", ".join(f"{k} {v}" for k, v in e.source.items()) or "—"
         lines += [f"### `{e.id}`", "", _md(e.quantity), "",
-                  f"- **status**: {report.STATUS_MARK.get(r.status, r.status)}",
+                  f"- **status**: {report_tables.STATUS_MARK.get(r.status, r.status)}",
                   f"- **where**: {_md(where)}",
                   f"- **as printed**: {_md(e.as_printed)}",
                   f"- **corrected**: {_md(e.corrected)}",
