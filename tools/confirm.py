@@ -42,6 +42,7 @@ if str(ROOT) not in sys.path:
 TC = "verification/test_cleanroom.py"
 TB = "verification/test_cleanroom_balloon.py"
 TP = "verification/test_cleanroom_pullin.py"
+TM = "verification/test_mms.py"
 
 #: a computation: problem id -> {quantity: (values, coords)} at the test's points
 Computation = Callable[[str], dict]
@@ -246,6 +247,29 @@ def pullin_refined(problem_id):
             "w_pullin": (np.array([res[c].w_pullin for c in cr.CASES]), coords)}
 
 
+def mms_orders(problem_id):
+    """test_cleanroom_scikit_fem_orders_on_the_spec_levels: the clean room's four orders
+    fitted over the finest three of h = 1/8 .. 1/64 at every degree of the reference grid
+    (p = 1, 2, 3) for both materials. The reference depends on the degree alone, so each
+    degree gives one value per quantity: that of the material whose order lies farther
+    from the reference (both are within the stated accuracy exactly when it is)."""
+    from verification.test_mms import MATERIALS, cleanroom_spec_fits
+
+    columns = ("u_L2", "u_H1", "phi_L2", "phi_H1")
+    refs = {c: _ref(problem_id, f"{c}_order") for c in columns}
+    degrees = [int(d) for d in refs["u_L2"]["coords"]["degree"]]
+    fits = {(m, p): cleanroom_spec_fits(m, p) for m in MATERIALS for p in degrees}
+    out = {}
+    for c in columns:
+        ref = refs[c]
+        expected = dict(zip((int(d) for d in ref["coords"]["degree"]), ref["values"],
+                            strict=True))
+        worst = [max((fits[m, p][c].order for m in MATERIALS),
+                     key=lambda x, p=p: abs(x - expected[p])) for p in expected]
+        out[f"{c}_order"] = (np.array(worst), {"degree": np.array(list(expected), float)})
+    return out
+
+
 #: the test each computation reproduces -> the computation
 COMPUTATIONS: dict[str, Computation] = {
     f"{TC}::test_cleanroom_free_membrane_passes_check[ch3_free_membrane_nh-inf-5.0]":
@@ -272,6 +296,7 @@ COMPUTATIONS: dict[str, Computation] = {
         balloon("extrema"),
     f"{TB}::test_voltage_limit_points_match_the_clean_room_at_the_stated_accuracy":
         balloon("limit"),
+    f"{TM}::test_cleanroom_scikit_fem_orders_on_the_spec_levels": mms_orders,
 }
 
 
