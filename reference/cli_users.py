@@ -168,8 +168,7 @@ def _results_of(prob, path: Path, quantity: str | None):
 
 def cmd_check(args) -> int:
     from debench.reference import problems
-
-    from debench.testing import compare
+    from debench.reference.comparison import compare
 
     if args.submission is not None:
         return cmd_check_submission(args)

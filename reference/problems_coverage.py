@@ -1,6 +1,6 @@
 """Whether results cover the reference they address (:func:`coverage`, :class:`Coverage`)
 and which coordinate tuples they repeat (:func:`duplicates`): what ``debench check`` and
-:func:`debench.testing.compare` require before judging a results file as complete.
+:func:`debench.reference.comparison.compare` require before judging a results file as complete.
 
 A curve counts as covered piece by piece, with the pieces and matching of
 :mod:`debench.reference.problems_reference`, so what is required is what

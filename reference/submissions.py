@@ -191,9 +191,8 @@ def check(sub: Submission) -> Outcome:
     """Compare the results of ``sub`` with its problem's reference (like ``debench check``:
     units by meaning, full coverage unless ``[check] partial = true``)."""
     from debench.reference import problems
+    from debench.reference.comparison import compare
     from debench.reference.results_files import UsageError, read_results
-
-    from debench.testing import compare
 
     prob = problems.get(sub.problem)
     try:

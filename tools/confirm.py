@@ -5,7 +5,7 @@ Each ``[[quantity.confirmation]]`` of a problem spec with ``status = "confirmed"
 test that asserts an independent computation (a clean room of ``verification/cleanroom/``)
 against the reference at the stated accuracy. This tool runs the same computation (the
 clean-room functions the test calls, at the test's points), compares it with the
-reference by :func:`debench.testing.compare` (what ``debench check`` and the tests apply:
+reference by :func:`debench.reference.comparison.compare` (what ``debench check`` and the tests apply:
 the stated accuracy, full coverage) and records per quantity: the number of values, the
 largest |difference|, the largest |difference| / stated accuracy (the ratio; the test
 passes when it is <= 1) and where, the CPU seconds of the computation, the git commit,
@@ -310,7 +310,7 @@ def _plain(x):
 def measure(problem_id: str, test: str) -> dict[str, dict]:
     """Run the computation of ``test`` once and compare each quantity it gives with the
     reference at the stated accuracy (full coverage): {quantity: measurement}."""
-    from debench.testing import compare
+    from debench.reference.comparison import compare
 
     computation = COMPUTATIONS[test]
     t0 = time.process_time()
