@@ -5,8 +5,8 @@ Each ``[[quantity.confirmation]]`` of a problem spec with ``status = "confirmed"
 test that asserts an independent computation (a clean room of ``verification/cleanroom/``)
 against the reference at the stated accuracy. This tool runs the same computation (the
 clean-room functions the test calls, at the test's points), compares it with the
-reference by :func:`debench.reference.comparison.compare` (what ``debench check`` and the tests apply:
-the stated accuracy, full coverage) and records per quantity: the number of values, the
+reference by :func:`debench.reference.comparison.compare` (what ``debench check`` and the
+tests apply: the stated accuracy, full coverage) and records per quantity: the number of values, the
 largest |difference|, the largest |difference| / stated accuracy (the ratio; the test
 passes when it is <= 1) and where, the CPU seconds of the computation, the git commit,
 the date, the sha256 of the datasets compared with and the command that reproduces it.
