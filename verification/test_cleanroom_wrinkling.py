@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from debench.reference import cli
 
-from verification.cleanroom import buckling, wrinkling
+from verification.cleanroom import buckling, pullin, wrinkling
 
 #: the run of the two path tests (--full): P3, 40 radial intervals x 2 layers, 2 corner
 #: refinements (~30 s CPU, a quarter of the default test budget: opt in)
@@ -101,6 +101,16 @@ def test_axisymmetric_restriction_equals_the_buckling_jet():
     assert np.max(np.abs(v - om.v)) < 1e-12
     assert np.max(np.abs(g[:, idx] * sg - om.g.T)) < 1e-12
     assert np.max(np.abs(H[:, idx][:, :, idx] * sg[:, None] * sg - np.moveaxis(om.h, 2, 0))) < 1e-11
+
+
+def test_an_inverted_iterate_is_a_failed_newton():
+    """A Newton iterate with det F <= 0 somewhere (an overshoot) raises NewtonError, which
+    the path answers with a shorter step, not the energy's ValueError."""
+    film = wrinkling.Film(order=2, n_r=8, n_z=1, levels=0)
+    x = film.initial(0.0)
+    x[:film.n] = -2.0 * film.basis.doflocs[0]  # u_r = -2 R: hoop stretch -1
+    with pytest.raises(pullin.NewtonError, match="det F must be > 0"):
+        film.at_deflection(0.0, x, 0.0)
 
 
 def test_crossings_refuse_bad_input():

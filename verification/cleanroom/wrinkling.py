@@ -287,6 +287,15 @@ class Film(pullin.ImperfectFilm):
         self._op = self._local_operator()
         self._hat = self._hat_derivatives()
 
+    def at_deflection(self, w: float, x0, v0: float) -> pullin.State:
+        """``pullin``'s bordered Newton at the centre deflection w; an iterate with det F <= 0
+        at a quadrature point (an overshoot of the predictor or of Newton) is a failed
+        Newton (NewtonError), which the path answers with a shorter step."""
+        try:
+            return super().at_deflection(w, x0, v0)
+        except ValueError as e:
+            raise pullin.NewtonError(f"bordered Newton at w = {w}: {e}") from e
+
     def _hat_derivatives(self):
         """Per local function i: value, d/dR (= d/dRh - s d/dZh) and d/dZ at the
         quadrature points (e, q)."""
