@@ -272,10 +272,10 @@ def test_problems_json_shows_each_quantity_confirmation(capsys):
         assert rec["measured"]["ratio"] == stored["ratio"] <= 1
         assert rec["measured"]["max_abs_difference"] == stored["max_abs_difference"]
         assert rec["measured"]["cpu_seconds"] == stored["cpu_seconds"]
-    assert cli.main(["problems", "ch5_wrinkling", "--json"]) == 0
+    assert cli.main(["problems", "lit_bilayer", "--json"]) == 0
     blob = json.loads(capsys.readouterr().out)
-    (rec,) = blob["reference"]["w_cross"]["confirmation"]
-    assert rec["status"] == "missing" and "reference being regenerated" in rec["reason"]
+    (rec,) = blob["reference"]["tip_deflection"]["confirmation"]
+    assert rec["status"] == "missing" and "no computation that shares no code" in rec["reason"]
 
 
 def test_problem_page_shows_the_confirmation_of_each_quantity(capsys):
@@ -296,6 +296,7 @@ def test_problem_page_shows_the_confirmation_of_each_quantity(capsys):
     assert cli.main(["problems", "ch4_plate_critical_stretch", "--markdown"]) == 0
     page = capsys.readouterr().out
     assert "slow (opt in with `--full`)" in page and "| not confirmed | roots 1 to 7" in page
-    assert cli.main(["problems", "ch5_wrinkling", "--markdown"]) == 0
+    assert cli.main(["problems", "lit_bilayer", "--markdown"]) == 0
     page = capsys.readouterr().out
-    assert page.count("**Confirmation: missing.** reference being regenerated") == 2
+    assert page.count("**Confirmation: missing.** no computation that shares no code") == 1
+    assert page.count("**Confirmation: missing.** as tip_deflection") == 1
