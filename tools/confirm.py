@@ -249,13 +249,13 @@ def pullin_refined(problem_id):
 
 def wrinkling_refined(disc: str) -> Computation:
     """test_cleanroom_wrinkling_passes_check_refined[disc]: the wrinkling clean room's first
-    zero (w and v) of every wavenumber n = 1..14 (NaN: none before the voltage maximum) on
-    that refined discretisation."""
+    zero (w and v) of every wavenumber with a reference value on that refined
+    discretisation."""
     def run(problem_id):
         from verification.cleanroom import wrinkling as cr
-        from verification.test_cleanroom_wrinkling import WRINKLING_REFINED
+        from verification.test_cleanroom_wrinkling import CROSSING_N, WRINKLING_REFINED
 
-        res = cr.crossings(**WRINKLING_REFINED[disc], wavenumbers=cr.WAVENUMBERS)
+        res = cr.crossings(**WRINKLING_REFINED[disc], wavenumbers=CROSSING_N)
         coords = {"case": np.array(["ogden_r20"] * len(res.wavenumbers)),
                   "n": np.array(res.wavenumbers)}
         return {"w_cross": (np.asarray(res.w_cross, float), coords),
