@@ -105,8 +105,9 @@ def test_cleanroom_wrinkling_passes_check_at_its_own_accuracy(fast, tmp_path, ca
 CROSSING_N = tuple(range(6, 13))
 #: two refined discretisations of the clean room, each checked at the reference's stated
 #: accuracy, so that the confirmation does not rest on one mesh: P4 40 x 4, 2 corner
-#: refinements (9027 dofs, ~185 s CPU) and P3 80 x 4, 4 refinements (10335 dofs, ~225 s);
-#: measured within 0.036 and 0.134 of the stated accuracy (module docstring's table)
+#: refinements (9027 dofs, 185 .. 303 s CPU over three runs on the loaded machine) and P3
+#: 80 x 4, 4 refinements (10335 dofs, 224 .. 287 s); measured within 0.036 and 0.134 of the
+#: stated accuracy (module docstring's table)
 WRINKLING_REFINED = {"p4_40x4": {"order": 4, "n_r": 40, "n_z": 4, "levels": 2},
                      "p3_80x4": {"order": 3, "n_r": 80, "n_z": 4, "levels": 4}}
 
