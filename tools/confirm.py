@@ -43,6 +43,7 @@ TC = "verification/test_cleanroom.py"
 TB = "verification/test_cleanroom_balloon.py"
 TP = "verification/test_cleanroom_pullin.py"
 TM = "verification/test_mms.py"
+TW = "verification/test_cleanroom_wrinkling.py"
 
 #: a computation: problem id -> {quantity: (values, coords)} at the test's points
 Computation = Callable[[str], dict]
@@ -270,6 +271,22 @@ def mms_orders(problem_id):
     return out
 
 
+def wrinkling_refined(disc: str) -> Computation:
+    """test_cleanroom_wrinkling_passes_check_refined[disc]: the wrinkling clean room's first
+    zero (w and v) of every wavenumber with a reference value on that refined
+    discretisation."""
+    def run(problem_id):
+        from verification.cleanroom import wrinkling as cr
+        from verification.test_cleanroom_wrinkling import CROSSING_N, WRINKLING_REFINED
+
+        res = cr.crossings(**WRINKLING_REFINED[disc], wavenumbers=CROSSING_N)
+        coords = {"case": np.array(["ogden_r20"] * len(res.wavenumbers)),
+                  "n": np.array(res.wavenumbers)}
+        return {"w_cross": (np.asarray(res.w_cross, float), coords),
+                "v_cross": (np.asarray(res.v_cross, float), coords)}
+    return run
+
+
 #: the test each computation reproduces -> the computation
 COMPUTATIONS: dict[str, Computation] = {
     f"{TC}::test_cleanroom_free_membrane_passes_check[ch3_free_membrane_nh-inf-5.0]":
@@ -290,6 +307,8 @@ COMPUTATIONS: dict[str, Computation] = {
     f"{TC}::test_cleanroom_buckling_n1_converged_confirms_reference_at_stated_accuracy":
         critical_voltage(1),
     f"{TP}::test_cleanroom_pullin_passes_check_refined[p4_40x8]": pullin_refined,
+    f"{TW}::test_cleanroom_wrinkling_passes_check_refined[p4_40x4]":
+        wrinkling_refined("p4_40x4"),
     f"{TB}::test_pressure_curves_match_the_clean_room_at_the_stated_accuracy":
         balloon("pbar"),
     f"{TB}::test_pressure_extrema_match_the_clean_room_at_the_stated_accuracy":

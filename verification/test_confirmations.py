@@ -193,6 +193,38 @@ def test_a_computation_off_by_more_than_the_accuracy_is_measured_above_one(monke
     assert tool.measure("ch3_free_membrane_nh", test)["phibar"]["ratio"] > 10
 
 
+def test_wrinkling_confirmation_compares_every_crossing_at_the_stated_accuracy(monkeypatch):
+    """tools/confirm.py measures ch5_wrinkling from the wrinkling clean room's refined run
+    (minutes: the slow test; here replaced by the reference itself plus an offset): full
+    coverage of the wavenumbers with a reference value, ratio ~0 at the reference and > 1
+    at twice the stated accuracy off it."""
+    from types import SimpleNamespace
+
+    from debench.reference.datasets import read_dataset
+
+    from verification.cleanroom import wrinkling
+
+    tool = _confirm_tool()
+    test = next(t for t in tool.COMPUTATIONS
+                if "test_cleanroom_wrinkling_passes_check_refined[" in t)
+    ds = read_dataset("ch5_axisym_path").sel(case="ogden_r20")
+
+    def stub(**kw):
+        sel = ds.sel(n=list(kw["wavenumbers"]))
+        return SimpleNamespace(wavenumbers=tuple(kw["wavenumbers"]), **{
+            q: sel[f"{q}_converged"].values + offset * sel[f"{q}_error"].values
+            for q in ("w_cross", "v_cross")})
+
+    monkeypatch.setattr(wrinkling, "crossings", stub)
+    offset = 0.0
+    got = tool.measure("ch5_wrinkling", test)
+    assert set(got) == {"w_cross", "v_cross"}
+    for m in got.values():
+        assert m["points"] == 7 and m["ratio"] < 1e-6
+    offset = 2.0
+    assert all(m["ratio"] > 1 for m in tool.measure("ch5_wrinkling", test).values())
+
+
 @pytest.mark.parametrize("quantity, n", [("v_cr", 0), ("v_cr_n1", 1)])
 def test_critical_voltage_confirmation_compares_every_case_at_the_stated_accuracy(
         quantity, n, monkeypatch):
@@ -240,10 +272,10 @@ def test_problems_json_shows_each_quantity_confirmation(capsys):
         assert rec["measured"]["ratio"] == stored["ratio"] <= 1
         assert rec["measured"]["max_abs_difference"] == stored["max_abs_difference"]
         assert rec["measured"]["cpu_seconds"] == stored["cpu_seconds"]
-    assert cli.main(["problems", "ch5_wrinkling", "--json"]) == 0
+    assert cli.main(["problems", "lit_bilayer", "--json"]) == 0
     blob = json.loads(capsys.readouterr().out)
-    (rec,) = blob["reference"]["w_cross"]["confirmation"]
-    assert rec["status"] == "missing" and "reference being regenerated" in rec["reason"]
+    (rec,) = blob["reference"]["tip_deflection"]["confirmation"]
+    assert rec["status"] == "missing" and "no computation that shares no code" in rec["reason"]
 
 
 def test_problem_page_shows_the_confirmation_of_each_quantity(capsys):
@@ -264,6 +296,7 @@ def test_problem_page_shows_the_confirmation_of_each_quantity(capsys):
     assert cli.main(["problems", "ch4_plate_critical_stretch", "--markdown"]) == 0
     page = capsys.readouterr().out
     assert "slow (opt in with `--full`)" in page and "| not confirmed | roots 1 to 7" in page
-    assert cli.main(["problems", "ch5_wrinkling", "--markdown"]) == 0
+    assert cli.main(["problems", "lit_bilayer", "--markdown"]) == 0
     page = capsys.readouterr().out
-    assert page.count("**Confirmation: missing.** reference being regenerated") == 2
+    assert page.count("**Confirmation: missing.** no computation that shares no code") == 1
+    assert page.count("**Confirmation: missing.** as tip_deflection") == 1

@@ -287,6 +287,15 @@ class Film(pullin.ImperfectFilm):
         self._op = self._local_operator()
         self._hat = self._hat_derivatives()
 
+    def at_deflection(self, w: float, x0, v0: float) -> pullin.State:
+        """``pullin``'s bordered Newton at the centre deflection w; an iterate with det F <= 0
+        at a quadrature point (an overshoot of the predictor or of Newton) is a failed
+        Newton (NewtonError), which the path answers with a shorter step."""
+        try:
+            return super().at_deflection(w, x0, v0)
+        except ValueError as e:
+            raise pullin.NewtonError(f"bordered Newton at w = {w}: {e}") from e
+
     def _hat_derivatives(self):
         """Per local function i: value, d/dR (= d/dRh - s d/dZh) and d/dZ at the
         quadrature points (e, q)."""
@@ -376,16 +385,25 @@ class Film(pullin.ImperfectFilm):
             T[N + ax, cols] = -1.0
         return T.tocsr(), nu
 
-    def tangent(self, x, n: int):
-        """The wavenumber-n second variation (per pi) K_n at the axisymmetric state x on
-        the admissible dofs of ``reduction`` (displacements first), the mass M_n =
-        int (U^2 + V^2 + W^2) R dR dZ on the displacement dofs, and their number."""
-        if not (isinstance(n, int | np.integer) and n >= 1):
-            raise ValueError(f"n must be an integer >= 1, got {n!r}")
+    def state_hessian(self, x):
+        """The Hessian of ``enthalpy`` (e, q, 12, 12) at the quadrature points of the
+        axisymmetric state x, its mixed cos-sin blocks set to zero (module docstring): the
+        same for every wavenumber."""
         _, _, hess = enthalpy(*self.fields(x))
         H = hess.copy()
         H[..., np.array(EVEN)[:, None], np.array(ODD)[None, :]] = 0.0
         H[..., np.array(ODD)[:, None], np.array(EVEN)[None, :]] = 0.0
+        return H
+
+    def tangent(self, x, n: int, H=None):
+        """The wavenumber-n second variation (per pi) K_n at the axisymmetric state x on
+        the admissible dofs of ``reduction`` (displacements first), the mass M_n =
+        int (U^2 + V^2 + W^2) R dR dZ on the displacement dofs, and their number. ``H``:
+        ``state_hessian(x)`` if already computed (shared by the wavenumbers)."""
+        if not (isinstance(n, int | np.integer) and n >= 1):
+            raise ValueError(f"n must be an integer >= 1, got {n!r}")
+        if H is None:
+            H = self.state_hessian(x)
         B, dofs = self.perturbation_operator(n)
         K = self._scatter(B, dofs, self._op[2], H, None, 4 * self.n)
         T, nu = self.reduction(n)
@@ -481,8 +499,9 @@ def crossings(case: str = "ogden_r20", order: int = 3, n_r: int = 40, n_z: int =
 
     def lam(state):
         out = []
+        H = film.state_hessian(state.x)
         for n in ns:
-            K, M, nu = film.tangent(state.x, n)
+            K, M, nu = film.tangent(state.x, n, H)
             out.append(float(lowest_condensed(K, M, nu)[0]))
         return np.array(out)
 
