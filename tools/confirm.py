@@ -42,6 +42,7 @@ if str(ROOT) not in sys.path:
 TC = "verification/test_cleanroom.py"
 TB = "verification/test_cleanroom_balloon.py"
 TP = "verification/test_cleanroom_pullin.py"
+TL = "verification/test_cleanroom_bilayer.py"
 
 #: a computation: problem id -> {quantity: (values, coords)} at the test's points
 Computation = Callable[[str], dict]
@@ -246,6 +247,19 @@ def pullin_refined(problem_id):
             "w_pullin": (np.array([res[c].w_pullin for c in cr.CASES]), coords)}
 
 
+def bilayer_q8(problem_id):
+    """test_cleanroom_bilayer_passes_check_at_the_stated_accuracy[q8_12x2]: the
+    quadrilateral bilayer clean room's tip deflection and rotation at the six stored
+    voltages (Q8, 12 x 2 per layer, 2 geometric layers of ratio 0.15)."""
+    from verification.cleanroom import bilayer_quad as cr
+    from verification.test_cleanroom_bilayer import DISCRETISATIONS
+
+    r = cr.solve(cr.VOLTAGES, **DISCRETISATIONS["q8_12x2"])
+    coords = {"v": np.asarray(r.voltages, float)}
+    return {"tip_deflection": (np.asarray(r.tip_deflection), coords),
+            "tip_rotation": (np.asarray(r.tip_rotation), coords)}
+
+
 #: the test each computation reproduces -> the computation
 COMPUTATIONS: dict[str, Computation] = {
     f"{TC}::test_cleanroom_free_membrane_passes_check[ch3_free_membrane_nh-inf-5.0]":
@@ -272,6 +286,7 @@ COMPUTATIONS: dict[str, Computation] = {
         balloon("extrema"),
     f"{TB}::test_voltage_limit_points_match_the_clean_room_at_the_stated_accuracy":
         balloon("limit"),
+    f"{TL}::test_cleanroom_bilayer_passes_check_at_the_stated_accuracy[q8_12x2]": bilayer_q8,
 }
 
 
