@@ -44,6 +44,7 @@ TB = "verification/test_cleanroom_balloon.py"
 TP = "verification/test_cleanroom_pullin.py"
 TM = "verification/test_mms.py"
 TW = "verification/test_cleanroom_wrinkling.py"
+TL = "verification/test_cleanroom_bilayer.py"
 
 #: a computation: problem id -> {quantity: (values, coords)} at the test's points
 Computation = Callable[[str], dict]
@@ -287,6 +288,19 @@ def wrinkling_refined(disc: str) -> Computation:
     return run
 
 
+def bilayer_q8(problem_id):
+    """test_cleanroom_bilayer_passes_check_at_the_stated_accuracy[q8_12x2]: the
+    quadrilateral bilayer clean room's tip deflection and rotation at the six stored
+    voltages (Q8, 12 x 2 per layer, 2 geometric layers of ratio 0.15)."""
+    from verification.cleanroom import bilayer_quad as cr
+    from verification.test_cleanroom_bilayer import DISCRETISATIONS
+
+    r = cr.solve(cr.VOLTAGES, **DISCRETISATIONS["q8_12x2"])
+    coords = {"v": np.asarray(r.voltages, float)}
+    return {"tip_deflection": (np.asarray(r.tip_deflection), coords),
+            "tip_rotation": (np.asarray(r.tip_rotation), coords)}
+
+
 #: the test each computation reproduces -> the computation
 COMPUTATIONS: dict[str, Computation] = {
     f"{TC}::test_cleanroom_free_membrane_passes_check[ch3_free_membrane_nh-inf-5.0]":
@@ -316,6 +330,7 @@ COMPUTATIONS: dict[str, Computation] = {
     f"{TB}::test_voltage_limit_points_match_the_clean_room_at_the_stated_accuracy":
         balloon("limit"),
     f"{TM}::test_cleanroom_scikit_fem_orders_on_the_spec_levels": mms_orders,
+    f"{TL}::test_cleanroom_bilayer_passes_check_at_the_stated_accuracy[q8_12x2]": bilayer_q8,
 }
 
 
