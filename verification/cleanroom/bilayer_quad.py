@@ -73,7 +73,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from skfem import Basis, ElementQuadP, MeshQuad
 
-from verification.cleanroom.bilayer import LENGTH, PASSIVE, gradient, hessian
+from .bilayer import LENGTH, PASSIVE, gradient, hessian
 
 #: continuation step in v (the states between the stored voltages)
 STEP = 0.025
