@@ -8,7 +8,7 @@ tolerance, whichever is larger: a reference cannot be checked tighter than it is
 Several quantities of one problem at the same points are checked at once by passing their
 values as a mapping (quantity name -> values): each against its own reference and
 accuracy, with the same coverage and duplicate checks, reported together
-(:class:`Comparisons`).
+(:class:`~debench.reference.comparison.Comparisons`).
 
 Examples
 --------
@@ -45,11 +45,12 @@ def assert_matches(problem: str, quantity: str | None, values, coords: Mapping[s
                    atol: float | Mapping[str, float] | None = None,
                    coverage: str = "full") -> Comparison | Comparisons:
     """Raise ``AssertionError`` (with a table of the worst points) unless ``values`` match
-    the reference of ``problem``; see :func:`compare` for the arguments (``values`` a
-    mapping quantity name -> values: every quantity must match, the message names those
-    that do not).
+    the reference of ``problem``; see :func:`~debench.reference.comparison.compare` for
+    the arguments (``values`` a mapping quantity name -> values: every quantity must
+    match, the message names those that do not).
 
-    Returns the :class:`Comparison` (:class:`Comparisons`) when they match.
+    Returns the :class:`~debench.reference.comparison.Comparison`
+    (:class:`~debench.reference.comparison.Comparisons`) when they match.
     """
     result = compare(problem, quantity, values, coords, rtol=rtol, atol=atol,
                      coverage=coverage)

@@ -5,7 +5,7 @@ A Gent membrane: the pull-in, and how far each point is from the reference
 A free equibiaxial Gent ideal-dielectric membrane (locking parameter Jm = 120, the
 Chapter 3 elastomer) solved as your own code would: for each stretch, the voltage that
 balances the stresses, by root finding. Strain stiffening gives the voltage a local
-maximum (pull-in) and a local minimum. :func:`debench.testing.compare` then puts every
+maximum (pull-in) and a local minimum. :func:`~debench.reference.comparison.compare` then puts every
 point beside the reference problem ``ch3_free_membrane_gent`` and its stated accuracy.
 """
 

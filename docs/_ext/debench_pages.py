@@ -530,6 +530,7 @@ USER_MODULES = {
                                    "ProblemError", "load_all", "get"),
     "debench.reference.problems_reference": ("Reference", "reference_at", "reference_json"),
     "debench.reference.problems_coverage": ("Coverage", "CoverageError", "coverage"),
+    "debench.reference.comparison": ("Comparison", "Comparisons", "compare"),
     "debench.reference.problems_markdown": ("render_markdown",),
     "debench.reference.datasets": ("read_dataset", "data_dir", "read_manifest"),
     "debench.reference.cite": ("citation", "render"),
