@@ -706,6 +706,10 @@ def test_damped_newton_raises_naming_the_problem_when_it_cannot_converge():
     state, root, residual, correction, move = _quadratic_system()
     with pytest.raises(ConvergenceError, match="did not reach"):
         damped_newton(residual, correction, move, maxit=1)
+    for kwargs, name in (({"rtol": math.inf}, "rtol"), ({"maxit": 0}, "maxit"),
+                         ({"atol": -1.0}, "atol"), ({"halvings": -1}, "halvings")):
+        with pytest.raises(ValueError, match=name):
+            damped_newton(residual, correction, move, **kwargs)
 
 
 def test_bordered_solve_equals_the_dense_bordered_system_and_survives_a_singular_block():

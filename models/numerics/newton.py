@@ -29,7 +29,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-from debench.models.errors import ConvergenceError
+from debench.models import validation as val
+from debench.models.errors import ConvergenceError, require
 
 RTOL = 1e-11
 """Relative residual tolerance of every finite-element Newton (residual / reference, module
@@ -108,6 +109,7 @@ def bordered_solve(solve: Callable[[np.ndarray], np.ndarray], column: np.ndarray
     needed) recover, stopping below ``rtol`` |rhs_x|. A vanishing or non-finite
     ``row . y2`` (the border does not control the singular direction) raises
     ConvergenceError naming ``what``."""
+    refinements = val.integer_at_least("refinements", refinements, 0)
     if refinements > 0 and apply is None:
         raise ValueError("bordered_solve: refinements > 0 need apply (K x)")
     y2 = np.asarray(solve(column), dtype=float)
@@ -147,6 +149,11 @@ def damped_newton(residual: Callable[[], float], correction: Callable[[], object
     ``<= max(rtol reference, atol)``, ``reference`` the first residual unless given.
     Raises ConvergenceError naming ``what`` when no step decreases the residual within
     ``halvings`` halvings or when ``maxit`` steps do not converge."""
+    rtol = val.tolerance("rtol", rtol)
+    maxit = val.integer_at_least("maxit", maxit, 1)
+    halvings = val.integer_at_least("halvings", halvings, 0)
+    atol = float(val.finite("atol", atol))
+    require(atol >= 0.0, f"atol must be >= 0, got {atol}")
     r = float(residual())
     if not math.isfinite(r):
         raise ConvergenceError(f"{what}: non-finite residual at the start ({r})")

@@ -4,8 +4,10 @@ the problem's JSON, results.csv and adapter.json)."""
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
 import platform
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -23,6 +25,16 @@ def arguments(problem: str, argv=None):
     ap.add_argument("--out", required=True, help="folder for results.csv and adapter.json")
     ap.add_argument("--label", default="default")
     return ap.parse_args(argv)
+
+
+def load_clean_room(path, name: str):
+    """The repository's clean-room module at ``path`` loaded by its file path as ``name``
+    (the peer venv has nothing of debench installed)."""
+    spec = importlib.util.spec_from_file_location(name, path)
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod
+    spec.loader.exec_module(mod)
+    return mod
 
 
 def problem_json(path):
@@ -67,5 +79,5 @@ def write_adapter_json(out, *, quantity: str, method: dict, check: dict | None,
     return path
 
 
-__all__ = ["arguments", "problem_json", "spec_parameters", "write_results",
+__all__ = ["arguments", "load_clean_room", "problem_json", "spec_parameters", "write_results",
            "write_adapter_json", "skfem"]

@@ -15,8 +15,6 @@ sequence and reports the finest value, its stated error from the sequence.
 
 from __future__ import annotations
 
-import importlib.util
-import sys
 import time
 from pathlib import Path
 
@@ -33,12 +31,6 @@ SEQUENCE = ((4, 40, 4, 6), (3, 40, 8, 6), (4, 40, 8, 6))
 SAFETY = 3.0
 
 
-def _clean_room():
-    spec = importlib.util.spec_from_file_location("cleanroom_buckling", CLEAN_ROOM)
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod  # registered before it runs, as an import would
-    spec.loader.exec_module(mod)
-    return mod
 
 
 def main(argv=None):
@@ -46,7 +38,7 @@ def main(argv=None):
     doc = _common.problem_json(a.problem_json)
     cases = (doc["spec"]["parameters"]["case"]["value"] if doc is not None
              else ["nh_t1", "ogden_t1"])
-    b = _clean_room()
+    b = _common.load_clean_room(CLEAN_ROOM, "cleanroom_buckling")
     rows, log = [], {}
     for case in cases:
         seq = []

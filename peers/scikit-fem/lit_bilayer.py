@@ -16,7 +16,6 @@ discretisation, its stated error from the sequence.
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import sys
 import time
 from pathlib import Path
@@ -35,12 +34,6 @@ SAFETY = 3.0
 UNITS = {"tip_deflection": "1", "tip_rotation": "rad"}
 
 
-def _clean_room():
-    spec = importlib.util.spec_from_file_location("cleanroom_bilayer", CLEAN_ROOM)
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod
-    spec.loader.exec_module(mod)
-    return mod
 
 
 def main(argv=None):
@@ -52,7 +45,7 @@ def main(argv=None):
     doc = _common.problem_json(a.problem_json)
     voltages = ([float(x) for x in doc["spec"]["parameters"]["v"]["value"]] if doc
                 else [0.05, 0.1, 0.15, 0.2, 0.25, 0.3])
-    b = _clean_room()
+    b = _common.load_clean_room(CLEAN_ROOM, "cleanroom_bilayer")
     runs = []
     for order, levels in SEQUENCE:
         t0 = time.perf_counter()

@@ -19,7 +19,6 @@ definition).
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import sys
 import time
 from pathlib import Path
@@ -37,12 +36,6 @@ QUANTITIES = {"u_L2_order": "u_L2", "u_H1_order": "u_H1", "phi_L2_order": "phi_L
               "phi_H1_order": "phi_H1"}
 
 
-def _clean_room():
-    spec = importlib.util.spec_from_file_location("cleanroom_mms", CLEAN_ROOM)
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod
-    spec.loader.exec_module(mod)
-    return mod
 
 
 def main(argv=None):
@@ -53,7 +46,7 @@ def main(argv=None):
     own, rest = extra.parse_known_args(argv)
     a = _common.arguments(PROBLEM, rest)
     _common.problem_json(a.problem_json)
-    cr = _clean_room()
+    cr = _common.load_clean_room(CLEAN_ROOM, "cleanroom_mms")
     column = QUANTITIES[own.quantity]
     t0 = time.perf_counter()
     orders, notes = [], []
