@@ -8,7 +8,9 @@ from __future__ import annotations
 import importlib
 import inspect
 import os
+import pkgutil
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 
 from debench.reference.results_files import UsageError
@@ -25,19 +27,70 @@ def builder(chapter: str):
         raise
 
 
-#: CPU seconds of each builder's default build, one thread, FE tasks serial in the
-#: chapter's process (measured in one `debench reproduce` with two pool processes on the
-#: quiet 2-core development machine): `debench reproduce` starts the longest first, so that
-#: no long chapter starts last. Only the order depends on these numbers; a chapter not
-#: listed counts as :data:`UNLISTED_BUILD_CPU_S`.
-BUILD_CPU_S = {
-    "ch5_axisym": 53.0, "ch5": 36.0, "ch5_axisym_path": 35.0, "ch3_fe_thickness": 22.0,
-    "ch4_fe": 18.0, "ch5_thickness": 15.0, "ch5_methods": 12.0, "ch4": 10.0,
-    "ch4_inplane": 8.0, "ch5_axisym_methods": 8.0, "ch3": 3.0, "ch3_fe": 3.0,
-    "ch2_appendix": 0.4, "ch5_imperfection": 1.2, "ch5_wrinkling": 1.2, "lit_balloon": 1.0,
-    "lit_bilayer": 20.0,
-}
-UNLISTED_BUILD_CPU_S = 60.0
+def chapters() -> tuple[str, ...]:
+    """The builder modules in ``debench.reference.builders`` (the chapters of ``debench
+    reproduce``), sorted, the catalogue last (it reflects all)."""
+    import debench.reference.builders as pkg
+
+    names = sorted(m.name for m in pkgutil.iter_modules(pkg.__path__)
+                   if not m.name.startswith("_"))
+    return tuple([n for n in names if n != "catalogue"] + ["catalogue"])
+
+
+@dataclass(frozen=True)
+class BuildProperties:
+    """What a builder module declares about itself: ``BUILD_CPU_S``, the CPU seconds of its
+    default build (one thread; ``debench reproduce`` starts the longest first),
+    ``REGENERATED_BY_VERIFY``, whether ``debench verify`` rebuilds its default plan, and
+    ``GUARDS``, the model guards verify runs for it (``module:function`` returning
+    :class:`~debench.reference.values.Guarded` values -> their CPU seconds)."""
+
+    cpu_s: float
+    regenerated_by_verify: bool
+    guards: dict[str, float]
+
+
+def properties(chapter: str) -> BuildProperties:
+    """The :class:`BuildProperties` declared by ``chapter``'s builder module. Raises
+    ValueError naming the chapter and the attribute when one is missing or of the wrong
+    kind (a builder added without them is refused, never scheduled or verified by guess)."""
+    mod = builder(chapter)
+    if mod is None:
+        raise ValueError(f"chapter {chapter!r} has no builder module")
+    cpu = getattr(mod, "BUILD_CPU_S", None)
+    regen = getattr(mod, "REGENERATED_BY_VERIFY", None)
+    guards = getattr(mod, "GUARDS", None)
+    if isinstance(cpu, bool) or not isinstance(cpu, (int, float)) or not cpu >= 0 \
+            or cpu == float("inf"):
+        raise ValueError(f"builder {chapter!r}: BUILD_CPU_S = {cpu!r} must be a finite "
+                         "number >= 0 (CPU seconds of its default build)")
+    if not isinstance(regen, bool):
+        raise ValueError(f"builder {chapter!r}: REGENERATED_BY_VERIFY = {regen!r} must be "
+                         "True or False")
+    if not isinstance(guards, dict) or not all(
+            isinstance(k, str) and ":" in k and isinstance(v, (int, float))
+            and not isinstance(v, bool) and v >= 0 for k, v in guards.items()):
+        raise ValueError(f"builder {chapter!r}: GUARDS = {guards!r} must map "
+                         "'module:function' to CPU seconds >= 0")
+    return BuildProperties(float(cpu), regen, dict(guards))
+
+
+def build_cpu_s(chapters) -> dict[str, float]:
+    """The declared CPU seconds of each of ``chapters``' default builds."""
+    return {c: properties(c).cpu_s for c in chapters}
+
+
+def regenerated_by_verify(chapters) -> tuple[str, ...]:
+    """Those of ``chapters`` whose default plan ``debench verify`` rebuilds."""
+    return tuple(c for c in chapters if properties(c).regenerated_by_verify)
+
+
+def model_guards(chapters) -> dict[str, float]:
+    """The model guards of ``chapters`` (``module:function`` -> CPU seconds), in their order."""
+    out: dict[str, float] = {}
+    for c in chapters:
+        out.update(properties(c).guards)
+    return out
 
 
 def parse_jobs(value: int | None) -> int:
@@ -187,7 +240,8 @@ def stop_pool(executor) -> None:
 
 def build_concurrently(chapters: list[str], out: Path, full: bool, scheduler: str | None,
                         jobs: int) -> dict[str, list[Path]]:
-    """Build ``chapters`` in a pool of ``jobs`` processes, longest first (:data:`BUILD_CPU_S`).
+    """Build ``chapters`` in a pool of ``jobs`` processes, longest first (each builder's
+    declared ``BUILD_CPU_S``, :func:`properties`).
 
     Each chapter's output is printed together when it finishes (a progress line per chapter
     on a terminal). Builders that run their own FE tasks run them serially in their pool
@@ -198,7 +252,8 @@ def build_concurrently(chapters: list[str], out: Path, full: bool, scheduler: st
     import time
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
-    order = sorted(chapters, key=lambda c: -BUILD_CPU_S.get(c, UNLISTED_BUILD_CPU_S))
+    cost = build_cpu_s(chapters)
+    order = sorted(chapters, key=lambda c: -cost[c])
     started = time.monotonic()
     written: dict[str, list[Path]] = {}
     tty = sys.stderr.isatty()

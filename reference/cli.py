@@ -43,28 +43,7 @@ from debench.reference.results_files import (  # noqa: F401 - the exit codes, fo
     UsageError,
 )
 
-
-def _discover_chapters() -> tuple[str, ...]:
-    """Builder modules in ``debench.reference.builders``; the catalogue last (it reflects all)."""
-    import debench.reference.builders as pkg
-
-    names = sorted(m.name for m in pkgutil.iter_modules(pkg.__path__)
-                   if not m.name.startswith("_"))
-    return tuple([n for n in names if n != "catalogue"] + ["catalogue"])
-
-
-CHAPTERS = _discover_chapters()
-#: The Chapter 5 finite-element chapters and the thin-solid thickness study (minutes of CPU
-#: each) are checked by their model guards (coarse recomputations:
-#: :func:`debench.reference.producers.ch5.coarse_guards`,
-#: :func:`debench.reference.producers.ch3_fe.thickness_guards`) and the catalogue builder's
-#: values by the value check; none is rebuilt by verify.
-NOT_REGENERATED_BY_VERIFY = ("ch3_fe_thickness", "ch5", "ch5_axisym", "ch5_axisym_methods",
-                             "ch5_axisym_path",
-                             "ch5_imperfection",
-                             "ch5_thickness", "ch5_wrinkling", "ch5_methods", "lit_bilayer",
-                             "catalogue")
-REGENERATED_BY_VERIFY = tuple(c for c in CHAPTERS if c not in NOT_REGENERATED_BY_VERIFY)
+CHAPTERS = builds.chapters()
 DEFAULT_OUT = Path("results")
 
 
@@ -142,7 +121,6 @@ def _evaluate_with_guards(by_chapter, jobs: int, out: Path):
     import contextlib
 
     from debench.reference import catalogue
-    from debench.reference.values import EXTRA_GUARDS
 
     fresh = [p for p in by_chapter.get("ch5", []) if p.name == "ch5_critical_voltage.nc"]
     with contextlib.ExitStack() as stack:
@@ -150,8 +128,8 @@ def _evaluate_with_guards(by_chapter, jobs: int, out: Path):
             from debench.reference.producers.ch5 import recomputed_in_this_command
 
             stack.enter_context(recomputed_in_this_command(fresh[0]))
-        work = stack.enter_context(regeneration.Recomputations((), EXTRA_GUARDS, jobs=jobs,
-                                                               out=out))
+        work = stack.enter_context(regeneration.Recomputations(
+            (), builds.model_guards(CHAPTERS), jobs=jobs, out=out))
         results = catalogue.evaluate_all(progress=lambda xs: progress_bar(xs, "verifying claims"))
         return results, work.guarded()
 
@@ -227,11 +205,12 @@ def value_deviations(results, extra=None):
 def verify_recomputations(*, regenerate: bool, jobs: int, out: Path):
     """What ``debench verify`` recomputes beside its catalogue evaluation
     (:class:`~debench.reference.regeneration.Recomputations`): with ``regenerate`` the
-    chapters of :data:`REGENERATED_BY_VERIFY` and the model guards, else nothing."""
-    from debench.reference.values import EXTRA_GUARDS
-
-    return regeneration.Recomputations(REGENERATED_BY_VERIFY if regenerate else (),
-                                       EXTRA_GUARDS if regenerate else (), jobs=jobs, out=out)
+    chapters whose builders declare ``REGENERATED_BY_VERIFY`` and every builder's model
+    guards, else nothing (:func:`~debench.reference.builds.properties`)."""
+    if not regenerate:
+        return regeneration.Recomputations((), (), jobs=jobs, out=out)
+    return regeneration.Recomputations(builds.regenerated_by_verify(CHAPTERS),
+                                       builds.model_guards(CHAPTERS), jobs=jobs, out=out)
 
 
 def cmd_verify(args) -> int:

@@ -239,17 +239,6 @@ def compare_with_curated(path: Path, curated_dir: Path) -> str:
 
 
 # --------------------------------------------------------------------------- verify's work
-#: Measured CPU seconds of each model guard of ``debench verify`` (one thread, profiled on
-#: the 2-core machine at load 3-4); with the chapters' :data:`~debench.reference.builds.
-#: BUILD_CPU_S` the pool starts the longest first; one not listed counts 10 s.
-GUARD_CPU_S = {
-    "debench.reference.producers.ch5_methods:axisym_methods_guards": 8.2,
-    "debench.reference.producers.ch5:coarse_guards": 5.7,
-    "debench.reference.producers.ch5_path:axisym_path_guards": 5.4,
-    "debench.reference.producers.ch5:axisym_coarse_guards": 4.7,
-}
-
-
 def _regenerate(chapter: str, out: str) -> list[str]:
     """Rebuild ``chapter`` (default plan, no figures) into ``out`` and compare each dataset
     with its curated counterpart: one line per dataset (:func:`compare_with_curated`)."""
@@ -266,14 +255,14 @@ def _regenerate(chapter: str, out: str) -> list[str]:
 class Recomputations:
     """The recomputations of ``debench verify``: the cheap chapters rebuilt and compared with
     data/ (``chapters``), and the model guards (``guards``: names of
-    :data:`debench.reference.values.EXTRA_GUARDS`).
+    :func:`debench.reference.values.model_guard_names`).
 
-    With ``jobs`` > 1 they start at once in a pool of ``jobs`` processes (longest first,
-    :data:`GUARD_CPU_S`), so that they run beside the catalogue evaluation of the calling
-    process; with ``jobs`` = 1 each runs in this process when its result is asked for.
-    :meth:`lines` and :meth:`guarded` return the results in the order given; an exception
-    of a job is raised there. Use as a context manager (the pool and the output directory
-    ``out`` are the caller's; the pool is ended on exit)."""
+    With ``jobs`` > 1 they start at once in a pool of ``jobs`` processes (longest first, by
+    the CPU seconds each builder declares), so that they run beside the catalogue
+    evaluation of the calling process; with ``jobs`` = 1 each runs in this process when its
+    result is asked for. :meth:`lines` and :meth:`guarded` return the results in the order
+    given; an exception of a job is raised there. Use as a context manager (the pool and
+    the output directory ``out`` are the caller's; the pool is ended on exit)."""
 
     def __init__(self, chapters, guards, *, jobs: int, out: Path):
         self.chapters, self.guards, self.out = tuple(chapters), tuple(guards), str(out)
@@ -283,8 +272,9 @@ class Recomputations:
             self._executor = ProcessPoolExecutor(
                 max_workers=min(jobs, len(work)), mp_context=builds.pool_context(),
                 initializer=builds.init_pool_process)
-            cost = builds.BUILD_CPU_S | GUARD_CPU_S
-            for kind, name in sorted(work, key=lambda w: -cost.get(w[1], 10.0)):
+            every = builds.chapters()
+            cost = builds.build_cpu_s(every) | builds.model_guards(every)
+            for kind, name in sorted(work, key=lambda w: -cost.get(w[1], 0.0)):
                 self._futures[(kind, name)] = self._executor.submit(*self._job(kind, name))
 
     def _job(self, kind: str, name: str):

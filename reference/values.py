@@ -4,7 +4,8 @@ Every value the catalogue producers compute - the main value of an entry and eve
 numeric or boolean item of its ``details`` - is a *guarded value*: a key, the value, and
 the absolute tolerance its method supports (the producer module's
 :class:`~debench.reference.catalogue.Accuracy`). Chapters may add guarded values that are
-not catalogue entries (:data:`EXTRA_GUARDS`: e.g. the Chapter 5 finite-element model
+not catalogue entries (the model guards each builder declares in ``GUARDS``,
+:func:`~debench.reference.builds.properties`: e.g. the Chapter 5 finite-element model
 recomputed on its coarsest mesh).
 
 The store is one committed dataset, ``our_values.nc`` in the data directory, written by
@@ -32,15 +33,6 @@ import xarray as xr
 from debench.reference.catalogue import Accuracy, Result
 
 STORE_NAME = "our_values"
-
-#: Guarded values that are not catalogue entries: ``"module:function"`` returning a list
-#: of :class:`Guarded`. Each recomputes a model on its cheapest real setting.
-EXTRA_GUARDS: tuple[str, ...] = ("debench.reference.producers.ch5:coarse_guards",
-                                  "debench.reference.producers.ch5:axisym_coarse_guards",
-                                  "debench.reference.producers.ch5_path:axisym_path_guards",
-                                  "debench.reference.producers.ch5_methods:axisym_methods_guards",
-                                  "debench.reference.producers.ch3_fe:thickness_guards")
-
 
 @dataclass(frozen=True)
 class Guarded:
@@ -143,10 +135,18 @@ def _guard(key: str, value: float | str, acc: Accuracy | None, status: str) -> G
     return Guarded(key, value, acc.tolerance(value), acc.reason, status)
 
 
-def extra_guards(names: Iterable[str] = EXTRA_GUARDS) -> list[Guarded]:
-    """Run the chapters' extra guards (model recomputations that are not entries)."""
+def model_guard_names() -> tuple[str, ...]:
+    """The model guards every builder declares (``GUARDS``), in the chapters' order."""
+    from debench.reference import builds
+
+    return tuple(builds.model_guards(builds.chapters()))
+
+
+def extra_guards(names: Iterable[str] | None = None) -> list[Guarded]:
+    """Run the chapters' model guards (model recomputations that are not entries): those
+    named (``module:function``), by default every builder's (:func:`model_guard_names`)."""
     out: list[Guarded] = []
-    for name in names:
+    for name in model_guard_names() if names is None else names:
         module, _, func = name.partition(":")
         fn: Callable[[], list[Guarded]] = getattr(importlib.import_module(module), func)
         out += fn()

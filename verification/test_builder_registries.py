@@ -1,36 +1,64 @@
-"""The three registries that describe the builders stay consistent with the builders that
-exist: the expected build cost of ``debench reproduce --jobs`` (longest first,
-``builds.BUILD_CPU_S``), the chapters ``debench verify`` does not rebuild
-(``cli.NOT_REGENERATED_BY_VERIFY``) and the model guards that verify runs instead
-(``values.EXTRA_GUARDS``). A builder added, renamed or removed without its entries fails
-here, not silently in the scheduling or in what verify checks."""
+"""Every builder declares its own properties: the CPU seconds of its default build
+(``BUILD_CPU_S``: ``debench reproduce --jobs`` starts the longest first), whether ``debench
+verify`` rebuilds it (``REGENERATED_BY_VERIFY``) and the model guards verify runs for it
+(``GUARDS``). A builder added without them is refused by
+:func:`~debench.reference.builds.properties`, not scheduled or verified by guess; a guard
+that does not resolve to a producer's function fails here."""
 
 from __future__ import annotations
 
 import importlib
 import math
+from types import SimpleNamespace
 
+import pytest
 from debench.reference import builds, cli, values
 
 
-def test_every_builder_has_a_build_cost_and_every_cost_a_builder():
-    """Each builder has its measured cost (a builder without one is scheduled as if it cost
-    ``UNLISTED_BUILD_CPU_S``, out of order), and no cost names a builder that is gone."""
-    assert set(builds.BUILD_CPU_S) == set(cli.CHAPTERS) - {"catalogue"}
-    assert all(math.isfinite(c) and c >= 0 for c in builds.BUILD_CPU_S.values())
+@pytest.mark.parametrize("chapter", cli.CHAPTERS)
+def test_every_builder_declares_its_properties(chapter):
+    """Each builder module declares the three properties, of the right kinds."""
+    props = builds.properties(chapter)
+    assert math.isfinite(props.cpu_s) and props.cpu_s >= 0
+    assert isinstance(props.regenerated_by_verify, bool)
+    assert all(math.isfinite(c) and c >= 0 for c in props.guards.values())
 
 
-def test_chapters_verify_does_not_rebuild_exist_and_the_rest_is_rebuilt():
-    """NOT_REGENERATED_BY_VERIFY names builders only; REGENERATED_BY_VERIFY is the rest."""
-    assert set(cli.NOT_REGENERATED_BY_VERIFY) <= set(cli.CHAPTERS)
-    assert set(cli.REGENERATED_BY_VERIFY) == set(cli.CHAPTERS) - set(
-        cli.NOT_REGENERATED_BY_VERIFY)
+def test_a_chapter_verify_does_not_rebuild_has_a_reason_to_be_trusted():
+    """A Chapter 5 finite-element chapter verify does not rebuild is guarded by its model
+    guards or its values in the catalogue's store; the cheap chapters are rebuilt."""
+    rebuilt = set(builds.regenerated_by_verify(cli.CHAPTERS))
+    assert {"ch2_appendix", "ch3", "ch4"} <= rebuilt
+    assert "catalogue" not in rebuilt
+    for chapter in ("ch5", "ch5_axisym", "ch5_axisym_path", "ch5_axisym_methods",
+                    "ch3_fe_thickness"):
+        assert chapter not in rebuilt and builds.properties(chapter).guards, chapter
 
 
-def test_every_extra_guard_resolves_to_a_function_of_a_producer():
-    """Each ``module:function`` of EXTRA_GUARDS imports and is callable (verify calls it),
-    and lives among the producers of the catalogue."""
-    for name in values.EXTRA_GUARDS:
+def test_every_model_guard_resolves_to_a_function_of_a_producer():
+    """Each ``module:function`` a builder declares imports and is callable (verify calls
+    it), lives among the producers of the catalogue, and is declared by one builder only."""
+    names = values.model_guard_names()
+    assert len(names) == len(set(names)) and names
+    declared = [g for c in cli.CHAPTERS for g in builds.properties(c).guards]
+    assert len(declared) == len(set(declared))
+    for name in names:
         module, _, func = name.partition(":")
         assert module.startswith("debench.reference.producers."), name
         assert callable(getattr(importlib.import_module(module), func)), name
+
+
+@pytest.mark.parametrize("attrs, named", [
+    ({"REGENERATED_BY_VERIFY": False, "GUARDS": {}}, "BUILD_CPU_S"),
+    ({"BUILD_CPU_S": -1.0, "REGENERATED_BY_VERIFY": False, "GUARDS": {}}, "BUILD_CPU_S"),
+    ({"BUILD_CPU_S": math.inf, "REGENERATED_BY_VERIFY": False, "GUARDS": {}}, "BUILD_CPU_S"),
+    ({"BUILD_CPU_S": 1.0, "REGENERATED_BY_VERIFY": "yes", "GUARDS": {}},
+     "REGENERATED_BY_VERIFY"),
+    ({"BUILD_CPU_S": 1.0, "REGENERATED_BY_VERIFY": True}, "GUARDS"),
+    ({"BUILD_CPU_S": 1.0, "REGENERATED_BY_VERIFY": True, "GUARDS": {"nocolon": 1.0}}, "GUARDS"),
+])
+def test_a_builder_without_its_properties_is_refused_naming_the_attribute(
+        monkeypatch, attrs, named):
+    monkeypatch.setattr(builds, "builder", lambda chapter: SimpleNamespace(build=None, **attrs))
+    with pytest.raises(ValueError, match=f"builder 'stub': {named}"):
+        builds.properties("stub")

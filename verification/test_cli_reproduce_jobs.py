@@ -66,7 +66,12 @@ def _stub_module(chapter: str, barrier=None, fail: bool = False, pid_dir: Path |
         txt.write_text(chapter)
         return [nc, txt]
 
-    return SimpleNamespace(build=build)
+    return _module(build=build)
+
+
+def _module(**attrs):
+    """A stub builder module: its attributes and the properties every builder declares."""
+    return SimpleNamespace(BUILD_CPU_S=1.0, REGENERATED_BY_VERIFY=False, GUARDS={}, **attrs)
 
 
 def _stub_catalogue(monkeypatch, results=()):
@@ -171,7 +176,7 @@ def test_a_failing_chapter_stops_the_command_with_its_message(tmp_path, monkeypa
             done.write_text("finished")
             return []
 
-        return SimpleNamespace(build=slow)
+        return _module(build=slow)
 
     monkeypatch.setattr(builds, "builder", builder)
     started = time.monotonic()
@@ -228,7 +233,8 @@ def test_the_catalogue_builder_gets_the_commands_evaluation_and_ch5_dataset(
                                0.0, "test")]
 
     monkeypatch.setattr(values, "probe_guard", probe_guard, raising=False)
-    monkeypatch.setattr(values, "EXTRA_GUARDS", ("debench.reference.values:probe_guard",))
+    monkeypatch.setattr(builds, "model_guards",
+                        lambda chapters: {"debench.reference.values:probe_guard": 1.0})
 
     def catalogue_build(out, full=False, results=None, guards=None):
         seen["results"], seen["guards"] = results, guards
@@ -237,8 +243,8 @@ def test_the_catalogue_builder_gets_the_commands_evaluation_and_ch5_dataset(
     def ch5_build(out, full=False):
         return [_curated_copy(Path(out))]
 
-    modules = {"catalogue": SimpleNamespace(build=catalogue_build),
-               "ch5": SimpleNamespace(build=ch5_build)}
+    modules = {"catalogue": _module(build=catalogue_build),
+               "ch5": _module(build=ch5_build)}
     monkeypatch.setattr(builds, "builder", modules.get)
     code, _, stderr = _run(["reproduce", "ch5", "catalogue", "--out", str(tmp_path)], capsys)
     assert code == 0, stderr

@@ -254,7 +254,8 @@ def test_reproduce_ends_with_a_summary(tmp_path, monkeypatch, capsys):
         path.write_text("x")
         return [path]
 
-    monkeypatch.setattr(builds, "builder", lambda chapter: SimpleNamespace(build=build))
+    monkeypatch.setattr(builds, "builder", lambda chapter: SimpleNamespace(
+        build=build, BUILD_CPU_S=1.0, REGENERATED_BY_VERIFY=False, GUARDS={}))
     monkeypatch.setattr(catalogue, "evaluate_all", lambda progress=None: [])
     monkeypatch.setattr(report, "write_report", lambda out, results, **kw: Path(out) / "R.md")
     monkeypatch.setattr(report, "summary_line", lambda results: "stub")

@@ -30,6 +30,14 @@ from debench.models.materials.constants import (
 )
 from debench.reference.datasets import write_dataset
 
+#: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
+#: two pool processes on the quiet 2-core machine): the pool starts the longest first.
+BUILD_CPU_S = 0.4
+#: ``debench verify`` rebuilds this chapter's default plan and compares it with data/.
+REGENERATED_BY_VERIFY = True
+#: Model guards ``debench verify`` runs for this chapter (none).
+GUARDS = {}
+
 STATES = {
     # name: (principal stretches l1, l2 (l3 = 1/(l1 l2)), shear gamma, normalised D_L)
     "reference": ((1.0, 1.0), 0.0, (0.0, 0.0, 0.0)),

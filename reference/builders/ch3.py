@@ -51,6 +51,14 @@ from debench.reference.studies.ch3 import (
     settings,
 )
 
+#: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
+#: two pool processes on the quiet 2-core machine): the pool starts the longest first.
+BUILD_CPU_S = 3.0
+#: ``debench verify`` rebuilds this chapter's default plan and compares it with data/.
+REGENERATED_BY_VERIFY = True
+#: Model guards ``debench verify`` runs for this chapter (none).
+GUARDS = {}
+
 #: failure kinds, flag values 1..6; "permittivity": the factor K = 1 + c(5 lam/2 - 2) of
 #: (3.30) reaches 0 (at the pre-stretch itself: no admissible curve at all)
 MODES = ("pullin", "loss_of_tension", "breakdown", "locking", "end", "permittivity")

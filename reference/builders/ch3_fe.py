@@ -24,6 +24,14 @@ from debench.models.circular.shooting import integrate_inward, q_for_stretch
 from debench.reference.datasets import write_dataset
 from debench.reference.studies import ch3_fe as study
 
+#: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
+#: two pool processes on the quiet 2-core machine): the pool starts the longest first.
+BUILD_CPU_S = 3.0
+#: ``debench verify`` rebuilds this chapter's default plan and compares it with data/.
+REGENERATED_BY_VERIFY = True
+#: Model guards ``debench verify`` runs for this chapter (none).
+GUARDS = {}
+
 
 def voltage_stretch(full: bool) -> xr.Dataset:
     s = study.build_settings(full)

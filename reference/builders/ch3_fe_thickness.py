@@ -27,6 +27,16 @@ import xarray as xr
 from debench.reference.datasets import write_dataset
 from debench.reference.studies import ch3_fe as study
 
+#: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
+#: two pool processes on the quiet 2-core machine): the pool starts the longest first.
+BUILD_CPU_S = 22.0
+#: ``debench verify`` does not rebuild this chapter (minutes of CPU, or the catalogue itself):
+#: its model guards and the value check stand for it.
+REGENERATED_BY_VERIFY = False
+#: The model guards ``debench verify`` runs for this chapter instead of rebuilding it
+#: (``module:function`` returning guarded values -> measured CPU seconds, one thread).
+GUARDS = {"debench.reference.producers.ch3_fe:thickness_guards": 10.0}
+
 NAME = "ch3_fe_thickness"
 TITLE = "Chapter 3 film thickness: the thin axisymmetric solid on film sequences H -> 0"
 SUMMARY = ("Film sequences of the thin solid FE (Phibar at a fixed centre stretch for lamP = 3 and c = 0, -0.053, and for lamP = 2, 4 at centre stretch lamP + 1; Phibar at pull-in for lamP = 1.25; the loss-of-tension centre stretch for lamP = 3) per film thickness H, the extrapolation to H -> 0, the membrane FE with the in-plane mesh error and both analytic variants.")

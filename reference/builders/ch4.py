@@ -32,6 +32,14 @@ from debench.reference.figures import LABELS, pyplot, written
 from debench.reference.studies import ch4 as study
 from tqdm import tqdm
 
+#: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
+#: two pool processes on the quiet 2-core machine): the pool starts the longest first.
+BUILD_CPU_S = 10.0
+#: ``debench verify`` rebuilds this chapter's default plan and compares it with data/.
+REGENERATED_BY_VERIFY = True
+#: Model guards ``debench verify`` runs for this chapter (none).
+GUARDS = {}
+
 VARIANTS = ("derived", "printed", "literal")
 FIG42_D = study.FIG42_D
 FIG45_XI = study.FIG45_XI

@@ -23,6 +23,14 @@ from debench.reference.datasets import variable_attrs as _attrs
 from debench.reference.datasets import write_dataset
 from debench.reference.studies import ch4_fe as study
 
+#: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
+#: two pool processes on the quiet 2-core machine): the pool starts the longest first.
+BUILD_CPU_S = 18.0
+#: ``debench verify`` rebuilds this chapter's default plan and compares it with data/.
+REGENERATED_BY_VERIFY = True
+#: Model guards ``debench verify`` runs for this chapter (none).
+GUARDS = {}
+
 COMMON = {"alpha": 0.0, "beta": 0.5, "mu": 1.0, "eps": 1.0, "order": 3,
           "variant_compared": "derived", "units": "mu = eps = 1, Dhat = D2/sqrt(mu eps)"}
 CONVERGENCE_CASES = (((0.0, 0.0, 0.3), "E"), ((0.0, 0.0, 2.0), "O"))

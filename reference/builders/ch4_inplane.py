@@ -44,6 +44,14 @@ from debench.reference.figures import written
 from debench.reference.studies import ch4_inplane as study
 from debench.reference.studies.ch4_inplane import Case
 
+#: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
+#: two pool processes on the quiet 2-core machine): the pool starts the longest first.
+BUILD_CPU_S = 8.0
+#: ``debench verify`` rebuilds this chapter's default plan and compares it with data/.
+REGENERATED_BY_VERIFY = True
+#: Model guards ``debench verify`` runs for this chapter (none).
+GUARDS = {}
+
 THETA_FAST = (0.0, 30.0, 45.0, 60.0, 90.0)
 THETA_FULL = tuple(float(t) for t in range(0, 91, 10)) + (45.0,)
 KH_FAST = (0.5, 2.0, 5.0)

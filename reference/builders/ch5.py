@@ -57,6 +57,16 @@ from debench.reference.studies.ch5 import (
 )
 from debench.reference.tasks import resolve_scheduler, run_tasks
 
+#: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
+#: two pool processes on the quiet 2-core machine): the pool starts the longest first.
+BUILD_CPU_S = 36.0
+#: ``debench verify`` does not rebuild this chapter (minutes of CPU, or the catalogue itself):
+#: its model guards and the value check stand for it.
+REGENERATED_BY_VERIFY = False
+#: The model guards ``debench verify`` runs for this chapter instead of rebuilding it
+#: (``module:function`` returning guarded values -> measured CPU seconds, one thread).
+GUARDS = {"debench.reference.producers.ch5:coarse_guards": 5.7}
+
 
 def _source(case: str) -> str:
     """The case whose FE results ``case`` reads: itself, or the case it is a scale copy of

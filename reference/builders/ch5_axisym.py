@@ -44,6 +44,16 @@ from debench.models.numerics import (
 from debench.reference.datasets import variable_attrs, write_dataset
 from debench.reference.studies.ch5_axisym_tasks import material
 
+#: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
+#: two pool processes on the quiet 2-core machine): the pool starts the longest first.
+BUILD_CPU_S = 53.0
+#: ``debench verify`` does not rebuild this chapter (minutes of CPU, or the catalogue itself):
+#: its model guards and the value check stand for it.
+REGENERATED_BY_VERIFY = False
+#: The model guards ``debench verify`` runs for this chapter instead of rebuilding it
+#: (``module:function`` returning guarded values -> measured CPU seconds, one thread).
+GUARDS = {"debench.reference.producers.ch5:axisym_coarse_guards": 4.7}
+
 NAME = "ch5_axisym"
 CASES = ("nh_t1", "ogden_t1")
 WAVENUMBERS = (0, 1)

@@ -46,6 +46,16 @@ from debench.reference.studies.ch5_axisym_methods import (
     critical_task,
 )
 
+#: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
+#: two pool processes on the quiet 2-core machine): the pool starts the longest first.
+BUILD_CPU_S = 8.0
+#: ``debench verify`` does not rebuild this chapter (minutes of CPU, or the catalogue itself):
+#: its model guards and the value check stand for it.
+REGENERATED_BY_VERIFY = False
+#: The model guards ``debench verify`` runs for this chapter instead of rebuilding it
+#: (``module:function`` returning guarded values -> measured CPU seconds, one thread).
+GUARDS = {"debench.reference.producers.ch5_methods:axisym_methods_guards": 8.2}
+
 NAME = "ch5_axisym_methods"
 PLANS = {
     False: {"cases": ("nh_t1",), "discs": ((2, 3), (3, 3), (3, 2))},

@@ -43,6 +43,15 @@ from debench.reference.studies.ch5_imperfection import (
     W_SPLIT,
 )
 
+#: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
+#: two pool processes on the quiet 2-core machine): the pool starts the longest first.
+BUILD_CPU_S = 1.2
+#: ``debench verify`` does not rebuild this chapter (minutes of CPU, or the catalogue itself):
+#: its model guards and the value check stand for it.
+REGENERATED_BY_VERIFY = False
+#: Model guards ``debench verify`` runs for this chapter (none).
+GUARDS = {}
+
 NAME = "ch5_imperfection"
 W_ZOOM = 0.6
 """The voltage panel of the figure starts at W_ZOOM x W_SPLIT: the paths agree before."""

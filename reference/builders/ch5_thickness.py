@@ -21,6 +21,15 @@ import numpy as np
 import xarray as xr
 from debench.reference.datasets import write_dataset
 
+#: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
+#: two pool processes on the quiet 2-core machine): the pool starts the longest first.
+BUILD_CPU_S = 15.0
+#: ``debench verify`` does not rebuild this chapter (minutes of CPU, or the catalogue itself):
+#: its model guards and the value check stand for it.
+REGENERATED_BY_VERIFY = False
+#: Model guards ``debench verify`` runs for this chapter (none).
+GUARDS = {}
+
 NAME = "ch5_thickness"
 ASPECTS = (10.0, 20.0)
 LEVELS = {False: (3.0, 2.0), True: (3.0, 2.0, 1.4)}

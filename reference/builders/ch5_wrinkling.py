@@ -45,6 +45,15 @@ from debench.reference.studies.ch5_tasks import WRINKLING_DV_MAX as DV_MAX  # no
 from debench.reference.studies.ch5_tasks import WRINKLING_EIG_EVERY as EIG_EVERY
 from debench.reference.studies.ch5_tasks import WRINKLING_LAYERS as LAYERS
 
+#: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
+#: two pool processes on the quiet 2-core machine): the pool starts the longest first.
+BUILD_CPU_S = 1.2
+#: ``debench verify`` does not rebuild this chapter (minutes of CPU, or the catalogue itself):
+#: its model guards and the value check stand for it.
+REGENERATED_BY_VERIFY = False
+#: Model guards ``debench verify`` runs for this chapter (none).
+GUARDS = {}
+
 NAME = "ch5_wrinkling"
 LEVELS = {False: (), True: (4.0, 3.0, 2.5, 2.0, 1.5)}
 """In-plane mesh sizes / t0: about 2 pi R/h = 31, 42, 50, 63 and 84 quadratic elements

@@ -24,6 +24,14 @@ import xarray as xr
 from debench.models import balloon
 from debench.reference.datasets import write_dataset
 
+#: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
+#: two pool processes on the quiet 2-core machine): the pool starts the longest first.
+BUILD_CPU_S = 1.0
+#: ``debench verify`` rebuilds this chapter's default plan and compares it with data/.
+REGENERATED_BY_VERIFY = True
+#: Model guards ``debench verify`` runs for this chapter (none).
+GUARDS = {}
+
 NAME = "lit_balloon"
 #: Gent locking parameters: neo-Hookean, and two Gent elastomers (97.2 a common fit of
 #: VHB 4910 in the DE-balloon literature; 50 a stiffer-locking one)

@@ -18,6 +18,15 @@ import numpy as np
 import xarray as xr
 from debench.reference.datasets import write_dataset
 
+#: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
+#: two pool processes on the quiet 2-core machine): the pool starts the longest first.
+BUILD_CPU_S = 20.0
+#: ``debench verify`` does not rebuild this chapter (minutes of CPU, or the catalogue itself):
+#: its model guards and the value check stand for it.
+REGENERATED_BY_VERIFY = False
+#: Model guards ``debench verify`` runs for this chapter (none).
+GUARDS = {}
+
 NAME = "lit_bilayer"
 #: normalised voltages (Phi/h_a) sqrt(eps/mu) of the stored states
 VOLTAGES = (0.05, 0.1, 0.15, 0.2, 0.25, 0.3)
