@@ -35,7 +35,7 @@ BUILD_CPU_S = 22.0
 REGENERATED_BY_VERIFY = False
 #: The model guards ``debench verify`` runs for this chapter instead of rebuilding it
 #: (``module:function`` returning guarded values -> measured CPU seconds, one thread).
-GUARDS = {"debench.reference.producers.ch3_fe:thickness_guards": 10.0}
+GUARDS = {"debench.reference.producers.ch3_fe:thickness_guards": 2.3}
 
 NAME = "ch3_fe_thickness"
 TITLE = "Chapter 3 film thickness: the thin axisymmetric solid on film sequences H -> 0"
