@@ -55,12 +55,9 @@ from debench.models.buckling import axisym as ax
 from debench.models.buckling.analytic import critical_voltage_plate
 from debench.models.buckling.axisym.path import deflect_from
 from debench.models.buckling.parameters import Plate
-from debench.reference.studies.ch5_axisym_tasks import (
-    CASES,
-    N_R_PER_ASPECT,
-    V_SWITCH,
-    material,
-)
+from debench.reference.studies.ch5_axisym import PATH_FILMS as CASES
+from debench.reference.studies.ch5_axisym import PATH_N_R_PER_ASPECT as N_R_PER_ASPECT
+from debench.reference.studies.ch5_axisym_tasks import V_SWITCH, material
 from debench.reference.tasks import limit_threads
 
 #: deflections / t0 around the zero at which lambda_N is evaluated from both sides

@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from debench.models.numerics import p_grading_estimate
 from debench.reference import catalogue
-from debench.reference.builders import ch5_axisym_methods as builder
 from debench.reference.datasets import read_dataset
 from debench.reference.producers import ch5_methods as prod
+from debench.reference.studies import ch5_axisym as study
 
 #: the estimate recomputed from the stored sequence is the same arithmetic on the same
 #: float64 numbers
@@ -29,7 +29,7 @@ def ds():
 def test_curated_data_are_the_full_plan(ds):
     """The curated dataset is the converged plan (three orders at the finest grading: the
     safety factor 1.25), for every operator."""
-    plan = builder.PLANS[True]
+    plan = study.METHODS[True]
     assert [list(d) for d in plan["discs"]] == [[int(o), int(L)] for o, L in zip(
         ds.order.values, ds.layers.values, strict=True)]
     assert list(ds.case.values) == list(plan["cases"])

@@ -16,17 +16,19 @@ grading towards the rim and its clamped corners (``edge_layers = face_layers = L
   larger of the last p-step change (at the finest grading) and the change between the two
   finest gradings (at the top order); the factor is Roache's: 1.25 with three or more
   orders, else 3 (:func:`converged`);
-* ``v_cr_guard(case)``: n = 0 on the cheap guard discretisation :data:`GUARD`, which
+* ``v_cr_guard(case)``: n = 0 on the cheap guard discretisation
+  (:data:`~debench.reference.studies.ch5_axisym.CRITICAL_GUARD`), which
   ``debench verify`` recomputes;
 * the comparison with the 3D model (``ch5_critical_voltage.nc``): its reference and its
   in-plane mesh limit with their error bars, the differences 3D - axisymmetric and
   whether each 3D error bar contains the axisymmetric value (n = 0, the lowest mode).
 
-Plans: default orders 3, 4 and layers 4, 6 (measured: 54 s of CPU in the solves, one
-core; error estimates ~1e-5 with the safety factor 3 of two orders); ``full`` orders 4 .. 6
-and layers 6, 8 (the curated plan; its error estimates are the p-step and grading
-changes, far above the reproducibility floor :data:`REGEN_ATOL`; its CPU in
-``cpu_seconds``; the coarser orders and gradings add nothing to the estimate at the top).
+Plans (:data:`~debench.reference.studies.ch5_axisym.CRITICAL`): default orders 3, 4 and
+layers 4, 6 (measured: 54 s of CPU in the solves, one core; error estimates ~1e-5 with the
+safety factor 3 of two orders); ``full`` orders 4 .. 6 and layers 6, 8 (the curated plan;
+its error estimates are the p-step and grading changes, far above the reproducibility floor
+:data:`REGEN_ATOL`; its CPU in ``cpu_seconds``; the coarser orders and gradings add nothing
+to the estimate at the top).
 """
 
 from __future__ import annotations
@@ -42,6 +44,7 @@ from debench.models.numerics import (
     propagated_accuracy,
 )
 from debench.reference.datasets import variable_attrs, write_dataset
+from debench.reference.studies import ch5_axisym as study
 from debench.reference.studies.ch5_axisym_tasks import material
 
 #: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
@@ -55,18 +58,9 @@ REGENERATED_BY_VERIFY = False
 GUARDS = {"debench.reference.producers.ch5:axisym_coarse_guards": 4.7}
 
 NAME = "ch5_axisym"
-CASES = ("nh_t1", "ogden_t1")
-WAVENUMBERS = (0, 1)
-ORDERS = {False: (3, 4), True: (4, 5, 6)}
-LAYERS = {False: (4, 6), True: (6, 8)}
-GUARD = (2, 3)
-"""(order, layers) of the guard solve: the n = 0 critical voltage of each film on this
-cheap discretisation (about 1 and 2 s of CPU, measured), stored as ``v_cr_guard`` so that
-``debench verify`` can recompute it and, with the stored correction to the converged
-value, the reported critical voltage (:func:`~debench.reference.producers.ch5.
-axisym_coarse_guards`)."""
-THICKNESS = 1e-3
-ASPECT = 10.0
+CASES = study.CRITICAL[False]["cases"]
+"""The films (the same in both plans: :data:`~debench.reference.studies.ch5_axisym.CRITICAL`)."""
+WAVENUMBERS = study.CRITICAL[False]["wavenumbers"]
 N1_START = 1.3
 """The n = 1 secant starts at this multiple of the same discretisation's n = 0 critical
 voltage (the measured ratio is 1.326; the secant needs a start within its basin)."""
@@ -120,11 +114,13 @@ def solve_plan(full: bool = False, progress=None) -> dict:
     from debench.models.buckling.axisym import AxisymDiscretisation, critical_voltage
     from debench.models.buckling.parameters import Plate
 
-    plate = Plate(thickness=THICKNESS, aspect=ASPECT)
+    plate = Plate(thickness=study.THICKNESS, aspect=study.ASPECT)
+    plan = study.CRITICAL[full]
     out, seed = {}, {}
-    jobs = [(c, p, L) for c in CASES for p in ORDERS[full] for L in LAYERS[full]]
+    jobs = [(c, p, L) for c in CASES for p in plan["orders"] for L in plan["layers"]]
     for case, p, L in (progress(jobs) if progress else jobs):
-        disc = AxisymDiscretisation(order=p, edge_layers=L, face_layers=L)
+        disc = AxisymDiscretisation(order=p, edge_layers=L, face_layers=L,
+                                    n_r=study.CRITICAL_N_R)
         mat = material(case)
         # a film's first level starts from the plate estimate (n = 0) and N1_START times
         # its n = 0 value (n = 1), every later one from the level before
@@ -136,7 +132,9 @@ def solve_plan(full: bool = False, progress=None) -> dict:
         out[(case, 0, p, L)], out[(case, 1, p, L)] = r0, r1
         seed[case] = (r0.v, r1.v)
     for case in CASES:
-        disc = AxisymDiscretisation(order=GUARD[0], edge_layers=GUARD[1], face_layers=GUARD[1])
+        order, layers = study.CRITICAL_GUARD
+        disc = AxisymDiscretisation(order=order, edge_layers=layers, face_layers=layers,
+                                    n_r=study.CRITICAL_N_R)
         out[(case, "guard")] = critical_voltage(plate, material(case), disc, n=0)
     return out
 
@@ -251,7 +249,7 @@ def _variables(fields, ndof, ndof_mode, res, conv, acc, fs, vs3d) -> dict:
 def compute(full: bool = False, solved: dict | None = None) -> tuple[xr.Dataset, dict]:
     from debench.models.buckling.axisym import AxisymDiscretisation
 
-    orders, layers = ORDERS[full], LAYERS[full]
+    orders, layers = study.CRITICAL[full]["orders"], study.CRITICAL[full]["layers"]
     res = solved if solved is not None else solve_plan(full)
     shape = (len(CASES), len(WAVENUMBERS), len(orders), len(layers))
     fields = {k: np.zeros(shape) for k in ("v", "cpu_s", "eig_residual", "newton_residual_rel",
@@ -298,11 +296,12 @@ def compute(full: bool = False, solved: dict | None = None) -> tuple[xr.Dataset,
     )
     d = AxisymDiscretisation()
     params = {"full": full, "orders": list(orders), "layers": list(layers), "cases": list(CASES),
-              "wavenumbers": list(WAVENUMBERS), "thickness_m": THICKNESS, "aspect": ASPECT,
-              "n_r": d.n_r, "n_z": d.n_z, "edge_zone": d.edge_zone, "grading": d.grading,
+              "wavenumbers": list(WAVENUMBERS), "thickness_m": study.THICKNESS,
+              "aspect": study.ASPECT, "n_r": study.CRITICAL_N_R,
+              "n_z": d.n_z, "edge_zone": d.edge_zone, "grading": d.grading,
               "n1_start": N1_START, "gci_safety": fs,
               "error_floor": REGEN_ATOL, "seed_step": SEED_STEP,
-              "guard_order": GUARD[0], "guard_layers": GUARD[1],
+              "guard_order": study.CRITICAL_GUARD[0], "guard_layers": study.CRITICAL_GUARD[1],
               "materials": "Table 5.1 neo-Hookean (5.15)-(5.17); Ogden (5.26), k of Table 5.1 "
                            "(exact principal-stretch evaluation, no regularisation)"}
     return ds, params

@@ -39,12 +39,8 @@ import xarray as xr
 from debench.models.numerics import p_grading_estimate, p_grading_safety, propagated_accuracy
 from debench.reference.builders.ch5_axisym import REPEAT_ATOL, critical_solve_variables
 from debench.reference.datasets import variable_attrs, write_dataset
-from debench.reference.studies.ch5_axisym_methods import (
-    ASPECT,
-    TANGENTS,
-    THICKNESS,
-    critical_task,
-)
+from debench.reference.studies import ch5_axisym as study
+from debench.reference.studies.ch5_axisym_methods import TANGENTS, critical_task
 
 #: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
 #: two pool processes on the quiet 2-core machine): the pool starts the longest first.
@@ -57,13 +53,9 @@ REGENERATED_BY_VERIFY = False
 GUARDS = {"debench.reference.producers.ch5_methods:axisym_methods_guards": 8.2}
 
 NAME = "ch5_axisym_methods"
-PLANS = {
-    False: {"cases": ("nh_t1",), "discs": ((2, 3), (3, 3), (3, 2))},
-    True: {"cases": ("nh_t1",), "discs": ((3, 6), (4, 6), (5, 6), (5, 4))},
-}
 def plan(full: bool = False) -> list[tuple]:
     """The FE tasks ``(critical_task, case, tangent, order, layers)`` of a build."""
-    p = PLANS[full]
+    p = study.METHODS[full]
     return [(critical_task, c, t, order, layers) for c in p["cases"] for t in TANGENTS
             for order, layers in p["discs"]]
 
@@ -73,7 +65,7 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
     from debench.reference.studies.ch5_axisym_tasks import material
     from debench.reference.tasks import run_tasks
 
-    p = PLANS[full]
+    p = study.METHODS[full]
     cases, discs = p["cases"], p["discs"]
     tasks = plan(full)
     res = {(r["case"], r["tangent"], r["order"], r["layers"]): r for r in run_tasks(
@@ -92,7 +84,7 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
         lambda x, key=key: getattr(p_grading_estimate(x, discs), key), row, REPEAT_ATOL)
         for row in f["v"].reshape(-1, len(discs))])) + REPEAT_ATOL
         for key in ("value", "error", "p_change", "grading_change")}
-    plates = np.array([[critical_voltage_plate(material(c), ASPECT, mindlin=m)
+    plates = np.array([[critical_voltage_plate(material(c), study.ASPECT, mindlin=m)
                         for m in (True, False)] for c in cases])
 
     a = variable_attrs
@@ -133,8 +125,8 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
             "geometric layers towards the rim and towards each face")),
     })
     params = {"full": full, "cases": list(cases), "tangents": list(TANGENTS),
-              "discs": [list(d) for d in discs], "thickness_m": THICKNESS, "aspect": ASPECT,
-              "wavenumber": 0,
+              "discs": [list(d) for d in discs], "thickness_m": study.THICKNESS,
+              "aspect": study.ASPECT, "wavenumber": 0,
               "materials": "Table 5.1 neo-Hookean (5.15)-(5.17); Ogden (5.26), k of Table 5.1"}
     return ds, params
 

@@ -6,7 +6,7 @@ its axisymmetric equilibrium path, by voltage control and then by centre-deflect
 control through the voltage maximum; at every recorded state the lowest eigenvalue at
 fixed voltage of each angular wavenumber n is computed (wavenumber n = 0: the axisymmetric
 one, whose zero is the voltage maximum, i.e. pull-in; n >= 1: wrinkling modes). Per film
-(:data:`~debench.reference.studies.ch5_axisym_tasks.CASES`: neo-Hookean and Ogden at
+(:data:`~debench.reference.studies.ch5_axisym.PATH_FILMS`: neo-Hookean and Ogden at
 R/t0 = 10, t0 = 1 mm; Ogden at R/t0 = 20, t0 = 0.5 mm with R = 10 mm kept) and per
 discretisation (order p, geometric layers L towards the rim and its corners):
 
@@ -28,13 +28,13 @@ no wavenumber's eigenvalue crosses zero before the maximum on any discretisation
 smallest converged eigenvalue at the maximum exceeds its error estimate; otherwise
 undecided.
 
-Plans: ``full`` the neo-Hookean and Ogden films at R/t0 = 10 and the Ogden film at
-R/t0 = 20 on (p, L) = (2, 6), (3, 6), (4, 6), (4, 4) (the Ogden paths cost more than ten
-times the neo-Hookean ones, through the Ogden Hessian's assembly at every eigen-analysis:
-measured CPU per path in the dataset's ``cpu_seconds``, about 1,100 s at (4, 4)). The
-default build the neo-Hookean film at R/t0 = 10 on (2, 3), (3, 3), (3, 2) with wavenumbers
-1..4 (a coarse check of the same code path; measured CPU in the dataset's
-``cpu_seconds``).
+Plans (:data:`~debench.reference.studies.ch5_axisym.PATH`): ``full`` the neo-Hookean and
+Ogden films at R/t0 = 10 and the Ogden film at R/t0 = 20 on (p, L) = (2, 6), (3, 6), (4, 6),
+(4, 4) (the Ogden paths cost more than ten times the neo-Hookean ones, through the Ogden
+Hessian's assembly at every eigen-analysis: measured CPU per path in the dataset's
+``cpu_seconds``, about 1,100 s at (4, 4)). The default build the neo-Hookean film at R/t0 =
+10 on (2, 3), (3, 3), (3, 2) with wavenumbers 1..4 (a coarse check of the same code path;
+measured CPU in the dataset's ``cpu_seconds``).
 
 The 3D-like resolution study (:func:`three_d_like`, variables ``*_3d_like``): the voltage
 maximum of the R/t0 = 10 films on the 3D ramps' discretisation (quadratic elements, one
@@ -50,13 +50,8 @@ import numpy as np
 import xarray as xr
 from debench.models.numerics import p_grading_estimate, p_grading_safety, propagated_accuracy
 from debench.reference.datasets import variable_attrs, write_dataset
-from debench.reference.studies.ch5_axisym_tasks import (
-    CASES,
-    N_R_PER_ASPECT,
-    V_SWITCH,
-    W_END,
-    path_task,
-)
+from debench.reference.studies import ch5_axisym as study
+from debench.reference.studies.ch5_axisym_tasks import V_SWITCH, W_END, path_task
 
 #: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
 #: two pool processes on the quiet 2-core machine): the pool starts the longest first.
@@ -69,11 +64,6 @@ REGENERATED_BY_VERIFY = False
 GUARDS = {"debench.reference.producers.ch5_path:axisym_path_guards": 5.4}
 
 NAME = "ch5_axisym_path"
-PLANS = {
-    False: {"cases": ("nh_r10",), "discs": ((2, 3), (3, 3), (3, 2)), "n_max": 4},
-    True: {"cases": ("nh_r10", "ogden_r10", "ogden_r20"),
-           "discs": ((2, 6), (3, 6), (4, 6), (4, 4)), "n_max": None},
-}
 COARSE_3D_H = {False: (2.5, 2.0), True: (10.0 / 3.0, 2.5, 2.0, 1.0, 0.5)}
 """Radial element sizes / t0 of the 3D-like resolution study (:func:`three_d_like`): the 3D
 ramps' in-plane mesh sizes 3, 2.5, 2 t0 (10/3 here, so that the elements tile the radius)
@@ -93,7 +83,7 @@ TIMING_RTOL = 1.0
 def plan(full: bool = False, cases=None) -> list[tuple]:
     """The FE tasks ``(path_task, case, order, layers, n_max)`` of a build (``cases``: the
     plan's films, or the given ones on the plan's discretisations)."""
-    p = PLANS[full]
+    p = study.PATH[full]
     return [(path_task, c, order, layers, p["n_max"]) for c in (cases or p["cases"])
             for order, layers in p["discs"]]
 
@@ -108,7 +98,7 @@ def three_d_like(case: str, h: float) -> tuple[float, float]:
     from debench.models.buckling.parameters import Plate
     from debench.reference.studies.ch5_axisym_tasks import material
 
-    mat_name, t0, aspect, *_ = CASES[case]
+    mat_name, t0, aspect, *_ = study.PATH_FILMS[case]
     mat = material(mat_name)
     n_r = round((aspect - h) / h)
     disc = ax.AxisymDiscretisation(order=2, n_z=1, face_layers=0, edge_layers=0, n_r=n_r,
@@ -318,12 +308,13 @@ def _decision_variables(dec: list, ns, acc: dict) -> dict:
 def compute(full: bool = False, scheduler=None, progress: bool = True):
     from debench.reference.tasks import run_tasks
 
-    p = PLANS[full]
+    p = study.PATH[full]
     cases, discs = p["cases"], p["discs"]
     tasks = plan(full)
     res = dict(zip([(t[1], t[2], t[3]) for t in tasks],
                    run_tasks(tasks, scheduler=scheduler, progress=progress), strict=True))
-    ns = sorted({n for c in cases for n in CASES[c][3] if p["n_max"] is None or n <= p["n_max"]})
+    ns = sorted({n for c in cases for n in study.PATH_FILMS[c][3]
+                 if p["n_max"] is None or n <= p["n_max"]})
     got = _collect(res, cases, discs, ns) | {"ns": ns}
     scal, per_n = got["scal"], got["per_n"]
     conv, acc = _converge(scal, per_n, discs)
@@ -333,7 +324,7 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
                   bool(np.any(per_n["w_cross"][ci] < scal["w_max"][ci][:, None])))
            for ci in range(len(cases))]
     h3 = COARSE_3D_H[full]
-    like = [c for c in cases if CASES[c][2] == 10.0]
+    like = [c for c in cases if study.PATH_FILMS[c][2] == 10.0]
     coarse = np.array([[three_d_like(c, h) for h in h3] for c in like]).reshape(
         len(like), len(h3), 2)
 
@@ -356,11 +347,11 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
     })
     params = {"full": full, "cases": list(cases), "discs": [list(d) for d in discs],
               "wavenumbers": list(ns), "n_max": p["n_max"],
-              "record_from_w": {c: CASES[c][4] for c in cases},
-              "record_spacing_w": {c: CASES[c][5] for c in cases},
-              "aspect": {c: CASES[c][2] for c in cases},
-              "thickness_m": {c: CASES[c][1] for c in cases},
-              "n_r_per_aspect": N_R_PER_ASPECT, "h_3d_like": list(h3),
+              "record_from_w": {c: study.PATH_FILMS[c][4] for c in cases},
+              "record_spacing_w": {c: study.PATH_FILMS[c][5] for c in cases},
+              "aspect": {c: study.PATH_FILMS[c][2] for c in cases},
+              "thickness_m": {c: study.PATH_FILMS[c][1] for c in cases},
+              "n_r_per_aspect": study.PATH_N_R_PER_ASPECT, "h_3d_like": list(h3),
               "v_switch": V_SWITCH, "w_end": W_END,
               "imperfection": "clamped-plate polynomial, amplitude 1e-3 t0 (the 3D model's)",
               "materials": "Table 5.1 neo-Hookean (5.15)-(5.17); Ogden (5.26), k of Table 5.1"}

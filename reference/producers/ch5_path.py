@@ -279,15 +279,10 @@ def erratum_pullin_thickness(entry: Entry) -> Outcome:
                    evidence=f"{EV_AXISYM_PATH}::test_r10_first_instability_is_decided")
 
 
-#: The path guard: the study's own task (:func:`~debench.reference.studies.
-#: ch5_axisym_tasks.path_task`) on its cheapest setting, the neo-Hookean film at R/t0 = 10
-#: at order 2 with one geometric layer and the axisymmetric eigenvalue only (~9 s CPU:
-#: 318 tangent assemblies of 567 DOFs along the path and the secant to the maximum)
-GUARD_TASK = ("nh_r10", 2, 1, 0)
-
-
 def axisym_path_guards() -> list:
-    """Recompute the voltage maximum of the axisymmetric path on :data:`GUARD_TASK` and
+    """Recompute the voltage maximum of the axisymmetric path on the study's guard setting
+    (:data:`~debench.reference.studies.ch5_axisym.PATH_GUARD`, the study's own task
+    :func:`~debench.reference.studies.ch5_axisym_tasks.path_task`) and
     guard it as ``ch5.guard.axisym_path.nh_r10.{v_max,w_max,ndof}_coarse``, within the
     dataset's regeneration accuracy of v_max and w_max (their ``accuracy_atol``): a change
     of the axisymmetric model (the energy, a modulus, the path or the secant settings)
@@ -295,11 +290,12 @@ def axisym_path_guards() -> list:
     them. The correction to the converged values is not formed (the coarse setting is not
     a discretisation of the curated plan): the guard detects a change, the reported
     values are read from the dataset."""
+    from debench.reference.studies.ch5_axisym import PATH_GUARD
     from debench.reference.studies.ch5_axisym_tasks import path_task
     from debench.reference.values import Guarded
 
     ds = _axisym_path()
-    case, order, layers, n_max = GUARD_TASK
+    case, order, layers, n_max = PATH_GUARD
     r = path_task(case, order, layers, n_max)
     key = f"ch5.guard.axisym_path.{case}"
     reason = ("regeneration accuracy of ch5_axisym_path {} (secant to 1e-9 t0 in the "

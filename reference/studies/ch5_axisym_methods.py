@@ -5,16 +5,15 @@ operators of :meth:`~debench.models.buckling.axisym.AxisymModel.spectrum`, and t
 it depends on.
 
 The task cache of :func:`debench.reference.tasks.run_tasks` keys on the source of this
-module: the film and the operators below are the inputs of the FE results, while the plan
-and the convergence analysis live in the builder.
+module and of the study modules it imports: the film
+(:mod:`debench.reference.studies.ch5_axisym`) and the operators below are the inputs of the
+FE results, while the convergence analysis lives in the builder.
 """
 
 from __future__ import annotations
 
-THICKNESS = 1e-3
-"""Film thickness t0 [m] (Table 5.1's 1 mm film; the normalised voltages are scale-free)."""
-ASPECT = 10.0
-"""Radius / thickness (the stated geometry of Section 5.3)."""
+from debench.reference.studies.ch5_axisym import ASPECT, CRITICAL_N_R, THICKNESS
+
 TANGENTS = ("coupled", "frozen_potential", "initial_stress")
 """The stability operators (:data:`debench.models.buckling.axisym.TANGENTS`): the
 condensed tangent at fixed voltage (the definition of the critical voltage), the tangent at
@@ -35,7 +34,8 @@ def critical_task(case: str, tangent: str, order: int, layers: int) -> dict:
     from debench.reference.tasks import limit_threads
 
     limit_threads()
-    disc = AxisymDiscretisation(order=order, edge_layers=layers, face_layers=layers)
+    disc = AxisymDiscretisation(order=order, edge_layers=layers, face_layers=layers,
+                                n_r=CRITICAL_N_R)
     r = critical_voltage(Plate(thickness=THICKNESS, aspect=ASPECT), material(case), disc,
                          n=0, tangent=tangent)
     return {"case": case, "tangent": tangent, "order": order, "layers": layers,

@@ -1,10 +1,12 @@
 """The finite-element task of the Chapter 5 axisymmetric path study
-(:mod:`debench.reference.builders.ch5_axisym_path`), the settings it depends on, and the
-material of each axisymmetric case.
+(:mod:`debench.reference.builders.ch5_axisym_path`), the path settings it depends on, and
+the material of each axisymmetric case. The films and the plan:
+:mod:`debench.reference.studies.ch5_axisym`.
 
 The task cache of :func:`debench.reference.tasks.run_tasks` keys on the source of
-the module that defines a task: the cases and the path settings below are the inputs of the
-FE results, while the convergence analysis lives in the builder.
+the module that defines a task and of the study modules it imports: the films and the path
+settings are the inputs of the FE results, while the convergence analysis lives in the
+builder.
 """
 
 from __future__ import annotations
@@ -13,22 +15,8 @@ import math
 import time
 
 import numpy as np
+from debench.reference.studies.ch5_axisym import PATH_FILMS, PATH_N_R_PER_ASPECT
 
-CASES = {
-    # name: (material, thickness t0 [m], radius/thickness, wavenumbers recorded,
-    #        deflection / t0 from which they are recorded, record spacing / t0)
-    "nh_r10": ("nh", 1e-3, 10.0, tuple(range(1, 9)), 1.0, 0.5),
-    "ogden_r10": ("ogden", 1e-3, 10.0, tuple(range(1, 9)), 1.0, 0.5),
-    "ogden_r20": ("ogden", 0.5e-3, 20.0, tuple(range(1, 15)), 5.0, 0.5),
-}
-"""The films: Table 5.1 neo-Hookean and Ogden at R/t0 = 10 (the stated geometry, t0 = 1 mm)
-and the Ogden film at R/t0 = 20 (t0 = 0.5 mm with the radius R = 10 mm kept). Wavenumbers
-1..8 at R/t0 = 10 (their lowest eigenvalues at the voltage maximum grow with n from n = 1
-on: the minimum over n is inside the range) and 1..14 at R/t0 = 20 (the unstable band at
-the voltage maximum is n = 6..12, n = 5 and 13 stable: the range contains the band and a
-stable wavenumber on either side)."""
-N_R_PER_ASPECT = 0.8
-"""Equal elements in R on [0, a - t0]: 0.8 per unit of R/t0 (elements of ~1.1-1.2 t0)."""
 V_SWITCH = 0.8
 """Voltage control up to this multiple of the plate estimate of the critical voltage
 (:func:`~debench.models.buckling.analytic.critical_voltage_plate`), in 8 steps, then
@@ -62,12 +50,12 @@ def path_task(case: str, order: int, layers: int, n_max: int | None = None) -> d
     from debench.reference.tasks import limit_threads
 
     limit_threads()
-    mat_name, t0, aspect, ns, w_from, spacing = CASES[case]
+    mat_name, t0, aspect, ns, w_from, spacing = PATH_FILMS[case]
     ns = tuple(n for n in ns if n_max is None or n <= n_max)
     mat = material(mat_name)
     cpu = time.process_time()
     disc = ax.AxisymDiscretisation(order=order, edge_layers=layers, face_layers=layers,
-                                   n_r=max(1, round(N_R_PER_ASPECT * aspect)))
+                                   n_r=max(1, round(PATH_N_R_PER_ASPECT * aspect)))
     model = ax.AxisymModel(Plate(thickness=t0, aspect=aspect), mat, disc,
                            with_imperfection=True)
     v_switch = V_SWITCH * critical_voltage_plate(mat, aspect)
