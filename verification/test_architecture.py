@@ -189,3 +189,15 @@ def test_no_function_imports_what_its_module_already_imports():
                     found += [f"{path.relative_to(ROOT)}:{node.lineno} {m}.{n or ''}"
                               for m, n, a in _bound_names(node) & top]
     assert not found, found
+
+
+#: the longest a hand-written module may be (a longer one holds more than one concept);
+#: generated code (sympy output, named ``generated*``) is exempt
+MAX_MODULE_LINES = 600
+
+
+def test_no_hand_written_module_is_longer_than_the_limit():
+    long = {name: n for name, path in MODULES.items()
+            if "generated" not in path.stem
+            and (n := len(path.read_text().splitlines())) > MAX_MODULE_LINES}
+    assert not long, f"modules over {MAX_MODULE_LINES} lines: {long}"

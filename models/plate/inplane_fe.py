@@ -19,7 +19,8 @@ from debench.models.errors import ConvergenceError
 from debench.models.numerics.roots import bracketed_root
 from debench.models.plate.coefficients import PlateParams
 from debench.models.plate.fem import _gram, grading
-from debench.models.plate.inplane import _S, XTOL_ROOT, _check, _elliptic_grid, _path
+from debench.models.plate.inplane import XTOL_ROOT, _path
+from debench.models.plate.inplane_symbol import _S, _check, _elliptic_grid
 
 #: elements through the thickness (default)
 N_ELEMENTS = 24
