@@ -7,13 +7,23 @@ from __future__ import annotations
 
 import importlib
 import inspect
+import multiprocessing
 import os
+import pickle
 import pkgutil
+import resource
 import sys
+import tempfile
+import time
+import traceback
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 
+import debench.reference.builders as pkg
 from debench.reference.results_files import UsageError
+
+from debench.threads import limit_threads
 
 
 def builder(chapter: str):
@@ -30,8 +40,6 @@ def builder(chapter: str):
 def chapters() -> tuple[str, ...]:
     """The builder modules in ``debench.reference.builders`` (the chapters of ``debench
     reproduce``), sorted, the catalogue last (it reflects all)."""
-    import debench.reference.builders as pkg
-
     names = sorted(m.name for m in pkgutil.iter_modules(pkg.__path__)
                    if not m.name.startswith("_"))
     return tuple([n for n in names if n != "catalogue"] + ["catalogue"])
@@ -132,7 +140,6 @@ class ChapterTraceback(Exception):
 
 
 def _process_cpu() -> float:
-    import resource
 
     own = resource.getrusage(resource.RUSAGE_SELF)
     return own.ru_utime + own.ru_stime
@@ -142,8 +149,6 @@ def init_pool_process() -> None:
     """A pool process: BLAS/OpenMP and NGSolve threads as configured for the command
     (:func:`debench.threads.limit_threads` reads ``DEBENCH_THREADS``, which the command
     set), no progress bars."""
-    from debench.threads import limit_threads
-
     limit_threads()
     os.environ["TQDM_DISABLE"] = "1"
 
@@ -152,11 +157,6 @@ def _build_captured(chapter: str, out: str, full: bool, scheduler: str | None) -
     """Build one chapter in a pool process with its output captured (file descriptors 1 and
     2 and ``sys.stdout``/``sys.stderr``), so that the command prints each chapter's lines
     together; an exception is returned, not raised (with its traceback text)."""
-    import pickle
-    import tempfile
-    import time
-    import traceback
-
     built = _Built(chapter)
     cpu0, wall0 = _process_cpu(), time.monotonic()
     with tempfile.TemporaryFile() as fout, tempfile.TemporaryFile() as ferr:
@@ -200,8 +200,6 @@ def _build_captured(chapter: str, out: str, full: bool, scheduler: str | None) -
 def pool_context():
     """``fork`` where the platform has it (Linux: no re-import of the package in every pool
     process), else ``spawn``."""
-    import multiprocessing
-
     methods = multiprocessing.get_all_start_methods()
     return multiprocessing.get_context("fork" if sys.platform.startswith("linux")
                                        and "fork" in methods else "spawn")
@@ -229,8 +227,6 @@ def build_serially(chapters: list[str], out: Path, full: bool,
 
 def stop_pool(executor) -> None:
     """Cancel the chapters not started and end the pool processes building the others."""
-    import multiprocessing
-
     executor.shutdown(wait=False, cancel_futures=True)
     for proc in multiprocessing.active_children():
         proc.terminate()
@@ -249,9 +245,6 @@ def build_concurrently(chapters: list[str], out: Path, full: bool, scheduler: st
     raises stops the command: the chapters not started are cancelled, those running are
     ended, and its exception is raised here (its traceback as the cause).
     """
-    import time
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
     cost = build_cpu_s(chapters)
     order = sorted(chapters, key=lambda c: -cost[c])
     started = time.monotonic()

@@ -17,7 +17,11 @@ import json
 import re
 from typing import Any
 
-from debench.reference import provenance
+from debench.reference import catalogue, problems, provenance
+from debench.reference.datasets import data_dir, read_manifest
+from debench.reference.provenance import git_commit
+
+from debench import __version__
 
 THESIS = {
     "id": "zeng_2020", "type": "thesis", "genre": "PhD dissertation",
@@ -105,9 +109,6 @@ def _candidates(item_id: str) -> list[dict[str, Any]]:
     problem, a dataset (``NAME`` or ``NAME.nc``; ``NAME.nc`` names only the dataset), a
     catalogue entry (its id or an id it replaces). Each is a dict: kind, title, chapter,
     thesis location, datasets, references (CSL items) and references given only as text."""
-    from debench.reference import catalogue, problems
-    from debench.reference.datasets import data_dir, read_manifest
-
     out = []
     if not item_id.endswith(".nc"):
         try:
@@ -188,11 +189,6 @@ def ambiguity(item_id: str) -> str | None:
 
 def citation(item_id: str) -> list[dict[str, Any]]:
     """CSL-JSON items: debench (with the item cited) first, then its references."""
-    from debench.reference import problems
-    from debench.reference.datasets import data_dir, read_manifest
-    from debench.reference.provenance import git_commit
-
-    from debench import __version__
 
     info = _resolve(item_id)
     manifest = read_manifest(data_dir())

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from debench.reference import problems, problems_coverage, problems_reference
 
 __all__ = ["Comparison", "Comparisons", "compare"]
 
@@ -266,8 +267,6 @@ def _covered_reference(problem: str, quantity: str | None, coords: Mapping[str, 
     of the points; ValueError on repeated coordinates, and
     :class:`~debench.reference.problems_coverage.CoverageError` when ``coverage`` is
     ``"full"`` and the points do not cover what they address."""
-    from debench.reference import problems, problems_coverage, problems_reference
-
     prob = problems.get(problem)
     q = prob.quantity(quantity)
     ref = problems_reference.reference_at(prob, q, coords)
@@ -289,8 +288,6 @@ def _covered_reference(problem: str, quantity: str | None, coords: Mapping[str, 
 def _compare_several(problem, quantity, values, coords, rtol, atol, coverage) -> Comparisons:
     """:func:`compare` for ``values`` = {quantity name: values}: one comparison each; an
     error about one quantity names it."""
-    from debench.reference import problems
-
     if quantity is not None:
         raise ValueError(f"quantity must be None when values is a mapping (its keys name "
                          f"the quantities), got {quantity!r}")

@@ -20,7 +20,9 @@ from functools import cache
 from pathlib import Path
 
 import numpy as np
+from debench.reference.problems_markdown import render_markdown
 
+from . import problems
 from . import submissions as subs
 
 
@@ -107,7 +109,6 @@ def _fmt(x) -> str:
 
 @cache
 def _tables(root: str) -> tuple[Table, ...]:
-    from . import problems
 
     found: dict[tuple[str, str], Table] = {}
     for folder in subs.discover(root):
@@ -173,8 +174,6 @@ def problem_page(problem) -> str:
     """The page of a reference problem
     (:func:`debench.reference.problems_markdown.render_markdown`) with its consensus of
     codes (:func:`problem_section`), as ``debench problems ID --markdown`` prints it."""
-    from debench.reference.problems_markdown import render_markdown
-
     return render_markdown(problem, extra=problem_section(problem.id))
 
 

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from debench.reference.datasets import read_dataset
 
 _ROOT = Path(__file__).resolve().parent.parent
 
@@ -53,7 +54,6 @@ class CrossCheck:
     test: str
 
     def measured(self, data_dir: Path | None = None) -> float:
-        from debench.reference.datasets import read_dataset
 
         return float(self.measure(read_dataset(self.dataset, data_dir=data_dir)))
 

@@ -10,9 +10,12 @@ titles or legends).
 from __future__ import annotations
 
 import contextlib
+import re
 from contextvars import ContextVar
 from pathlib import Path
 from typing import Any
+
+from debench.reference import catalogue
 
 _WRITE = ContextVar("debench_write_figures", default=True)
 
@@ -133,9 +136,6 @@ def tight_bbox(fig):
 def printed_values(figure: str) -> list[Any]:
     """Catalogue entries (claims) with a numeric printed value whose source names
     ``figure`` (e.g. ``"3.5"``; ``"4.2"`` matches ``"4.2(a)-(c), 4.4"``)."""
-    import re
-
-    from debench.reference import catalogue
 
     out = []
     for e in catalogue.load():
@@ -160,8 +160,6 @@ def thesis_gid(entries) -> str:
 
 def drawn_entries(svg_text: str) -> set[str]:
     """Catalogue entry ids drawn with :func:`mark_thesis` / :func:`mark_thesis_x` in an SVG."""
-    import re
-
     out: set[str] = set()
     for gid in re.findall(r'id="' + re.escape(THESIS_GID) + r'([^"]+)"', svg_text):
         out.update(gid.split("+"))
@@ -214,7 +212,5 @@ def percent_note(entry_id: str, sign: str = "+") -> str:
 
 def printed_value(entry_id: str) -> float:
     """The value the thesis prints for catalogue entry ``entry_id``."""
-    from debench.reference import catalogue
-
     entry = catalogue.by_id(catalogue.load())[entry_id]
     return float(entry.value)

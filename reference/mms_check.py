@@ -24,11 +24,14 @@ True
 
 from __future__ import annotations
 
+import csv
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 from debench.models import validation as val
+from debench.reference.results_files import UsageError
 
 ORDER_ATOL = 0.1
 """|observed - expected| allowed for the fitted order. Why 0.1: over the finest three of
@@ -175,9 +178,6 @@ def check_table(table: Mapping[str, Sequence[float]], degree: int, *, dim: int |
 def read_table(path) -> dict[str, np.ndarray]:
     """A CSV of levels: a header row (``name`` or ``name [units]``), one row per level;
     columns ``h`` or ``ndof``, optionally ``degree``, and error columns (:func:`check_table`)."""
-    import csv
-    from pathlib import Path
-
     text = Path(path).read_text(encoding="utf-8")
     rows = [r for r in csv.reader(line for line in text.splitlines()
                                   if line.strip() and not line.lstrip().startswith("#"))]
@@ -203,8 +203,6 @@ ERROR_COLUMNS = tuple(f"{f}_{n}" for f in FIELDS for n in NORMS)
 
 def _header(path) -> list[str]:
     """The column names (units dropped) of the first row of a CSV that is not a comment."""
-    from pathlib import Path
-
     for line in Path(path).read_text(encoding="utf-8-sig").splitlines():
         if line.strip() and not line.lstrip().startswith("#"):
             return [c.split("[")[0].strip() for c in line.split(",")]
@@ -264,8 +262,6 @@ def cmd_orders(args) -> int:
     """``debench orders TABLE.csv``: fit and judge the orders of a manufactured-solution
     study; ``--write`` saves them as a table ``debench check mms_electroelastic`` reads
     (which also reads the error table itself when it has a ``degree`` column and ``h``)."""
-    from debench.reference.results_files import UsageError
-
     try:
         results = fit_error_table(args.table, degree=args.degree, dim=args.dim,
                                   finest=args.finest)
@@ -275,7 +271,6 @@ def cmd_orders(args) -> int:
         print(line)
     ok = all(bool(fit.passed) for res in results.values() for fit in res.values())
     if args.write:
-        from pathlib import Path
 
         cols = order_columns(results)
         names = list(cols)

@@ -38,6 +38,7 @@ Examples
 
 from __future__ import annotations
 
+import copy
 import importlib
 import math
 import tomllib
@@ -48,6 +49,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from debench.reference.datasets import data_dir, read_dataset, read_manifest
 
 PROBLEMS_DIR = Path(__file__).resolve().parent / "problems"
 #: the ``chapter`` of a problem beyond the thesis (the literature's problems other DE codes
@@ -293,8 +295,6 @@ def _quantity(raw: Mapping[str, Any], where: str) -> Quantity:
 
 def load_file(path: Path) -> Problem:
     """One problem spec from a TOML file."""
-    import copy
-
     raw = tomllib.loads(Path(path).read_text(encoding="utf-8"))
     parsed = copy.deepcopy(raw)
     where = Path(path).name
@@ -334,8 +334,6 @@ def get(problem_id: str) -> Problem:
 
 def provenance(problem: Problem) -> dict[str, Any]:
     """Datasets (with sha256 from the manifest) and the thesis location of a problem."""
-    from debench.reference.datasets import data_dir, read_manifest
-
     manifest = read_manifest(data_dir())
     out = {}
     for name in problem.datasets:
@@ -349,7 +347,5 @@ def quantity_dataset(q: Quantity):
     """The curated dataset a ``source = "dataset"`` quantity reads its reference from
     (read verified by :func:`debench.reference.datasets.read_dataset`), with the
     quantity's ``fixed`` coordinates selected."""
-    from debench.reference.datasets import read_dataset
-
     ds = read_dataset(q.dataset)
     return ds.sel(q.fixed) if q.fixed else ds

@@ -31,7 +31,9 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from debench.reference import confirmations
 from debench.reference.problems import Problem, ProblemError, Quantity, quantity_dataset
+from scipy.interpolate import CubicSpline
 
 #: relative tolerance for matching a user's coordinate with a stored one: a selector
 #: (lamP = 1.25) with its grid value, and an abscissa (kH) that no piece of the curve
@@ -192,8 +194,6 @@ def _curve_at(x: np.ndarray, y: np.ndarray, xq: np.ndarray, name: str, log: bool
     point) is that stored point; any other point in a gap, on a jump or outside the finite
     range is refused.
     """
-    from scipy.interpolate import CubicSpline
-
     order = np.argsort(x)
     x, y = x[order], y[order]
     finite = np.isfinite(x)
@@ -360,7 +360,6 @@ def reference_json(problem: Problem) -> dict[str, Any]:
             return np.where(np.isfinite(a), a, None).tolist()
         return a.astype(str).tolist() if a.dtype.kind in "US" else a.tolist()
 
-    from debench.reference import confirmations
 
     out = {"spec": problem.spec(), "reference": {}}
     for q in problem.quantities:

@@ -12,7 +12,7 @@ import re
 import subprocess
 import sys
 from functools import cache
-from importlib.metadata import PackageNotFoundError, version
+from importlib.metadata import PackageNotFoundError, metadata, version
 from pathlib import Path
 
 #: Packages whose versions are recorded in every dataset.
@@ -41,8 +41,6 @@ def project_urls() -> dict[str, str]:
     dict of str to str
         Label to URL; empty when debench is not installed.
     """
-    from importlib.metadata import metadata
-
     try:
         entries = metadata("debench").get_all("Project-URL") or []
     except PackageNotFoundError:

@@ -17,7 +17,10 @@ import sys
 from collections.abc import Iterable
 from pathlib import Path
 
-from debench.reference.catalogue import Result
+from debench.reference import consensus, crosschecks
+from debench.reference.catalogue import Result, load, readable
+from debench.reference.datasets import data_dir
+from debench.reference.manifest import DatasetError
 from debench.reference.provenance import git_commit
 from debench.reference.report_tables import (
     CHAPTER_TITLES,
@@ -78,8 +81,6 @@ def _verdict_text(value, spec: str = "", unit: str = "") -> str:
     """A value of a record as the verdict prints it: numbers with ``spec`` (default four
     significant digits), a sequence comma-separated, a bool as holds / does not hold, the
     unit appended unless it is 1 or empty."""
-    from debench.reference.catalogue import readable
-
     if hasattr(value, "tolist") and not isinstance(value, str):
         value = value.tolist()  # a numpy scalar or array
     if isinstance(value, bool):
@@ -107,8 +108,6 @@ def _split_id(path: str, ids: dict[str, Result]) -> tuple[Result, list[str]]:
 
 def _catalogued(path: str) -> bool:
     """Whether ``path`` starts with the id of an entry of the catalogue (evaluated or not)."""
-    from debench.reference.catalogue import load
-
     known = {e.id for e in load()}
     parts = path.split(".")
     return any(".".join(parts[:k]) in known for k in range(len(parts), 0, -1))
@@ -175,9 +174,6 @@ def consensus_sentence(problem: str, quantity: str) -> str:
     one sentence from the consensus records (:mod:`debench.reference.consensus`): how many
     of their values lie within the reference's stated accuracy and within the accuracy
     their submitters state, and the spread. It says "within" only of the values that are."""
-    from debench.reference import consensus
-    from debench.reference.manifest import DatasetError
-
     try:
         tables = consensus.tables()
     except DatasetError:        # a data directory without the references (a partial one)
@@ -373,8 +369,6 @@ def crosscheck_section(data_dir: Path | None = None,
     """The cross-check matrix (``debench.reference.crosschecks``) as report lines, and the
     counts of the catalogue's own checks of our models (kind ``derived``) among
     ``results``, which the chapter sections list."""
-    from debench.reference import crosschecks
-
     own = in_group(results, "own checks")
     misses = [r for r in own if r.status == "not_reproduced"]
     catalogue = [f"Beyond this matrix, in the catalogue: {count_sentence('own checks', own)}."
@@ -396,8 +390,6 @@ def crosscheck_section(data_dir: Path | None = None,
 
 def consensus_section() -> list[str]:
     """The consensus of codes (``debench.reference.consensus``) as report lines."""
-    from debench.reference import consensus
-
     return consensus.report_section()
 
 
@@ -504,8 +496,6 @@ def report_figures(figures: Path) -> Path:
     Expected are the figures of the curated set (``data_dir()/figures``); a partial
     directory is used as it is, but never silently.
     """
-    from debench.reference.datasets import data_dir
-
     curated = data_dir() / "figures"
     expected = {p.name for p in curated.glob("*.png")}
     present = {p.name for p in figures.glob("*.png")}

@@ -9,7 +9,7 @@ from collections import Counter
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-from debench.reference.catalogue import Result
+from debench.reference.catalogue import Result, by_id
 
 STATUS_MARK = {
     "reproduced": "✅ reproduced", "not_reproduced": "❌ not reproduced",
@@ -243,8 +243,6 @@ def row_problems(results: Iterable[Result]) -> list[str]:
     literature row whose value and ours are of different kinds (number, bool, text; a
     missing value on either side is shown as such), a diagnosis row whose predicted and
     compared values differ in unit or kind of quantity, or whose kind is unknown."""
-    from debench.reference.catalogue import by_id
-
     results = list(results)
     ids = by_id([r.entry for r in results])
     out = []
@@ -273,8 +271,6 @@ def diagnosis_table(results: Iterable[Result]) -> str:
     """Markdown table of the diagnoses: hypothesis, the entry it targets, the value it is
     compared with (the target's printed value, or the criterion its producer states) and
     what the hypothesis predicts, each with unit and kind, and whether they agree."""
-    from debench.reference.catalogue import by_id
-
     results = list(results)
     ids = by_id([r.entry for r in results])
     rows = ["| hypothesis | target | compared with | predicted | kind | status |",

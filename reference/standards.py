@@ -16,9 +16,13 @@ of ``pyproject.toml`` names none); when it gets one the writer adds ``creator_ur
 from __future__ import annotations
 
 import re
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
+
+from debench.reference import __version__
+from debench.reference.provenance import repository_url
 
 #: The group that writes the datasets (no individual authors are stated).
 GROUP = "debench developers"
@@ -87,9 +91,6 @@ def coverage_content_type(name: str, *, is_coordinate: bool) -> str:
 
 def acdd_attributes(name: str, now: str) -> dict[str, str]:
     """Global ACDD-1.3 attributes of dataset ``name`` written at ``now`` (ISO 8601)."""
-    from debench.reference import __version__
-    from debench.reference.provenance import repository_url
-
     attrs = {
         "id": name, "naming_authority": "debench", "institution": GROUP,
         "creator_type": "group", "publisher_name": GROUP, "publisher_type": "group",
@@ -156,8 +157,6 @@ def check_file(path: Path, checks: tuple[str, ...] = ("cf:1.10", "acdd:1.3")) ->
     Raises ``ImportError`` when ``compliance-checker`` is not installed (it is in the
     ``test`` extra).
     """
-    import warnings
-
     found = Findings()
     with warnings.catch_warnings():  # the checker's own deprecation notices
         warnings.simplefilter("ignore")

@@ -26,7 +26,10 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
-from debench.reference.results_files import METADATA_NAME
+import jsonschema
+from debench.reference import problems
+from debench.reference.comparison import compare
+from debench.reference.results_files import METADATA_NAME, UsageError, read_results
 
 SCHEMA_NAME = "submission.schema.json"
 
@@ -57,8 +60,6 @@ def _jsonable(obj: Any) -> Any:
 def metadata_errors(meta: dict) -> list[str]:
     """Every schema violation of ``meta``, one line each, naming the field
     (``code.version: missing (required)``, ``results_sha256: 'xyz' does not match ...``)."""
-    import jsonschema
-
     validator = jsonschema.Draft202012Validator(schema())
     out = []
     for err in sorted(validator.iter_errors(_jsonable(meta)),
@@ -124,8 +125,6 @@ class Submission:
 def load(folder) -> Submission:
     """Read and validate a submission folder; :class:`SubmissionError` naming every
     missing or invalid field, or the checksum mismatch, or an unknown problem/quantity."""
-    from debench.reference import problems
-
     folder = Path(folder)
     path = folder / METADATA_NAME
     if not path.is_file():
@@ -190,10 +189,6 @@ class Outcome:
 def check(sub: Submission) -> Outcome:
     """Compare the results of ``sub`` with its problem's reference (like ``debench check``:
     units by meaning, full coverage unless ``[check] partial = true``)."""
-    from debench.reference import problems
-    from debench.reference.comparison import compare
-    from debench.reference.results_files import UsageError, read_results
-
     prob = problems.get(sub.problem)
     try:
         (qname,), cols = read_results(sub.results, sub.quantity, prob)

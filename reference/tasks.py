@@ -21,7 +21,10 @@ import sys
 from collections.abc import Callable
 from pathlib import Path
 
+import debench.models as models
 from debench.models.errors import ConvergenceError
+
+from debench.threads import limit_threads as limit
 
 WORKER_CONFIG = {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}
 """Dask configuration of the LocalCluster's worker processes.  Dask's default sets
@@ -43,7 +46,6 @@ def limit_threads() -> None:
     one task per process; nothing oversubscribes): :func:`debench.threads.limit_threads`."""
     import ngsolve  # noqa: F401 - loaded first so that its TaskManager is limited too
 
-    from debench.threads import limit_threads as limit
 
     limit(1)
 
@@ -235,7 +237,6 @@ def task_source(module: str) -> str:
 def models_digest() -> str:
     """sha256 of the source (path and content) of the modules of :mod:`debench.models` that
     the FE tasks run (:data:`FE_SOURCES`)."""
-    import debench.models as models
     root = Path(models.__file__).parent
     h = hashlib.sha256()
     for f in sorted({f for pattern in FE_SOURCES for f in root.glob(pattern)}):

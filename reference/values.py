@@ -30,7 +30,9 @@ from typing import Any
 
 import numpy as np
 import xarray as xr
+from debench.reference import builds
 from debench.reference.catalogue import Accuracy, Result
+from debench.reference.datasets import read_dataset
 
 STORE_NAME = "our_values"
 
@@ -137,8 +139,6 @@ def _guard(key: str, value: float | str, acc: Accuracy | None, status: str) -> G
 
 def model_guard_names() -> tuple[str, ...]:
     """The model guards every builder declares (``GUARDS``), in the chapters' order."""
-    from debench.reference import builds
-
     return tuple(builds.model_guards(builds.chapters()))
 
 
@@ -187,8 +187,6 @@ def store_dataset(guards: list[Guarded]) -> xr.Dataset:
 
 def read_store(data_dir: Path | None = None) -> dict[str, Guarded]:
     """The committed guarded values (verified read of ``our_values.nc``)."""
-    from debench.reference.datasets import read_dataset
-
     ds = read_dataset(STORE_NAME, data_dir=data_dir)
     out = {}
     for i, key in enumerate(ds.key.values.tolist()):

@@ -729,27 +729,28 @@ def _check_padded(res) -> None:
 
 def _inplane_cases():
     """The in-plane fibre model (beyond the thesis): small discretisations and scans."""
-    from debench.models.plate import inplane, inplane_fe
+    from debench.models.plate import inplane, inplane_fe, inplane_symbol
     from debench.models.plate.coefficients import PlateParams
 
     p = "debench.models.plate.inplane"
+    ps = "debench.models.plate.inplane_symbol"
     pfe = "debench.models.plate.inplane_fe"
     PD = PlateParams(xi=5.0, Dhat=0.0, variant="derived")
     th = {"theta": "real"}
     bad_theta = {"theta": [-1.0, 91.0]}
     common = {"lam": "lam", **th, "params": "obj"}
     return [
-        Case(f"{p}.energy_matrix", inplane.energy_matrix,
+        Case(f"{ps}.energy_matrix", inplane_symbol.energy_matrix,
              {"lam": 0.97, "theta": 30.0, "params": PD}, common, extra=bad_theta),
-        Case(f"{p}.base_state", inplane.base_state,
+        Case(f"{ps}.base_state", inplane_symbol.base_state,
              {"lam": 0.97, "theta": 30.0, "params": PD}, common, extra=bad_theta),
-        Case(f"{p}.symbol", inplane.symbol,
+        Case(f"{ps}.symbol", inplane_symbol.symbol,
              {"lam": 0.97, "theta": 30.0, "params": PD, "s": np.array([0.3j, 1.1j])},
              {**common, "s": "real"},
              extra={**bad_theta, "s": [np.array([0.3j, complex(NAN, 1.0)])]}),
-        Case(f"{p}.characteristic_roots", inplane.characteristic_roots,
+        Case(f"{ps}.characteristic_roots", inplane_symbol.characteristic_roots,
              {"lam": 0.97, "theta": 30.0, "params": PD}, common, extra=bad_theta),
-        Case(f"{p}.strongly_elliptic", inplane.strongly_elliptic,
+        Case(f"{ps}.strongly_elliptic", inplane_symbol.strongly_elliptic,
              {"lam": 0.97, "theta": 30.0, "params": PD}, common, extra=bad_theta),
         Case(f"{p}.det_function", inplane.det_function,
              {"lam": 0.97, "kH": 2.0, "theta": 30.0, "params": PD},

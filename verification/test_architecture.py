@@ -201,3 +201,108 @@ def test_no_hand_written_module_is_longer_than_the_limit():
             if "generated" not in path.stem
             and (n := len(path.read_text().splitlines())) > MAX_MODULE_LINES}
     assert not long, f"modules over {MAX_MODULE_LINES} lines: {long}"
+
+
+#: third-party packages whose import costs start-up time or which are optional: a
+#: function may import them (or a module of ours that imports one at its top) lazily
+HEAVY_PACKAGES = {"ngsolve", "netgen", "pyngcore", "matplotlib", "dask", "distributed",
+                  "sympy", "mpmath", "skfem", "tqdm", "xarray", "netCDF4", "cf_units",
+                  "scipy", "hypothesis", "pytest", "compliance_checker", "yaml"}
+#: the modules every ``debench`` command imports before it parses its arguments: their
+#: function-level imports keep the start-up light (measured: ``import
+#: debench.reference.cli`` 0.3 s; 1.1 s with their imports at module level, which load
+#: xarray and netCDF4 for every command)
+START_UP = {"debench", "debench.__main__", "debench.reference.cli",
+            "debench.reference.cli_users", "debench.reference.results_files",
+            "debench.reference.regeneration", "debench.reference.builds",
+            "debench.threads", "debench.pytest_plugin", "debench.testing"}
+
+
+def _top_level_imports(module: str, path: Path) -> tuple[set[str], set[str]]:
+    """(modules of ours, third-party top-level packages) that ``module`` imports at its top
+    level (in ``try`` and ``if`` blocks too)."""
+    ours, theirs = set(), set()
+    tree = ast.parse(path.read_text())
+    for stmt in tree.body:
+        if isinstance(stmt, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            continue
+        for node in ast.walk(stmt):
+            if isinstance(node, ast.Import):
+                theirs |= {a.name.split(".")[0] for a in node.names}
+            elif isinstance(node, ast.ImportFrom) and not node.level:
+                theirs.add((node.module or "").split(".")[0])
+    ours = {t for t in _imports(module, path) if t in _top_level_targets(module, tree)}
+    return ours, theirs - {"debench"}
+
+
+def _top_level_targets(module: str, tree) -> set[str]:
+    body = ast.Module(body=[s for s in tree.body if not isinstance(
+        s, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef))], type_ignores=[])
+    is_package = MODULES[module].name == "__init__.py"
+    package = module if is_package else module.rpartition(".")[0]
+    out = set()
+    for node in ast.walk(body):
+        if isinstance(node, ast.Import):
+            names = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                anchor = package.split(".")[: len(package.split(".")) - (node.level - 1)]
+                base = ".".join([*anchor, base] if base else anchor)
+            names = [f"{base}.{a.name}" for a in node.names] + [base]
+        else:
+            continue
+        out |= {t for n in names if (t := _resolve(n)) is not None}
+    # importing a module imports its packages
+    return out | {p for t in out for p in _parents(t)}
+
+
+def _parents(module: str) -> set[str]:
+    parts = module.split(".")
+    return {".".join(parts[:i]) for i in range(1, len(parts)) if ".".join(parts[:i]) in MODULES}
+
+
+TOP = {m: _top_level_imports(m, p) for m, p in MODULES.items()}
+
+
+def _is_heavy(module: str, seen=None) -> bool:
+    """Whether importing our ``module`` loads a heavy package (through its top-level
+    imports, its packages' and theirs)."""
+    seen = set() if seen is None else seen
+    if module in seen:
+        return False
+    seen.add(module)
+    ours, theirs = TOP[module]
+    return bool(theirs & HEAVY_PACKAGES) or any(
+        _is_heavy(t, seen) for t in ours | _parents(module))
+
+
+def test_function_level_imports_are_for_heavy_packages_or_the_start_up():
+    """Outside the command start-up path (:data:`START_UP`), a function imports only what
+    is heavy or optional (:data:`HEAVY_PACKAGES`, or a module of ours that loads one);
+    everything else is imported at the top of the module, where a reader sees it."""
+    found = []
+    for module, path in MODULES.items():
+        if module in START_UP or "generated" in path.stem:
+            continue
+        tree = ast.parse(path.read_text())
+        for fn in ast.walk(tree):
+            if not isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                continue
+            for node in ast.walk(fn):
+                if isinstance(node, ast.Import):
+                    names = [a.name for a in node.names]
+                elif isinstance(node, ast.ImportFrom):
+                    if node.level:
+                        continue
+                    base = node.module or ""
+                    names = [f"{base}.{a.name}" for a in node.names]
+                else:
+                    continue
+                for name in names:
+                    ours = _resolve(name)
+                    heavy = (_is_heavy(ours) if ours is not None
+                             else name.split(".")[0] in HEAVY_PACKAGES)
+                    if not heavy:
+                        found.append(f"{path.relative_to(ROOT)}:{node.lineno} {name}")
+    assert not found, found

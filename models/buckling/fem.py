@@ -64,6 +64,7 @@ from debench.models.buckling.fem_stability import MembraneStability
 from debench.models.buckling.mesh import disk_prism_mesh
 from debench.models.buckling.parameters import MU_REF, Discretisation, Plate
 from debench.models.errors import ConvergenceError, require
+from debench.models.materials import cauchy_stress
 from debench.models.materials.protocol import IdealDielectricElastomer
 from debench.models.numerics.newton import RTOL, NewtonResult, round_off_floor
 
@@ -475,7 +476,6 @@ class MembraneModel(MembraneStability):
     def centre_stress(self) -> np.ndarray:
         """Total Cauchy stress / mu_ref at the mid-plane centre (3x3), Eq. (2.33), by the
         constitutive library (numpy path) at the FE deformation gradient and field."""
-        from debench.models.materials import cauchy_stress
         u, p = self.gf.components
         F = ngs.Id(3) + ngs.Grad(u)
         mip = self._point(0.0, 0.0, 0.5 * self.plate.thickness + self.lift())

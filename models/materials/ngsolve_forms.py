@@ -50,6 +50,7 @@ import ngsolve as ng
 import numpy as np
 from debench.models.materials import energies as E
 from debench.models.materials.constants import OGDEN_DELTA
+from debench.models.materials.library import OgdenIdealDielectric
 
 
 def _vector(values):
@@ -112,7 +113,6 @@ def _perturbation_direction() -> np.ndarray:
 
 
 def _ogden(alphas, mus, k):
-    from debench.models.materials.library import OgdenIdealDielectric
 
     return OgdenIdealDielectric(alphas=tuple(alphas), mus=tuple(mus), k=k)
 

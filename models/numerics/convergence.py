@@ -37,6 +37,7 @@ from typing import NamedTuple
 import numpy as np
 from debench.models.errors import ConvergenceError, require
 from debench.models.numerics.roots import bracketed_root
+from scipy.optimize import least_squares
 
 #: rates a free-rate fit may find (a rate at a bound is not a fit: ConvergenceError)
 RATE_BOUNDS = (0.05, 8.0)
@@ -173,8 +174,6 @@ def convergence_fit(h, v, expected_order: float | None = None) -> LimitFit:
     expected rate, ``v_exp``: the error is the larger of the estimate above and
     :data:`FIT_SAFETY` times ``|v_inf - v_exp|`` (``v_inf_expected_order``).
     """
-    from scipy.optimize import least_squares
-
     h, v = np.asarray(h, float), np.asarray(v, float)
     if h.size < 3:
         raise ValueError(f"convergence_fit needs >= 3 levels, got {h.size}")

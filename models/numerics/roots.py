@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 from debench.models.errors import ConvergenceError, require
 from debench.models.numerics.scan import sign_change_brackets
+from scipy.optimize import brentq
 
 #: brentq's default relative tolerance, 4 eps: a bracket narrower than a few ulps of the
 #: root cannot be halved further
@@ -122,8 +123,6 @@ def bracketed_root(f: Callable[[float], float], a: float, b: float, *, xtol: flo
     converge in ``maxiter`` iterations. ValueError for a bracket or tolerances that are
     not finite, ``xtol <= 0``, ``rtol < 4 eps`` (brentq's floor) or ``maxiter < 1``.
     """
-    from scipy.optimize import brentq
-
     a, b = float(a), float(b)
     require(math.isfinite(a) and math.isfinite(b), f"a and b must be finite, got {a}, {b}")
     require(math.isfinite(xtol) and xtol > 0, f"xtol must be finite and > 0, got {xtol}")

@@ -61,6 +61,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sps
 from debench.models.errors import ConvergenceError, require
 from debench.models.materials import (
     TransverselyIsotropicNeoHookean,
@@ -69,6 +70,7 @@ from debench.models.materials import (
     push_forward,
 )
 from debench.models.numerics.roots import zero_near
+from scipy.sparse.linalg import LinearOperator, eigsh, splu
 from scipy.sparse.linalg import norm as spnorm
 
 PARITIES = ("E", "O")
@@ -236,7 +238,6 @@ class _Strip:
         self._shape = X.shape
 
     def _csr(self, mat):
-        import scipy.sparse as sps
 
         rows, cols, vals = mat.COO()
         n = self.fes.ndof
@@ -288,7 +289,6 @@ class _Strip:
 
 
 def _eigs(K, M, count):
-    from scipy.sparse.linalg import LinearOperator, eigsh, splu
 
     try:
         lu = splu(K - SIGMA * M)

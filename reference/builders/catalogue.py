@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 from debench.reference import catalogue, values
-from debench.reference.datasets import write_dataset
+from debench.reference.datasets import DatasetError, read_dataset, write_dataset
 
 #: CPU seconds of the default build: the catalogue is built last, from the command's one
 #: catalogue evaluation, so its cost orders nothing.
@@ -95,8 +95,6 @@ def catalogue_dataset(entries: list[catalogue.Entry] | None = None) -> xr.Datase
 
 def thesis_values_problems(data_dir: Path | None = None) -> list[str]:
     """Differences between the curated ``thesis_values.nc`` and the catalogue files."""
-    from debench.reference.datasets import DatasetError, read_dataset
-
     try:
         curated = read_dataset(NAME, data_dir=data_dir)
     except DatasetError as exc:

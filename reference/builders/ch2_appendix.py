@@ -23,12 +23,22 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from debench.models.materials import (
+    THESIS_MATERIALS,
+    DorfmannOgdenElectric,
+    TransverselyIsotropicNeoHookean,
+    cauchy_stress,
+    electric_field,
+    material,
+    pressure_from_traction_free_face,
+)
 from debench.models.materials.constants import (
     EPS_R_ASSUMED,
     VACUUM_PERMITTIVITY,
     VHB_SHEAR_MODULUS,
 )
 from debench.reference.datasets import write_dataset
+from debench.reference.figures import LABELS, pyplot, save
 
 #: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
 #: two pool processes on the quiet 2-core machine): the pool starts the longest first.
@@ -54,12 +64,6 @@ DO_SI = dict(alpha=0.3, beta=0.5, eps=EPS_R_ASSUMED * VACUUM_PERMITTIVITY)
 
 
 def _materials():
-    from debench.models.materials import (
-        THESIS_MATERIALS,
-        DorfmannOgdenElectric,
-        TransverselyIsotropicNeoHookean,
-        material,
-    )
 
     mats = {name: material(name) for name in THESIS_MATERIALS}
     mats["ti_neo_hookean_dielectric"] = TransverselyIsotropicNeoHookean(**TI_SI)
@@ -77,12 +81,6 @@ def _state(name, mat):
 
 def compute() -> xr.Dataset:
     """The reference-state dataset (pure computation, no I/O)."""
-    from debench.models.materials import (
-        cauchy_stress,
-        electric_field,
-        pressure_from_traction_free_face,
-    )
-
     mats = _materials()
     names, states = list(mats), list(STATES)
     shape = (len(names), len(states))
@@ -155,9 +153,6 @@ def _parameters():
 def figure(path: Path) -> list[Path]:
     """sigma11 - sigma22 in incompressible uniaxial tension (Gent, Table 5.1 NH and Ogden);
     ``path`` without suffix, written as PNG and SVG."""
-    from debench.models.materials import cauchy_stress, material
-    from debench.reference.figures import LABELS, pyplot, save
-
     plt = pyplot()
     lam = np.linspace(1.0, 4.0, 61)
     fig, ax = plt.subplots(figsize=(5.5, 4))

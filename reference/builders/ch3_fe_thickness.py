@@ -22,10 +22,13 @@ import sys
 import time
 from pathlib import Path
 
+import debench.models.circular as circular
+import debench.reference.studies.ch3_fe as study_module
 import numpy as np
 import xarray as xr
 from debench.reference.datasets import write_dataset
 from debench.reference.studies import ch3_fe as study
+from debench.reference.tasks import limit_threads, resolve_scheduler, run_tasks
 
 #: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
 #: two pool processes on the quiet 2-core machine): the pool starts the longest first.
@@ -46,9 +49,6 @@ def film_sources() -> str:
     """sha256 of the source a film runs beyond what the task runner's cache key holds
     (:func:`debench.reference.tasks.models_digest` covers the materials and the
     top-level model modules): the Chapter 3 models and the study module."""
-    import debench.models.circular as circular
-    import debench.reference.studies.ch3_fe as study_module
-
     h = hashlib.sha256()
     for f in [*sorted(Path(circular.__file__).parent.glob("*.py")), Path(study_module.__file__)]:
         h.update(f.name.encode())
@@ -64,8 +64,6 @@ def film_task(H: float, quantity: str, lamP: float, c: float, lam_centre: float,
     build naming the task: no NaN reaches the dataset). One thread for BLAS and NGSolve. ``sources``
     (:func:`film_sources`) is not used here: it is part of the task, so that a result
     kept by the runner's cache (``DEBENCH_FE_CACHE``) is never served for other code."""
-    from debench.reference.tasks import limit_threads
-
     limit_threads()
     return study.film_value(quantity, lamP, c, H, lam_centre, dict(study.SOLID_MESH_COARSE, nz=nz))
 
@@ -77,8 +75,6 @@ def thickness(full: bool, scheduler: str | None = None) -> xr.Dataset:
     membrane FE (reference mesh), the in-plane mesh error of the limit, both analytic
     variants and the H -> 0 extrapolation with its uncertainty and observed order.
     ``scheduler``: where the films run (:func:`debench.reference.builders.ch5.build`)."""
-    from debench.reference.tasks import resolve_scheduler, run_tasks
-
     seqs = study.thickness_sequences(full)
     code = film_sources()
     tasks = [(film_task, float(h), s.quantity, float(s.lamP), float(s.c),

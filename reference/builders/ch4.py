@@ -22,13 +22,20 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 from debench.models.plate import PlateParams, ellipticity_limit_stretch, strongly_elliptic
-from debench.models.plate.analysis import biot_equibiaxial_closed_form, half_space_limit, thin_limit
+from debench.models.plate.analysis import (
+    biot_equibiaxial_closed_form,
+    half_space_limit,
+    region,
+    thin_limit,
+)
 from debench.models.plate.ansatz import LAM_WINDOW, critical_stretches, curves_vectorised
 from debench.models.plate.fem import eigenvalues, elements_for, refine_root
+from debench.models.plate.voltage import curves_at_voltage
 from debench.reference import figures as figure_io
 from debench.reference.datasets import variable_attrs as _attrs
 from debench.reference.datasets import write_dataset
-from debench.reference.figures import LABELS, pyplot, written
+from debench.reference.figures import LABELS, pyplot, save, written
+from debench.reference.figures import LABELS as L
 from debench.reference.studies import ch4 as study
 from tqdm import tqdm
 
@@ -204,8 +211,6 @@ def agreement_dataset(kHs=(0.3, 2.0, 10.0), progress=True) -> xr.Dataset:
 
 def voltage_dataset(progress=True) -> xr.Dataset:
     """Beyond the thesis: lam_cr(kH) at fixed voltage Vhat (debench.models.plate.voltage)."""
-    from debench.models.plate.voltage import curves_at_voltage
-
     variants, xis, Vs = ("derived", "printed"), (0.0, 5.0), (0.25, 0.5, 0.75, 1.0)
     kH = np.geomspace(0.01, 20.0, 81)
     lam = np.full((2, 2, len(Vs), kH.size, MAX_ROOTS), np.nan)
@@ -250,8 +255,6 @@ def _plot_curves(ax, ds, v, xi, D, style, label):
 def _shade_unstable(ax, ds, v, xi, D, **style):
     """Shade the thesis' unstable region {det < 0} (Sec. 4.4) of one case, as Fig. 4.2 does;
     nothing where the region is undefined (no strongly elliptic stable reference)."""
-    from debench.models.plate.analysis import region
-
     kH = np.geomspace(float(ds.kH.min()), float(ds.kH.max()), 121)
     lam = np.geomspace(study.AREA_LAM[0], study.AREA_LAM[1], 241)
     r = region(PlateParams(xi=xi, Dhat=D, variant=v), kH, lam)
@@ -434,8 +437,6 @@ def build(out_dir: Path, *, full: bool = False, progress: bool = True) -> list[P
 
 
 def _voltage_figure(out: Path, vc: xr.Dataset) -> list[Path]:
-    from debench.reference.figures import LABELS as L
-    from debench.reference.figures import save
 
     plt = pyplot()
     fig, axs = plt.subplots(1, 2, figsize=(11, 4), sharey=True)

@@ -22,6 +22,7 @@ from debench.models.plate import strip_fe
 from debench.reference.datasets import variable_attrs as _attrs
 from debench.reference.datasets import write_dataset
 from debench.reference.studies import ch4_fe as study
+from debench.reference.tasks import resolve_scheduler, run_tasks
 
 #: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
 #: two pool processes on the quiet 2-core machine): the pool starts the longest first.
@@ -167,8 +168,6 @@ def build(out_dir: Path, *, full: bool = False, progress: bool = True,
     function of its arguments). Serial by default: the build is about 50 s of CPU, and a
     LocalCluster's start costs seconds and can time out on a heavily loaded machine.
     """
-    from debench.reference.tasks import resolve_scheduler, run_tasks
-
     out_dir = Path(out_dir)
     p = plan(full)
     # the finest convergence meshes first (the longest tasks: a worker that starts them

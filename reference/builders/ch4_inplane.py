@@ -40,7 +40,7 @@ from debench.models.plate import inplane as ip
 from debench.models.plate import inplane_fe as ipfe
 from debench.reference.datasets import variable_attrs as _attrs
 from debench.reference.datasets import write_dataset
-from debench.reference.figures import written
+from debench.reference.figures import save, written
 from debench.reference.studies import ch4_inplane as study
 from debench.reference.studies.ch4_inplane import Case
 
@@ -273,23 +273,6 @@ def roots_dataset() -> xr.Dataset:
                 "root": ("root", np.arange(width), _attrs("root index"))})
 
 
-def _save(fig, stem: Path) -> list[Path]:
-    """Save through the shared figure style when available, else PNG at 110 dpi."""
-    import matplotlib.pyplot as plt
-
-    try:
-        from debench.reference.figures import save
-    except ImportError:
-        save = None
-    stem.parent.mkdir(parents=True, exist_ok=True)
-    if save is not None:
-        save(fig, stem)
-    else:
-        fig.savefig(stem.with_suffix(".png"), dpi=110, bbox_inches="tight")
-    plt.close(fig)
-    return [p for p in (stem.with_suffix(".png"), stem.with_suffix(".svg")) if p.exists()]
-
-
 def figure(out: Path, lc: xr.Dataset, cu: xr.Dataset, te: xr.Dataset,
            vo: xr.Dataset) -> list[Path]:
     import matplotlib
@@ -361,7 +344,7 @@ def figure(out: Path, lc: xr.Dataset, cu: xr.Dataset, te: xr.Dataset,
     fig.suptitle("Fibre in the plane of the plate (beyond the thesis): lines determinant, "
                  "circles through-thickness FE", fontsize=10)
     fig.tight_layout()
-    return _save(fig, out / "figures" / "ch4_beyond_inplane")
+    return save(fig, out / "figures" / "ch4_beyond_inplane")
 
 
 def build(out_dir: Path, *, full: bool = False, progress: bool = True) -> list[Path]:

@@ -33,7 +33,7 @@ from debench.models.materials.constants import OGDEN_DELTA
 from debench.models.numerics import convergence_fit, level_fit, reference_fit
 from debench.models.numerics.convergence import FIT_SAFETY, NO_FIT
 from debench.reference import figures as figure_io
-from debench.reference.datasets import variable_attrs, write_dataset
+from debench.reference.datasets import DatasetError, read_dataset, variable_attrs, write_dataset
 from debench.reference.figures import LABELS, pyplot
 from debench.reference.studies.ch5 import (
     CASES,
@@ -548,8 +548,6 @@ def draw_from_curated(name: str, cost: str, draw, out_dir: Path) -> list[Path]:
     dataset itself is not written. Nothing is drawn where figures are not written
     (:func:`debench.reference.figures.written`) or without the curated dataset (then
     stderr says so)."""
-    from debench.reference.datasets import DatasetError, read_dataset
-
     print(not_recomputed_line(name, cost), file=sys.stderr)
     if not figure_io.written():
         return []

@@ -37,13 +37,14 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from debench.models.buckling.parameters import Plate
 from debench.models.numerics import (
     PGradingEstimate,
     gci_safety,
     p_grading_estimate,
     propagated_accuracy,
 )
-from debench.reference.datasets import variable_attrs, write_dataset
+from debench.reference.datasets import read_dataset, variable_attrs, write_dataset
 from debench.reference.studies import ch5_axisym as study
 from debench.reference.studies.ch5_axisym_tasks import material
 
@@ -112,7 +113,6 @@ def converged(v, floor: float = 0.0) -> PGradingEstimate:
 def solve_plan(full: bool = False, progress=None) -> dict:
     """Every critical voltage of the plan: ``{(case, n, order, layers): AxisymCritical}``."""
     from debench.models.buckling.axisym import AxisymDiscretisation, critical_voltage
-    from debench.models.buckling.parameters import Plate
 
     plate = Plate(thickness=study.THICKNESS, aspect=study.ASPECT)
     plan = study.CRITICAL[full]
@@ -144,8 +144,6 @@ def _vs_3d(v_ax: np.ndarray) -> dict:
     (``ch5_critical_voltage.nc``) against the converged n = 0 values ``v_ax`` per case
     (its lowest mode is axisymmetric): values, errors, biases and whether each 3D
     error bar contains the axisymmetric value."""
-    from debench.reference.datasets import read_dataset
-
     ds3 = read_dataset("ch5_critical_voltage").sel(case=list(CASES))
     v3_ref, e3_ref = ds3.v_cr_reference.values, ds3.v_cr_reference_error.values
     v3_ext, e3_ext = ds3.v_cr_extrapolated.values, ds3.v_cr_error.values

@@ -36,11 +36,14 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from debench.models.buckling.analytic import critical_voltage_plate
 from debench.models.numerics import p_grading_estimate, p_grading_safety, propagated_accuracy
 from debench.reference.builders.ch5_axisym import REPEAT_ATOL, critical_solve_variables
 from debench.reference.datasets import variable_attrs, write_dataset
 from debench.reference.studies import ch5_axisym as study
 from debench.reference.studies.ch5_axisym_methods import TANGENTS, critical_task
+from debench.reference.studies.ch5_axisym_tasks import material
+from debench.reference.tasks import resolve_scheduler, run_tasks
 
 #: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
 #: two pool processes on the quiet 2-core machine): the pool starts the longest first.
@@ -61,9 +64,6 @@ def plan(full: bool = False) -> list[tuple]:
 
 
 def compute(full: bool = False, scheduler=None, progress: bool = True):
-    from debench.models.buckling.analytic import critical_voltage_plate
-    from debench.reference.studies.ch5_axisym_tasks import material
-    from debench.reference.tasks import run_tasks
 
     p = study.METHODS[full]
     cases, discs = p["cases"], p["discs"]
@@ -134,8 +134,6 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
 def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) -> list[Path]:
     """Write ``ch5_axisym_methods.nc`` (see the module docstring). ``scheduler`` as for
     :func:`debench.reference.builders.ch5.build`."""
-    from debench.reference.tasks import resolve_scheduler
-
     ds, params = compute(full, scheduler=resolve_scheduler(scheduler))
     return [write_dataset(
         ds, NAME, out_dir=out_dir, overwrite=True,

@@ -48,10 +48,13 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from debench.models.buckling.analytic import critical_voltage_plate
+from debench.models.buckling.parameters import Plate
 from debench.models.numerics import p_grading_estimate, p_grading_safety, propagated_accuracy
 from debench.reference.datasets import variable_attrs, write_dataset
 from debench.reference.studies import ch5_axisym as study
-from debench.reference.studies.ch5_axisym_tasks import V_SWITCH, W_END, path_task
+from debench.reference.studies.ch5_axisym_tasks import V_SWITCH, W_END, material, path_task
+from debench.reference.tasks import resolve_scheduler, run_tasks
 
 #: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
 #: two pool processes on the quiet 2-core machine): the pool starts the longest first.
@@ -94,9 +97,6 @@ def three_d_like(case: str, h: float) -> tuple[float, float]:
     ``h`` t0 up to the rim (no grading). The 3D model's own discretisation choices, in the
     independent model, isolate what they cost."""
     from debench.models.buckling import axisym as ax
-    from debench.models.buckling.analytic import critical_voltage_plate
-    from debench.models.buckling.parameters import Plate
-    from debench.reference.studies.ch5_axisym_tasks import material
 
     mat_name, t0, aspect, *_ = study.PATH_FILMS[case]
     mat = material(mat_name)
@@ -306,7 +306,6 @@ def _decision_variables(dec: list, ns, acc: dict) -> dict:
 
 
 def compute(full: bool = False, scheduler=None, progress: bool = True):
-    from debench.reference.tasks import run_tasks
 
     p = study.PATH[full]
     cases, discs = p["cases"], p["discs"]
@@ -361,8 +360,6 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
 def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) -> list[Path]:
     """Write ``ch5_axisym_path.nc`` (see the module docstring). ``scheduler`` as for
     :func:`debench.reference.builders.ch5.build`."""
-    from debench.reference.tasks import resolve_scheduler
-
     ds, params = compute(full, scheduler=resolve_scheduler(scheduler))
     return [write_dataset(
         ds, NAME, out_dir=out_dir, overwrite=True,

@@ -35,13 +35,19 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from debench.reference.datasets import variable_attrs, write_dataset
+from debench.models.buckling.parameters import Plate
+from debench.reference.builders.ch5 import draw_from_curated, not_recomputed_line
+from debench.reference.builders.ch5_wrinkling import _pad
+from debench.reference.datasets import DatasetError, read_dataset, variable_attrs, write_dataset
+from debench.reference.figures import footnote, pyplot, save
 from debench.reference.studies import ch5_imperfection_tasks as tasks
+from debench.reference.studies.ch5 import CASES
 from debench.reference.studies.ch5_imperfection import (
     AMPLITUDES,
     LEVELS,
     W_SPLIT,
 )
+from debench.reference.tasks import resolve_scheduler, run_tasks
 
 #: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
 #: two pool processes on the quiet 2-core machine): the pool starts the longest first.
@@ -62,15 +68,11 @@ COST = "one seeded radius/thickness 20 path costs 5-15 CPU minutes, 6 paths"
 def not_recomputed(full: bool) -> str | None:
     """The line ``debench reproduce`` reports for ``ch5_imperfection.nc`` when this plan
     does not recompute it (the default run), else None."""
-    from debench.reference.builders.ch5 import not_recomputed_line
-
     return None if LEVELS[full] else not_recomputed_line(NAME, COST)
 
 
 def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dataset:
     from debench.models.buckling.solver import RampResult
-    from debench.reference.builders.ch5_wrinkling import _pad
-    from debench.reference.tasks import run_tasks
 
     levels = LEVELS[full]
     todo = [(tasks.imperfect_path_task, h, amp) for h in levels for amp in AMPLITUDES]
@@ -149,7 +151,6 @@ def figure(ds: xr.Dataset, fig_dir: Path, perfect: xr.Dataset | None = None,
     """Fig. 5.4 counterpart at radius/thickness 20: voltage against centre deflection of the
     seeded films (and the perfect film of ``ch5_wrinkling.nc`` when given), and the growth
     of the wavenumber-1 deflection; ``note`` below the axes (where the data come from)."""
-    from debench.reference.figures import footnote, pyplot, save
     plt = pyplot()
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4.2))
     colours = ("C0", "C1", "C2", "C3")
@@ -189,8 +190,6 @@ def figure(ds: xr.Dataset, fig_dir: Path, perfect: xr.Dataset | None = None,
 
 def _perfect_film():
     """The perfect film's paths of the curated ``ch5_wrinkling.nc``, or None without it."""
-    from debench.reference.datasets import DatasetError, read_dataset
-
     try:
         return read_dataset("ch5_wrinkling")
     except (DatasetError, FileNotFoundError):
@@ -202,10 +201,6 @@ def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) ->
     (``scheduler``: as :func:`debench.reference.builders.ch5.build`); the default build
     (no level in its plan) draws the figure from the curated dataset and writes no
     dataset."""
-    from debench.models.buckling.parameters import Plate
-    from debench.reference.builders.ch5 import draw_from_curated
-    from debench.reference.studies.ch5 import CASES
-    from debench.reference.tasks import resolve_scheduler
     out_dir = Path(out_dir)
     if not LEVELS[full]:
         return draw_from_curated(

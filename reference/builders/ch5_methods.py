@@ -40,7 +40,9 @@ from debench.models.buckling.analytic import critical_voltage_plate
 from debench.models.buckling.initial_stress import linearised_critical_voltage
 from debench.models.buckling.parameters import Discretisation, NeoHookean, Plate
 from debench.models.numerics import convergence_fit, propagated_accuracy
-from debench.reference.datasets import write_dataset
+from debench.reference import catalogue
+from debench.reference import figures as style
+from debench.reference.datasets import read_dataset, write_dataset
 
 #: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
 #: two pool processes on the quiet 2-core machine): the pool starts the longest first.
@@ -206,7 +208,6 @@ def compute(full: bool = False) -> tuple[xr.Dataset, dict]:
 
 
 def _printed(ids):
-    from debench.reference import catalogue
     entries = catalogue.by_id()
     return {i: float(entries[i].value) for i in ids}
 
@@ -215,7 +216,6 @@ def figures(ramps: xr.Dataset, methods: xr.Dataset, fig_dir: Path) -> list[Path]
     """Figs 5.4 and 5.6 with the thesis' printed values, as printed (open markers) and
     converted to our normalisation under the "mu in MPa" hypothesis (filled markers:
     printed / 0.395); the convergence of the three methods."""
-    from debench.reference import figures as style
     plt = style.pyplot()
     fig_dir.mkdir(parents=True, exist_ok=True)
     f = MU_IN_MPA_FACTOR
@@ -286,7 +286,6 @@ def figures(ramps: xr.Dataset, methods: xr.Dataset, fig_dir: Path) -> list[Path]
 
 
 def build(out_dir: Path, *, full: bool = False) -> list[Path]:
-    from debench.reference.datasets import read_dataset
     ds, params = compute(full)
     path = write_dataset(
         ds, NAME, out_dir=out_dir, overwrite=True,

@@ -19,6 +19,8 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from debench.models.buckling.parameters import Discretisation, Ogden, Plate
+from debench.models.numerics import level_fit, propagated_accuracy
 from debench.reference.datasets import write_dataset
 
 #: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
@@ -43,16 +45,12 @@ def ratio_limit(h, ratio) -> tuple[float, float]:
     (:func:`debench.models.numerics.convergence_fit`) for three or more levels, which
     must converge monotonically; with two, the finest ratio and its change between the
     two levels (:func:`debench.models.numerics.level_fit`)."""
-    from debench.models.numerics import level_fit
-
     fit = level_fit(h, ratio, spread_if_not_monotone=False)
     return fit.v_inf, fit.error
 
 
 def compute(full: bool = False) -> xr.Dataset:
-    from debench.models.buckling.parameters import Discretisation, Ogden, Plate
     from debench.models.buckling.solver import CRITICAL_VTOL, critical_voltage
-    from debench.models.numerics import propagated_accuracy
 
     levels = LEVELS[full]
     v = np.zeros((len(ASPECTS), len(levels)))

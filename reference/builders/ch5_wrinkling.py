@@ -34,7 +34,15 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from debench.reference.builders.ch5 import draw_from_curated, not_recomputed_line
 from debench.reference.datasets import write_dataset
+from debench.reference.figures import footnote, pyplot, save
+from debench.reference.studies.ch5 import (
+    CASES,
+    axisymmetric,
+    first_instability,
+    lowest_nonaxisymmetric,
+)
 from debench.reference.studies.ch5_tasks import (
     ORDER,  # noqa: F401 - the setting of the paths
     wrinkling_task,
@@ -44,6 +52,7 @@ from debench.reference.studies.ch5_tasks import WRINKLING_CASE as CASE
 from debench.reference.studies.ch5_tasks import WRINKLING_DV_MAX as DV_MAX  # noqa: F401
 from debench.reference.studies.ch5_tasks import WRINKLING_EIG_EVERY as EIG_EVERY
 from debench.reference.studies.ch5_tasks import WRINKLING_LAYERS as LAYERS
+from debench.reference.tasks import resolve_scheduler, run_tasks
 
 #: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
 #: two pool processes on the quiet 2-core machine): the pool starts the longest first.
@@ -69,8 +78,6 @@ COST = "one radius/thickness 20 ramp with eigen-analyses costs 10-25 CPU minutes
 def not_recomputed(full: bool) -> str | None:
     """The line ``debench reproduce`` reports for ``ch5_wrinkling.nc`` when this plan does
     not recompute it (the default run), else None."""
-    from debench.reference.builders.ch5 import not_recomputed_line
-
     return None if LEVELS[full] else not_recomputed_line(NAME, COST)
 
 def path_instability(r) -> dict:
@@ -78,7 +85,6 @@ def path_instability(r) -> dict:
     (:func:`debench.reference.studies.ch5.first_instability`: its kind, voltage,
     deflection / t0 and wavenumber) and the smallest eigenvalue of a non-axisymmetric mode
     recorded up to it (the whole path when nothing became unstable) with its wavenumber."""
-    from debench.reference.studies.ch5 import axisymmetric, first_instability
     lam, ax = np.asarray(r.eig_lam, float), np.asarray(r.eig_axisym, float)
     w, n = np.asarray(r.eig_w, float), np.asarray(r.eig_wavenumber, float)
     out = first_instability(w, r.eig_v, lam, ax, n)
@@ -100,7 +106,6 @@ def _pad(rows, width, fill=np.nan):
 
 def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dataset:
     from debench.models.buckling.solver import RampResult
-    from debench.reference.tasks import run_tasks
 
     levels = LEVELS[full]
     tasks = [(wrinkling_task, h, EIG_EVERY) for h in levels]
@@ -178,8 +183,6 @@ def figure(ds: xr.Dataset, fig_dir: Path, note: str | None = None) -> list[Path]
     """Fig. 5.5 counterpart at radius/thickness 20: the lowest non-axisymmetric eigenvalue
     along the path per mesh (wrinkling where it crosses zero first; dotted: the first
     instability of each mesh); ``note`` below the axes (where the data come from)."""
-    from debench.reference.figures import footnote, pyplot, save
-    from debench.reference.studies.ch5 import lowest_nonaxisymmetric
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(5.8, 4.2))
     for lev, style in zip(ds.level.values, ("-o", "--s", ":^", "-.v", "-D"), strict=False):
@@ -204,9 +207,6 @@ def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) ->
     (``scheduler``: as :func:`debench.reference.builders.ch5.build`); the default build
     (no level in its plan) draws the figure from the curated dataset and writes no
     dataset."""
-    from debench.reference.builders.ch5 import draw_from_curated
-    from debench.reference.studies.ch5 import CASES
-    from debench.reference.tasks import resolve_scheduler
     out_dir = Path(out_dir)
     if not LEVELS[full]:
         return draw_from_curated(NAME, COST, figure, out_dir)

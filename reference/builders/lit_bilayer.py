@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from debench.models.numerics import newton
 from debench.reference.datasets import write_dataset
 
 #: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
@@ -41,7 +42,6 @@ REFERENCES = ("Timoshenko S (1925) Analysis of bi-metal thermostats. J. Opt. Soc
 def compute(full: bool = False) -> tuple[xr.Dataset, dict]:
     """The bilayer dataset and its parameters (pure computation, no I/O)."""
     from debench.models import bilayer
-    from debench.models.numerics import newton
 
     plan = bilayer.PLAN if full else bilayer.COARSE_PLAN
     c = bilayer.converged(VOLTAGES, plan=plan)

@@ -18,7 +18,9 @@ import numpy as np
 from debench.models.circular import analysis, circle_a, params
 from debench.models.circular.actuator import branches, curves_many
 from debench.models.circular.params import Annulus
+from debench.models.circular.shooting import interface_state, q_for_stretch
 from debench.models.numerics.roots import bracketed_root, scan_roots
+from debench.reference import catalogue
 from debench.reference.catalogue import Accuracy, Entry, Outcome
 from debench.reference.producers.ch3_checks import C_SWEEP, CHECKS, failure_sweep, parameter
 from debench.reference.producers.ch3_model import (
@@ -34,6 +36,7 @@ from debench.reference.producers.ch3_model import (
 )
 from debench.reference.producers.ch3_model import clear_caches as ch3_model_clear
 from debench.reference.studies import ch3 as study
+from scipy.optimize import minimize_scalar
 
 #: relative permittivities for the sensitivity study (ch3.assumption.eps_r): VHB 4910
 #: reported 4.05-4.7 (Di Lillo et al. 4.2 unstretched to 4.05 at 5x5; Pelrine et al. /
@@ -136,7 +139,6 @@ def voltage_increase(entry: Entry) -> Outcome:
         if key in ch.stretch_states:
             lam_a, T1 = ch.stretch_states[key]
         else:
-            from debench.models.circular.shooting import interface_state, q_for_stretch
             br = branch(lamP, v)
             q = q_for_stretch(br.annulus, np.array([lam]), np.interp(lam, br.lam, br.q))
             st = interface_state(br.annulus, q)
@@ -183,8 +185,6 @@ def reduction_peak_over_eps_r(lamP: float, c: float, equilibrium: str = "printed
     """The largest reduction 100 (1 - lam_max(c)/lam_max(0)) over eps_r in the search
     interval (both curves failing by breakdown), on the grid then refined by a bounded
     scalar maximisation between the grid neighbours of the best point."""
-    from scipy.optimize import minimize_scalar
-
     eps = np.linspace(*search)
     curves_at(lamP, [(x, float(e)) for e in eps for x in (0.0, float(c))], equilibrium)
     vals = []
@@ -267,8 +267,6 @@ def clear_caches() -> None:
 def _consistency(radius_ratio: float, Jm: float) -> dict:
     """The reproduced claims CONSISTENCY_IDS recomputed at (R_B/R_A, Jm), printed variant:
     our value and whether it still reproduces the printed one."""
-    from debench.reference import catalogue
-
     ids = catalogue.by_id()
     out = {}
     ch = chapter()
@@ -379,7 +377,6 @@ def free_membrane_nh(entry: Entry) -> Outcome:
     """Free equibiaxial neo-Hookean membrane (annulus removed): pull-in point."""
     lam = 2.0 ** (1 / 3)
     # locate the maximum of the model's free-membrane Phibar numerically (golden section)
-    from scipy.optimize import minimize_scalar
     res = minimize_scalar(lambda x: -float(circle_a.free_membrane_phibar(x, 0.0, 0.0)),
                           bracket=(1.1, 1.3, 1.6), tol=1e-12)
     lam = float(res.x)
@@ -546,8 +543,6 @@ _C_WORDING = ("c = ", "c from", "as c")
 
 def c_effect_claims(entries=None) -> list[Entry]:
     """The Chapter 3 claims about the effect of c (from the catalogue's own provenance)."""
-    from debench.reference import catalogue
-
     entries = catalogue.load() if entries is None else entries
     return [e for e in entries if e.file == "ch3.toml" and e.kind == "claim"
             and any(w in e.quantity for w in _C_WORDING)]

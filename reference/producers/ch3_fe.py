@@ -10,6 +10,7 @@ import math
 from functools import lru_cache
 
 from debench.reference.catalogue import Accuracy, Entry, Outcome
+from debench.reference.datasets import read_dataset
 from debench.reference.studies.ch3_fe import (
     INTERFACE_MESHES,
     JUMP_ORDER_MIN,
@@ -25,6 +26,7 @@ from debench.reference.studies.ch3_fe import (
     suppression_support,
     thickness_limit,
 )
+from debench.reference.values import Guarded
 
 EV = "verification/test_ch3_fe.py"
 
@@ -75,7 +77,6 @@ def fe_suppression_prestretch(entry: Entry) -> Outcome:
 
 @lru_cache(maxsize=2)
 def thickness_data():
-    from debench.reference.datasets import read_dataset
 
     return read_dataset("ch3_fe_thickness")
 
@@ -92,8 +93,6 @@ def thickness_guards() -> list:
     difference from the stored film (``..._minus_curated``, stored ~0), so that a change of
     the solid model (material, electrode, penalty, solver) fails verify although the
     producers only read stored films."""
-    from debench.reference.values import Guarded
-
     g = GUARD_SEQUENCE
     s = stored_sequence(thickness_data(), g.quantity, g.lamP, g.c, g.lam_centre, g.nz)
     got = solid_value(g.quantity, g.lamP, g.c, s["H"][0], g.lam_centre,

@@ -17,6 +17,7 @@ from functools import lru_cache
 import numpy as np
 from debench.models.circular import analysis, params
 from debench.models.circular.actuator import branches, curves_many
+from debench.models.circular.chapter_pass import clear_memo
 from debench.models.circular.integrator import integrate
 from debench.models.circular.params import Annulus
 from debench.reference.studies import ch3 as study
@@ -189,8 +190,6 @@ def clear_caches() -> None:
     """Forget every memoised Chapter 3 result: this module's branches, curves, states and
     profiles and the chapter pass's memo (cold caches for benchmarks and for a model
     change within one process)."""
-    from debench.models.circular.chapter_pass import clear_memo
-
     for cache in (_BRANCHES, _CURVES, _STATES, _PROFILES):
         cache.clear()
     _interface_changes_cached.cache_clear()

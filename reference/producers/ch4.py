@@ -21,7 +21,10 @@ from debench.models.plate.analysis import (
     region,
 )
 from debench.models.plate.ansatz import critical_stretches
+from debench.models.plate.coefficients import coefficients
+from debench.models.plate.voltage import critical_stretches_at_voltage, dhat_at_voltage
 from debench.reference.catalogue import Accuracy, Entry, Outcome, readable
+from debench.reference.producers import ch4_errata
 from debench.reference.studies.ch4 import (
     FIG42_D,
     FIG45_XI,
@@ -266,8 +269,6 @@ def area_values(entry: Entry) -> Outcome:
 def bicubic_independent_of_D(entry: Entry) -> Outcome:
     """(4.63) does not contain Dhat: with alpha = 0 the roots s of det M(s) = 0 are the
     same for every Dhat (checked numerically on the full 2x2 symbol)."""
-    from debench.models.plate.coefficients import coefficients
-
     def roots(D):
         a, b2, c, d, e, f, g = (float(x) for x in coefficients(
             np.array(1.3), PlateParams(xi=5.0, Dhat=D, variant="derived")))
@@ -311,8 +312,6 @@ def erratum(entry: Entry) -> Outcome:
     """Run the erratum's check (:mod:`.ch4_errata`, the same function as its evidence test):
     ``confirmed`` when the printed form fails and the corrected one holds, ``refuted``
     when the printed form holds; a correction that fails too is an error."""
-    from debench.reference.producers import ch4_errata
-
     key = entry.id.removeprefix("ch4.erratum.")
     chk = ch4_errata.CHECKS[key]()
     if chk.printed_wrong and not chk.corrected_right:
@@ -389,8 +388,6 @@ def voltage_control_bc(entry: Entry) -> Outcome:
     """Voltage control of the electroded plate: every root of the voltage-controlled
     determinant is a root of the charge-controlled one at Dhat = Vhat lam^2/beta, i.e.
     the incremental boundary conditions are the same (value False = they do not differ)."""
-    from debench.models.plate.voltage import critical_stretches_at_voltage, dhat_at_voltage
-
     v = _variant(entry)
     worst = 0.0
     for xi in entry.parameters["xi"]:

@@ -13,7 +13,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from debench.models.invariants import printed as pr
 from debench.models.plate import PlateParams, coefficients
+from debench.models.plate.analysis import thin_limit
 from debench.models.plate.ansatz import critical_stretches, row_coefficients
 from debench.models.plate.coefficients import printed_coefficients, reduced_quartic
 
@@ -240,8 +242,6 @@ def ellipticity_loss_is_the_missing_term(xi: float = 5.0, D: float = 0.0,
     term (4.55)-(4.56) omit: at the start of each printed-coefficient upper curve
     (Dhat = 0, 1, 2) c - beta Dhat^2 is positive with the printed c and negative with the
     derived one, which differ by exactly that term."""
-    from debench.models.plate.analysis import thin_limit
-
     for Dh in (0.0, 1.0, 2.0):
         lam = float(thin_limit(PlateParams(xi, Dh, beta, 0.0, "printed")).max())
         der = coefficients(np.array(lam), PlateParams(xi, Dh, beta, 0.0, "derived"))
@@ -254,8 +254,6 @@ def ellipticity_loss_is_the_missing_term(xi: float = 5.0, D: float = 0.0,
 def dI4_is_the_appendix_formula(seed: int = 38) -> bool:
     """(4.38) is the formula (A.4) prints (one transcription serves both labels), and that
     formula evaluates to what the (4.38) check tests: zero at the seeded state."""
-    from debench.models.invariants import printed as pr
-
     if pr.SAME_FORMULA.get("A.4") != "4.38":
         return False
     rng = np.random.default_rng(seed)

@@ -16,7 +16,8 @@ from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
-from debench.models.buckling.analytic import KIRCHHOFF_N1_RATIO
+from debench.models.buckling.analytic import J11_SQ, KIRCHHOFF_N1_RATIO, homogeneous_film
+from debench.models.buckling.parameters import Discretisation, NeoHookean, Ogden, Plate
 from debench.models.materials.constants import (
     EPS_R_ASSUMED,
     TABLE_5_1_NH_SHEAR_MODULUS,
@@ -25,7 +26,11 @@ from debench.models.materials.constants import (
 )
 from debench.models.numerics.convergence import two_term_limits
 from debench.reference.catalogue import Accuracy, Entry, Outcome
-from debench.reference.datasets import read_dataset
+from debench.reference.datasets import dataset_parameters, read_dataset
+from debench.reference.studies import ch5_axisym_tasks
+from debench.reference.studies.ch5 import CASES, SCALE_COPIES
+from debench.reference.studies.ch5 import material as _material
+from debench.reference.values import Guarded
 
 EV_FEM = "verification/test_ch5_fem.py"
 EV_DATA = "verification/test_ch5_data.py"
@@ -174,8 +179,6 @@ def erratum_scale_invariance(entry: Entry) -> Outcome:
 
 
 def erratum_compressibility(entry: Entry) -> Outcome:
-    from debench.models.buckling.analytic import homogeneous_film
-    from debench.models.buckling.parameters import NeoHookean
     h = homogeneous_film(0.2, NeoHookean())
     compressible = h["s"] < 1 - 1e-5 and -h["sigma11"] < 0.99 * h["e"] ** 2
     return Outcome(value=compressible, status="confirmed" if compressible else "refuted",
@@ -185,7 +188,6 @@ def erratum_compressibility(entry: Entry) -> Outcome:
 
 
 def clamped_plate_coefficient(entry: Entry) -> Outcome:
-    from debench.models.buckling.analytic import J11_SQ
     return Outcome(value=J11_SQ, evidence=(
         "verification/test_ch5_constitutive.py::test_clamped_plate_coefficient_is_first_zero_of_j1_squared"))
 
@@ -199,8 +201,6 @@ def fe_critical_voltage_nh(entry: Entry) -> Outcome:
 
 def model_input(entry: Entry) -> Outcome:
     """A stated parameter: return the value the Chapter 5 models actually use."""
-    from debench.models.buckling.parameters import NeoHookean, Ogden, Plate
-    from debench.reference.studies.ch5 import CASES
     key = entry.id.split(".", 1)[1]
     used = {
         "table5_1.nh_shear_modulus": NeoHookean().mu,
@@ -222,8 +222,6 @@ def discretisation(entry: Entry) -> Outcome:
     count of our finest mesh of the case, as recorded in the curated critical-voltage
     dataset. A setting of our method, not a result: ``judge`` makes it ``input`` when it
     equals the thesis' setting and ``not_comparable`` otherwise."""
-    from debench.reference.datasets import dataset_parameters
-
     c = _crit()
     key = entry.id.split(".", 1)[1]
     if key == "geometry.element_layers":
@@ -275,9 +273,6 @@ def recomputed_dataset():
 def _recomputed(case: str, h_rel: float, layers: int, order: int) -> tuple[float, int] | None:
     """(v_cr, ndof) of ``case`` on the discretisation (h_rel, layers, order) of the default
     plate from the dataset of :func:`recomputed_in_this_command`, None when it holds none."""
-    from debench.models.buckling.parameters import Plate
-    from debench.reference.datasets import dataset_parameters
-
     fresh = recomputed_dataset()
     if fresh is None or case not in fresh.case.values.tolist():
         return None
@@ -313,12 +308,7 @@ def coarse_guards(material=None, cases=None) -> list:
     :func:`recomputed_in_this_command` (and without ``material``) the coarsest critical
     voltages computed by the ``ch5`` builder of the same command are used, not solved twice.
     """
-    from debench.models.buckling.parameters import Discretisation, Plate
     from debench.models.buckling.solver import critical_voltage
-    from debench.reference.datasets import dataset_parameters
-    from debench.reference.studies.ch5 import CASES, SCALE_COPIES
-    from debench.reference.studies.ch5 import material as _material
-    from debench.reference.values import Guarded
 
     crit = _crit()
     par = dataset_parameters(crit)
@@ -441,10 +431,6 @@ def axisym_coarse_guards() -> list:
     same model, moves by a second-order amount."""
     from debench.models.buckling.axisym import AxisymDiscretisation
     from debench.models.buckling.axisym import critical_voltage as axisym_critical_voltage_of
-    from debench.models.buckling.parameters import Plate
-    from debench.reference.datasets import dataset_parameters
-    from debench.reference.studies import ch5_axisym_tasks
-    from debench.reference.values import Guarded
 
     ds = _axisym()
     par = dataset_parameters(ds)

@@ -11,6 +11,7 @@ import math
 from functools import lru_cache
 
 import numpy as np
+from debench.reference import catalogue
 from debench.reference.catalogue import Entry, Outcome
 from debench.reference.datasets import read_dataset
 from debench.reference.producers import ch5
@@ -23,6 +24,8 @@ from debench.reference.producers.ch5 import (
     _field_V_per_um,
     _ramps,
 )
+from debench.reference.studies.ch5 import first_instability, lowest_nonaxisymmetric
+from debench.reference.studies.ch5_imperfection import drop_exponent, wrinkling_governs
 
 #: the accuracy of every value these diagnoses read from the curated datasets (as for
 #: every Chapter 5 dataset value: :data:`debench.reference.producers.ch5.ACCURACY`)
@@ -44,7 +47,6 @@ def moves_its_target(quantity: str) -> bool:
 
 
 def _target(entry: Entry):
-    from debench.reference import catalogue
 
     target = catalogue.by_id()[entry.parameters["target"]]
     return target, catalogue.evaluate(target)
@@ -113,8 +115,6 @@ def hypothesis_read_off(entry: Entry) -> Outcome:
     at the middle of the anchor's deflection interval, a voltage like the target's;
     ``explained`` when the predicted interval meets the target's printed one (one
     deflection threshold then gives both printed numbers)."""
-    from debench.reference import catalogue
-
     ids = catalogue.by_id()
     k = _SCALING["voltage"]
     w_int = {}
@@ -145,8 +145,6 @@ def hypothesis_nominal_field(entry: Entry) -> Outcome:
     the eps_r that would give the printed number, the nominal field of the printed pull-in
     voltage under the "mu in MPa" normalisation (the interval of its printed digits), and
     the same definition for the ``other`` claim (its target and our value)."""
-    from debench.reference import catalogue
-
     ids = catalogue.by_id()
     target = ids[entry.parameters["target"]]
 
@@ -184,8 +182,6 @@ def hypothesis_thickness(entry: Entry) -> Outcome:
     the test independent of the unknown absolute normalisation. ``explained`` when the
     predicted interval (printed precision of the anchor and the mesh error of the ratio)
     meets the printed interval of the target."""
-    from debench.reference import catalogue
-
     ids = catalogue.by_id()
     target, anchor = ids[entry.parameters["target"]], ids[entry.parameters["anchor"]]
     p = entry.parameters
@@ -224,7 +220,6 @@ def wrinkling_search(ds) -> dict:
     first instability (``w_min_lambda_over_t0``), that eigenvalue and its largest value on
     the path (``min_nonaxisymmetric_lambda``, ``max_nonaxisymmetric_lambda``); the path's
     voltage maximum (``w_pullin_over_t0``: the dataset's ``w_pullin``) and why it ended."""
-    from debench.reference.studies.ch5 import first_instability, lowest_nonaxisymmetric
     firsts, w_min, lam_min, lam_max = [], [], [], []
     for lev in ds.level.values:
         r = ds.sel(level=lev)
@@ -278,9 +273,6 @@ def hypothesis_wrinkling_failure(entry: Entry) -> Outcome:
     near the bifurcation, falling as the seed grows); ``unexplained`` when the films pass
     the bifurcation or the meshes disagree. The value: the centre deflection (mm) at the
     voltage maximum of the smallest seed on the finest mesh."""
-    from debench.reference.studies.ch5 import first_instability
-    from debench.reference.studies.ch5_imperfection import drop_exponent, wrinkling_governs
-
     ds = _imperfection()
     t0_mm = float(entry.parameters["thickness_mm"])
     verdict = wrinkling_governs(ds)

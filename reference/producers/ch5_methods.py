@@ -17,8 +17,11 @@ from __future__ import annotations
 import math
 from functools import lru_cache
 
+from debench.reference import catalogue
 from debench.reference.catalogue import Accuracy, Entry, Outcome
 from debench.reference.datasets import read_dataset
+from debench.reference.studies.ch5_axisym_methods import critical_task
+from debench.reference.values import Guarded
 
 EVIDENCE = "verification/test_ch5_methods.py"
 ACCURACY = Accuracy(rtol=1e-9, atol=1e-12, reason="read from the curated ch5_methods "
@@ -117,8 +120,6 @@ def incompressible_critical_voltage(entry: Entry) -> Outcome:
     eigen-analysis mesh limit) times (1 + the cubic elements' relative incompressible
     change), with the "mu in MPa" normalisation; ``explained`` when it gives the printed
     number of the target claim to its digits."""
-    from debench.reference import catalogue
-
     target = catalogue.by_id()[entry.parameters["target"]]
     ours = catalogue.evaluate(target)
     if not isinstance(ours.value, float):
@@ -218,9 +219,6 @@ def axisym_methods_guards() -> list:
     ``ch5.guard.axisym_methods.nh_t1.<tangent>.v_cr_coarse`` and ``.v_cr_reported`` within
     the dataset's regeneration accuracy of v_cr (the coupled operator is guarded by
     :func:`debench.reference.producers.ch5.axisym_coarse_guards`)."""
-    from debench.reference.studies.ch5_axisym_methods import critical_task
-    from debench.reference.values import Guarded
-
     ds = _axisym_methods()
     p, L = int(ds.order.values[0]), int(ds.layers.values[0])
     out = []

@@ -11,11 +11,15 @@ import math
 from functools import lru_cache
 
 import numpy as np
+from debench.reference import catalogue
 from debench.reference.catalogue import Entry, Outcome
 from debench.reference.datasets import read_dataset
 from debench.reference.producers import ch5
 from debench.reference.producers.ch5 import _case, _ramps
 from debench.reference.producers.ch5_hypotheses import wrinkling_records, wrinkling_search
+from debench.reference.studies.ch5_axisym import PATH_GUARD
+from debench.reference.studies.ch5_axisym_tasks import path_task
+from debench.reference.values import Guarded
 
 #: the accuracy of every value these producers read from the curated datasets (as for
 #: every Chapter 5 dataset value: :data:`debench.reference.producers.ch5.ACCURACY`)
@@ -142,8 +146,6 @@ def radius_kept_wrinkling(entry: Entry) -> Outcome:
     Ogden path at R/t0 = 20 (``ogden_r20``). ``explained`` when its first instability is
     decided as wrinkling and the deflection there (the value, mm) meets the printed interval
     of the target within the converged error estimate; ``unexplained`` otherwise."""
-    from debench.reference import catalogue
-
     got = _first_of("ogden_r20")
     t0 = float(entry.parameters["thickness_mm"])
     target = catalogue.by_id()[entry.parameters["target"]]
@@ -290,10 +292,6 @@ def axisym_path_guards() -> list:
     them. The correction to the converged values is not formed (the coarse setting is not
     a discretisation of the curated plan): the guard detects a change, the reported
     values are read from the dataset."""
-    from debench.reference.studies.ch5_axisym import PATH_GUARD
-    from debench.reference.studies.ch5_axisym_tasks import path_task
-    from debench.reference.values import Guarded
-
     ds = _axisym_path()
     case, order, layers, n_max = PATH_GUARD
     r = path_task(case, order, layers, n_max)

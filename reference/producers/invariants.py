@@ -14,7 +14,7 @@ from __future__ import annotations
 from functools import cache
 
 import numpy as np
-from debench.models.invariants import generated
+from debench.models.invariants import derivatives, generated, invariants
 from debench.models.invariants import printed as pr
 from debench.models.invariants.numerical import central_difference_F
 from debench.models.materials import (
@@ -100,8 +100,8 @@ def printed_dI4_dF_erratum(entry: Entry) -> Outcome:
     printed_norm, corrected_err = 0.0, 0.0
     for label in entry.parameters["labels"]:
         _, _, _, func = pr.PRINTED_DERIVATIVES[label]
-        for F, D, A, derivatives in _exact_derivatives("ti"):
-            exact = derivatives["dF"][3]
+        for F, D, A, exact_ders in _exact_derivatives("ti"):
+            exact = exact_ders["dF"][3]
             printed_norm = max(printed_norm, _rel(func(F, D, A), exact))
             corrected_err = max(corrected_err, _rel(2 * np.outer(F @ A, A), exact))
     differs, fixed = printed_norm > 1e-3, corrected_err <= EXACT_RTOL
@@ -153,8 +153,6 @@ def eq2_43_agrees(entry: Entry) -> Outcome:
 def eq2_69_truncated_sum(entry: Entry) -> Outcome:
     """(2.69)/(4.33) truncated sums equal the full chain rule for the incompressible thesis
     energies (Gent + ideal dielectric, (4.22)); details: the miss for (5.9) at J != 1."""
-    from debench.models.invariants import derivatives, invariants
-
     def trunc(mat, F, D, m0):
         Aa = np.asarray(mat.A, dtype=float) if mat.numbering == "ti" else None
         d = derivatives(F, D, Aa, numbering=mat.numbering)

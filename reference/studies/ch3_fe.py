@@ -27,11 +27,12 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-from debench.models.circular import circle_a, params
+from debench.models.circular import analysis, circle_a, params
 from debench.models.circular.actuator import branch, branches, curves_many
 from debench.models.circular.chapter_pass import current_constants
 from debench.models.circular.params import Annulus
 from debench.models.circular.shooting import integrate_inward, interface_state, q_for_stretch
+from debench.models.errors import ConvergenceError
 from debench.reference.studies.ch3 import RADIUS_RATIO
 
 VARIANTS = ("printed", "membrane")
@@ -268,7 +269,6 @@ def suppression_support(c: float, mesh: dict, tol: float, n: int = SUPPRESSION_N
     ``supports`` names the variant within ``tol`` of the FE. The FE search starts on
     the membrane variant's value -+ ``tol`` (a hint: the FE's own sign change decides,
     and the search widens to the whole window when it lies elsewhere)."""
-    from debench.models.circular import analysis
     from debench.models.circular.fe import FEMesh, pullin_suppression_prestretch
 
     an = analysis.pullin_suppression_prestretches(c, VARIANTS, n=n, xtol=SUPPRESSION_XTOL)
@@ -442,8 +442,6 @@ def film_value(quantity: str, lamP: float, c: float, H: float, lam_centre: float
     its value (ConvergenceError: e.g. a fold of the solid's branch in the edge stretch
     before the event, :mod:`debench.models.circular.fe_solid`) raises ConvergenceError
     naming the film: no film is ever recorded as NaN."""
-    from debench.models.errors import ConvergenceError
-
     try:
         return solid_value(quantity, lamP, c, H, lam_centre, mesh)
     except ConvergenceError as exc:

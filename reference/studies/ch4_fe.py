@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-from debench.models.plate import PlateParams
+from debench.models.plate import PlateParams, strip_fe
 from debench.models.plate.ansatz import critical_stretches
 from debench.models.plate.voltage import critical_stretches_at_voltage
 from debench.reference.catalogue import Accuracy
@@ -115,8 +115,6 @@ def compare(xi: float, load: float, kH: float, *, level: int = 0,
     """Every determinant root at (xi, load, kH) beside its strip-FE root on mesh ``level``
     (only the roots of ``parity``, ``"E"`` or ``"O"``, when it is given; the brackets are
     those of the full set)."""
-    from debench.models.plate import strip_fe
-
     if parity is not None and parity not in strip_fe.PARITIES:
         raise ValueError(f"parity must be one of {strip_fe.PARITIES} or None, got {parity!r}")
     lams, pars = determinant_roots(xi, load, kH, control)
@@ -216,8 +214,6 @@ def _biot_det_root(roots=None) -> float:
 def biot_comparison(level: int = 0) -> Comparison:
     """FE critical stretch at kH = KH_BIOT, xi = Dhat = 0 (flexural mode; the extensional
     one coincides to ~exp(-kH)) beside the flexural determinant root."""
-    from debench.models.plate import strip_fe
-
     roots = _biot_det_roots()
     br = (min(roots.lam) * (1 - BRACKET), max(roots.lam) * (1 + BRACKET))
     det = _biot_det_root(roots)

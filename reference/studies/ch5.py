@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from debench.models.buckling.singularity import expected_eigenvalue_order, poisson_ratio
 from debench.reference.studies.ch5_tasks import (
     CASES,
     EIG_EVERY,
@@ -58,7 +59,6 @@ def expected_order(case: str) -> float:
     """Asymptotic convergence order of the critical voltage of ``case`` on quadratic prisms:
     2 s(nu), s the Williams exponent of the clamped-free edge at the material's small-strain
     Poisson ratio (:mod:`debench.models.buckling.singularity`)."""
-    from debench.models.buckling.singularity import expected_eigenvalue_order, poisson_ratio
     mat = material(CASES[case][0])
     mu0 = getattr(mat, "mu", None) or float(sum(mat.mus))   # initial shear modulus
     return expected_eigenvalue_order(poisson_ratio(mu0, mat.k), order=ORDER)

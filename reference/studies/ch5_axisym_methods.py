@@ -12,7 +12,10 @@ FE results, while the convergence analysis lives in the builder.
 
 from __future__ import annotations
 
+from debench.models.buckling.parameters import Plate
 from debench.reference.studies.ch5_axisym import ASPECT, CRITICAL_N_R, THICKNESS
+from debench.reference.studies.ch5_axisym_tasks import material
+from debench.reference.tasks import limit_threads
 
 TANGENTS = ("coupled", "frozen_potential", "initial_stress")
 """The stability operators (:data:`debench.models.buckling.axisym.TANGENTS`): the
@@ -29,9 +32,6 @@ def critical_task(case: str, tangent: str, order: int, layers: int) -> dict:
     (a Dask task): ``v``, its secant tolerance ``vtol``, the centre thickness and field of
     the flat state there, the residuals, the degrees of freedom and the CPU seconds."""
     from debench.models.buckling.axisym import AxisymDiscretisation, critical_voltage
-    from debench.models.buckling.parameters import Plate
-    from debench.reference.studies.ch5_axisym_tasks import material
-    from debench.reference.tasks import limit_threads
 
     limit_threads()
     disc = AxisymDiscretisation(order=order, edge_layers=layers, face_layers=layers,

@@ -15,7 +15,12 @@ import math
 import time
 
 import numpy as np
+from debench.models.buckling.analytic import critical_voltage_plate
+from debench.models.buckling.parameters import Plate
+from debench.models.errors import ConvergenceError
+from debench.models.materials import material as library_material
 from debench.reference.studies.ch5_axisym import PATH_FILMS, PATH_N_R_PER_ASPECT
+from debench.reference.tasks import limit_threads
 
 V_SWITCH = 0.8
 """Voltage control up to this multiple of the plate estimate of the critical voltage
@@ -30,7 +35,6 @@ def material(case: str):
     """The Table 5.1 material of a case or material name (``nh``, ``nh_t1``, ``nh_r10``:
     neo-Hookean; ``ogden...``: Ogden; the part before the first ``_`` is looked up in the
     library registry, which raises ``ValueError`` naming the valid names)."""
-    from debench.models.materials import material as library_material
     return library_material(case.split("_")[0] if isinstance(case, str) else case)
 
 
@@ -44,10 +48,6 @@ def path_task(case: str, order: int, layers: int, n_max: int | None = None) -> d
     wavenumber there; then the first zero of each wavenumber n >= 1 along the path (NaN
     where its eigenvalue stays positive). ``n_max``: only the case's wavenumbers up to it."""
     from debench.models.buckling import axisym as ax
-    from debench.models.buckling.analytic import critical_voltage_plate
-    from debench.models.buckling.parameters import Plate
-    from debench.models.errors import ConvergenceError
-    from debench.reference.tasks import limit_threads
 
     limit_threads()
     mat_name, t0, aspect, ns, w_from, spacing = PATH_FILMS[case]

@@ -12,6 +12,12 @@ analysis and figures live in the study and the builder, whose edits leave finish
 
 from __future__ import annotations
 
+import dataclasses
+
+from debench.models.buckling.parameters import Discretisation, Plate
+from debench.reference.studies.ch5_tasks import CASES, material
+from debench.reference.tasks import limit_threads
+
 CASE = "ogden_t0p5"
 ASPECT = 20.0
 WAVENUMBER = 1
@@ -32,12 +38,8 @@ wrinkling bifurcation)."""
 def imperfect_path_task(h_rel: float, amplitude: float) -> dict:
     """The path of the film with a wavenumber-1 seed of peak ``amplitude`` t0 on the mesh of
     in-plane size ``h_rel`` t0, as plain data (the RampResult fields; a Dask task)."""
-    import dataclasses
 
-    from debench.models.buckling.parameters import Discretisation, Plate
     from debench.models.buckling.solver import voltage_ramp
-    from debench.reference.studies.ch5_tasks import CASES, material
-    from debench.reference.tasks import limit_threads
     limit_threads()
     mat_name, t0 = CASES[CASE]
     plate = Plate(thickness=t0, aspect=ASPECT, wrinkle_imperfection=amplitude,

@@ -10,8 +10,11 @@ in the builders, whose edits leave finished tasks valid.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 
+from debench.models.buckling.parameters import Discretisation, Plate
+from debench.models.materials import material as library_material
 from debench.reference.tasks import limit_threads
 
 CASES = {  # name: (material, thickness [m])
@@ -30,13 +33,11 @@ RAMP_DV_MAX = 0.02  # largest voltage step of the ramps (normalised): >= 3 point
 def material(name):
     """The Table 5.1 material of a case's material name (``"nh"``, ``"ogden"`` or any name
     of the library registry); ``ValueError`` naming the valid names otherwise."""
-    from debench.models.materials import material as library_material
     return library_material(name)
 
 
 def critical_task(case: str, h_rel: float, layers: int = 1, aspect: float = 10.0) -> dict:
     """One critical-voltage computation as plain data (a Dask task)."""
-    from debench.models.buckling.parameters import Discretisation, Plate
     from debench.models.buckling.solver import critical_voltage
     limit_threads()
     mat_name, t0 = CASES[case]
@@ -50,9 +51,7 @@ def critical_task(case: str, h_rel: float, layers: int = 1, aspect: float = 10.0
 def ramp_task(case: str, h_rel: float, eig_every: int = EIG_EVERY,
               dv_max: float = RAMP_DV_MAX, layers: int = 1, aspect: float = 10.0) -> dict:
     """One voltage ramp as plain data (a Dask task): the RampResult fields."""
-    import dataclasses
 
-    from debench.models.buckling.parameters import Discretisation, Plate
     from debench.models.buckling.solver import voltage_ramp
     limit_threads()
     mat_name, t0 = CASES[case]
@@ -78,9 +77,7 @@ def wrinkling_task(h_rel: float, eig_every: int) -> dict:
     :mod:`debench.reference.builders.ch5_wrinkling`) as plain data (a Dask task): the
     RampResult fields, with the eigen-analysis every ``eig_every`` path points; a path
     that stalls before a voltage maximum is kept (``stop_on_stall``)."""
-    import dataclasses
 
-    from debench.models.buckling.parameters import Discretisation, Plate
     from debench.models.buckling.solver import voltage_ramp
     limit_threads()
     mat_name, t0 = CASES[WRINKLING_CASE]
