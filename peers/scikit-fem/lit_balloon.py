@@ -1,8 +1,8 @@
 """scikit-fem adapter of lit_balloon: the dielectric-elastomer balloon (thin spherical
 neo-Hookean or Gent ideal-dielectric membrane under internal pressure and voltage).
 
-    python peers/run.py scikit-fem lit_balloon --label membrane-p2-pbar -- --quantity pbar
-    python peers/scikit-fem/adapter.py lit_balloon --out DIR -- --quantity lam_pmax  # by hand
+    python peers/run.py scikit-fem lit_balloon --label membrane-p3-pbar -- --quantity pbar
+    python peers/scikit-fem/adapter.py lit_balloon --out DIR --quantity lam_pmax  # by hand
 
 Written from the problem page alone (``debench problems lit_balloon --markdown``) with
 numpy, scipy and scikit-fem, no debench code: an axisymmetric membrane finite-element model
