@@ -28,6 +28,13 @@ membrane finite-element model of the sphere on its meridian.
   bracketed by a scan in lam (step 0.01), refined by a regula falsi (Illinois; scipy is
   not in this venv). Voltage limit at fixed pbar: vbar^2 the multiplier instead (column
   F_el), its first + to - zero where vbar^2 > 0.
+* A full nonlinear solve as a check: PETSc SNES (Newton, LU) at the dead pressure found,
+  from rho = lam (1 + 0.001 P2(cos Theta)), at every 20th stretch of the 18 pbar curves;
+  the adapter counts the states it returns to the uniform one, lands elsewhere, or does
+  not converge (the uniform state is not isolated where the net tension vanishes).
+* Resolution: P3 x 16, P2 x 32, P2 x 8 cells; the coarsest is written (the uniform state
+  is exact on every mesh; refinement adds only round-off: the computed rho' of the
+  constant is ~eps/h), 3 x the largest change over the sequence stated as its accuracy.
 """
 
 from __future__ import annotations  # noqa: I001 - dolfinx_solver must precede dolfinx
