@@ -14,7 +14,8 @@ import sys
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-PROBLEMS = ("ch3_voltage_stretch", "ch5_critical_voltage", "lit_bilayer", "mms_electroelastic")
+PROBLEMS = ("ch3_voltage_stretch", "ch5_critical_voltage", "lit_balloon", "lit_bilayer",
+            "mms_electroelastic")
 
 
 def main(argv=None):
