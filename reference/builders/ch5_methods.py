@@ -42,7 +42,7 @@ from debench.models.buckling.parameters import Discretisation, NeoHookean, Plate
 from debench.models.numerics import convergence_fit, propagated_accuracy
 from debench.reference import catalogue
 from debench.reference import figures as style
-from debench.reference.datasets import read_dataset, write_dataset
+from debench.reference.datasets import read_dataset, variable_attrs, write_dataset
 
 #: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
 #: two pool processes on the quiet 2-core machine): the pool starts the longest first.
@@ -157,11 +157,7 @@ def compute(full: bool = False) -> tuple[xr.Dataset, dict]:
     kr, vk, klim, kerr, plate_k, kacc = (ks[k] for k in ("kr", "vk", "klim", "kerr",
                                                          "plate_k", "kacc"))
 
-    def a(ln, u="1", atol=None):
-        out = {"long_name": ln, "units": u}
-        if atol is not None:
-            out["accuracy_atol"] = atol
-        return out
+    a = variable_attrs
 
     ds = xr.Dataset(
         {

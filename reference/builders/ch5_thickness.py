@@ -21,7 +21,7 @@ import numpy as np
 import xarray as xr
 from debench.models.buckling.parameters import Discretisation, Ogden, Plate
 from debench.models.numerics import level_fit, propagated_accuracy
-from debench.reference.datasets import write_dataset
+from debench.reference.datasets import variable_attrs, write_dataset
 
 #: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
 #: two pool processes on the quiet 2-core machine): the pool starts the longest first.
@@ -70,11 +70,7 @@ def compute(full: bool = False) -> xr.Dataset:
         ("ratio_extrapolated", lambda x: ratio_limit(levels, x[1] / x[0])[0]),
         ("ratio_error", lambda x: ratio_limit(levels, x[1] / x[0])[1]))}
 
-    def a(ln, u="1", atol=None):
-        out = {"long_name": ln, "units": u}
-        if atol is not None:
-            out["accuracy_atol"] = atol
-        return out
+    a = variable_attrs
 
     return xr.Dataset(
         {

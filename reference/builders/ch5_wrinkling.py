@@ -35,7 +35,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 from debench.reference.builders.ch5 import draw_from_curated, not_recomputed_line
-from debench.reference.datasets import write_dataset
+from debench.reference.datasets import variable_attrs, write_dataset
 from debench.reference.figures import footnote, pyplot, save
 from debench.reference.studies.ch5 import (
     CASES,
@@ -114,8 +114,7 @@ def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dat
     nstep = max(len(r.v) for r in ramps)
     neig = max(len(r.eig_v) for r in ramps)
 
-    def a(ln, u="1", **kw):
-        return {"long_name": ln, "units": u, **kw}
+    a = variable_attrs
 
     def per_level(values):
         return np.array([np.nan if x is None else x for x in values], float)
