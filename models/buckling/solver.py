@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from debench.models import validation as val
 from debench.models.buckling.analytic import critical_voltage_plate
+from debench.models.buckling.critical_result import CriticalVoltage
 from debench.models.buckling.fem import MembraneModel
 from debench.models.buckling.modes import deflection_asymmetry, mode_harmonics
 from debench.models.buckling.parameters import Discretisation, Plate
@@ -25,37 +26,21 @@ CRITICAL_VTOL = 1e-6
 voltage; v_cr ~ 0.2, so 5e-6 relative)."""
 
 
-@dataclass(frozen=True)
-class CriticalResult:
-    """Bifurcation of the perfect flat film: lambda_1(S(v_cr)) = 0, with what was achieved.
-
-    ``v``: normalised critical voltage of this mesh (to ``vtol``, see
-    :func:`critical_voltage`); ``e``, ``thickness``: true field and thickness stretch of
-    the flat film at ``v``; ``lam``: the lowest eigenvalue at ``v`` (zero up to the secant
-    tolerance); ``eig_residual``: largest relative eigen-residual ``||S x - lam M x||/||M x||``
-    of the last eigen-analysis; ``newton_residual``, ``newton_residual_rel``,
-    ``newton_iterations``: residual norm reached by the last Newton solve, relative to its
-    first residual, and its iterations; ``vtol``: the secant step at which it stopped;
-    ``ndof``, ``nelements``, ``h_rel`` (in-plane mesh size / t0), ``layers``, ``order``:
-    the mesh; ``stats``: timings and counts (factorisations, Newton steps, eigen-analyses).
+@dataclass(frozen=True, kw_only=True)
+class CriticalResult(CriticalVoltage):
+    """Bifurcation of the perfect flat film on the 3D prism mesh: the fields of
+    :class:`~debench.models.buckling.critical_result.CriticalVoltage` (``v`` to ``vtol``,
+    see :func:`critical_voltage`), and ``newton_residual``, ``newton_iterations``: the
+    residual norm reached by the last Newton solve and its iterations; ``nelements``,
+    ``h_rel`` (in-plane mesh size / t0), ``layers``: the mesh; ``stats``: timings and
+    counts (factorisations, Newton steps, eigen-analyses).
     """
 
-    v: float
-    e: float
-    thickness: float
-    ndof: int
     nelements: int
-    iterations: int
-    history: tuple = field(default=())
-    lam: float = float("nan")
-    eig_residual: float = float("nan")
     newton_residual: float = float("nan")
-    newton_residual_rel: float = float("nan")
     newton_iterations: int = 0
-    vtol: float = CRITICAL_VTOL
     h_rel: float = float("nan")
     layers: int = 0
-    order: int = 0
     stats: dict = field(default_factory=dict)
 
 

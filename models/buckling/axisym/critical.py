@@ -12,13 +12,14 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from debench.models import validation as val
 from debench.models.buckling.analytic import critical_voltage_plate
 from debench.models.buckling.axisym.model import AxisymModel
 from debench.models.buckling.axisym.section import AxisymDiscretisation
 from debench.models.buckling.axisym.spectra import TANGENTS
+from debench.models.buckling.critical_result import CriticalVoltage
 from debench.models.buckling.parameters import Plate
 from debench.models.errors import ConvergenceError
 from debench.models.materials.protocol import IdealDielectricElastomer
@@ -32,34 +33,19 @@ last three evaluations, whose error is of the order of the product of their dist
 the root (< 1e-12 here) and is estimated by its difference from the secant root."""
 
 
-@dataclass(frozen=True)
-class AxisymCritical:
-    """Bifurcation of the perfect flat film in wavenumber ``n``: lambda_1(S_n(v)) = 0.
-
-    ``v``: normalised critical voltage of this discretisation (to ``vtol``); ``thickness``:
-    centre thickness / t0 of the flat state at ``v``; ``e``: normalised true field at the
-    centre; ``lam``: the lowest eigenvalue at ``v`` (zero to the secant's accuracy);
-    ``eig_residual``: its backward error; ``newton_residual_rel``: the last Newton residual
-    relative to its reference; ``iterations``: secant steps; ``ndof`` (state) and
-    ``ndof_mode`` (perturbation problem); ``order``; ``cpu_s``: process CPU time of the
-    solve; ``history``: the (v, lambda_1) evaluated.
+@dataclass(frozen=True, kw_only=True)
+class AxisymCritical(CriticalVoltage):
+    """Bifurcation of the perfect flat film in wavenumber ``n``: lambda_1(S_n(v)) = 0. The
+    fields of :class:`~debench.models.buckling.critical_result.CriticalVoltage` (``e`` and
+    ``thickness`` at the centre), and ``n``, the stability operator ``tangent``,
+    ``ndof_mode`` (the perturbation problem's degrees of freedom) and ``cpu_s``, the
+    process CPU time of the solve.
     """
 
     n: int
-    v: float
     tangent: str
-    thickness: float
-    e: float
-    lam: float
-    eig_residual: float
-    newton_residual_rel: float
-    iterations: int
-    ndof: int
     ndof_mode: int
-    order: int
     cpu_s: float
-    vtol: float
-    history: tuple = field(default=())
 
 
 
