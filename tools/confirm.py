@@ -129,30 +129,29 @@ JOBS = 1
 
 
 def _plate_curve(args):
-    """Root 0 of one curve at every kH (a worker's task) and the worker's CPU seconds."""
+    """Every root of one curve (variant, xi, D) at every kH (a worker's task) and the
+    worker's CPU seconds."""
     from verification.cleanroom import plate as cr
 
-    xi, D, kH, voltage = args
+    variant, xi, D, kH, voltage = args
     t0 = time.process_time()
     rows = []
     for k in kH:
-        r = (cr.roots(k, xi, D, voltage=True) if voltage
-             else cr.roots(k, xi, D, n_scan=cr.N_SCAN))
-        if r:
-            rows.append((xi, D, k, float(r[0])))
+        for j, r in enumerate(cr.roots(k, xi, D, voltage=voltage, variant=variant)):
+            rows.append((variant, xi, D, j, k, float(r)))
     return rows, time.process_time() - t0
 
 
 def plate(voltage: bool) -> Computation:
-    """test_cleanroom_plate(_voltage_control)_passes_check_on_every_curve: root 0 of every
-    curve of the variant 'derived' at every published kH (curves in JOBS processes: the
-    CPU seconds are the workers' sum, in ``run.worker_cpu``)."""
+    """test_cleanroom_plate(_voltage_control)_passes_check_on_every_curve: every root of
+    every curve of every stored variant at every published kH (curves in JOBS processes:
+    the CPU seconds are the workers' sum, in ``run.worker_cpu``)."""
     def run(problem_id):
         ref = _ref(problem_id, "lam_cr")
         field = "Vhat" if voltage else "Dhat"
         kH = [float(k) for k in ref["coords"]["kH"]]
-        tasks = [(float(xi), float(D), kH, voltage) for xi in ref["coords"]["xi"]
-                 for D in ref["coords"][field]]
+        tasks = [(str(v), float(xi), float(D), kH, voltage) for v in ref["coords"]["variant"]
+                 for xi in ref["coords"]["xi"] for D in ref["coords"][field]]
         if JOBS > 1:
             from concurrent.futures import ProcessPoolExecutor
 
@@ -162,8 +161,11 @@ def plate(voltage: bool) -> Computation:
         else:
             done = [_plate_curve(t) for t in tasks]
         rows = [r for part, _ in done for r in part]
-        xi, D, k, lam = (np.array(x, dtype=float) for x in zip(*rows, strict=True))
-        return {"lam_cr": (lam, {"xi": xi, field: D, "kH": k})}
+        variant, xi, D, root, k, lam = zip(*rows, strict=True)
+        coords = {"variant": np.array(variant), "xi": np.array(xi, dtype=float),
+                  field: np.array(D, dtype=float), "root": np.array(root, dtype=int),
+                  "kH": np.array(k, dtype=float)}
+        return {"lam_cr": (np.array(lam, dtype=float), coords)}
     return run
 
 

@@ -151,36 +151,56 @@ def test_cleanroom_voltage_stretch_passes_check_everywhere(problem_id, tmp_path,
     assert "coverage complete" in capsys.readouterr().out
 
 
-def _plate_rows(curves, stride, capsys):
-    ref = _reference_json("ch4_plate_critical_stretch", capsys)["reference"]["lam_cr"]
-    kH = np.array(ref["coords"]["kH"], dtype=float)[::stride]
-    cols = ([], [], [], [])
-    for xi, D in curves:
-        for k in kH:
-            r = plate.roots(k, xi, D, n_scan=plate.N_SCAN)
-            if r:
-                for col, v in zip(cols, (xi, D, k, float(r[0])), strict=True):
-                    col.append(v)
+#: the plate variants each problem stores (the page's selector ``variant``)
+PLATE_VARIANTS = ("derived", "printed", "literal")
+VOLTAGE_VARIANTS = ("derived", "printed")
+PLATE_HEADER = "variant,xi [1],{field} [1],root [1],kH [1],lam_cr [1]"
+
+
+def plate_rows(curves, kH, variants, voltage=False):
+    """Every root (numbered ascending from 0, as on the page) of every variant and curve
+    (xi, Dhat) (``voltage``: (xi, Vhat)) at the given kH: columns variant, xi, Dhat (or
+    Vhat), root, kH, lam_cr."""
+    cols = ([], [], [], [], [], [])
+    for v in variants:
+        for xi, D in curves:
+            for k in kH:
+                for j, r in enumerate(plate.roots(k, xi, D, voltage=voltage, variant=v)):
+                    for col, x in zip(cols, (v, xi, D, j, k, float(r)), strict=True):
+                        col.append(x)
     return cols
 
 
+def _plate_kH(problem_id, stride, capsys):
+    ref = _reference_json(problem_id, capsys)["reference"]["lam_cr"]
+    return np.array(ref["coords"]["kH"], dtype=float)[::stride]
+
+
 def test_cleanroom_plate_passes_check_on_sampled_curves(tmp_path, capsys):
-    """Root 0 of (xi, Dhat) = (0, 0), (0, 2), (5, 5) at every 40th published kH: declared
-    partial coverage (every kH of every curve is the slow test)."""
-    cols = _plate_rows([(0.0, 0.0), (0.0, 2.0), (5.0, 5.0)], PLATE_KH_STRIDE, capsys)
-    path = _csv(tmp_path / "p.csv", "xi [1],Dhat [1],kH [1],lam_cr [1]", cols)
+    """Every root of the variants 'derived', 'printed' and 'literal' of (xi, Dhat) = (0,
+    0), (0, 2), (5, 5) at every 40th published kH: declared partial coverage (every kH of
+    every curve is the slow test). ~10 s CPU."""
+    kH = _plate_kH("ch4_plate_critical_stretch", PLATE_KH_STRIDE, capsys)
+    cols = plate_rows([(0.0, 0.0), (0.0, 2.0), (5.0, 5.0)], kH, PLATE_VARIANTS)
+    assert set(cols[0]) == set(PLATE_VARIANTS) and max(cols[3]) == 3
+    path = _csv(tmp_path / "p.csv", PLATE_HEADER.format(field="Dhat"), cols)
     assert cli.main(["check", "ch4_plate_critical_stretch", path, "--partial"]) == 0
     assert "MATCHES" in capsys.readouterr().out
 
 
 @pytest.mark.slow
 def test_cleanroom_plate_passes_check_on_every_curve(tmp_path, capsys):
-    """Root 0 of every xi and Dhat at every published kH: full coverage."""
+    """Every root (0 to 3; root numbers 4 to 7 are empty) of every variant (derived,
+    printed, literal), xi and Dhat at every published kH: full coverage at the stated
+    accuracy (atol 1e-9 + rtol 1e-7 |ref|). Measured (tools/confirm.py,
+    reference/confirmations.json): MEASURED."""
     curves = [(xi, D) for xi in (0.0, 5.0) for D in (0.0, 1.0, 2.0, 2.2, 2.4, 2.6, 3.0,
                                                       4.0, 5.0)]
-    cols = _plate_rows(curves, 1, capsys)
-    path = _csv(tmp_path / "p.csv", "xi [1],Dhat [1],kH [1],lam_cr [1]", cols)
+    kH = _plate_kH("ch4_plate_critical_stretch", 1, capsys)
+    cols = plate_rows(curves, kH, PLATE_VARIANTS)
+    path = _csv(tmp_path / "p.csv", PLATE_HEADER.format(field="Dhat"), cols)
     assert cli.main(["check", "ch4_plate_critical_stretch", path]) == 0
+    assert "coverage complete" in capsys.readouterr().out
 
 
 def _failure_point_files(tmp_path, lamPs, capsys):
@@ -215,33 +235,28 @@ def test_cleanroom_failure_points_pass_check_everywhere(tmp_path, capsys):
         assert cli.main(["check", "ch3_failure_points", path]) == 0, name
 
 
-def _voltage_plate_rows(curves, stride, capsys):
-    ref = _reference_json("ch4_plate_voltage_control", capsys)["reference"]["lam_cr"]
-    kH = np.array(ref["coords"]["kH"], dtype=float)[::stride]
-    cols = ([], [], [], [])
-    for xi, V in curves:
-        for k in kH:
-            r = plate.roots(k, xi, V, voltage=True)
-            if r:
-                for col, v in zip(cols, (xi, V, k, float(r[0])), strict=True):
-                    col.append(v)
-    return cols
-
-
 def test_cleanroom_plate_voltage_control_passes_check_on_sampled_curves(tmp_path, capsys):
-    """Root 0 at fixed voltage, (xi, Vhat) = (0, 0.5), (5, 1), every 8th published kH:
-    declared partial coverage."""
-    cols = _voltage_plate_rows([(0.0, 0.5), (5.0, 1.0)], 8, capsys)
-    path = _csv(tmp_path / "v.csv", "xi [1],Vhat [1],kH [1],lam_cr [1]", cols)
+    """Every root of the variants 'derived' and 'printed' at fixed voltage, (xi, Vhat) =
+    (0, 0.5), (5, 1), every 8th published kH: declared partial coverage. ~5 s CPU."""
+    kH = _plate_kH("ch4_plate_voltage_control", 8, capsys)
+    cols = plate_rows([(0.0, 0.5), (5.0, 1.0)], kH, VOLTAGE_VARIANTS, voltage=True)
+    assert set(cols[0]) == set(VOLTAGE_VARIANTS) and max(cols[3]) == 3
+    path = _csv(tmp_path / "v.csv", PLATE_HEADER.format(field="Vhat"), cols)
     assert cli.main(["check", "ch4_plate_voltage_control", path, "--partial"]) == 0
+    assert "MATCHES" in capsys.readouterr().out
 
 
 @pytest.mark.slow
 def test_cleanroom_plate_voltage_control_passes_check_on_every_curve(tmp_path, capsys):
+    """Every root of both variants ('derived', 'printed'), xi and Vhat at every published
+    kH: full coverage at the stated accuracy (atol 1e-9 + rtol 1e-7 |ref|). Measured
+    (tools/confirm.py, reference/confirmations.json): MEASURED."""
     curves = [(xi, V) for xi in (0.0, 5.0) for V in (0.25, 0.5, 0.75, 1.0)]
-    cols = _voltage_plate_rows(curves, 1, capsys)
-    path = _csv(tmp_path / "v.csv", "xi [1],Vhat [1],kH [1],lam_cr [1]", cols)
+    kH = _plate_kH("ch4_plate_voltage_control", 1, capsys)
+    cols = plate_rows(curves, kH, VOLTAGE_VARIANTS, voltage=True)
+    path = _csv(tmp_path / "v.csv", PLATE_HEADER.format(field="Vhat"), cols)
     assert cli.main(["check", "ch4_plate_voltage_control", path]) == 0
+    assert "coverage complete" in capsys.readouterr().out
 
 
 def _buckling_reference(case, n=0):
