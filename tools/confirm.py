@@ -129,30 +129,33 @@ JOBS = 1
 
 
 def _plate_curve(args):
-    """Root 0 of one curve at every kH (a worker's task) and the worker's CPU seconds."""
+    """The roots of one curve (variant, xi, D) at every kH (a worker's task: every root,
+    or root 0 only) and the worker's CPU seconds."""
     from verification.cleanroom import plate as cr
 
-    xi, D, kH, voltage = args
+    variant, xi, D, kH, voltage, every_root = args
     t0 = time.process_time()
     rows = []
     for k in kH:
-        r = (cr.roots(k, xi, D, voltage=True) if voltage
-             else cr.roots(k, xi, D, n_scan=cr.N_SCAN))
-        if r:
-            rows.append((xi, D, k, float(r[0])))
+        r = cr.roots(k, xi, D, voltage=voltage, variant=variant)
+        for j, x in enumerate(r if every_root else r[:1]):
+            rows.append((variant, xi, D, j, k, float(x)))
     return rows, time.process_time() - t0
 
 
 def plate(voltage: bool) -> Computation:
-    """test_cleanroom_plate(_voltage_control)_passes_check_on_every_curve: root 0 of every
-    curve of the variant 'derived' at every published kH (curves in JOBS processes: the
-    CPU seconds are the workers' sum, in ``run.worker_cpu``)."""
+    """test_cleanroom_plate_voltage_control_passes_check_on_every_curve: every root of
+    every curve of both stored variants at every published kH;
+    test_cleanroom_plate_passes_check_on_every_curve: root 0 of every curve of the variant
+    'derived' at every published kH (curves in JOBS processes: the CPU seconds are the
+    workers' sum, in ``run.worker_cpu``)."""
     def run(problem_id):
         ref = _ref(problem_id, "lam_cr")
         field = "Vhat" if voltage else "Dhat"
         kH = [float(k) for k in ref["coords"]["kH"]]
-        tasks = [(float(xi), float(D), kH, voltage) for xi in ref["coords"]["xi"]
-                 for D in ref["coords"][field]]
+        variants = ref["coords"]["variant"] if voltage else ["derived"]
+        tasks = [(str(v), float(xi), float(D), kH, voltage, voltage) for v in variants
+                 for xi in ref["coords"]["xi"] for D in ref["coords"][field]]
         if JOBS > 1:
             from concurrent.futures import ProcessPoolExecutor
 
@@ -162,8 +165,12 @@ def plate(voltage: bool) -> Computation:
         else:
             done = [_plate_curve(t) for t in tasks]
         rows = [r for part, _ in done for r in part]
-        xi, D, k, lam = (np.array(x, dtype=float) for x in zip(*rows, strict=True))
-        return {"lam_cr": (lam, {"xi": xi, field: D, "kH": k})}
+        variant, xi, D, root, k, lam = zip(*rows, strict=True)
+        coords = {"xi": np.array(xi, dtype=float), field: np.array(D, dtype=float),
+                  "kH": np.array(k, dtype=float)}
+        if voltage:
+            coords.update(variant=np.array(variant), root=np.array(root, dtype=int))
+        return {"lam_cr": (np.array(lam, dtype=float), coords)}
     return run
 
 
