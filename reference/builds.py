@@ -140,7 +140,6 @@ class ChapterTraceback(Exception):
 
 
 def _process_cpu() -> float:
-
     own = resource.getrusage(resource.RUSAGE_SELF)
     return own.ru_utime + own.ru_stime
 

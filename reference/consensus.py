@@ -109,7 +109,6 @@ def _fmt(x) -> str:
 
 @cache
 def _tables(root: str) -> tuple[Table, ...]:
-
     found: dict[tuple[str, str], Table] = {}
     for folder in subs.discover(root):
         try:

@@ -54,7 +54,6 @@ class CrossCheck:
     test: str
 
     def measured(self, data_dir: Path | None = None) -> float:
-
         return float(self.measure(read_dataset(self.dataset, data_dir=data_dir)))
 
     def tolerance_value(self) -> float | None:

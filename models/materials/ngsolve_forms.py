@@ -113,7 +113,6 @@ def _perturbation_direction() -> np.ndarray:
 
 
 def _ogden(alphas, mus, k):
-
     return OgdenIdealDielectric(alphas=tuple(alphas), mus=tuple(mus), k=k)
 
 

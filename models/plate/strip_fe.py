@@ -238,7 +238,6 @@ class _Strip:
         self._shape = X.shape
 
     def _csr(self, mat):
-
         rows, cols, vals = mat.COO()
         n = self.fes.ndof
         A = sps.csr_matrix((np.asarray(vals), (np.asarray(rows), np.asarray(cols))),
@@ -289,7 +288,6 @@ class _Strip:
 
 
 def _eigs(K, M, count):
-
     try:
         lu = splu(K - SIGMA * M)
     except RuntimeError as exc:

@@ -64,7 +64,6 @@ DO_SI = dict(alpha=0.3, beta=0.5, eps=EPS_R_ASSUMED * VACUUM_PERMITTIVITY)
 
 
 def _materials():
-
     mats = {name: material(name) for name in THESIS_MATERIALS}
     mats["ti_neo_hookean_dielectric"] = TransverselyIsotropicNeoHookean(**TI_SI)
     mats["dorfmann_ogden_electric"] = DorfmannOgdenElectric(**DO_SI)

@@ -437,7 +437,6 @@ def build(out_dir: Path, *, full: bool = False, progress: bool = True) -> list[P
 
 
 def _voltage_figure(out: Path, vc: xr.Dataset) -> list[Path]:
-
     plt = pyplot()
     fig, axs = plt.subplots(1, 2, figsize=(11, 4), sharey=True)
     for ax, xi in zip(axs, (0.0, 5.0), strict=True):

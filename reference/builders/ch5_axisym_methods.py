@@ -64,7 +64,6 @@ def plan(full: bool = False) -> list[tuple]:
 
 
 def compute(full: bool = False, scheduler=None, progress: bool = True):
-
     p = study.METHODS[full]
     cases, discs = p["cases"], p["discs"]
     tasks = plan(full)

@@ -306,7 +306,6 @@ def _decision_variables(dec: list, ns, acc: dict) -> dict:
 
 
 def compute(full: bool = False, scheduler=None, progress: bool = True):
-
     p = study.PATH[full]
     cases, discs = p["cases"], p["discs"]
     tasks = plan(full)

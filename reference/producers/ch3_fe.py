@@ -77,7 +77,6 @@ def fe_suppression_prestretch(entry: Entry) -> Outcome:
 
 @lru_cache(maxsize=2)
 def thickness_data():
-
     return read_dataset("ch3_fe_thickness")
 
 

@@ -47,7 +47,6 @@ def moves_its_target(quantity: str) -> bool:
 
 
 def _target(entry: Entry):
-
     target = catalogue.by_id()[entry.parameters["target"]]
     return target, catalogue.evaluate(target)
 
