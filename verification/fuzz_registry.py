@@ -906,7 +906,7 @@ def _plate_cases():
         Case(f"{p}.ansatz.curves_vectorised", ansatz.curves_vectorised,
              {"kH_values": np.array([0.5, 1.0]), "params": P0, "n_scan": 40},
              {"kH_values": "lam_array", "params": "obj", "window": "window",
-              "n_scan": "count", "max_roots": "count", "xtol": "tol", "max_iter": "count"},
+              "n_scan": "count", "max_roots": "count", "xtol": "tol"},
              check=_check_padded),
         Case(f"{p}.fem.elements_for", fem.elements_for, {"t": 1.0}, {"t": "pos"}),
         Case(f"{p}.fem.grading", fem.grading, {"t": 1.0}, {"t": "pos"}),

@@ -18,6 +18,7 @@ from debench.models.numerics import (
     convergence_fit,
     damped_newton,
     gci,
+    grid_brackets,
     level_fit,
     newton,
     p_grading_estimate,
@@ -433,6 +434,50 @@ def test_refined_scan_adds_no_root_at_a_minimum_away_from_zero():
     assert brackets == [] and x.size > GRID.size
     # resolved once the spacing is ~sqrt(RESOLVED 1e-8) = 5e-5: far above W_SCAN
     assert np.min(np.abs(np.diff(x))) > 1e3 * WIDTH
+
+
+#: rows of one grid for grid_brackets: (f, its zeros on the GRID window)
+GRID_ROWS = (
+    (lambda x: (x - 0.6001) * (x - 0.6013) * np.exp(x), [0.6001, 0.6013]),   # a pair
+    (lambda x: (x - 0.55) * (x - 0.6001) * (x - 0.6013), [0.55, 0.6001, 0.6013]),
+    (lambda x: x - 0.71, [0.71]),                                             # simple
+    (lambda x: (x - GRID[17]) * (2.0 - x), [GRID[17]]),                       # at a point
+    (lambda x: (x - 0.7) ** 2 + 1e-8, []),                                    # near miss
+    (lambda x: (x - 0.7) ** 2 * (x + 1), []),                                 # tangency
+    (lambda x: np.cos(40 * x) + 2.0, []),                                     # no minimum
+)
+
+
+def test_grid_brackets_finds_every_zero_of_every_row_and_refines_only_where_needed():
+    """Many functions on one grid: every zero bracketed once (a pair inside one interval
+    separated), and only the rows with a minimum of |f| between samples of one sign
+    evaluated again (the pair rows, the near miss, the tangency, not the simple zeros)."""
+    fs = [f for f, _ in GRID_ROWS]
+    called = set()
+
+    def evaluate(rows, x):
+        called.update(int(r) for r in rows)
+        return np.array([fs[r](p) for r, p in zip(rows, x, strict=True)])
+
+    vals = np.array([f(GRID) for f in fs])
+    scan, a, b, fa, fb = grid_brackets(evaluate, GRID, vals, width=WIDTH)
+    for r, (f, zeros) in enumerate(GRID_ROWS):
+        sel = scan == r
+        got = _zeros(f, list(zip(a[sel], b[sel], fa[sel], fb[sel], strict=True)))
+        got = sorted(set(got))
+        np.testing.assert_allclose(got, zeros, rtol=0, atol=TOL_SYNTH)
+    assert called == {0, 1, 4, 5}
+    assert np.all(np.diff(scan) >= 0)
+
+
+def test_grid_brackets_refuses_bad_arguments_naming_them():
+    with pytest.raises(ValueError, match="f must have shape"):
+        grid_brackets(lambda r, x: x, GRID, np.zeros(GRID.size), width=WIDTH)
+    with pytest.raises(ValueError, match="usable"):
+        grid_brackets(lambda r, x: x, GRID, np.zeros((2, GRID.size)), width=WIDTH,
+                      usable=np.ones((2, 3), bool))
+    with pytest.raises(TypeError, match="evaluate"):
+        grid_brackets(None, GRID, np.zeros((2, GRID.size)), width=WIDTH)
 
 
 # ------------------------------------------------------------------ convergence fits

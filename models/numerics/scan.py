@@ -51,24 +51,46 @@ RESOLVED = 0.25
 MAX_ROUNDS = 80
 
 
-def _local_minima(m, usable):
+def _local_minima(m, usable, f=None):
     """Indices of the unresolved local minima of ``m`` (NaN: not sampled) over the usable
-    intervals (``usable[i]``: the interval (x[i], x[i + 1]) may be refined)."""
+    intervals (``usable[i]``: the interval (x[i], x[i + 1]) may be refined); with the
+    sampled real function ``f``, minima at an end of an interval where it changes sign
+    are resolved (a bracket holds the zero they approach)."""
+    return np.flatnonzero(_minimum_mask(m, usable, f))
+
+
+def _minimum_mask(m, usable, f=None):
+    """:func:`_local_minima` as a mask along the last axis (rows of scans on one grid:
+    ``m`` (..., n), ``usable`` and the sign changes of ``f`` (..., n - 1))."""
     mm = np.where(np.isnan(m), np.inf, m)
-    inf = np.full(1, np.inf)
-    left = np.concatenate([inf, np.where(usable, mm[:-1], np.inf)])
-    right = np.concatenate([np.where(usable, mm[1:], np.inf), inf])
-    has = np.concatenate([[False], usable]) | np.concatenate([usable, [False]])
+    inf = np.full(mm.shape[:-1] + (1,), np.inf)
+    no = np.zeros(mm.shape[:-1] + (1,), bool)
+    left = np.concatenate([inf, np.where(usable, mm[..., :-1], np.inf)], axis=-1)
+    right = np.concatenate([np.where(usable, mm[..., 1:], np.inf), inf], axis=-1)
+    has = np.concatenate([no, usable], axis=-1) | np.concatenate([usable, no], axis=-1)
     nb = np.maximum(np.where(np.isfinite(left), left, -np.inf),
                     np.where(np.isfinite(right), right, -np.inf))
     is_min = has & np.isfinite(mm) & (mm <= left) & (mm <= right)
-    return np.flatnonzero(is_min & (nb > (1.0 + RESOLVED) * mm))
+    if f is not None:
+        change = _change_mask(f, usable)
+        is_min &= ~(np.concatenate([no, change], axis=-1)
+                    | np.concatenate([change, no], axis=-1))
+    return is_min & (nb > (1.0 + RESOLVED) * mm)
 
 
-def _refinement_points(x, m, width, usable):
+def _change_mask(f, usable):
+    """Usable intervals along the last axis whose finite ends differ in sign or include
+    a zero."""
+    with np.errstate(invalid="ignore"):
+        lo, hi = f[..., :-1], f[..., 1:]
+        return (usable & np.isfinite(lo) & np.isfinite(hi)
+                & ((lo == 0.0) | (hi == 0.0) | (np.sign(lo) != np.sign(hi))))
+
+
+def _refinement_points(x, m, width, usable, f=None):
     """:func:`refinement_points` without the checks (``usable`` a boolean array)."""
     pts = []
-    for i in _local_minima(m, usable):
+    for i in _local_minima(m, usable, f):
         for j in (i - 1, i):
             if 0 <= j < len(x) - 1 and usable[j] and x[j + 1] - x[j] > width * abs(x[j + 1]):
                 pts.append(0.5 * (x[j] + x[j + 1]))
@@ -147,7 +169,8 @@ def _merge(x, vals, new_x, new_vals):
              zip(vals, new_vals, strict=True)])
 
 
-def refine_samples(evaluate, samples, *, width: float) -> None:
+def refine_samples(evaluate, samples, *, width: float, bracketed_resolved: bool = False
+                   ) -> None:
     """Refine several scans together, in place, round by round.
 
     ``samples``: a list, per scan, of ``[x, vals, m, usable]``: the sampled abscissae
@@ -159,6 +182,13 @@ def refine_samples(evaluate, samples, *, width: float) -> None:
     Each round adds :func:`refinement_points` to every scan; the halves of a usable
     interval are usable. ConvergenceError when a round still adds points after
     :data:`MAX_ROUNDS` rounds.
+
+    ``bracketed_resolved``: ``vals`` is the real function itself (1-D along ``x``), and a
+    minimum at an end of an interval where it changes sign is not refined: the bracket
+    holds the zero the minimum approaches, so only minima between samples of one sign (two
+    zeros that may share an interval, or a smooth minimum) are refined. Much cheaper (a
+    simple zero costs no halvings), it does not look for two more zeros in an interval
+    beside a bracketed one.
     """
     if not callable(evaluate):
         raise TypeError(f"evaluate must be callable, got {evaluate!r:.60}")
@@ -170,14 +200,23 @@ def refine_samples(evaluate, samples, *, width: float) -> None:
         s[1] = np.asarray(s[1])
         if s[1].shape[-1:] != s[0].shape:
             raise ValueError(f"vals must run along x on its last axis, got {s[1].shape}")
-    _refine(evaluate, samples, width)
+        if bracketed_resolved and s[1].ndim != 1:
+            raise ValueError(f"bracketed_resolved needs vals of one function (1-D), got "
+                             f"shape {s[1].shape}")
+    _refine(evaluate, samples, width, bracketed_resolved)
 
 
-def _refine(evaluate, samples, width):
+def _refine(evaluate, samples, width, bracketed_resolved=False):
     """:func:`refine_samples` without the checks."""
+    # a scan that added no points in a round is unchanged and adds none later
+    active = list(range(len(samples)))
     for _ in range(MAX_ROUNDS):
-        new = [_refinement_points(x, m, width, usable) for x, _, m, usable in samples]
-        if not any(p.size for p in new):
+        new = [np.zeros(0)] * len(samples)
+        for k in active:
+            x, f, m, usable = samples[k]
+            new[k] = _refinement_points(x, m, width, usable, f if bracketed_resolved else None)
+        active = [k for k in active if new[k].size]
+        if not active:
             return
         which = np.concatenate([np.full(p.size, k) for k, p in enumerate(new)])
         vals, m = evaluate(which, np.concatenate(new))
@@ -213,6 +252,76 @@ def scan_brackets(evaluate, x, *, width: float, usable=None):
     x, f, m, usable = samples[0]
     return ([(x[i], x[i + 1], f[i], f[i + 1]) for i in _sign_change_brackets(f, usable)],
             x, f, m)
+
+
+def grid_brackets(evaluate, x, f, *, width: float, usable=None):
+    """The sign changes of many real functions sampled on one grid, refined where two
+    zeros may share an interval: ``(scan, a, b, fa, fb)`` arrays, in scan order then along
+    ``x``.
+
+    ``x`` the grid (strictly increasing), ``f`` the samples (rows, n) (NaN: not sampled),
+    ``usable`` (rows, n - 1) the intervals that may be refined and bracket (default: both
+    ends finite). The measure is m = |f|; only rows with an unresolved minimum of |f|
+    between samples of one sign are refined (:func:`refine_samples` with
+    ``bracketed_resolved``, ``evaluate(scan_index, points)`` returning ``f`` at the points
+    of every round), so a simple zero costs nothing beyond the grid. The brackets of the
+    other rows come from the grid directly.
+    """
+    if not callable(evaluate):
+        raise TypeError(f"evaluate must be callable, got {evaluate!r:.60}")
+    x, _, width, _ = _checked(x, np.zeros(np.shape(x)), width, None)
+    f = _real_array("f", f)
+    if f.ndim != 2 or f.shape[1] != x.size:
+        raise ValueError(f"f must have shape (rows, {x.size}), got {f.shape}")
+    if usable is None:
+        usable = np.isfinite(f[:, :-1]) & np.isfinite(f[:, 1:])
+    usable = np.asarray(usable)
+    if usable.dtype != bool or usable.shape != (f.shape[0], x.size - 1):
+        raise ValueError(f"usable must be a boolean array of shape "
+                         f"{(f.shape[0], x.size - 1)}, got {usable!r:.80}")
+    wide = np.diff(x) > width * np.abs(x[1:])
+    minima = _minimum_mask(np.abs(f), usable, f)
+    # a minimum is refined when an interval beside it may be halved
+    # (the intervals beside sample i are i - 1 and i)
+    refine = np.flatnonzero(((minima[:, 1:] | minima[:, :-1]) & wide & usable).any(axis=1))
+    out = []
+    change = _change_mask(f, usable)
+    change[refine] = False
+    k, i = np.nonzero(change)
+    out.append((k, x[i], x[i + 1], f[k, i], f[k, i + 1]))
+    if refine.size:
+        samples = [[x, f[r], np.abs(f[r]), usable[r]] for r in refine]
+
+        def ev(which, p):
+            vals = _real_array("evaluate(x)", evaluate(refine[which], p))
+            return vals, np.abs(vals)
+
+        _refine(ev, samples, width, bracketed_resolved=True)
+        kk, *rest = sample_brackets(samples)
+        out.append((refine[kk], *rest))
+    cols = [np.concatenate(c) for c in zip(*out, strict=True)]
+    order = np.lexsort((cols[1], cols[0]))
+    return tuple(c[order] for c in cols)
+
+
+def sample_brackets(samples):
+    """The sign changes of the refined scans ``samples`` of :func:`refine_samples` whose
+    sampled quantity is one real function (1-D along ``x``), as arrays ``(scan, a, b, fa,
+    fb)``: the scan index and the bracket of each (:func:`sign_change_brackets`, in scan
+    order then along ``x``)."""
+    out = [], [], [], [], []
+    for k, (x, f, _, usable) in enumerate(samples):
+        f = _real_array("vals", f)
+        if f.shape != np.shape(x):
+            raise ValueError(f"vals must be 1-D along x, got shape {f.shape}")
+        with np.errstate(invalid="ignore"):
+            i = _sign_change_brackets(f, usable & np.isfinite(f[:-1]) & np.isfinite(f[1:]))
+        for col, val in zip(out, (np.full(i.size, k), x[i], x[i + 1], f[i], f[i + 1]),
+                            strict=True):
+            col.append(val)
+    if not samples:
+        return tuple(np.zeros(0, int if j == 0 else float) for j in range(5))
+    return tuple(np.concatenate(col) for col in out)
 
 
 def _split_usable(usable, halved):

@@ -36,7 +36,8 @@ from dataclasses import dataclass
 import numpy as np
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError, require
-from debench.models.numerics.roots import scan_roots
+from debench.models.numerics.roots import regula_falsi_many
+from debench.models.numerics.scan import grid_brackets
 from debench.models.plate.coefficients import (
     PlateParams,
     _check_lam,
@@ -341,31 +342,65 @@ def critical_stretches(kH: float, params: PlateParams, *, window=LAM_WINDOW,
                        n_scan: int = N_SCAN, parities=PARITIES) -> Roots:
     """All lam in ``window`` at which a parity determinant vanishes, at fixed kH.
 
-    Sign changes of the determinant on a geometric lam grid bracket the roots; all are
-    refined together (vectorised Illinois iteration,
-    :func:`~debench.models.numerics.roots.scan_roots`) to ``xtol = 1e-13``; a zero at a
-    grid point is a root. Points where the model is not strongly elliptic are skipped (no
-    bracket crosses them). Raises
-    :class:`ConvergenceError` if the refinement fails on a bracket. ``n_scan >= MIN_SCAN``.
+    The scan of :func:`curves_vectorised` at one kH: a geometric lam grid of ``n_scan``
+    points (``>= MIN_SCAN``) refined around every local minimum of |det| down to
+    :data:`W_SCAN` (:mod:`~debench.models.numerics.scan`), so that two roots closer than a
+    grid interval are both bracketed; every sign change refined to :data:`XTOL`. Points
+    where the model is not strongly elliptic are skipped (no bracket crosses them). Raises
+    :class:`ConvergenceError` if the refinement fails on a bracket.
     """
     kH = v.finite("kH", kH)
     require(kH > 0, f"kH must be finite and > 0, got {kH}")
     _check_scan(kH, params, window, n_scan)
-    _check_parities(parities)
-    grid = scan_grid(window, n_scan, params)
-    lams, pars = [], []
-    for par, vals in zip(parities, _determinants(grid, kH, params, tuple(parities)),
-                         strict=True):
-        try:
-            r = scan_roots(lambda x, par=par: _determinant(x, kH, params, par), grid, vals,
-                           xtol=XTOL).root
-        except ConvergenceError as exc:
-            raise ConvergenceError(f"root refinement failed at kH={kH}, {params}: "
-                                   f"{exc}") from exc
-        lams += [float(x) for x in r]
-        pars += [par] * r.size
+    rows, lams, pars = _refined_roots(np.array([kH]), params, window, n_scan,
+                                      _check_parities(parities), XTOL)
     order = np.argsort(lams)
-    return Roots(kH, np.asarray(lams)[order], tuple(pars[i] for i in order))
+    return Roots(kH, lams[order], tuple(pars[i] for i in order))
+
+
+#: relative width in lam to which the scan is refined around a local minimum of |det|
+#: that does not resolve (:mod:`~debench.models.numerics.scan`): two roots closer than
+#: W_SCAN lam may share a sampled interval and cancel. Roots are born in pairs at folds of
+#: the curves lam_cr(kH), where they are arbitrarily close; at the published kH the
+#: closest stored pair is 5.6e-3 apart. The refinement costs ~2 evaluations per halving
+#: per root (from a grid interval of ~1.9 % to 1e-8: ~21 halvings)
+W_SCAN = 1e-8
+
+
+def _refined_roots(kH_values, params, window, n_scan, parities, xtol):
+    """``(rows, lams, parities)`` of every root of every parity's determinant at each kH
+    of ``kH_values``: the scan grid evaluated on (kH, lam) in one call, refined around the
+    minima of |det| (all kH of one parity per round, :func:`refine_samples`), the sign
+    changes of the refined samples refined together by :func:`regula_falsi_many` to
+    ``|b - a| <= xtol + 4 eps |b|``; a zero at a sampled point counted once."""
+    grid = scan_grid(window, n_scan, params)
+    # all parities on the (kH, lam) scan grid in one pass (lam-only work once per lam)
+    dets = _determinants(grid[None, :], kH_values[:, None], params, parities)
+    rows, lams, pars = [], [], []
+    for par, dv in zip(parities, dets, strict=True):
+        def evaluate(which, x, par=par):
+            return _determinant(x, kH_values[which], params, par)
+
+        row, a, b, fa, fb = grid_brackets(evaluate, grid, dv, width=W_SCAN)
+        if not row.size:
+            continue
+
+        def f(x, active, row=row, par=par):
+            return _determinant(x, kH_values[row[active]], params, par)
+
+        try:
+            r = regula_falsi_many(f, a, b, fa, fb, xtol).root
+        except ConvergenceError as exc:
+            raise ConvergenceError(f"root refinement failed for {params}: {exc}") from exc
+        # a zero at a sampled point brackets both intervals beside it: count it once
+        keep = np.ones(r.size, bool)
+        keep[1:] = ~((row[1:] == row[:-1]) & (r[1:] == r[:-1]))
+        rows.append(row[keep])
+        lams.append(r[keep])
+        pars += [par] * int(keep.sum())
+    if not rows:
+        return np.zeros(0, int), np.zeros(0), []
+    return np.concatenate(rows), np.concatenate(lams), pars
 
 
 def _check_kH_values(kH_values) -> np.ndarray:
@@ -379,90 +414,39 @@ def _check_kH_values(kH_values) -> np.ndarray:
 def curves(kH_values, params: PlateParams, *, window=LAM_WINDOW, n_scan: int = N_SCAN,
            max_roots: int = 6):
     """Bifurcation curves lam_cr(kH): array (len(kH), max_roots) padded with NaN,
-    plus the parity codes (0 = "E", 1 = "O", -1 = none)."""
-    kH_values = _check_kH_values(kH_values)
-    _check_scan(1.0, params, window, n_scan)
-    v.integer_at_least("max_roots", max_roots, 1)
-    lam = np.full((kH_values.size, max_roots), np.nan)
-    par = np.full((kH_values.size, max_roots), -1, dtype=int)
-    for i, kH in enumerate(kH_values):
-        r = critical_stretches(float(kH), params, window=window, n_scan=n_scan)
-        if r.lam.size > max_roots:
-            raise ConvergenceError(f"more than {max_roots} roots at kH={kH}: {r.lam}")
-        lam[i, : r.lam.size] = r.lam
-        par[i, : r.lam.size] = [PARITIES.index(x) for x in r.parity]
-    return lam, par
+    plus the parity codes (0 = "E", 1 = "O", -1 = none): :func:`curves_vectorised` with
+    its defaults but the scan density and the number of roots."""
+    return curves_vectorised(kH_values, params, window=window, n_scan=n_scan,
+                             max_roots=max_roots)
 
 
 def curves_vectorised(kH_values, params: PlateParams, *, window=LAM_WINDOW,
-                      n_scan: int = 160, max_roots: int = 8, xtol: float = 1e-12,
-                      max_iter: int = 100):
-    """lam_cr(kH) for many kH at once: same roots as :func:`curves`, faster.
+                      n_scan: int = 160, max_roots: int = 8, xtol: float = XTOL):
+    """lam_cr(kH) for many kH at once: the roots of :func:`critical_stretches` at each kH.
 
-    The determinant is evaluated on the whole (kH, lam) scan grid in one call; every
-    sign change is then refined simultaneously by the Illinois variant of regula falsi
-    (bracketing, superlinear) until the bracket is below ``xtol``. Raises
-    :class:`ConvergenceError` if any bracket fails to shrink. Returns (lam, parity) as
-    :func:`curves`. ``xtol`` a finite tolerance in (0, 1), ``max_iter >= 1``.
+    The determinants are evaluated on the whole (kH, lam) scan grid in one call, the scans
+    of all kH refined together around the minima of |det| (:data:`W_SCAN`), and every sign
+    change refined simultaneously by the Illinois variant of regula falsi
+    (:func:`~debench.models.numerics.roots.regula_falsi_many`) until its bracket is below
+    ``xtol`` (absolute, plus 4 eps lam). Raises :class:`ConvergenceError` if any bracket
+    fails to shrink or a kH has more than ``max_roots`` roots. Returns ``(lam, parity)``:
+    arrays (len(kH), max_roots), lam sorted ascending and padded with NaN, parity 0 = "E",
+    1 = "O", -1 = none. ``xtol`` a finite tolerance in (0, 1).
     """
     kH_values = _check_kH_values(kH_values)
     _check_scan(1.0, params, window, n_scan)
     v.integer_at_least("max_roots", max_roots, 1)
     v.tolerance("xtol", xtol)
-    v.integer_at_least("max_iter", max_iter, 1)
-    grid = scan_grid(window, n_scan, params)
-    # both parities on the (kH, lam) scan grid in one pass (lam-only work once per lam)
-    dets = _determinants(grid[None, :], kH_values[:, None], params, PARITIES)
-    rows, lams, pars = [], [], []
-    for ip, par in enumerate(PARITIES):
-        dv = dets[ip]
-        ok = np.isfinite(dv[:, :-1]) & np.isfinite(dv[:, 1:])
-        i, j = np.nonzero(ok & (np.sign(dv[:, :-1]) * np.sign(dv[:, 1:]) < 0))
-        a, b = grid[j].copy(), grid[j + 1].copy()
-        fa, fb = dv[i, j].copy(), dv[i, j + 1].copy()
-        kk = kH_values[i]
-        side = np.zeros(a.size, int)
-        for _ in range(max_iter):
-            active = (b - a) > xtol * np.maximum(1.0, np.abs(a))
-            if not active.any():
-                break
-            c = (a * fb - b * fa) / (fb - fa)
-            c = np.where(np.isfinite(c) & (c > a) & (c < b), c, 0.5 * (a + b))
-            fc = _determinant(c[active], kk[active], params, par)
-            if not np.all(np.isfinite(fc)):
-                raise ConvergenceError(f"regula falsi left the strongly elliptic range "
-                                       f"inside a bracket for {params}")
-            fcf = np.zeros_like(c)
-            fcf[active] = fc
-            left = active & (np.sign(fcf) == np.sign(fa))
-            right = active & ~left
-            # Illinois: halve the retained end's value when the same side moves twice
-            a = np.where(left, c, a)
-            fa_new = np.where(left, fcf, fa)
-            fb = np.where(left & (side == 1), 0.5 * fb, fb)
-            b = np.where(right, c, b)
-            fb = np.where(right, fcf, fb)
-            fa_new = np.where(right & (side == -1), 0.5 * fa_new, fa_new)
-            fa = fa_new
-            side = np.where(left, 1, np.where(right, -1, side))
-            exact = active & (fcf == 0)
-            a = np.where(exact, c, a)
-            b = np.where(exact, c, b)
-        else:
-            raise ConvergenceError(f"regula falsi did not converge for {params}")
-        rows.append(i)
-        lams.append(0.5 * (a + b))
-        pars.append(np.full(i.size, ip))
-    rows = np.concatenate(rows)
-    lams = np.concatenate(lams)
-    pars = np.concatenate(pars)
+    rows, lams, pars = _refined_roots(kH_values, params, window, n_scan, PARITIES, xtol)
+    codes = np.array([PARITIES.index(x) for x in pars], int)
     out = np.full((kH_values.size, max_roots), np.nan)
     par_out = np.full((kH_values.size, max_roots), -1, dtype=int)
     for r in range(kH_values.size):
-        sel = np.nonzero(rows == r)[0]
+        sel = np.flatnonzero(rows == r)
         if sel.size > max_roots:
-            raise ConvergenceError(f"more than {max_roots} roots at kH={kH_values[r]}")
+            raise ConvergenceError(f"more than {max_roots} roots at kH={kH_values[r]}: "
+                                   f"{np.sort(lams[sel])}")
         order = sel[np.argsort(lams[sel])]
         out[r, : order.size] = lams[order]
-        par_out[r, : order.size] = pars[order]
+        par_out[r, : order.size] = codes[order]
     return out, par_out
