@@ -143,18 +143,20 @@ def _plate_curve(args):
     return rows, time.process_time() - t0
 
 
-def plate(voltage: bool) -> Computation:
+def plate(voltage: bool, every_root: bool = True) -> Computation:
     """test_cleanroom_plate_voltage_control_passes_check_on_every_curve: every root of
     every curve of both stored variants at every published kH;
-    test_cleanroom_plate_passes_check_on_every_curve: root 0 of every curve of the variant
-    'derived' at every published kH (curves in JOBS processes: the CPU seconds are the
-    workers' sum, in ``run.worker_cpu``)."""
+    test_cleanroom_plate_every_root_of_every_variant: every root of every curve of the
+    three stored variants at every published kH;
+    test_cleanroom_plate_passes_check_on_every_curve (``every_root`` False): root 0 of
+    every curve of the variant 'derived' at every published kH (curves in JOBS processes:
+    the CPU seconds are the workers' sum, in ``run.worker_cpu``)."""
     def run(problem_id):
         ref = _ref(problem_id, "lam_cr")
         field = "Vhat" if voltage else "Dhat"
         kH = [float(k) for k in ref["coords"]["kH"]]
-        variants = ref["coords"]["variant"] if voltage else ["derived"]
-        tasks = [(str(v), float(xi), float(D), kH, voltage, voltage) for v in variants
+        variants = ref["coords"]["variant"] if every_root else ["derived"]
+        tasks = [(str(v), float(xi), float(D), kH, voltage, every_root) for v in variants
                  for xi in ref["coords"]["xi"] for D in ref["coords"][field]]
         if JOBS > 1:
             from concurrent.futures import ProcessPoolExecutor
@@ -168,7 +170,7 @@ def plate(voltage: bool) -> Computation:
         variant, xi, D, root, k, lam = zip(*rows, strict=True)
         coords = {"xi": np.array(xi, dtype=float), field: np.array(D, dtype=float),
                   "kH": np.array(k, dtype=float)}
-        if voltage:
+        if every_root:
             coords.update(variant=np.array(variant), root=np.array(root, dtype=int))
         return {"lam_cr": (np.array(lam, dtype=float), coords)}
     return run
@@ -320,7 +322,9 @@ COMPUTATIONS: dict[str, Computation] = {
     f"{TC}::test_cleanroom_voltage_stretch_passes_check_everywhere"
     "[ch3_voltage_stretch_as_printed]": voltage_stretch,
     f"{TC}::test_cleanroom_failure_points_pass_check_everywhere": failure_points,
-    f"{TC}::test_cleanroom_plate_passes_check_on_every_curve": plate(voltage=False),
+    f"{TC}::test_cleanroom_plate_passes_check_on_every_curve": plate(voltage=False,
+                                                                    every_root=False),
+    f"{TC}::test_cleanroom_plate_every_root_of_every_variant": plate(voltage=False),
     f"{TC}::test_cleanroom_plate_voltage_control_passes_check_on_every_curve":
         plate(voltage=True),
     f"{TC}::test_cleanroom_buckling_converged_confirms_reference_at_stated_accuracy":

@@ -190,18 +190,6 @@ def test_cleanroom_plate_passes_check_on_sampled_curves(tmp_path, capsys):
 
 PLATE_CURVES = [(xi, D) for xi in (0.0, 5.0) for D in (0.0, 1.0, 2.0, 2.2, 2.4, 2.6, 3.0,
                                                       4.0, 5.0)]
-#: FINDING (reference incomplete): (variant, xi, Dhat, kH index) where the clean room finds
-#: more zeros than the reference stores - a pair of close roots born between two stored kH
-#: that the reference's scan does not resolve: at the stored kH = 8.187644 the 40-digit
-#: psi-even determinant is -0.0888, -1.3e-4, +4.9e-3, +8.7e-5, -6.5e-3 at lam = 0.985,
-#: 0.9928, 0.995, 0.9984, 1 (the full 6 x 6 changes sign at the same two zeros), the quartic
-#: roots are real and distinct there, the reference stores root 0 = 0.632572 only, and its
-#: root 1 and 2 curves start at the next stored kH = 8.3447 (0.979918, 1.009930)
-PLATE_REFERENCE_MISSES = {
-    ("derived", 5.0, 2.6, 353): (0.9928324295445686, 0.998425834639549),
-}
-
-
 @pytest.mark.slow
 def test_cleanroom_plate_passes_check_on_every_curve(tmp_path, capsys):
     """Root 0 of the variant 'derived' of every xi and Dhat at every published kH: full
@@ -221,40 +209,27 @@ def test_cleanroom_plate_passes_check_on_every_curve(tmp_path, capsys):
 
 def assert_every_plate_root(cols, tmp_path, capsys):
     """``cols`` (:func:`plate_rows` of every variant and curve at every published kH)
-    against the reference: at the kH of PLATE_REFERENCE_MISSES the clean room has the
-    stored number of roots plus exactly the listed extra ones (the finding), which are left
-    out (the others renumbered); everywhere else as many roots as stored; and ``debench
-    check`` passes on all of them with full coverage at the stated accuracy."""
+    against the reference: as many roots as stored at every kH of every curve, and
+    ``debench check`` passes on all of them with full coverage at the stated accuracy."""
     from debench.reference.datasets import read_dataset
 
     ds = read_dataset("ch4_fig4_2_curves")
-    kH_all = ds.kH.values
     found: dict = {}
     for v, xi, D, _, k, lam in zip(*cols, strict=True):
         found.setdefault((v, xi, D, k), []).append(lam)
-    misses = {}
+    counts = {}
     for v in ds.variant.values:
         for xi in ds.xi.values:
             for D in ds.Dhat.values:
                 st = ds.lam_cr.sel(variant=v, xi=xi, Dhat=D).values
-                for j, k in enumerate(kH_all):
-                    n = int(np.isfinite(st[j]).sum())
+                for j, k in enumerate(ds.kH.values):
                     key = (str(v), float(xi), float(D), float(k))
+                    n = int(np.isfinite(st[j]).sum())
                     if len(found.get(key, [])) != n:
-                        misses[(*key[:3], j)] = (found.get(key, []), st[j][:n])
-    assert set(misses) == set(PLATE_REFERENCE_MISSES), {
-        m: ([round(x, 8) for x in g], [round(x, 8) for x in s_])
-        for m, (g, s_) in misses.items()}
-    for (v, xi, D, j), extra in PLATE_REFERENCE_MISSES.items():
-        got, stored = misses[(v, xi, D, j)]
-        assert len(got) == len(stored) + len(extra)
-        key = (v, xi, D, float(kH_all[j]))
-        found[key] = [x for x in got if min(abs(x - e) for e in extra) > 1e-12 * x]
-        assert len(found[key]) == len(stored), (key, got, extra)
-    rows = [(*key[:3], n, key[3], x) for key, lams in found.items()
-            for n, x in enumerate(lams)]
-    path = _csv(tmp_path / "p.csv", PLATE_HEADER.format(field="Dhat"),
-                list(zip(*rows, strict=True)))
+                        counts[(*key[:3], j)] = (found.get(key, []), st[j][:n])
+    assert not counts, {m: ([round(x, 8) for x in g], [round(x, 8) for x in s_])
+                        for m, (g, s_) in counts.items()}
+    path = _csv(tmp_path / "p.csv", PLATE_HEADER.format(field="Dhat"), cols)
     assert cli.main(["check", "ch4_plate_critical_stretch", path]) == 0
     assert "coverage complete" in capsys.readouterr().out
 
@@ -263,8 +238,7 @@ def assert_every_plate_root(cols, tmp_path, capsys):
 def test_cleanroom_plate_every_root_of_every_variant(tmp_path, capsys):
     """Every root (0 to 3; root numbers 4 to 7 are empty) of every variant (derived,
     printed, literal), xi and Dhat at every published kH: full coverage at the stated
-    accuracy (atol 1e-9 + rtol 1e-7 |ref|), but for the kH where the reference misses
-    roots the clean room finds (PLATE_REFERENCE_MISSES, asserted exactly). Measured (the
+    accuracy (atol 1e-9 + rtol 1e-7 |ref|), the same number of roots at every kH. Measured (the
     same computation, rows saved and passed to assert_every_plate_root): 42405 roots, all
     the reference stores (derived 9833: max |difference| 4.6e-11 = 4.5e-4 of the stated
     accuracy; printed 14503: 5.6e-11 = 5.6e-4; literal 18069: 1.4e-11 = 9.9e-5; per root
