@@ -368,30 +368,45 @@ W_SCAN = 1e-8
 
 
 def _refined_roots(kH_values, params, window, n_scan, parities, xtol):
-    """``(rows, lams, parities)`` of every root of every parity's determinant at each kH
-    of ``kH_values``: the scan grid evaluated on (kH, lam) in one call, refined around the
-    minima of |det| (all kH of one parity per round, :func:`refine_samples`), the sign
-    changes of the refined samples refined together by :func:`regula_falsi_many` to
-    ``|b - a| <= xtol + 4 eps |b|``; a zero at a sampled point counted once."""
+    """:func:`_scan_determinants` of the charge-controlled determinants of ``params`` on
+    the scan grid of ``window`` and ``n_scan``."""
     grid = scan_grid(window, n_scan, params)
     # all parities on the (kH, lam) scan grid in one pass (lam-only work once per lam)
     dets = _determinants(grid[None, :], kH_values[:, None], params, parities)
+    return _scan_determinants(
+        lambda lam, kH, par: _determinant(lam, kH, params, par), kH_values, grid,
+        dict(zip(parities, dets, strict=True)), xtol, what=str(params))
+
+
+def _scan_determinants(det, kH_values, grid, sampled, xtol, *, what: str):
+    """``(rows, lams, parities)`` of every zero in lam of the determinant of each parity
+    at each kH of ``kH_values``.
+
+    ``det(lam, kH, parity)`` evaluates it at arrays of points (NaN where the model is not
+    strongly elliptic); ``sampled[parity]`` holds its values on the (kH, ``grid``) scan
+    (shape (len(kH), len(grid))). The scans of all kH of one parity are refined together
+    around the minima of |det| between samples of one sign (:data:`W_SCAN`,
+    :func:`~debench.models.numerics.scan.grid_brackets`), every sign change refined by
+    :func:`~debench.models.numerics.roots.regula_falsi_many` to ``|b - a| <= xtol + 4 eps
+    |b|``; a zero at a sampled point is counted once. ConvergenceError naming ``what``
+    when a refinement fails.
+    """
     rows, lams, pars = [], [], []
-    for par, dv in zip(parities, dets, strict=True):
+    for par, dv in sampled.items():
         def evaluate(which, x, par=par):
-            return _determinant(x, kH_values[which], params, par)
+            return det(x, kH_values[which], par)
 
         row, a, b, fa, fb = grid_brackets(evaluate, grid, dv, width=W_SCAN)
         if not row.size:
             continue
 
         def f(x, active, row=row, par=par):
-            return _determinant(x, kH_values[row[active]], params, par)
+            return det(x, kH_values[row[active]], par)
 
         try:
             r = regula_falsi_many(f, a, b, fa, fb, xtol).root
         except ConvergenceError as exc:
-            raise ConvergenceError(f"root refinement failed for {params}: {exc}") from exc
+            raise ConvergenceError(f"root refinement failed for {what}: {exc}") from exc
         # a zero at a sampled point brackets both intervals beside it: count it once
         keep = np.ones(r.size, bool)
         keep[1:] = ~((row[1:] == row[:-1]) & (r[1:] == r[:-1]))
@@ -401,6 +416,25 @@ def _refined_roots(kH_values, params, window, n_scan, parities, xtol):
     if not rows:
         return np.zeros(0, int), np.zeros(0), []
     return np.concatenate(rows), np.concatenate(lams), pars
+
+
+def _pack_roots(kH_values, rows, lams, pars, max_roots: int, what: str):
+    """The roots of :func:`_scan_determinants` as ``(lam, parity)`` arrays (len(kH_values),
+    max_roots): per kH sorted ascending and padded with NaN, the parity codes 0 = "E",
+    1 = "O", -1 = none. ConvergenceError naming ``what`` for more than ``max_roots`` roots
+    at one kH."""
+    codes = np.array([PARITIES.index(x) for x in pars], int)
+    out = np.full((kH_values.size, max_roots), np.nan)
+    par_out = np.full((kH_values.size, max_roots), -1, dtype=int)
+    for r in range(kH_values.size):
+        sel = np.flatnonzero(rows == r)
+        if sel.size > max_roots:
+            raise ConvergenceError(f"more than {max_roots} roots at kH = {kH_values[r]} "
+                                   f"({what}): {np.sort(lams[sel])}")
+        order = sel[np.argsort(lams[sel])]
+        out[r, : order.size] = lams[order]
+        par_out[r, : order.size] = codes[order]
+    return out, par_out
 
 
 def _check_kH_values(kH_values) -> np.ndarray:
@@ -438,15 +472,4 @@ def curves_vectorised(kH_values, params: PlateParams, *, window=LAM_WINDOW,
     v.integer_at_least("max_roots", max_roots, 1)
     v.tolerance("xtol", xtol)
     rows, lams, pars = _refined_roots(kH_values, params, window, n_scan, PARITIES, xtol)
-    codes = np.array([PARITIES.index(x) for x in pars], int)
-    out = np.full((kH_values.size, max_roots), np.nan)
-    par_out = np.full((kH_values.size, max_roots), -1, dtype=int)
-    for r in range(kH_values.size):
-        sel = np.flatnonzero(rows == r)
-        if sel.size > max_roots:
-            raise ConvergenceError(f"more than {max_roots} roots at kH={kH_values[r]}: "
-                                   f"{np.sort(lams[sel])}")
-        order = sel[np.argsort(lams[sel])]
-        out[r, : order.size] = lams[order]
-        par_out[r, : order.size] = codes[order]
-    return out, par_out
+    return _pack_roots(kH_values, rows, lams, pars, max_roots, str(params))

@@ -25,13 +25,15 @@ from types import SimpleNamespace
 import numpy as np
 from debench.models import validation as v
 from debench.models.errors import ConvergenceError, require
-from debench.models.numerics.roots import bracketed_root, scan_roots
+from debench.models.numerics.roots import bracketed_root
 from debench.models.plate.ansatz import (
     LAM_WINDOW,
     MIN_SCAN,
     PARITIES,
     XTOL,
     _determinant,
+    _pack_roots,
+    _scan_determinants,
     scan_grid,
 )
 from debench.models.plate.coefficients import PlateParams
@@ -92,8 +94,9 @@ def critical_stretches_at_voltage(kH: float, Vhat: float, params: PlateParams, *
                                   window=LAM_WINDOW, n_scan: int = 400):
     """lam_cr at fixed kH and fixed voltage Vhat (charge-free exterior, electroded plate).
 
-    Returns (lam, parity) sorted by lam. Brackets on a geometric lam grid, refined
-    together to ``xtol = 1e-13`` (vectorised Illinois iteration).
+    Returns (lam, parity) sorted by lam: the scan of
+    :func:`~debench.models.plate.ansatz._scan_determinants` (a geometric lam grid refined
+    where two roots may share an interval, every bracket refined to ``xtol = 1e-13``).
     """
     v.nonnegative("Vhat", Vhat)
     v.positive("kH", kH)
@@ -101,18 +104,22 @@ def critical_stretches_at_voltage(kH: float, Vhat: float, params: PlateParams, *
     v.integer_at_least("n_scan", n_scan, MIN_SCAN)
     require(params.variant != "literal", "voltage control needs a consistent variant "
             "('derived' or 'printed'), got 'literal'")
-    grid = scan_grid(window, n_scan, params)
-    lams, pars = [], []
-    for par in PARITIES:
-        try:
-            r = scan_roots(lambda x, par=par: _determinant_at_voltage(x, kH, Vhat, params, par),
-                           grid, xtol=XTOL).root
-        except ConvergenceError as exc:
-            raise ConvergenceError(f"voltage-control root refinement failed: {exc}") from exc
-        lams += [float(x) for x in r]
-        pars += [par] * r.size
+    _, lams, pars = _scan(np.array([float(kH)]), Vhat, params, window, n_scan)
     order = np.argsort(lams)
-    return np.asarray(lams)[order], tuple(pars[i] for i in order)
+    return lams[order], tuple(pars[i] for i in order)
+
+
+def _scan(kH_values, Vhat, params, window, n_scan):
+    """:func:`~debench.models.plate.ansatz._scan_determinants` of the voltage-controlled
+    determinants on the scan grid of ``window`` and ``n_scan``."""
+    grid = scan_grid(window, n_scan, params)
+    K, L = np.meshgrid(kH_values, grid, indexing="ij")
+
+    def det(lam, kH, par):
+        return _determinant_at_voltage(lam, kH, Vhat, params, par)
+
+    return _scan_determinants(det, kH_values, grid, {par: det(L, K, par) for par in PARITIES},
+                             XTOL, what=f"voltage control, Vhat = {Vhat}, {params}")
 
 
 def curves_at_voltage(kH_values, Vhat: float, params: PlateParams, *, window=LAM_WINDOW,
@@ -120,8 +127,8 @@ def curves_at_voltage(kH_values, Vhat: float, params: PlateParams, *, window=LAM
     """lam_cr(kH) at fixed voltage for many kH at once: the roots of
     :func:`critical_stretches_at_voltage` at each kH, in one pass.
 
-    The determinant is evaluated on the whole (kH, lam) scan grid in one call and every
-    bracket is refined together (vectorised Illinois iteration to ``xtol = 1e-13``).
+    The determinant is evaluated on the whole (kH, lam) scan grid in one call, refined
+    and its brackets refined together (:func:`~debench.models.plate.ansatz._scan_determinants`).
     Returns (lam, parity) as :func:`~debench.models.plate.ansatz.curves`: arrays
     (len(kH_values), max_roots) of the roots sorted by lam, padded with NaN, and their
     parity codes (0 = "E", 1 = "O", -1 = none); ConvergenceError for more than
@@ -138,34 +145,9 @@ def curves_at_voltage(kH_values, Vhat: float, params: PlateParams, *, window=LAM
     v.integer_at_least("max_roots", max_roots, 1)
     require(params.variant != "literal", "voltage control needs a consistent variant "
             "('derived' or 'printed'), got 'literal'")
-    grid = scan_grid(window, n_scan, params)
-    K, L = np.meshgrid(kH_values, grid, indexing="ij")
-    rows, lams, pars = [], [], []
-    for ip, par in enumerate(PARITIES):
-        try:
-            found = scan_roots(lambda x, rows, par=par: _determinant_at_voltage(
-                x, kH_values[rows], Vhat, params, par), grid,
-                _determinant_at_voltage(L, K, Vhat, params, par), xtol=XTOL)
-        except ConvergenceError as exc:
-            raise ConvergenceError(f"voltage-control root refinement failed: {exc}") from exc
-        if not found.root.size:
-            continue
-        rows.append(found.row)
-        lams.append(found.root)
-        pars.append(np.full(found.root.size, ip))
-    out = np.full((kH_values.size, max_roots), np.nan)
-    par_out = np.full((kH_values.size, max_roots), -1, dtype=int)
-    if rows:
-        rows, lams, pars = np.concatenate(rows), np.concatenate(lams), np.concatenate(pars)
-        for r in range(kH_values.size):
-            sel = np.nonzero(rows == r)[0]
-            if sel.size > max_roots:
-                raise ConvergenceError(f"more than {max_roots} roots at kH = "
-                                       f"{kH_values[r]} (voltage control)")
-            order = sel[np.argsort(lams[sel])]
-            out[r, : order.size] = lams[order]
-            par_out[r, : order.size] = pars[order]
-    return out, par_out
+    rows, lams, pars = _scan(kH_values, Vhat, params, window, n_scan)
+    return _pack_roots(kH_values, rows, lams, pars, max_roots,
+                      f"voltage control, Vhat = {Vhat}")
 
 
 @v.finite_result
