@@ -5,13 +5,14 @@ results.
 * :func:`run_tasks` -- run tasks (serial, a LocalCluster, or an existing scheduler);
 * :func:`resolve_scheduler` -- a builder's ``scheduler`` option as :func:`run_tasks` takes it;
 * :class:`TaskCache` -- finished results on disk (``DEBENCH_FE_CACHE``), keyed on the task
-  and on the source that computes it (:func:`task_source`, :func:`models_digest`);
+  and on what computes it (:func:`task_inputs`, :func:`models_digest`);
 * :func:`limit_threads` -- one thread for BLAS and NGSolve in a task's process.
 """
 
 from __future__ import annotations
 
-import ast
+import dis
+import functools
 import hashlib
 import importlib
 import inspect
@@ -171,10 +172,11 @@ def _gather(client, tasks, todo, finished, progress, cost, label) -> None:
 class TaskCache:
     """Finished FE task results on disk, so that an interrupted sweep resumes.
 
-    A result is keyed on the task (function, arguments, the source of the whole module that
-    defines the function, so that its module-level settings count too) and on the source
-    of the modules of :mod:`debench.models` that it runs (:func:`models_digest`): a change of
-    the code that computes a result is a miss, never a stale hit.  Written atomically
+    A result is keyed on the task (function, arguments, and what the function reads outside
+    :mod:`debench.models`: its source, the helpers it calls and the settings it reads,
+    :func:`task_inputs`) and on the source of the modules of :mod:`debench.models` that it
+    runs (:func:`models_digest`): a change of the code or a setting that computes a result
+    is a miss, never a stale hit.  Written atomically
     (temporary file + rename)."""
 
     def __init__(self, root: Path, code_digest: str):
@@ -189,7 +191,7 @@ class TaskCache:
 
     def _path(self, task: tuple) -> Path:
         fn, *args = task
-        key = repr((fn.__module__, fn.__qualname__, tuple(args), task_source(fn.__module__),
+        key = repr((fn.__module__, fn.__qualname__, tuple(args), task_inputs(fn),
                     self.code_digest)).encode()
         return self.root / f"{hashlib.sha256(key).hexdigest()[:32]}.pkl"
 
@@ -210,28 +212,85 @@ class TaskCache:
         os.replace(tmp, p)
 
 
-def task_source(module: str) -> str:
-    """The source a task defined in ``module`` depends on outside :mod:`debench.models`:
-    the module's own source, followed by that of every module of the same package it
-    imports (at any depth of the file, recursively; e.g. a task module that takes its cases
-    and material choice from another), in import order. A module that imports no sibling
-    contributes its own source alone."""
-    package = module.rpartition(".")[0]
-    sources: dict[str, str] = {}
-    todo = [module]
-    while todo:
-        name = todo.pop(0)
-        if name in sources:
-            continue
-        src = sources[name] = inspect.getsource(importlib.import_module(name))
-        for node in ast.walk(ast.parse(src)):
-            if not isinstance(node, ast.ImportFrom) or not node.module:
-                continue
-            target = (node.module if node.level == 0
-                      else f"{package}.{node.module}" if node.level == 1 else None)
-            if target is not None and package and target.rpartition(".")[0] == package:
-                todo.append(target)
-    return "\n".join(sources.values())
+@functools.cache
+def task_inputs(fn: Callable) -> str:
+    """What the result of the task function ``fn`` depends on outside :mod:`debench.models`
+    (whose source :func:`models_digest` covers), as text for the cache key.
+
+    The source of ``fn``, then for every name its code reads (its own and that of the
+    functions nested in it) that resolves to a global of its module, or that it imports
+    inside its body from a module of its package (the studies: the task modules and the
+    settings they share): a function or class of that package contributes its source and,
+    recursively, what it reads; a module of it, the values of the names read from it; any
+    other value its ``repr``. Code outside the package (the models, whose source
+    :func:`models_digest` covers; the runner; third-party libraries) is not followed.
+    Settings of the task's module that it never reads (a study's plan table beside a task)
+    are not inputs: editing them leaves finished results valid, while an edit of anything
+    the task reads is a miss. Read once per function and process (a global the task
+    mutates as it runs, such as a record of its calls, does not change its key).
+    """
+    package = fn.__module__.rpartition(".")[0]
+    seen = {id(fn)}
+    parts = [inspect.getsource(fn)]
+
+    def own(name: str) -> bool:
+        return name == fn.__module__ or bool(package) and name.startswith(package + ".")
+
+    def value(name: str, obj, names: set[str]) -> None:
+        code = inspect.isfunction(obj) or inspect.isclass(obj) or inspect.ismodule(obj)
+        if code and id(obj) in seen:
+            return
+        seen.add(id(obj))
+        if inspect.isfunction(obj) or inspect.isclass(obj):
+            if own(getattr(obj, "__module__", "") or ""):
+                parts.append(inspect.getsource(obj))
+                if inspect.isfunction(obj):
+                    walk(obj)
+        elif inspect.ismodule(obj):
+            if own(obj.__name__):
+                for attr in sorted(names & set(vars(obj))):
+                    value(f"{obj.__name__}.{attr}", getattr(obj, attr), names)
+        else:
+            text = repr(obj)
+            # an object without a value repr (its address) is no setting: its type stands
+            parts.append(f"{name}: {type(obj).__qualname__}" if " at 0x" in text
+                         else f"{name} = {text}")
+
+    def walk(f) -> None:
+        names = _names_read(f.__code__)
+        for name in sorted(names & set(f.__globals__)):
+            value(name, f.__globals__[name], names)
+        for module, name in _imported(f.__code__):
+            if own(module):
+                value(f"{module}.{name}", getattr(importlib.import_module(module), name),
+                      names)
+
+    walk(fn)
+    return "\n".join(parts)
+
+
+def _names_read(code) -> set[str]:
+    """The global and attribute names a code object and the code nested in it read."""
+    out = set(code.co_names)
+    for const in code.co_consts:
+        if inspect.iscode(const):
+            out |= _names_read(const)
+    return out
+
+
+def _imported(code) -> list[tuple[str, str]]:
+    """``(module, name)`` of every ``from module import name`` in a code object and the
+    code nested in it."""
+    out, module = [], None
+    for ins in dis.get_instructions(code):
+        if ins.opname == "IMPORT_NAME":
+            module = ins.argval
+        elif ins.opname == "IMPORT_FROM" and module:
+            out.append((module, ins.argval))
+    for const in code.co_consts:
+        if inspect.iscode(const):
+            out += _imported(const)
+    return out
 
 
 def models_digest() -> str:

@@ -3,7 +3,7 @@ deflection-controlled solve starts from?  (The Ogden R/t0 = 20 film of the path 
 
     python tools/probe_crossing_start_dependence.py ORDER LAYERS N [--tight]
 
-follows the path of ``ogden_r20`` (:func:`debench.reference.studies.ch5_axisym_tasks.path_task`'s
+follows the path of ``ogden_r20`` (:func:`debench.reference.studies.ch5_axisym.path_task`'s
 settings) to w = 9.2 t0 with the eigenvalue of wavenumber N recorded, locates its zero
 (:func:`~debench.models.buckling.axisym.zero_crossing`), then evaluates lambda_N at
 deflections around that zero twice: each state reached by deflection control
@@ -55,9 +55,10 @@ from debench.models.buckling import axisym as ax
 from debench.models.buckling.analytic import critical_voltage_plate
 from debench.models.buckling.axisym.path import deflect_from
 from debench.models.buckling.parameters import Plate
+from debench.reference.studies.ch5 import material
 from debench.reference.studies.ch5_axisym import PATH_FILMS as CASES
 from debench.reference.studies.ch5_axisym import PATH_N_R_PER_ASPECT as N_R_PER_ASPECT
-from debench.reference.studies.ch5_axisym_tasks import V_SWITCH, material
+from debench.reference.studies.ch5_axisym import V_SWITCH
 from debench.reference.tasks import limit_threads
 
 #: deflections / t0 around the zero at which lambda_N is evaluated from both sides

@@ -424,9 +424,10 @@ def test_a_wrinkling_crossing_does_not_depend_on_the_record_its_trial_states_sta
     with states stopped at the Newton tolerance: 8.634389 against 8.62952 t0 (the
     non-monotone lambda_12 from the upper record); with the polishing step both 8.629524,
     lambda_12 from the two starts within 3e-9 (the eigensolver's backward error 1e-10)."""
+    from debench.reference.studies.ch5 import material
     from debench.reference.studies.ch5_axisym import PATH_FILMS as CASES
     from debench.reference.studies.ch5_axisym import PATH_N_R_PER_ASPECT as N_R_PER_ASPECT
-    from debench.reference.studies.ch5_axisym_tasks import V_SWITCH, material
+    from debench.reference.studies.ch5_axisym import V_SWITCH
 
     mat_name, t0, aspect, _, w_from, spacing = CASES["ogden_r20"]
     mat = material(mat_name)

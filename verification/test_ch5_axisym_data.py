@@ -103,16 +103,16 @@ def test_a_one_percent_ogden_modulus_change_moves_the_reported_critical_voltage(
     far outside the guard's tolerance, while the neo-Hookean one stays."""
     import dataclasses
 
-    from debench.reference.studies import ch5_axisym_tasks as tasks
+    from debench.reference.producers import ch5 as tasks
 
-    original = tasks.material
+    original = tasks.case_material
 
     def stiffer(case):
         m = original(case)
         return dataclasses.replace(m, mus=tuple(1.01 * x for x in m.mus)) if "ogden" in case \
             else m
 
-    monkeypatch.setattr(tasks, "material", stiffer)
+    monkeypatch.setattr(tasks, "case_material", stiffer)
     guards = {g.key: g for g in prod.axisym_coarse_guards()}
     og = guards["ch5.guard.axisym.ogden_t1.v_cr_reported"]
     v0 = float(ds.v_cr_converged.sel(case="ogden_t1", n=0))

@@ -125,33 +125,80 @@ def test_task_cache_key_follows_the_model_source(tmp_path, monkeypatch):
     assert cache.get((_square, 2)) == {"x2": 4}
 
 
-def test_task_cache_key_follows_the_settings_a_task_module_imports(tmp_path, monkeypatch):
-    """A task module that takes settings from a sibling module (as the imperfection task
-    takes the cases and materials from the main task module) is keyed on that module's
-    source too: editing the sibling misses, never a stale hit; a module without sibling
-    imports is keyed on its own source alone."""
+def _fresh_package(tmp_path, monkeypatch, files: dict):
+    """Write the package ``cachekeypkg`` (``files``: module name -> source) and import its
+    ``tasks`` module afresh."""
     import importlib
     import sys
     pkg = tmp_path / "cachekeypkg"
-    pkg.mkdir()
+    pkg.mkdir(exist_ok=True)
     (pkg / "__init__.py").write_text("")
-    (pkg / "settings.py").write_text("SCALE = 2\n")
-    (pkg / "tasks.py").write_text(
-        "def scaled(x):\n    from cachekeypkg.settings import SCALE\n    return x * SCALE\n")
+    for name, src in files.items():
+        (pkg / f"{name}.py").write_text(src)
     monkeypatch.syspath_prepend(str(tmp_path))
-    tasks = importlib.import_module("cachekeypkg.tasks")
-    cache = runner.TaskCache(tmp_path / "cache", "e" * 64)
-    before = cache._path((tasks.scaled, 3))
-    assert "SCALE = 2" in runner.task_source("cachekeypkg.tasks")
-    assert runner.task_source("cachekeypkg.settings") == "SCALE = 2\n"
-    (pkg / "settings.py").write_text("SCALE = 3\n")
-    for name in ("cachekeypkg.settings", "cachekeypkg.tasks", "cachekeypkg"):
-        sys.modules.pop(name, None)
+    for name in [m for m in sys.modules if m.startswith("cachekeypkg")]:
+        sys.modules.pop(name)
     importlib.invalidate_caches()
-    tasks = importlib.import_module("cachekeypkg.tasks")
-    assert cache._path((tasks.scaled, 3)) != before
-    for name in ("cachekeypkg.settings", "cachekeypkg.tasks", "cachekeypkg"):
-        sys.modules.pop(name, None)
+    return importlib.import_module("cachekeypkg.tasks")
+
+
+TASKS = """from cachekeypkg.settings import OFFSET, helper
+PLAN = {"levels": (3, 2)}
+SCALE = 2
+
+
+def scaled(x):
+    from cachekeypkg.settings import EXPONENT
+    return helper(x) * SCALE + OFFSET ** EXPONENT
+"""
+SETTINGS = """OFFSET = 1
+EXPONENT = 2
+UNUSED = 0
+
+
+def helper(x):
+    return x + SHIFT
+
+
+SHIFT = 0.5
+"""
+
+
+@pytest.mark.parametrize("module, old, new, hit", [
+    ("tasks", "SCALE = 2", "SCALE = 3", False),            # a setting the task reads
+    ("tasks", '"levels": (3, 2)', '"levels": (3,)', True),  # a plan beside it it never reads
+    ("settings", "OFFSET = 1", "OFFSET = 4", False),        # a setting it imports
+    ("settings", "EXPONENT = 2", "EXPONENT = 3", False),    # imported inside its body
+    ("settings", "SHIFT = 0.5", "SHIFT = 1.5", False),      # read by a helper it calls
+    ("settings", "x + SHIFT", "x - SHIFT", False),          # the helper's code
+    ("settings", "UNUSED = 0", "UNUSED = 7", True),         # nothing it reads
+])
+def test_task_cache_key_follows_exactly_what_the_task_reads(tmp_path, monkeypatch, module,
+                                                           old, new, hit):
+    """The key holds the task's source and every helper, setting and import it reads,
+    transitively, inside its package: an edit of any of them misses (never a stale hit);
+    an edit of something it never reads (a plan table beside the task) keeps the result."""
+    files = {"tasks": TASKS, "settings": SETTINGS}
+    tasks = _fresh_package(tmp_path, monkeypatch, files)
+    cache = runner.TaskCache(tmp_path / "cache", "e" * 64)
+    cache.put((tasks.scaled, 3), tasks.scaled(3))
+    assert cache.get((tasks.scaled, 3)) == 8.0
+    assert old in files[module]
+    files[module] = files[module].replace(old, new)
+    tasks = _fresh_package(tmp_path, monkeypatch, files)
+    assert (cache.get((tasks.scaled, 3)) is not None) is hit
+
+
+def test_task_inputs_do_not_follow_the_models_or_other_packages():
+    """The models are keyed by their digest and the runner and libraries not at all: the
+    path task's inputs are its source, the film table and path settings it reads and the
+    material lookup of its study, nothing of debench.models or debench.reference.tasks."""
+    from debench.reference.studies import ch5_axisym
+
+    text = runner.task_inputs(ch5_axisym.path_task)
+    assert "PATH_FILMS = " in text and "V_SWITCH = 0.8" in text and "def material(" in text
+    assert "CRITICAL = " not in text            # the critical-voltage plan beside it
+    assert "def limit_threads" not in text and "def follow_path" not in text
 
 
 def test_full_plan_meets_the_reference_contract():
@@ -195,7 +242,7 @@ def test_longest_tasks_rank_first():
     neo-Hookean ones, ramps before critical voltages on the same mesh, and the radius /
     thickness 20 paths (first argument the mesh size) finest first."""
     from debench.reference.builders import ch5_wrinkling
-    from debench.reference.studies import ch5_imperfection_tasks as imperfect
+    from debench.reference.studies import ch5_imperfection as imperfect
 
     assert ch5.task_cost((ch5.critical_task, "ogden_t1", 2.0)) > ch5.task_cost(
         (ch5.critical_task, "ogden_t1", 3.0)) > ch5.task_cost((ch5.critical_task, "nh_t1", 3.0))

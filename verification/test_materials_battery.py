@@ -323,15 +323,17 @@ def test_registry_lookup_raises_naming_the_argument_and_the_valid_names():
     any other name raises ValueError naming the argument and the valid names (also through
     the Chapter 5 studies' lookups, which once turned every unknown name into Ogden)."""
     from debench.models.materials import ALIASES, material
-    from debench.reference.studies import ch5_axisym_tasks, ch5_tasks
+    from debench.reference.studies import ch5
 
     for name in NAMES:
         assert material(name) is MATERIALS[name]
     assert material("nh") == NeoHookeanIdealDielectric()
     assert material("ogden") == OgdenIdealDielectric()
-    assert ch5_tasks.material("nh") == NeoHookeanIdealDielectric()
-    assert ch5_axisym_tasks.material("ogden_r10") == OgdenIdealDielectric()
-    for lookup in (material, ch5_tasks.material, ch5_axisym_tasks.material):
+    assert ch5.material("nh") == NeoHookeanIdealDielectric()
+    assert ch5.case_material("ogden_t1") == OgdenIdealDielectric()
+    with pytest.raises(ValueError, match="case must be one of"):
+        ch5.case_material("ogden_r10")
+    for lookup in (material, ch5.material):
         for bad in ("mooney", "NH", "", None):
             with pytest.raises(ValueError, match="name must be a library material") as err:
                 lookup(bad)

@@ -199,7 +199,7 @@ def test_ch5_path_guard_sees_a_1_percent_change_of_the_neo_hookean_modulus(monke
     import dataclasses
 
     from debench.reference.producers.ch5_path import axisym_path_guards
-    from debench.reference.studies import ch5_axisym_tasks as tasks
+    from debench.reference.studies import ch5_axisym as tasks
 
     stored = values.read_store()
     assert values.check(axisym_path_guards(), stored, complete=False) == []

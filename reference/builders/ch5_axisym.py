@@ -46,7 +46,7 @@ from debench.models.numerics import (
 )
 from debench.reference.datasets import read_dataset, variable_attrs, write_dataset
 from debench.reference.studies import ch5_axisym as study
-from debench.reference.studies.ch5_axisym_tasks import material
+from debench.reference.studies.ch5 import case_material
 
 #: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
 #: two pool processes on the quiet 2-core machine): the pool starts the longest first.
@@ -121,7 +121,7 @@ def solve_plan(full: bool = False, progress=None) -> dict:
     for case, p, L in (progress(jobs) if progress else jobs):
         disc = AxisymDiscretisation(order=p, edge_layers=L, face_layers=L,
                                     n_r=study.CRITICAL_N_R)
-        mat = material(case)
+        mat = case_material(case)
         # a film's first level starts from the plate estimate (n = 0) and N1_START times
         # its n = 0 value (n = 1), every later one from the level before
         v0, v1 = seed.get(case, (None, None))
@@ -135,7 +135,7 @@ def solve_plan(full: bool = False, progress=None) -> dict:
         order, layers = study.CRITICAL_GUARD
         disc = AxisymDiscretisation(order=order, edge_layers=layers, face_layers=layers,
                                     n_r=study.CRITICAL_N_R)
-        out[(case, "guard")] = critical_voltage(plate, material(case), disc, n=0)
+        out[(case, "guard")] = critical_voltage(plate, case_material(case), disc, n=0)
     return out
 
 

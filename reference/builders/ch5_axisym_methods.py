@@ -41,8 +41,8 @@ from debench.models.numerics import p_grading_estimate, p_grading_safety, propag
 from debench.reference.builders.ch5_axisym import REPEAT_ATOL, critical_solve_variables
 from debench.reference.datasets import variable_attrs, write_dataset
 from debench.reference.studies import ch5_axisym as study
+from debench.reference.studies.ch5 import case_material
 from debench.reference.studies.ch5_axisym_methods import TANGENTS, critical_task
-from debench.reference.studies.ch5_axisym_tasks import material
 from debench.reference.tasks import resolve_scheduler, run_tasks
 
 #: CPU seconds of the default build (one thread, measured in one `debench reproduce` with
@@ -83,7 +83,7 @@ def compute(full: bool = False, scheduler=None, progress: bool = True):
         lambda x, key=key: getattr(p_grading_estimate(x, discs), key), row, REPEAT_ATOL)
         for row in f["v"].reshape(-1, len(discs))])) + REPEAT_ATOL
         for key in ("value", "error", "p_change", "grading_change")}
-    plates = np.array([[critical_voltage_plate(material(c), study.ASPECT, mindlin=m)
+    plates = np.array([[critical_voltage_plate(case_material(c), study.ASPECT, mindlin=m)
                         for m in (True, False)] for c in cases])
 
     a = variable_attrs

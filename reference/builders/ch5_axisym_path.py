@@ -53,7 +53,8 @@ from debench.models.buckling.parameters import Plate
 from debench.models.numerics import p_grading_estimate, p_grading_safety, propagated_accuracy
 from debench.reference.datasets import variable_attrs, write_dataset
 from debench.reference.studies import ch5_axisym as study
-from debench.reference.studies.ch5_axisym_tasks import V_SWITCH, W_END, material, path_task
+from debench.reference.studies.ch5 import material
+from debench.reference.studies.ch5_axisym import V_SWITCH, W_END, path_task
 from debench.reference.tasks import resolve_scheduler, run_tasks
 
 #: CPU seconds of the default build (one thread, measured in one `debench reproduce` with

@@ -40,7 +40,7 @@ from debench.reference.builders.ch5 import draw_from_curated, not_recomputed_lin
 from debench.reference.builders.ch5_wrinkling import _pad
 from debench.reference.datasets import DatasetError, read_dataset, variable_attrs, write_dataset
 from debench.reference.figures import footnote, pyplot, save
-from debench.reference.studies import ch5_imperfection_tasks as tasks
+from debench.reference.studies import ch5_imperfection as study
 from debench.reference.studies.ch5 import CASES
 from debench.reference.studies.ch5_imperfection import (
     AMPLITUDES,
@@ -75,7 +75,7 @@ def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dat
     from debench.models.buckling.solver import RampResult
 
     levels = LEVELS[full]
-    todo = [(tasks.imperfect_path_task, h, amp) for h in levels for amp in AMPLITUDES]
+    todo = [(study.imperfect_path_task, h, amp) for h in levels for amp in AMPLITUDES]
     ramps = [RampResult(**d) for d in run_tasks(todo, scheduler=scheduler, progress=progress)]
     nl, na = len(levels), len(AMPLITUDES)
     nstep = max(len(r.v) for r in ramps)
@@ -174,7 +174,7 @@ def figure(ds: xr.Dataset, fig_dir: Path, perfect: xr.Dataset | None = None,
     near = np.concatenate([ds.v.values[ds.w.values >= w_lo].ravel(),
                            ds.v_max.values.ravel()])
     near = near[np.isfinite(near)]
-    ax1.set_xlim(w_lo, tasks.C_MAX)
+    ax1.set_xlim(w_lo, study.C_MAX)
     if near.size:
         pad = 0.1 * (near.max() - near.min()) + 1e-4
         ax1.set_ylim(near.min() - pad, near.max() + pad)
@@ -217,10 +217,10 @@ def build(out_dir: Path, *, full: bool = False, scheduler: str | None = None) ->
                  "two meshes: whether the non-axisymmetric bifurcation found along the "
                  "perfect path is where the film fails (§5.3.1, Figs 5.4-5.5)."),
         parameters={"full": full, "levels_h_rel": list(LEVELS[full]),
-                    "amplitudes": list(AMPLITUDES), "wavenumber": tasks.WAVENUMBER,
-                    "layers": tasks.LAYERS, "order": tasks.ORDER, "aspect": tasks.ASPECT,
-                    "eig_every": tasks.EIG_EVERY, "dv_max": tasks.DV_MAX,
-                    "c_max": tasks.C_MAX, "w_split": W_SPLIT, "case": tasks.CASE,
-                    "thickness_m": CASES[tasks.CASE][1],
+                    "amplitudes": list(AMPLITUDES), "wavenumber": study.WAVENUMBER,
+                    "layers": study.LAYERS, "order": study.ORDER, "aspect": study.ASPECT,
+                    "eig_every": study.EIG_EVERY, "dv_max": study.DV_MAX,
+                    "c_max": study.C_MAX, "w_split": W_SPLIT, "case": study.CASE,
+                    "thickness_m": CASES[study.CASE][1],
                     "axisymmetric_imperfection": Plate().imperfection},
     )] + figure(ds, out_dir / "figures", perfect)

@@ -39,19 +39,17 @@ from debench.reference.datasets import variable_attrs, write_dataset
 from debench.reference.figures import footnote, pyplot, save
 from debench.reference.studies.ch5 import (
     CASES,
+    ORDER,  # noqa: F401 - the setting of the paths
     axisymmetric,
     first_instability,
     lowest_nonaxisymmetric,
-)
-from debench.reference.studies.ch5_tasks import (
-    ORDER,  # noqa: F401 - the setting of the paths
     wrinkling_task,
 )
-from debench.reference.studies.ch5_tasks import WRINKLING_ASPECT as ASPECT
-from debench.reference.studies.ch5_tasks import WRINKLING_CASE as CASE
-from debench.reference.studies.ch5_tasks import WRINKLING_DV_MAX as DV_MAX  # noqa: F401
-from debench.reference.studies.ch5_tasks import WRINKLING_EIG_EVERY as EIG_EVERY
-from debench.reference.studies.ch5_tasks import WRINKLING_LAYERS as LAYERS
+from debench.reference.studies.ch5 import WRINKLING_ASPECT as ASPECT
+from debench.reference.studies.ch5 import WRINKLING_CASE as CASE
+from debench.reference.studies.ch5 import WRINKLING_DV_MAX as DV_MAX  # noqa: F401
+from debench.reference.studies.ch5 import WRINKLING_EIG_EVERY as EIG_EVERY
+from debench.reference.studies.ch5 import WRINKLING_LAYERS as LAYERS
 from debench.reference.tasks import resolve_scheduler, run_tasks
 
 #: CPU seconds of the default build (one thread, measured in one `debench reproduce` with

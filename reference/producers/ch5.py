@@ -27,8 +27,7 @@ from debench.models.materials.constants import (
 from debench.models.numerics.convergence import two_term_limits
 from debench.reference.catalogue import Accuracy, Entry, Outcome
 from debench.reference.datasets import dataset_parameters, read_dataset
-from debench.reference.studies import ch5_axisym_tasks
-from debench.reference.studies.ch5 import CASES, SCALE_COPIES
+from debench.reference.studies.ch5 import CASES, SCALE_COPIES, case_material
 from debench.reference.studies.ch5 import material as _material
 from debench.reference.values import Guarded
 
@@ -442,7 +441,7 @@ def axisym_coarse_guards() -> list:
     out = []
     for case in ds.case.values:
         case = str(case)
-        r = axisym_critical_voltage_of(plate, ch5_axisym_tasks.material(case), disc, n=0)
+        r = axisym_critical_voltage_of(plate, case_material(case), disc, n=0)
         c = ds.sel(case=case, n=0)
         stored = float(c.v_cr_guard)
         tol = float(c.v_cr_guard.attrs["accuracy_atol"])

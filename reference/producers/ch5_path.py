@@ -17,8 +17,7 @@ from debench.reference.datasets import read_dataset
 from debench.reference.producers import ch5
 from debench.reference.producers.ch5 import _case, _ramps
 from debench.reference.producers.ch5_hypotheses import wrinkling_records, wrinkling_search
-from debench.reference.studies.ch5_axisym import PATH_GUARD
-from debench.reference.studies.ch5_axisym_tasks import path_task
+from debench.reference.studies.ch5_axisym import PATH_GUARD, path_task
 from debench.reference.values import Guarded
 
 #: the accuracy of every value these producers read from the curated datasets (as for
@@ -284,7 +283,7 @@ def erratum_pullin_thickness(entry: Entry) -> Outcome:
 def axisym_path_guards() -> list:
     """Recompute the voltage maximum of the axisymmetric path on the study's guard setting
     (:data:`~debench.reference.studies.ch5_axisym.PATH_GUARD`, the study's own task
-    :func:`~debench.reference.studies.ch5_axisym_tasks.path_task`) and
+    :func:`~debench.reference.studies.ch5_axisym.path_task`) and
     guard it as ``ch5.guard.axisym_path.nh_r10.{v_max,w_max,ndof}_coarse``, within the
     dataset's regeneration accuracy of v_max and w_max (their ``accuracy_atol``): a change
     of the axisymmetric model (the energy, a modulus, the path or the secant settings)

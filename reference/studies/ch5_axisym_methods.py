@@ -13,8 +13,8 @@ FE results, while the convergence analysis lives in the builder.
 from __future__ import annotations
 
 from debench.models.buckling.parameters import Plate
+from debench.reference.studies.ch5 import case_material
 from debench.reference.studies.ch5_axisym import ASPECT, CRITICAL_N_R, THICKNESS
-from debench.reference.studies.ch5_axisym_tasks import material
 from debench.reference.tasks import limit_threads
 
 TANGENTS = ("coupled", "frozen_potential", "initial_stress")
@@ -36,7 +36,7 @@ def critical_task(case: str, tangent: str, order: int, layers: int) -> dict:
     limit_threads()
     disc = AxisymDiscretisation(order=order, edge_layers=layers, face_layers=layers,
                                 n_r=CRITICAL_N_R)
-    r = critical_voltage(Plate(thickness=THICKNESS, aspect=ASPECT), material(case), disc,
+    r = critical_voltage(Plate(thickness=THICKNESS, aspect=ASPECT), case_material(case), disc,
                          n=0, tangent=tangent)
     return {"case": case, "tangent": tangent, "order": order, "layers": layers,
             "v": r.v, "vtol": r.vtol, "thickness": r.thickness, "e": r.e,

@@ -1,14 +1,18 @@
 """The Chapter 5 imperfection-sensitivity study: the meshes and seed amplitudes of the
-wavenumber-1 seeded paths (their task: :mod:`debench.reference.studies.ch5_imperfection_tasks`)
+wavenumber-1 seeded paths (their task: :func:`imperfect_path_task`)
 and the pre-registered reading of their voltage maxima (:func:`wrinkling_governs`,
 :func:`drop_exponent`) that the builder's dataset and the producers share."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 import xarray as xr
+from debench.models.buckling.parameters import Discretisation, Plate
+from debench.reference.studies.ch5 import CASES, material
+from debench.reference.tasks import limit_threads
 
 LEVELS = {False: (), True: (2.5, 2.0)}
 """In-plane mesh sizes / t0 (50 and 63 quadratic elements around the rim): the two finest
@@ -51,3 +55,35 @@ def wrinkling_governs(ds: xr.Dataset) -> str:
     if not np.any(early[:, 0]):
         return "passed"
     return "undecided"
+
+
+CASE = "ogden_t0p5"
+ASPECT = 20.0
+WAVENUMBER = 1
+"""The seeded mode: the first non-axisymmetric mode whose eigenvalue reaches zero along
+the radius/thickness 20 path on the finest meshes (``ch5_wrinkling.nc``)."""
+LAYERS = 1
+ORDER = 2
+DV_MAX = 0.02
+EIG_EVERY = 4
+"""Eigen-analysis every 4th path point (1.6 t0 of deflection) and at the first point past
+the voltage maximum (what becomes unstable there)."""
+C_MAX = 14.0
+"""Centre deflection / t0 where a path without a voltage maximum stops: beyond the
+axisymmetric limit points of the perfect film (10.2-11.7 t0 on the meshes that pass the
+wrinkling bifurcation)."""
+
+
+def imperfect_path_task(h_rel: float, amplitude: float) -> dict:
+    """The path of the film with a wavenumber-1 seed of peak ``amplitude`` t0 on the mesh of
+    in-plane size ``h_rel`` t0, as plain data (the RampResult fields; a Dask task)."""
+
+    from debench.models.buckling.solver import voltage_ramp
+    limit_threads()
+    mat_name, t0 = CASES[CASE]
+    plate = Plate(thickness=t0, aspect=ASPECT, wrinkle_imperfection=amplitude,
+                  wrinkle_wavenumber=WAVENUMBER)
+    r = voltage_ramp(plate, material(mat_name),
+                     Discretisation(h_rel=h_rel, layers=LAYERS, order=ORDER),
+                     dv_max=DV_MAX, eig_every=EIG_EVERY, c_max=C_MAX, stop_on_stall=True)
+    return {f.name: getattr(r, f.name) for f in dataclasses.fields(r)}
