@@ -303,6 +303,8 @@ class Roots:
 #: default lam window and scan density (geometric grid, only used to bracket roots)
 LAM_WINDOW = (0.4, 8.0)
 N_SCAN = 400
+#: root tolerance of the scans: brackets refined to |b - a| <= XTOL + 4 eps |b| (a root's
+#: round-off is ~1e-12 relative; the stated accuracy of the roots is 1e-7 relative)
 XTOL = 1e-13
 #: fewest scan points accepted: a coarser grid brackets no root of a typical curve (the
 #: roots of Figs 4.2-4.5 are separated by ~10% in lam over LAM_WINDOW)
