@@ -57,12 +57,12 @@ reference; P3 80x4 L4 (434 s CPU for all fourteen) finds one for n = 13 at w 9.7
 v 0.454945, shortly before the maximum (the reference's lowest n = 13 eigenvalue at the
 maximum is +2.9e-4, about a tenth of n = 14's): not resolved here, so the refined test
 checks n = 6..12 only. Measured since (P4, n = 12 and 13 to w = 9.95; the problem page's
-confirmation gap has the numbers): the zero appears only on meshes whose triangles in the
-last t0 before the rim are 2.5 to 5 times taller than wide (strips of 0.05 t0 under 4
-layers, 0.025 t0 under 8, with or without corner refinement); strips of 0.1 t0 under 4 or
-8 layers and of 0.05 t0 under 16 agree with each other to 4e-7 in lambda_12 and have no
-n = 13 zero (lambda_13 ~ +8.5e-5 near w 9.8, as the reference's ~+9e-5), while n = 6..12
-agree within 7e-5 t0 on all of them.
+confirmation gap has the numbers): the zero appears on meshes whose triangles in the last
+t0 before the rim are 5 times taller than wide (strips of 0.05 t0 under 4 layers, 0.025 t0
+under 8, with or without corner refinement; 0.05 t0 under 8 stays just positive); strips
+of 0.1 t0 under 4 or 8 layers and of 0.05 t0 under 16 agree with each other to 4e-7 in
+lambda_12 and have no n = 13 zero (lambda_13 ~ +8.5e-5 near w 9.8, as the reference's
+~+9e-5), while n = 6..12 agree within 7e-5 t0 on all of them. The cause is not found.
 """
 
 from __future__ import annotations
