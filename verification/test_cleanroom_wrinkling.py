@@ -62,7 +62,8 @@ t0 before the rim are 5 times taller than wide (strips of 0.05 t0 under 4 layers
 under 8, with or without corner refinement; 0.05 t0 under 8 stays just positive); strips
 of 0.1 t0 under 4 or 8 layers and of 0.05 t0 under 16 agree with each other to 4e-7 in
 lambda_12 and have no n = 13 zero (lambda_13 ~ +8.5e-5 near w 9.8, as the reference's
-~+9e-5), while n = 6..12 agree within 7e-5 t0 on all of them. The cause is not found.
+~+9e-5), while the n = 12 zero (w 8.60868 .. 8.60877) lies before w ~ 9, where the
+meshes part. The cause is not found.
 """
 
 from __future__ import annotations
