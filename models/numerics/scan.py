@@ -130,8 +130,7 @@ def _checked(x, m, width, usable):
 
 def _sign_change_brackets(f, usable):
     """:func:`sign_change_brackets` without the checks."""
-    return np.flatnonzero(usable & ((f[:-1] == 0.0) | (f[1:] == 0.0)
-                                    | (np.sign(f[:-1]) != np.sign(f[1:]))))
+    return np.flatnonzero(_change_mask(f, usable))
 
 
 def sign_change_brackets(x, f, *, usable=None) -> np.ndarray:
@@ -142,8 +141,7 @@ def sign_change_brackets(x, f, *, usable=None) -> np.ndarray:
     f = _real_array("f", f)
     if f.shape != x.shape:
         raise ValueError(f"f must have the shape of x {x.shape}, got {f.shape}")
-    with np.errstate(invalid="ignore"):
-        return _sign_change_brackets(f, usable & np.isfinite(f[:-1]) & np.isfinite(f[1:]))
+    return _sign_change_brackets(f, usable)
 
 
 def _real_array(name, a):
@@ -297,30 +295,23 @@ def grid_brackets(evaluate, x, f, *, width: float, usable=None):
             return vals, np.abs(vals)
 
         _refine(ev, samples, width, bracketed_resolved=True)
-        kk, *rest = sample_brackets(samples)
+        kk, *rest = _sample_brackets(samples)
         out.append((refine[kk], *rest))
     cols = [np.concatenate(c) for c in zip(*out, strict=True)]
     order = np.lexsort((cols[1], cols[0]))
     return tuple(c[order] for c in cols)
 
 
-def sample_brackets(samples):
-    """The sign changes of the refined scans ``samples`` of :func:`refine_samples` whose
-    sampled quantity is one real function (1-D along ``x``), as arrays ``(scan, a, b, fa,
-    fb)``: the scan index and the bracket of each (:func:`sign_change_brackets`, in scan
-    order then along ``x``)."""
+def _sample_brackets(samples):
+    """The sign changes of refined scans ``[x, f, m, usable]`` of one real function each,
+    as arrays ``(scan, a, b, fa, fb)`` (:func:`sign_change_brackets`, in scan order then
+    along ``x``)."""
     out = [], [], [], [], []
     for k, (x, f, _, usable) in enumerate(samples):
-        f = _real_array("vals", f)
-        if f.shape != np.shape(x):
-            raise ValueError(f"vals must be 1-D along x, got shape {f.shape}")
-        with np.errstate(invalid="ignore"):
-            i = _sign_change_brackets(f, usable & np.isfinite(f[:-1]) & np.isfinite(f[1:]))
+        i = _sign_change_brackets(f, usable)
         for col, val in zip(out, (np.full(i.size, k), x[i], x[i + 1], f[i], f[i + 1]),
                             strict=True):
             col.append(val)
-    if not samples:
-        return tuple(np.zeros(0, int if j == 0 else float) for j in range(5))
     return tuple(np.concatenate(col) for col in out)
 
 
