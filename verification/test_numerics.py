@@ -32,6 +32,7 @@ from debench.models.numerics import (
     scan_brackets,
     scan_roots,
     secant,
+    secant_until,
     two_term_limits,
     zero_near,
 )
@@ -75,6 +76,14 @@ def _secant(f, a, b, root, **kw):
     return secant(f, x0, x1, xtol=XTOL, what="synthetic", **kw)
 
 
+def _secant_until(finish):
+    def run(f, a, b, root, **kw):
+        x0, x1 = (root + s * (b - a) for s in SECANT_STARTS)
+        return secant_until(f, x0, x1, converged=lambda x, x_next: abs(x_next - x) < XTOL,
+                            finish=finish, what="synthetic", **kw)
+    return run
+
+
 def _zero_near_bracket(f, a, b, root, **kw):
     return zero_near(f, None, a, b, XTOL, "synthetic", **kw)
 
@@ -100,6 +109,8 @@ def _scan(method):
 
 
 ROOT_METHODS = {"bracketed_root": _bracketed, "secant": _secant,
+                "secant_until (evaluated)": _secant_until("evaluated"),
+                "secant_until (inverse quadratic)": _secant_until("inverse_quadratic"),
                 "zero_near (bracket)": _zero_near_bracket, "zero_near (guess)": _zero_near_guess,
                 "regula_falsi_many": _regula_falsi,
                 "scan_roots (regula falsi)": _scan("regula_falsi"),
@@ -129,7 +140,7 @@ def test_every_root_method_finds_every_known_root(method, name, f, bracket, root
         # round-off of f beside the root may put the sign change a few ulps off it
         assert min(a, b) - 4 * EPS * abs(root) <= root <= max(a, b) + 4 * EPS * abs(root)
         assert float(np.asarray(res.error).ravel()[0]) == pytest.approx(abs(b - a))
-    if method != "secant":
+    if not method.startswith("secant"):
         assert float(np.asarray(res.error).ravel()[0]) <= XTOL + 4 * EPS * abs(root)
 
 
@@ -147,7 +158,7 @@ def test_every_root_method_finds_a_triple_root_or_raises(method):
         return
     # the secant converges only linearly on a triple root: its last step, below xtol,
     # is ~1/3 of its error
-    slack = 4 if method == "secant" else 2
+    slack = 4 if method.startswith("secant") else 2
     assert abs(_root(res) - 1.0) <= slack * (XTOL + 4 * EPS), (method, res)
 
 
@@ -210,6 +221,32 @@ def test_results_count_what_was_evaluated():
     calls.clear()
     res = secant(f, 0.8, 0.75, xtol=XTOL)
     assert res.function_calls == len(calls) == len(set(calls)) and res.method == "secant"
+
+
+def test_secant_until_stops_before_the_small_step_without_evaluating_it():
+    """exp(x) - 2 from 0.5, 0.6 (no bracket: both below ln 2), stopped before a step below
+    1e-6: the step is never evaluated; "evaluated" answers the last evaluated point, whose
+    error is below that step (superlinear convergence), "inverse_quadratic" a point closer
+    to the root than it (the interpolation error is of the order of the product of the last
+    three distances, here below 1e-12, set by the 1e-6 stop: the last two are < 1e-3 and
+    < 1e-6 away)."""
+    for finish in ("evaluated", "inverse_quadratic"):
+        calls = []
+
+        def f(x, calls=calls):
+            calls.append(x)
+            return math.exp(x) - 2.0
+
+        res = secant_until(f, 0.5, 0.6, converged=lambda x, x_next: abs(x_next - x) < 1e-6,
+                           finish=finish, what="synthetic")
+        assert res.next_iterate not in calls and res.function_calls == len(calls) >= 3
+        assert abs(res.next_iterate - calls[-1]) < 1e-6
+        if finish == "evaluated":
+            assert res.root == calls[-1] and abs(res.root - math.log(2.0)) < 1e-6
+        else:
+            assert abs(res.root - math.log(2.0)) < 1e-12 < abs(calls[-1] - math.log(2.0))
+    with pytest.raises(ValueError, match="finish"):
+        secant_until(f, 0.5, 0.6, converged=lambda x, x_next: True, finish="brent")
 
 
 def test_regula_falsi_refines_every_bracket_at_once():

@@ -19,7 +19,7 @@ from debench.models.buckling.modes import deflection_asymmetry, mode_harmonics
 from debench.models.buckling.parameters import Discretisation, Plate
 from debench.models.errors import ConvergenceError, require
 from debench.models.materials.protocol import IdealDielectricElastomer
-from debench.models.numerics.roots import secant_step
+from debench.models.numerics.roots import secant_until
 
 CRITICAL_VTOL = 1e-6
 """The secant on lambda_1(v^2) = 0 stops when its step |dv| < CRITICAL_VTOL (normalised
@@ -82,38 +82,25 @@ def critical_voltage(plate: Plate, mat: IdealDielectricElastomer, disc: Discreti
                           reuse=reuse, eigensolver=eigensolver, chord=chord)
     v_est = critical_voltage_plate(mat, plate.aspect)
     mode = [None]
+    hist: list[tuple[float, float]] = []
 
-    def lam_at(v):
-        model.set_voltage(v)
+    def lam_at(x):
+        model.set_voltage(math.sqrt(x))
         model.newton()
         w, modes = model.lowest_eigenvalues(nev=1, x0=mode[0], certify=False)
         mode[0] = modes
+        hist.append((math.sqrt(x), float(w[0])))
         return float(w[0])
 
-    xs = [(0.8 * v_est) ** 2, (0.95 * v_est) ** 2]
-    ls = [lam_at(math.sqrt(x)) for x in xs]
-    hist = [(math.sqrt(x), lv) for x, lv in zip(xs, ls, strict=True)]
-    x_new = _secant(xs, ls, hist)
-    for it in range(maxit):
-        l_new = lam_at(math.sqrt(x_new))
-        hist.append((math.sqrt(x_new), l_new))
-        xs.append(x_new)
-        ls.append(l_new)
-        # the secant converges superlinearly: the error of the evaluated point is its next
-        # step to within higher order, so a next step below vtol ends the iteration there
-        # (without evaluating at the singular tangent itself)
-        x_new = _secant(xs, ls, hist) if l_new != 0.0 else xs[-1]
-        if abs(math.sqrt(x_new) - math.sqrt(xs[-1])) < vtol:
-            return _certified_critical(model, disc, math.sqrt(xs[-1]), l_new, mode[0],
-                                       it + 3, hist, vtol)
-    raise ConvergenceError(f"critical_voltage: secant did not converge in {maxit} steps: {hist}")
-
-
-def _secant(xs, ls, hist) -> float:
-    """The next secant iterate in v^2 of :func:`critical_voltage` from its last two points
-    (``hist``: the (v, lambda) evaluated so far, for the error message)."""
-    return secant_step(xs[-2], ls[-2], xs[-1], ls[-1], bounds=(0.0, math.inf),
-                       what=f"critical_voltage at v = {math.sqrt(xs[-1]):.6g}: {hist}")
+    # the secant converges superlinearly: the error of the evaluated point is its next
+    # step to within higher order, so a next step below vtol ends the iteration there
+    # (without evaluating at the singular tangent itself)
+    res = secant_until(lam_at, (0.8 * v_est) ** 2, (0.95 * v_est) ** 2,
+                       converged=lambda x, x_next: abs(math.sqrt(x_next) - math.sqrt(x)) < vtol,
+                       finish="evaluated", maxiter=maxit, bounds=(0.0, math.inf),
+                       what="critical_voltage")
+    return _certified_critical(model, disc, math.sqrt(res.root), hist[-1][1], mode[0],
+                               res.function_calls, hist, vtol)
 
 
 def _certified_critical(model: MembraneModel, disc: Discretisation, v: float, lam: float,

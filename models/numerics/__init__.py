@@ -1,8 +1,8 @@
-"""Shared numerics of every chapter: scalar roots (:mod:`.roots`: bracketed, secant,
-near an estimate, many brackets at once, grid scans), adaptive sign-change scans that do
-not lose close zeros (:mod:`.scan`), Newton's stopping policy, result, bordered solve and
-damped driver (:mod:`.newton`), and mesh-convergence and limit fits with Roache's grid
-convergence index (:mod:`.convergence`).
+"""Shared numerics of every chapter: scalar roots (:mod:`.roots`: bracketed, secant (also
+stopped before a small step), near an estimate, many brackets at once, grid scans),
+adaptive sign-change scans that do not lose close zeros (:mod:`.scan`), Newton's stopping
+policy, result, bordered solve and damped driver (:mod:`.newton`), and mesh-convergence
+and limit fits with Roache's grid convergence index (:mod:`.convergence`).
 
 Each routine is tested once on synthetic problems with known answers, through every method
 (``verification/test_numerics.py``), the way SciPy's ``test_zeros`` runs one collection of
@@ -42,6 +42,7 @@ from debench.models.numerics.roots import (
     regula_falsi_many,
     scan_roots,
     secant,
+    secant_until,
     zero_near,
 )
 from debench.models.numerics.scan import (
@@ -86,6 +87,7 @@ __all__ = [
     "scan_brackets",
     "scan_roots",
     "secant",
+    "secant_until",
     "sign_change_brackets",
     "two_term_limits",
     "zero_near",

@@ -7,6 +7,8 @@ evaluations, excepted), every failure a :class:`~debench.models.errors.Convergen
 * :func:`secant` -- the secant iteration from two starting points (no bracket needed);
   :func:`secant_step` its one step, :func:`inverse_quadratic_root` the root through three
   points;
+* :func:`secant_until` -- the secant stopped before a step it calls small, never
+  evaluating there (the last evaluated point or the inverse-quadratic root answers);
 * :func:`secant_zero` -- a zero of an expensive, noisy function from two evaluated
   points, answering with an *evaluated* point (its state is what the caller keeps):
   Illinois inside a starting bracket, else the secant with a stop at the round-off floor;
@@ -79,7 +81,8 @@ class RootResult:
     changes sign (None when the method saw none: a secant that converged on one side);
     ``error`` what the root is certified to: the bracket's width, or for the secant
     without a bracket the size of its last step (an estimate, not a bound); ``method``
-    the method's name."""
+    the method's name; ``next_iterate`` the step :func:`secant_until` stopped before
+    evaluating (None for the other methods)."""
 
     root: float | np.ndarray
     iterations: int
@@ -89,6 +92,7 @@ class RootResult:
     bracket: tuple | None
     error: float | np.ndarray
     method: str
+    next_iterate: float | None = None
 
 
 def _finite_value(fx, x, what: str) -> float:
@@ -227,6 +231,59 @@ def secant(f: Callable[[float], float], x0: float, x1: float, *, xtol: float,
                         b - a)
     raise ConvergenceError(f"{what}: the secant did not converge to xtol = {xtol} in "
                            f"{maxiter} steps (last step {x1 - x0:.3g})")
+
+
+def secant_until(f: Callable[[float], float], x0: float, x1: float, *,
+                 converged: Callable[[float, float], bool], finish: str = "evaluated",
+                 maxiter: int = MAXITER_SECANT,
+                 bounds: tuple[float, float] = (-math.inf, math.inf),
+                 what: str = "root") -> RootResult:
+    """A zero of ``f`` by the secant iteration from ``x0`` and ``x1``, stopped *before* the
+    step that ``converged(x_last, x_next)`` calls small (after three evaluations at
+    least), for an ``f`` whose evaluation degrades next to its zero (a Newton solve on a
+    tangent that becomes singular there): ``x_next`` is never evaluated.
+
+    ``finish`` chooses the answer: ``"evaluated"``, the last evaluated point (its error is
+    the next step to higher order: the secant converges superlinearly; a caller keeping a
+    state per evaluation has it there), or ``"inverse_quadratic"``, the zero of the
+    inverse quadratic through the last three evaluations (:func:`inverse_quadratic_root`;
+    its error is of the order of the product of their distances to the zero). ``error``
+    is the width of the narrowest evaluated sign change, or without one ``|x_next -
+    root|`` (the secant's next iterate against the answer: an estimate), and
+    ``next_iterate`` is ``x_next``; an exact zero of ``f`` at an iterate ends the
+    iteration there (``x_next`` is that iterate). ``function_calls`` counts the
+    evaluations, ``iterations`` the secant steps. ConvergenceError naming ``what`` when
+    ``f`` is not finite at an iterate, the secant is flat, a step leaves the open interval
+    ``bounds`` or ``maxiter`` steps do not converge.
+    """
+    require(finish in ("evaluated", "inverse_quadratic"),
+            f"finish must be 'evaluated' or 'inverse_quadratic', got {finish!r}")
+    require(int(maxiter) == maxiter and maxiter >= 1, f"maxiter must be >= 1, got {maxiter}")
+    x0, x1 = float(x0), float(x1)
+    lo, hi = bounds
+    require(lo < x0 < hi and lo < x1 < hi and x0 != x1,
+            f"x0 and x1 must be distinct points inside bounds {bounds}, got {x0}, {x1}")
+    xs = [x0, x1]
+    fs = [_finite_value(f(x0), x0, what), _finite_value(f(x1), x1, what)]
+    for it in range(int(maxiter) + 1):
+        if fs[-1] == 0.0:
+            x_next = xs[-1]
+        else:
+            x_next = secant_step(xs[-2], fs[-2], xs[-1], fs[-1], bounds=bounds,
+                                 what=f"{what} {list(zip(xs, fs, strict=True))}")
+        if len(xs) >= 3 and (x_next == xs[-1] or converged(xs[-1], x_next)):
+            root = xs[-1] if finish == "evaluated" or fs[-1] == 0.0 else (
+                inverse_quadratic_root(xs[-3:], fs[-3:]))
+            near = _narrowest_sign_change(zip(xs, fs, strict=True))
+            return RootResult(float(root), it, len(xs), True, "step below tolerance", near,
+                              (near[1] - near[0]) if near is not None else abs(x_next - root),
+                              "secant", next_iterate=float(x_next))
+        if it == maxiter:
+            break
+        xs.append(x_next)
+        fs.append(_finite_value(f(x_next), x_next, what))
+    raise ConvergenceError(f"{what}: no convergence in {maxiter} steps: "
+                           f"{list(zip(xs, fs, strict=True))}")
 
 
 def secant_step(x0: float, f0: float, x1: float, f1: float, *, what: str = "secant",

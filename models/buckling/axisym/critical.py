@@ -21,9 +21,8 @@ from debench.models.buckling.axisym.section import AxisymDiscretisation
 from debench.models.buckling.axisym.spectra import TANGENTS
 from debench.models.buckling.critical_result import CriticalVoltage
 from debench.models.buckling.parameters import Plate
-from debench.models.errors import ConvergenceError
 from debench.models.materials.protocol import IdealDielectricElastomer
-from debench.models.numerics.roots import inverse_quadratic_root, secant_step
+from debench.models.numerics.roots import secant_until
 
 CRITICAL_STEP = 1e-6
 """The secant on lambda_1(v^2) = 0 stops evaluating when its next step would be below
@@ -87,15 +86,18 @@ def critical_voltage(plate: Plate, material: IdealDielectricElastomer,
     v0 = critical_voltage_plate(material, plate.aspect) if v_start is None else float(
         val.positive("v_start", v_start))
     flat = _FlatFilm(model, n, tangent)
-    x_iqi, x_secant, iterations = _secant_in_v2(flat, v0, start_step, maxit)
-    v = math.sqrt(x_iqi)
+    res = secant_until(flat, ((1.0 - start_step) * v0) ** 2, v0**2,
+                       converged=lambda x, x_next: abs(x_next - x) < CRITICAL_STEP * x,
+                       finish="inverse_quadratic", maxiter=maxit, bounds=(0.0, math.inf),
+                       what=f"critical_voltage(n={n})")
+    v = math.sqrt(res.root)
     return AxisymCritical(
         n=n, v=v, tangent=tangent, thickness=model.centre_thickness(),
         e=model.centre_field(), lam=flat.history[-1][1], eig_residual=flat.last["residual"],
-        newton_residual_rel=flat.last["newton"], iterations=iterations,
+        newton_residual_rel=flat.last["newton"], iterations=res.function_calls,
         ndof=model.ndof, ndof_mode=flat.last["ndof"], order=model.disc.order,
         cpu_s=time.process_time() - t_cpu,
-        vtol=abs(v - math.sqrt(x_secant)), history=tuple(flat.history))
+        vtol=abs(v - math.sqrt(res.next_iterate)), history=tuple(flat.history))
 
 
 class _FlatFilm:
@@ -122,23 +124,3 @@ class _FlatFilm:
         self.last.update(residual=spec.residual, ndof=spec.ndof,
                          newton=model.last_newton.residual_rel)
         return float(spec.lam[0])
-
-
-def _secant_in_v2(flat: _FlatFilm, v0: float, step: float,
-                  maxit: int) -> tuple[float, float, int]:
-    """The secant on ``flat(x) = 0`` in ``x = v^2`` from ``((1 - step) v0)^2`` and ``v0^2``, until
-    its next step is below :data:`CRITICAL_STEP` relative (after three evaluations at
-    least): (the inverse-quadratic root through the last three evaluations, that secant
-    root, the evaluations before it). ConvergenceError after ``maxit`` steps, on a flat
-    secant, or when the secant leaves ``x > 0``."""
-    what = f"critical_voltage(n={flat.n})"
-    xs = [((1.0 - step) * v0) ** 2, v0**2]
-    ls = [flat(x) for x in xs]
-    for it in range(maxit):
-        x_new = secant_step(xs[-2], ls[-2], xs[-1], ls[-1], bounds=(0.0, math.inf),
-                            what=f"{what} {flat.history}")
-        if abs(x_new - xs[-1]) < CRITICAL_STEP * xs[-1] and len(xs) >= 3:
-            return inverse_quadratic_root(xs[-3:], ls[-3:]), x_new, it + 2
-        xs.append(x_new)
-        ls.append(flat(x_new))
-    raise ConvergenceError(f"{what}: no convergence in {maxit} steps: {flat.history}")
