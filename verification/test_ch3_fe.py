@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from debench.models.circular.fe import CircularFE, FEMesh, energy_cf
 from debench.models.errors import ConvergenceError
+from debench.models.materials.library import MooneyRivlinIdealDielectric
 from debench.models.materials.membrane import GentMembrane, ZhaoSuoPermittivity
 from debench.reference import catalogue
 from debench.reference.producers import ch3_fe as producers
@@ -35,12 +36,15 @@ PROFILE_MESH = dict(n_a=2, n_b=40, order=2)
 
 
 def test_fe_energy_is_the_library_membrane_energy():
-    """The NGSolve energy of the FE equals GentMembrane.free_energy (3.20), (3.23), (3.27)."""
-    mat = GentMembrane(mu=1.0, Jm=120.0,
-                       permittivity=ZhaoSuoPermittivity(eps_bar=1.0, c=-0.053))
+    """The NGSolve energy of the FE (the Gent elastomer's ``mechanical_energy`` on J = 1)
+    equals GentMembrane.free_energy (3.20), (3.23), (3.27) (the closed form in the membrane
+    invariant), and its T1 (the elastomer's stress and the electric term) the complex-step
+    derivative of that closed form."""
+    perm = ZhaoSuoPermittivity(eps_bar=1.0, c=-0.053)
+    mat = GentMembrane(mu=1.0, Jm=120.0, permittivity=perm)
     model = CircularFE(2.0, -0.053, mesh=FEMesh(1, 2, 1))
     pa, pb = ng.Parameter(1.0), ng.Parameter(1.0)
-    ws, we = energy_cf(pa, pb, mat)
+    ws, we = energy_cf(pa, pb, model.material)
     mip = model.mesh(0.5)
     for l1, l2, I4 in [(1.3, 2.1, 0.04), (3.0, 2.5, 0.2), (0.9, 4.0, 0.0)]:
         pa.Set(l1)
@@ -48,6 +52,36 @@ def test_fe_energy_is_the_library_membrane_energy():
         got = ws(mip) + I4 * we(mip)
         want = mat.free_energy(l1, l2, I4)
         assert got == pytest.approx(want, rel=ENERGY_RTOL)
+        h = 1e-30
+        T1 = mat.free_energy(l1 + 1j * h, l2, I4).imag / h
+        mem = model.material
+        got_T1 = (mem.stretching_energy_derivative(l1, l2)[0]
+                  + I4 * mem.electric_energy_derivative(l1, l2))
+        assert got_T1 == pytest.approx(T1, rel=ENERGY_RTOL)
+
+
+#: Gent with Jm = 1e8 is neo-Hookean to (I1 - 3)/(2 Jm) relative (I1 - 3 < 20 on these
+#: paths: 1e-7); the pull-in voltage is stationary in lam, so it moves by no more
+SAME_MODEL_RTOL = 1e-6
+
+
+def test_fe_takes_any_library_elastomer():
+    """A library elastomer passed as ``elastomer`` runs in the FE with no change to it:
+    the compressible Mooney-Rivlin with C01 = 0 (its incompressible limit is neo-Hookean
+    with mu = 2 C10, in any units: the model divides by its shear modulus) gives the
+    pull-in of the Gent default with Jm -> infinity, and C01 > 0 at the same shear modulus
+    a different one."""
+    mesh = FEMesh(2, 10, 2)
+    gent = CircularFE(1.25, 0.0, Jm=1e8, mesh=mesh).pullin(4.0)
+    nh = CircularFE(1.25, 0.0, mesh=mesh, elastomer=MooneyRivlinIdealDielectric(
+        C10=0.5e5, C01=0.0, k=5e6)).pullin(4.0)
+    assert nh.phibar == pytest.approx(gent.phibar, rel=SAME_MODEL_RTOL)
+    assert nh.lam == pytest.approx(gent.lam, rel=1e-3)
+    mr = CircularFE(1.25, 0.0, mesh=mesh, elastomer=MooneyRivlinIdealDielectric(
+        C10=0.35, C01=0.15, k=50.0)).pullin(4.0)
+    assert abs(mr.phibar - nh.phibar) > 1e-3 * nh.phibar
+    with pytest.raises(ValueError, match="Jm"):
+        CircularFE(1.25, 0.0, Jm=120.0, elastomer=MooneyRivlinIdealDielectric())
 
 
 def test_fe_circle_a_stays_homogeneous_and_interface_force_balance_holds():

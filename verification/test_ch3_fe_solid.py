@@ -15,6 +15,7 @@ import ngsolve as ng
 import numpy as np
 import pytest
 from debench.models.circular.fe_solid import CircularSolidFE, SolidMesh, energy_parts, radial_nodes
+from debench.models.materials.library import MooneyRivlinIdealDielectric
 from debench.models.materials.membrane import GentMembrane, ZhaoSuoPermittivity
 
 #: the solid's energy CFs and the library's numpy membrane energy evaluate the same
@@ -36,7 +37,7 @@ def test_solid_energy_is_the_library_membrane_energy_in_a_homogeneous_state(c):
     model = CircularSolidFE(2.0, 0.2, c, mesh=SMALL_MESH)
     par = [ng.Parameter(0.0) for _ in range(3)]
     F = ng.CoefficientFunction((par[0], 0, 0, 0, par[1], 0, 0, 0, par[2]), dims=(3, 3))
-    wm, we = energy_parts(F, ng.CoefficientFunction((0.0, 1.0, 0.0)), c, 120.0)
+    wm, we = energy_parts(F, ng.CoefficientFunction((0.0, 1.0, 0.0)), c, model.elastomer)
     mip = model.mesh(0.5, 0.05)
     for l1, l2, I4 in [(1.3, 2.1, 0.04), (3.0, 2.5, 0.2), (0.9, 4.0, 0.0)]:
         for p, val in zip(par, (l1, 1 / (l1 * l2), l2), strict=True):
@@ -123,3 +124,21 @@ def test_solid_bordered_tangent_is_the_derivative_of_the_residual():
 
     fd = (res_load(DIFF_STEP) - res_load(-DIFF_STEP)) / (2 * DIFF_STEP)
     assert np.max(np.abs(col - fd)) <= TANGENT_RTOL * np.max(np.abs(col))
+
+
+def test_solid_takes_any_library_elastomer():
+    """A library elastomer passed as ``elastomer`` runs in the solid model with no change to
+    it: the compressible Mooney-Rivlin (any units: the model divides by its shear modulus)
+    in its incompressible limit on a state at a voltage. With C01 = 0 it is the neo-Hookean,
+    the Gent default with Jm -> infinity (Jm = 1e8: (I1 - 3)/(2 Jm) < 1e-7 relative on this
+    state, so 1e-6 bounds the difference); C01 > 0 at the same shear modulus differs."""
+    def state(**kw):
+        return CircularSolidFE(1.25, 0.2, mesh=SMALL_MESH, **kw).solve(1.3)
+
+    gent = state(Jm=1e8)
+    nh = state(elastomer=MooneyRivlinIdealDielectric(C10=0.5e5, C01=0.0, k=5e6))
+    assert nh.phibar2 == pytest.approx(gent.phibar2, rel=1e-6)
+    mr = state(elastomer=MooneyRivlinIdealDielectric(C10=0.35, C01=0.15, k=50.0))
+    assert abs(mr.phibar2 - nh.phibar2) > 1e-3 * nh.phibar2
+    with pytest.raises(ValueError, match="Jm"):
+        CircularSolidFE(1.25, 0.2, Jm=120.0, elastomer=MooneyRivlinIdealDielectric())

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from debench.models.materials import IncompressibleLimit, MooneyRivlinIdealDielectric
 from debench.models.plate import PlateParams, base_state, energy_matrix
 from debench.models.plate import strip_fe as sfe
 from debench.reference.datasets import read_dataset
@@ -217,3 +218,28 @@ def test_strip_root_from_the_determinant_root_is_the_bracketed_one():
     fast = sfe.critical_stretch(kH, br, par, mat, guess=float(lam), **kw)
     assert abs(fast.lam - plain.lam) <= 2 * sfe.XTOL
     assert fast.evaluations < plain.evaluations
+
+
+def test_strip_fe_takes_any_library_elastomer():
+    """The strip model takes any library elastomer in its incompressible limit
+    (:class:`~debench.models.materials.IncompressibleLimit`) with no change to it: the
+    compressible Mooney-Rivlin with C01 = 0, C10 = 1/2 and the ideal dielectric I5/(2 eps)
+    at eps = 2 is, on J = 1, the isotropic energy (4.22) (xi = 0, beta/eps = 1/2) of the
+    thin case of Fig. 4.2(c). Their energies differ off the constraint, which the Taylor-Hood
+    pair holds only weakly, so their roots agree to the strip's discretisation error (the
+    coarse tolerance), not to round-off; both agree with the determinant root. C01 > 0 at
+    the same shear modulus is another plate: its lowest eigenvalue differs by > 10 %."""
+    xi, D, kH = 0.0, 2.0, 0.3
+    lam, par = next(zip(*S.determinant_roots(xi, D, kH, "charge"), strict=True))
+    br = (lam * (1 - S.BRACKET), lam * (1 + S.BRACKET))
+    kw = dict(Dhat=D, mesh=sfe.default_mesh(kH))
+    tol = _tol(TOL_COARSE, kH)
+    ti = sfe.critical_stretch(kH, br, par, sfe.material_for(xi), guess=float(lam), **kw)
+    nh = IncompressibleLimit(MooneyRivlinIdealDielectric(C10=0.5, C01=0.0, k=50.0, eps=2.0))
+    mr = sfe.critical_stretch(kH, br, par, nh, guess=float(lam), **kw)
+    assert abs(mr.lam - ti.lam) <= tol and abs(mr.lam - lam) <= tol
+    other = IncompressibleLimit(MooneyRivlinIdealDielectric(C10=0.35, C01=0.15, k=50.0,
+                                                            eps=2.0))
+    w_ti, w_mr = (np.sort(sfe.modes(1.2, kH, m, Dhat=D, mesh=kw["mesh"]).omega)[0]
+                  for m in (sfe.material_for(xi), other))
+    assert abs(w_mr - w_ti) > 0.1 * abs(w_ti)

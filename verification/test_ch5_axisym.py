@@ -27,7 +27,7 @@ from debench.models.buckling.axisym.spectra import EIG_RTOL
 from debench.models.buckling.parameters import NeoHookean, Ogden, Plate
 from debench.models.errors import ConvergenceError
 from debench.models.numerics import newton as newton_policy
-from debench.models.numerics import roots
+from debench.models.numerics import secants
 
 pytestmark = pytest.mark.fe
 
@@ -451,7 +451,7 @@ def test_a_wrinkling_crossing_does_not_depend_on_the_record_its_trial_states_sta
 
 
 #: the zero finder of the path's crossings with the path's tolerances
-secant_zero = functools.partial(roots.secant_zero, xtol=ZERO_WTOL, stall_width=ZERO_STALL_W,
+secant_zero = functools.partial(secants.secant_zero, xtol=ZERO_WTOL, stall_width=ZERO_STALL_W,
                                 stall_count=ZERO_STALL_COUNT)
 
 

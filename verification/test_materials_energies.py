@@ -35,6 +35,8 @@ from debench.models.materials import MATERIALS, GentMembrane, ZhaoSuoPermittivit
 from debench.models.materials import constants as K
 from debench.models.materials import energies as E
 from debench.models.materials import ngsolve_forms as ngf
+from debench.models.materials.library import GentIdealDielectric
+from debench.models.materials.membrane import ElastomerMembrane
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from netgen.meshing import Element3D, MeshPoint, Pnt
@@ -71,7 +73,10 @@ MR = MATERIALS["mooney_rivlin_ideal_dielectric"]
 MEMBRANE = GentMembrane(mu=1.0, Jm=K.VHB_GENT_JM,
                         permittivity=ZhaoSuoPermittivity(eps_bar=1.0,
                                                          c=dict(K.TABLE_3_1)[56]))
-"""The Ch. 3 FE's membrane (units mu = eps_bar = 1) with c = -0.053 of Table 3.1."""
+"""The Ch. 3 membrane (units mu = eps_bar = 1) with c = -0.053 of Table 3.1."""
+FE_MEMBRANE = ElastomerMembrane(GentIdealDielectric(mu=1.0, Jm=K.VHB_GENT_JM, eps=1.0),
+                                permittivity=MEMBRANE.permittivity)
+"""The same membrane as the Ch. 3 FE builds it: the library Gent's energy on J = 1."""
 
 
 # ------------------------------------------------------------- NGSolve evaluation
@@ -327,15 +332,16 @@ def test_doubling_one_expression_moves_numpy_and_ngsolve_energies_alike(name, pa
     assert abs(d_np - d_ng) <= rtol * max(abs(before[0]), mat.shear_modulus or 1.0)
 
 
-@pytest.mark.parametrize("part", ["gent", "membrane_first_invariant", "membrane_electric",
-                                  "zhao_suo_permittivity"])
+@pytest.mark.parametrize("part", ["gent", "membrane_electric", "zhao_suo_permittivity"])
 def test_membrane_energy_of_the_library_and_of_the_fe_is_one_expression(part, monkeypatch):
     """(3.20) with (3.23), (3.27): ``GentMembrane.free_energy`` (numpy) and the CFs of the
-    Ch. 3 membrane FE (``circular.fe.energy_cf``, ``w = Ws + I4 dW/dI4``) move together."""
+    Ch. 3 membrane FE (``circular.fe.energy_cf``, ``w = Ws + I4 dW/dI4``) move together.
+    (The FE's I1 is the library's ``invariants`` at F = diag(l1, l2, 1/(l1 l2)), the
+    membrane's ``membrane_first_invariant``: the next test shows them equal.)"""
     l1, l2, I4 = 1.7, 2.3, 0.04
 
     def both():
-        ws, we = circular_fe.energy_cf(_cf(l1), _cf(l2), MEMBRANE)
+        ws, we = circular_fe.energy_cf(_cf(l1), _cf(l2), FE_MEMBRANE)
         return MEMBRANE.free_energy(l1, l2, I4), _value(ws) + I4 * _value(we)
 
     before = both()
@@ -344,6 +350,16 @@ def test_membrane_energy_of_the_library_and_of_the_fe_is_one_expression(part, mo
     after = both()
     assert after[0] != before[0]
     assert after[1] == pytest.approx(after[0], rel=BACKEND_RTOL)
+
+
+@settings(max_examples=30)
+@given(l1=st.floats(0.3, 6.0), l2=st.floats(0.3, 6.0))
+def test_membrane_first_invariant_is_the_invariant_of_the_membrane_stretch(l1, l2):
+    """``membrane_first_invariant(l1, l2)`` (Sec. 3.3.2) is ``I1 = tr C`` of the library's
+    ``invariants`` at F = diag(l1, l2, 1/(l1 l2)) (to rounding: a few ulps of I1)."""
+    F = np.diag([l1, l2, 1 / (l1 * l2)])
+    want = E.invariants(F, xp=E.NUMPY)["I1"]
+    assert E.membrane_first_invariant(l1, l2) == pytest.approx(want, rel=1e-14)
 
 
 @pytest.mark.parametrize(("mat", "part"),

@@ -33,6 +33,7 @@ from debench.models.numerics import (
     scan_roots,
     secant,
     secant_until,
+    secants,
     two_term_limits,
     zero_near,
 )
@@ -894,7 +895,7 @@ def test_secant_zero_answers_with_an_evaluated_point_of_every_function_in_the_co
                     (lambda x: math.atan(x - 0.4), 0.4)):
         for x0, x1 in ((root - 0.3, root + 0.2), (root + 0.05, root + 0.1)):
             xs, fs = [x0, x1], [f(x0), f(x1)]
-            k, tol = roots.secant_zero(f, xs, fs, xtol=1e-10, stall_width=1e-8)
+            k, tol = secants.secant_zero(f, xs, fs, xtol=1e-10, stall_width=1e-8)
             assert fs[k] == f(xs[k]) and len(xs) == len(fs) > 2
             # the stated tolerance: the bracket's width, or the last step (10 x: a step
             # bounds the error of a superlinear iteration to a small factor)

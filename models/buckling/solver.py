@@ -19,7 +19,7 @@ from debench.models.buckling.modes import deflection_asymmetry, mode_harmonics
 from debench.models.buckling.parameters import Discretisation, Plate
 from debench.models.errors import ConvergenceError, require
 from debench.models.materials.protocol import IdealDielectricElastomer
-from debench.models.numerics.roots import secant_until
+from debench.models.numerics.secants import secant_until
 
 CRITICAL_VTOL = 1e-6
 """The secant on lambda_1(v^2) = 0 stops when its step |dv| < CRITICAL_VTOL (normalised

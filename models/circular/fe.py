@@ -16,10 +16,10 @@ potential energy per unit mu H::
 
 with ``Phibar^2 = eps_bar Phi^2/(mu H^2)`` (Sec. 3.5) and ``chi_A`` the indicator of the
 electrode. ``w`` is the library energy
-:meth:`~debench.models.materials.membrane.GentMembrane.free_energy` in units mu = 1,
-eps_bar = 1, ``I4 = Phibar^2``: the same expressions
-(:mod:`debench.models.materials.energies`) evaluated as NGSolve CoefficientFunctions
-(:func:`energy_cf`, tested equal to the numpy evaluation).
+:meth:`~debench.models.materials.membrane.ElastomerMembrane.free_energy` in units mu = 1,
+eps_bar = 1, ``I4 = Phibar^2``: ``Ws`` is the elastomer's own ``mechanical_energy`` on
+``J = 1`` (Gent (3.23) by default, any library material with ``elastomer``), evaluated as
+NGSolve CoefficientFunctions (:func:`energy_cf`, tested equal to the numpy evaluation).
 
 Why it is independent of (3.31)-(3.34)
 --------------------------------------
@@ -59,14 +59,16 @@ from debench.models import validation as v
 from debench.models.errors import ConvergenceError
 from debench.models.materials import energies as E
 from debench.models.materials import ngsolve_forms as ngf
-from debench.models.materials.membrane import GentMembrane, ZhaoSuoPermittivity
+from debench.models.materials.library import GentIdealDielectric
+from debench.models.materials.membrane import ElastomerMembrane, ZhaoSuoPermittivity
+from debench.models.materials.protocol import Material
 from debench.models.numerics.roots import bracketed_root
 from netgen.meshing import Element0D, Element1D, MeshPoint, Pnt
 from netgen.meshing import Mesh as NetgenMesh
 from scipy.optimize import minimize_scalar
 
 from .fe_continuation import LAM_STEP, BorderedContinuation
-from .params import JM_VHB, locking_stretch_equibiaxial
+from .params import JM_VHB
 
 #: the minimum of dPhibar^2/dlam (suppression search) is located to this in lam: at a
 #: smooth minimum the value is then exact to ~(d3/dlam3) xtol^2 ~ 1e-12, far below the
@@ -131,7 +133,13 @@ class CircularFE(BorderedContinuation):
     radius_ratio
         R_B/R_A > 1 (thesis: 15).
     Jm
-        Gent parameter (3.23), > 0.
+        Gent parameter (3.23), > 0, of the default elastomer (VHB 4910's Gent, 120 when
+        neither is given).
+    elastomer
+        Any library material instead of Gent (give ``Jm`` or ``elastomer``, not both): its
+        strain energy on ``J = 1`` (:class:`~debench.models.materials.membrane.
+        ElastomerMembrane`) per unit its shear modulus is ``Ws/mu``; its permittivity is
+        not used (the membrane's is (3.27) with ``c``).
     mesh
         :class:`FEMesh`.
     lam_step
@@ -141,25 +149,32 @@ class CircularFE(BorderedContinuation):
     """
 
     def __init__(self, lamP: float, c: float = 0.0, *, radius_ratio: float = 15.0,
-                 Jm: float = JM_VHB, mesh: FEMesh = FEMesh(), lam_step: float = LAM_STEP):
+                 Jm: float | None = None, elastomer: Material | None = None,
+                 mesh: FEMesh = FEMesh(), lam_step: float = LAM_STEP):
         self.lam_step = v.positive("lam_step", lam_step)
         self.lamP = v.at_least("lamP", lamP, 1.0)
         self.c = v.finite("c", c)
         self.radius_ratio = v.positive("radius_ratio", radius_ratio)
         if not (self.radius_ratio > 1 and math.isfinite(self.radius_ratio)):
             raise ValueError(f"radius_ratio RB/RA must be finite and > 1, got {radius_ratio}")
-        self.Jm = v.positive("Jm", Jm)
-        lock = locking_stretch_equibiaxial(self.Jm)
-        if not self.lamP < lock:
-            raise ValueError(f"lamP = {self.lamP:.6g} is past the Gent locking stretch "
-                             f"{lock:.6g} (Jm = {self.Jm:.6g})")
+        if elastomer is None:
+            elastomer = GentIdealDielectric(mu=1.0, Jm=v.positive(
+                "Jm", JM_VHB if Jm is None else Jm), eps=1.0)
+        elif Jm is not None:
+            raise ValueError("give Jm (the Gent elastomer's) or elastomer, not both")
         if not 1 + self.c * (2 * self.lamP - 2) > 0:
             raise ValueError(f"c = {self.c} makes the permittivity (3.27) non-positive at "
                              f"lamP = {self.lamP}: need 1 + c(2 lamP - 2) > 0")
         self.mesh_spec = v.instance("mesh", mesh, FEMesh)
-        #: the library material in units mu = 1, eps_bar = 1 (so that I4 = Phibar^2)
-        self.material = GentMembrane(mu=1.0, Jm=self.Jm,
-                                     permittivity=ZhaoSuoPermittivity(eps_bar=1.0, c=self.c))
+        #: the membrane of the library elastomer (any units: the energy is divided by its
+        #: shear modulus) with eps_bar = 1, so that I4 = Phibar^2
+        self.material = ElastomerMembrane(
+            elastomer, permittivity=ZhaoSuoPermittivity(eps_bar=1.0, c=self.c))
+        try:
+            self.material.stretching_energy(self.lamP, self.lamP)
+        except ValueError as e:
+            raise ValueError(f"lamP = {self.lamP:.6g}: the pre-stretched film is not an "
+                             f"admissible state of the elastomer ({e})") from e
         ng.SetNumThreads(1)
         self._build()
         self._states: list[FEState] = [self._reference_state()]
@@ -191,6 +206,8 @@ class CircularFE(BorderedContinuation):
         l1 = ng.grad(u)[0]
         l2 = u / R
         wm, we = energy_cf(l1, l2, self.material)
+        #: the stretching energy of the current state (admissible where it is finite)
+        self._ws_state = energy_cf(ng.grad(self.gf)[0], self.gf / R, self.material)[0]
         self._am = ng.BilinearForm(self.fes, symmetric=False)
         self._am += ng.Variation(wm * R * ng.dx)
         self._ae = ng.BilinearForm(self.fes, symmetric=False)
@@ -243,10 +260,14 @@ class CircularFE(BorderedContinuation):
     # ------------------------------------------------------------------ solve
 
     def _admissible(self, x) -> bool:
+        """Positive stretches at the element centres and a finite stretching energy there
+        (Gent: short of its lock, where its logarithm is finite)."""
         l1, l2 = self._stretches_at_nodes(x)
         if not (np.all(l1 > 0) and np.all(l2 > 0)):
             return False
-        return bool(np.all(l1**2 + l2**2 + (l1 * l2) ** -2 - 3 < self.Jm))
+        R = 0.5 * (self.nodes[1:] + self.nodes[:-1])
+        with np.errstate(invalid="ignore"):
+            return bool(np.all(np.isfinite(self._ws_state(self.mesh(R)))))
 
     def _finish(self, x, p, it, resid) -> FEState:
         lam = float(x[self._i])
@@ -342,7 +363,8 @@ class Suppression:
 
 
 def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
-                                  Jm: float = JM_VHB, mesh: FEMesh = FEMesh(),
+                                  Jm: float | None = None, elastomer: Material | None = None,
+                                  mesh: FEMesh = FEMesh(),
                                   bracket=(2.0, 3.2), xtol: float = 1e-8,
                                   lam_step: float = 0.1, guess: float | None = None,
                                   width: float = 1e-3) -> Suppression:
@@ -366,8 +388,8 @@ def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
 
     def g(lamP):
         if lamP not in seen:
-            model = CircularFE(lamP, c, radius_ratio=radius_ratio, Jm=Jm, mesh=mesh,
-                               lam_step=lam_step)
+            model = CircularFE(lamP, c, radius_ratio=radius_ratio, Jm=Jm,
+                               elastomer=elastomer, mesh=mesh, lam_step=lam_step)
             seen[lamP] = model.min_slope_before_loss_of_tension()
         return seen[lamP][0]
 
@@ -400,28 +422,25 @@ def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
 
 
 
-def _T1(material, l1, l2, I4):
-    """dw/dl1 of the library energy (3.20) at I4 = Phibar^2 (any sign: w is linear in I4,
-    so the two complex-step derivatives at I4 = 0 and 1 give it)."""
-    h = 1e-30
+def _T1(material: ElastomerMembrane, l1, l2, I4):
+    """dw/dl1 of the energy (3.20) per unit mu at I4 = Phibar^2: the elastomer's stress
+    and the electric term (any sign of I4: w is linear in it)."""
     l1, l2 = np.asarray(l1, dtype=float), np.asarray(l2, dtype=float)
-    both = np.imag(material.free_energy(np.stack([l1, l1]) + 1j * h, np.stack([l2, l2]),
-                                        np.array([0.0, 1.0]).reshape((2,) + (1,) * l1.ndim))
-                   ) / h
-    w0, w1 = both[0], both[1]
-    out = w0 + I4 * (w1 - w0)
+    out = (material.stretching_energy_derivative(l1, l2)[0] / material.shear_modulus
+           + I4 * material.electric_energy_derivative(l1, l2))
     return float(out) if np.ndim(out) == 0 else out
 
 
-def energy_cf(l1, l2, material: GentMembrane):
-    """The energy (3.20) of :class:`GentMembrane` with Zhao-Suo permittivity as NGSolve
-    CoefficientFunctions: ``(Ws, dW/dI4)`` so that ``w = Ws + I4 dW/dI4`` (w is linear in
-    ``I4 = E_L^2``). Units follow ``material`` (mu, eps_bar). The expressions are those of
-    the library (:mod:`debench.models.materials.energies`), evaluated by NGSolve."""
+def energy_cf(l1, l2, material: ElastomerMembrane):
+    """The energy (3.20) of an :class:`~debench.models.materials.membrane.ElastomerMembrane`
+    with Zhao-Suo permittivity as NGSolve CoefficientFunctions, per unit the elastomer's
+    shear modulus: ``(Ws/mu, dW/dI4)`` so that ``w = Ws/mu + I4 dW/dI4`` (w is linear in
+    ``I4 = E_L^2``; eps in units of the permittivity's eps_bar). ``Ws`` is the elastomer's
+    own ``mechanical_energy`` at ``F = diag(l1, l2, 1/(l1 l2))``, evaluated by NGSolve."""
     perm = material.permittivity
     if not isinstance(perm, ZhaoSuoPermittivity):
         raise NotImplementedError("energy_cf: Zhao-Suo permittivity only")
-    ws = E.gent(E.membrane_first_invariant(l1, l2), mu=material.mu, Jm=material.Jm,
-                xp=ngf.NGSOLVE)
+    F = ng.CoefficientFunction((l1, 0, 0, 0, l2, 0, 0, 0, 1 / (l1 * l2)), dims=(3, 3))
+    ws = material.elastomer.mechanical_energy(F, xp=ngf.NGSOLVE) / material.shear_modulus
     eps = E.zhao_suo_permittivity(l1, l2, eps_bar=perm.eps_bar, c=perm.c)
     return ws, E.membrane_electric(l1, l2, 1.0, eps=eps)

@@ -23,12 +23,14 @@ film is symmetric about its mid-plane, the potential antisymmetric), axisymmetri
 
 Energy per unit mu (library forms :mod:`debench.models.materials.ngsolve_forms`)::
 
-    w = W_Gent(F) + p (J - 1) + Phibar^2 w_e,                                  (3.23)
+    w = W(F)/mu + p (J - 1) + Phibar^2 w_e,                                    (3.23)
     w_e = -1/2 (eps/eps_bar) J C^-1 : (Grad psi x Grad psi),                   (3.20), (5.13)
     eps/eps_bar = 1 + c (lambda_R + lambda_theta - 2),                         (3.27)
 
-``W_Gent`` = the library Gent's
-:meth:`~debench.models.materials.protocol.Material.mechanical_energy`,
+``W`` = the elastomer's
+:meth:`~debench.models.materials.protocol.Material.mechanical_energy` (Gent (3.23) by
+default, any library material with ``elastomer``; its volumetric part vanishes with its
+first derivative at J = 1, where ``p`` holds the film), ``mu`` its shear modulus,
 ``w_e`` = :func:`~debench.models.materials.ngsolve_forms.ideal_dielectric_enthalpy` with
 eps = eps/eps_bar, ``Phibar^2 = eps_bar Phi^2/(mu H^2)`` (Sec. 3.5);
 ``lambda_R = sqrt(C_RR)``, ``lambda_theta = 1 + u_R/R``. In a homogeneous state
@@ -100,11 +102,12 @@ from debench.models import validation as v
 from debench.models.materials import energies as E
 from debench.models.materials import ngsolve_forms as forms
 from debench.models.materials.library import GentIdealDielectric
+from debench.models.materials.protocol import Material
 from netgen.meshing import Element1D, Element2D, MeshPoint, Pnt
 from netgen.meshing import Mesh as NetgenMesh
 
 from .fe_continuation import LAM_STEP, BorderedContinuation
-from .params import JM_VHB, locking_stretch_equibiaxial
+from .params import JM_VHB
 
 #: augmented-Lagrangian factor kappa/mu of the consistent term kappa/2 (J - 1)^2 (zero with
 #: its derivative at J = 1): the Q2/Q1 multiplier enforces J = 1 only weakly, and at fixed
@@ -182,10 +185,11 @@ def radial_nodes(H: float, radius_ratio: float, mesh: SolidMesh) -> np.ndarray:
     return np.array(left[::-1] + right[1:])
 
 
-def energy_parts(F, grad_psi, c: float, Jm: float):
-    """``(W_Gent(F), w_e(F, Grad psi))`` per unit mu as NGSolve CFs (module docstring);
-    ``F`` a 3x3 CF in (R, Z, theta), ``grad_psi`` a 3-vector CF."""
-    wm = GentIdealDielectric(mu=1.0, Jm=Jm, eps=1.0).mechanical_energy(F, xp=forms.NGSOLVE)
+def energy_parts(F, grad_psi, c: float, elastomer: Material):
+    """``(W(F)/mu, w_e(F, Grad psi))`` of the library ``elastomer`` (shear modulus mu) as
+    NGSolve CFs (module docstring); ``F`` a 3x3 CF in (R, Z, theta), ``grad_psi`` a
+    3-vector CF."""
+    wm = elastomer.mechanical_energy(F, xp=forms.NGSOLVE) / elastomer.shear_modulus
     C = F.trans * F
     eps = E.zhao_suo_permittivity(ng.sqrt(C[0, 0]), F[2, 2], eps_bar=1.0, c=c)
     we = forms.ideal_dielectric_enthalpy(F, grad_psi, eps=eps)
@@ -209,8 +213,11 @@ class CircularSolidFE(BorderedContinuation):
         Undeformed film thickness H/R_A, in (0, 1].
     c
         Zhao-Suo factor (3.27); 1 + c(2 lamP - 2) > 0 required.
-    radius_ratio, Jm
-        R_B/R_A > 1 (thesis: 15); Gent parameter (3.23).
+    radius_ratio
+        R_B/R_A > 1 (thesis: 15).
+    Jm, elastomer
+        The Gent parameter (3.23) of the default elastomer (120 when neither is given), or
+        any library material instead (not both).
     mesh
         :class:`SolidMesh`.
     lam_step
@@ -218,9 +225,9 @@ class CircularSolidFE(BorderedContinuation):
     """
 
     def __init__(self, lamP: float, thickness: float, c: float = 0.0, *,
-                 radius_ratio: float = 15.0, Jm: float = JM_VHB,
-                 mesh: SolidMesh = SolidMesh(), lam_step: float = LAM_STEP,
-                 penalty: float = PENALTY):
+                 radius_ratio: float = 15.0, Jm: float | None = None,
+                 elastomer: Material | None = None, mesh: SolidMesh = SolidMesh(),
+                 lam_step: float = LAM_STEP, penalty: float = PENALTY):
         self.penalty = v.positive("penalty", penalty)
         self.lamP = v.at_least("lamP", lamP, 1.0)
         self.H = v.in_range("thickness", thickness, 0.0, 1.0, lo_open=True)
@@ -228,10 +235,20 @@ class CircularSolidFE(BorderedContinuation):
         self.radius_ratio = v.positive("radius_ratio", radius_ratio)
         if not (self.radius_ratio > 1 and math.isfinite(self.radius_ratio)):
             raise ValueError(f"radius_ratio RB/RA must be finite and > 1, got {radius_ratio}")
-        self.Jm = v.positive("Jm", Jm)
-        if not self.lamP < locking_stretch_equibiaxial(self.Jm):
-            raise ValueError(f"lamP = {self.lamP:.6g} is past the Gent locking stretch "
-                             f"(Jm = {self.Jm:.6g})")
+        if elastomer is None:
+            elastomer = GentIdealDielectric(mu=1.0, Jm=v.positive(
+                "Jm", JM_VHB if Jm is None else Jm), eps=1.0)
+        elif Jm is not None:
+            raise ValueError("give Jm (the Gent elastomer's) or elastomer, not both")
+        self.elastomer = elastomer
+        lP = self.lamP
+        #: the pre-stretched film in (R, Z, theta)
+        self._F0 = np.diag([lP, lP**-2, lP])
+        try:
+            elastomer.check_admissible(self._F0)
+        except ValueError as e:
+            raise ValueError(f"lamP = {lP:.6g}: the pre-stretched film is not an "
+                             f"admissible state of the elastomer ({e})") from e
         if not 1 + self.c * (2 * self.lamP - 2) > 0:
             raise ValueError(f"c = {self.c} makes the permittivity (3.27) non-positive at "
                              f"lamP = {self.lamP}: need 1 + c(2 lamP - 2) > 0")
@@ -275,7 +292,7 @@ class CircularSolidFE(BorderedContinuation):
         R = ng.x
         F = _F(ur, uz, R)
         gpsi = ng.CoefficientFunction((ng.grad(psi)[0], ng.grad(psi)[1], 0.0))
-        wm, we = energy_parts(F, gpsi, self.c, self.Jm)
+        wm, we = energy_parts(F, gpsi, self.c, self.elastomer)
         self._am = ng.BilinearForm(self.fes, symmetric=False)
         J = ng.Det(F)
         self._am += ng.Variation((wm + p * (J - 1) + 0.5 * self.penalty * (J - 1) ** 2)
@@ -292,6 +309,8 @@ class CircularSolidFE(BorderedContinuation):
         self._F = self._E[self._E != self._i]
         self._tmp = self.gf.vec.CreateVector()
         self._Fgf = _F(self.gf.components[0], self.gf.components[1], R)
+        #: the strain energy of the current state (admissible where it is finite)
+        self._wm_state = self.elastomer.mechanical_energy(self._Fgf, xp=forms.NGSOLVE)
 
     def _reference_state(self) -> SolidState:
         """The pre-stretched film at zero voltage (homogeneous), psi = Z; the electrostatics
@@ -300,8 +319,9 @@ class CircularSolidFE(BorderedContinuation):
         lP = self.lamP
         ur.Set((lP - 1) * ng.x)
         uz.Set((lP**-2 - 1) * ng.y)
-        I1 = 2 * lP**2 + lP**-4
-        p.Set(-(lP**-4) / (1 - (I1 - 3) / self.Jm))   # P_ZZ = 0 of the Gent energy
+        # P_ZZ + p dJ/dF_ZZ = 0, dJ/dF_ZZ = lP^2 (traction-free faces)
+        P = self.elastomer.response(self._F0, np.zeros(3), second=False).P
+        p.Set(-P[1, 1] / (lP**2 * self.elastomer.shear_modulus))
         psi.Set(ng.y)
         x = self.gf.vec.FV().NumPy().copy()
         x, p2, it, resid = self._newton(x, 0.0, self.lamP, monotone=False)
@@ -394,12 +414,15 @@ class CircularSolidFE(BorderedContinuation):
         return J                  # bordered returns the load column itself
 
     def _admissible(self, x) -> bool:
+        """det F > 0 and a finite strain energy at the element centres."""
         self.gf.vec.FV().NumPy()[:] = x
         pts = self._sample_points()
         F = np.asarray(self._Fgf(pts)).reshape(-1, 3, 3)
         J = np.linalg.det(F)
-        I1 = np.einsum("kij,kij->k", F, F)
-        return bool(np.all(J > 0) and np.all(I1 - 3 < self.Jm))
+        if not np.all(J > 0):
+            return False
+        with np.errstate(invalid="ignore"):   # Gent past its lock: the logarithm's NaN
+            return bool(np.all(np.isfinite(self._wm_state(pts))))
 
     def _sample_points(self):
         if not hasattr(self, "_pts"):
@@ -474,7 +497,7 @@ class CircularSolidFE(BorderedContinuation):
             pp, p2 = ng.Parameter(0.0), ng.Parameter(0.0)
             F = ng.CoefficientFunction(tuple(Fp), dims=(3, 3)).MakeVariable()
             wm, we = energy_parts(F, ng.CoefficientFunction((gp[0], gp[1], 0.0)),
-                                  self.c, self.Jm)
+                                  self.c, self.elastomer)
             W = wm + pp * (ng.Det(F) - 1) + p2 * we
             self._ev = {"F": Fp, "g": gp, "p": pp, "p2": p2, "P": W.Diff(F)}
         return self._ev

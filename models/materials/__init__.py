@@ -87,7 +87,11 @@ from debench.models.materials.membrane import (
     JimenezMcMeekingPermittivity,
     ZhaoSuoPermittivity,
 )
-from debench.models.materials.protocol import IdealDielectricElastomer, Material
+from debench.models.materials.protocol import (
+    IdealDielectricElastomer,
+    IncompressibleLimit,
+    Material,
+)
 from debench.models.materials.response import (
     cauchy_stress,
     electric_field,
@@ -113,7 +117,8 @@ __all__ = [
     "ALIASES", "MATERIALS", "MEMBRANE_MODELS", "THESIS_MATERIALS", "VACUUM_PERMITTIVITY",
     "DorfmannOgdenElectric", "GentIdealDielectric",
     "GentMembrane", "IdealDielectric", "IdealDielectricElastomer",
-    "JimenezMcMeekingPermittivity", "Material", "MooneyRivlinIdealDielectric",
+    "IncompressibleLimit", "JimenezMcMeekingPermittivity", "Material",
+    "MooneyRivlinIdealDielectric",
     "NeoHookeanIdealDielectric", "OgdenIdealDielectric", "Response",
     "TransverselyIsotropicNeoHookean", "ZhaoSuoPermittivity", "cauchy_stress",
     "electric_field", "eulerian_displacement", "first_piola", "invariant_chain_rule",

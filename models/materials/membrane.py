@@ -31,6 +31,7 @@ from debench.models.materials.constants import (
     VHB_GENT_JM,
     VHB_SHEAR_MODULUS,
 )
+from debench.models.materials.protocol import IncompressibleLimit, Material
 
 _H = 1e-30  # complex step: no subtractive cancellation, any tiny step is exact to rounding
 
@@ -208,3 +209,83 @@ class GentMembrane:
         dW2 = self.free_energy(l1, l2 + 1j * h, I4).imag / h
         dW4 = self.free_energy(l1, l2, I4 + 1j * h).imag / h
         return l1 * dW1, l2 * dW2, -2 * dW4 * E / (l1 * l2) ** 2
+
+
+@dataclass(frozen=True)
+class ElastomerMembrane:
+    """Incompressible membrane of any library elastomer, with a deformation-dependent
+    permittivity: (3.20) with the stretching energy of the elastomer on ``J = 1``,
+
+        Ws(l1, l2) = W_mech(diag(l1, l2, 1/(l1 l2)))
+
+    (:meth:`~debench.models.materials.protocol.Material.mechanical_energy`, the elastomer's
+    incompressible limit, :class:`~debench.models.materials.protocol.IncompressibleLimit`):
+    ``GentIdealDielectric(mu, Jm)`` gives the Ws of :class:`GentMembrane` ``(mu, Jm)``.
+    The Chapter 3 finite-element models evaluate the same ``mechanical_energy`` with NGSolve.
+
+    ``stretching_energy_derivative`` comes from the elastomer's own stress
+    (``response(...).P``: ``dWs/dl1 = P11 - P33 l3/l1``, as ``dl3/dl1 = -l3/l1``), so it is
+    exact for every library material (the spectral Ogden too).
+    """
+
+    elastomer: Material
+    permittivity: ZhaoSuoPermittivity | JimenezMcMeekingPermittivity = ZhaoSuoPermittivity()
+
+    def __post_init__(self):
+        # a compressible elastomer enters in its incompressible limit
+        if not self.elastomer.incompressible:
+            object.__setattr__(self, "elastomer", IncompressibleLimit(self.elastomer))
+        v.instance("permittivity", self.permittivity,
+                   (ZhaoSuoPermittivity, JimenezMcMeekingPermittivity))
+
+    @property
+    def shear_modulus(self) -> float:
+        """The elastomer's initial shear modulus."""
+        return self.elastomer.shear_modulus
+
+    def _each(self, l1, l2, fn):
+        l1, l2 = np.broadcast_arrays(np.asarray(l1, dtype=float), np.asarray(l2, dtype=float))
+        out = [fn(np.diag([a, b, 1 / (a * b)])) for a, b in zip(l1.ravel(), l2.ravel(),
+                                                                  strict=True)]
+        return np.reshape(out, l1.shape + np.shape(out[0]) if out else l1.shape)
+
+    @v.finite_result
+    def stretching_energy(self, l1, l2):
+        """``Ws(l1, l2)`` (real stretches > 0; ValueError naming the bound where the
+        elastomer is not admissible, e.g. past a Gent lock)."""
+        _check_stretches(l1, l2)
+
+        def ws(F):
+            self.elastomer.check_admissible(F)
+            return self.elastomer.mechanical_energy(F, xp=E.NUMPY)
+
+        return self._each(l1, l2, ws)[()]
+
+    @v.finite_result
+    def stretching_energy_derivative(self, l1, l2):
+        """``(dWs/dl1, dWs/dl2)`` from the elastomer's first Piola stress."""
+        _check_stretches(l1, l2)
+
+        def d(F):
+            self.elastomer.check_admissible(F)
+            P = self.elastomer.response(F, np.zeros(3), second=False).P
+            l3 = F[2, 2]
+            return (P[0, 0] - P[2, 2] * l3 / F[0, 0], P[1, 1] - P[2, 2] * l3 / F[1, 1])
+
+        out = self._each(l1, l2, d)
+        return out[..., 0][()], out[..., 1][()]
+
+    @v.finite_result
+    def free_energy(self, l1, l2, I4):
+        """``W(l1, l2, I4) = Ws - eps l1^2 l2^2 I4/2`` (3.20), ``I4 = E_L^2``."""
+        v.nonnegative("I4", I4)
+        return (self.stretching_energy(l1, l2)
+                + E.membrane_electric(l1, l2, I4, eps=self.permittivity(l1, l2)))
+
+    @v.finite_result
+    def electric_energy_derivative(self, l1, l2):
+        """``d/dl1`` of the electric part of (3.20) per unit ``I4``: ``-(eps + l1/2
+        deps/dl1) l1 l2^2`` (the derivative (3.21) takes)."""
+        eps = self.permittivity(l1, l2)
+        de1, _ = self.permittivity.derivative(l1, l2)
+        return -(eps + 0.5 * l1 * de1) * l1 * l2 * l2

@@ -14,13 +14,15 @@ A material (:class:`Material`) provides
 
 :class:`IdealDielectricElastomer` is the part of the protocol the Chapter 5 finite-element
 models need: a compressible elastic energy plus the ideal dielectric (5.9), whose electric
-enthalpy they assemble. The materials themselves are in
+enthalpy they assemble. :class:`IncompressibleLimit` is how the incompressible models
+(Chapters 3 and 4) take any of them. The materials themselves are in
 :mod:`debench.models.materials.library`.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
@@ -87,3 +89,54 @@ class IdealDielectricElastomer(Material):
     @property
     def bulk_modulus(self) -> float:
         return self.k
+
+
+@dataclass(frozen=True)
+class IncompressibleLimit(Material):
+    """``material`` constrained to ``J = det F = 1``: its energy, response and moduli,
+    marked incompressible, so that a model that imposes ``J = 1`` and adds the pressure
+    ``-p I`` of the constraint (2.33) (the Chapter 3 membrane, the Chapter 4 plate) accepts
+    any library material, compressible ones included.
+
+    At ``J = 1`` a volumetric energy such as ``k/2 (J - 1)^2`` vanishes with its first
+    derivative, and the hydrostatic stress of the isochoric factors ``J^(-2/3)`` is
+    absorbed into ``p``; the tangent's volumetric terms act on ``tr L`` only, which the
+    constraint sets to zero. So the wrapped energy on the constraint manifold is the
+    incompressible limit of ``material`` (a neo-Hookean ``C10 (J^(-2/3) I1 - 3) + ...``
+    becomes ``C10 (I1 - 3)``). The admissible states are the wrapped material's.
+    """
+
+    material: Material
+    incompressible: ClassVar[bool] = True
+
+    def __post_init__(self):
+        if not all(callable(getattr(self.material, name, None))
+                   for name in ("energy_expression", "response")):
+            raise TypeError(f"material must be a library material (with energy_expression "
+                            f"and response), got {type(self.material).__name__}")
+
+    @property
+    def numbering(self) -> str:
+        return self.material.numbering
+
+    def _fibre(self):
+        return self.material._fibre()
+
+    def energy_expression(self, F, D_L, *, xp):
+        return self.material.energy_expression(F, D_L, xp=xp)
+
+    def mechanical_energy(self, F, *, xp):
+        return self.material.mechanical_energy(F, xp=xp)
+
+    def energy(self, F, D_L) -> float:
+        return self.material.energy(F, D_L)
+
+    def response(self, F, D_L, *, second: bool = True):
+        return self.material.response(F, D_L, second=second)
+
+    @property
+    def shear_modulus(self) -> float:
+        return self.material.shear_modulus
+
+    def check_admissible(self, F, D_L=None) -> None:
+        self.material.check_admissible(F, D_L)

@@ -42,7 +42,6 @@ from debench.models.numerics.roots import (
     regula_falsi_many,
     scan_roots,
     secant,
-    secant_until,
     zero_near,
 )
 from debench.models.numerics.scan import (
@@ -53,6 +52,7 @@ from debench.models.numerics.scan import (
     scan_brackets,
     sign_change_brackets,
 )
+from debench.models.numerics.secants import secant_until, secant_zero
 
 __all__ = [
     "GCI",
@@ -88,6 +88,7 @@ __all__ = [
     "scan_roots",
     "secant",
     "secant_until",
+    "secant_zero",
     "sign_change_brackets",
     "two_term_limits",
     "zero_near",

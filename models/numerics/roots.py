@@ -1,17 +1,12 @@
 """Scalar roots, every method returning a :class:`RootResult` that states what was
-achieved (the steps and :func:`secant_zero`, which answers with an index into its
-evaluations, excepted), every failure a :class:`~debench.models.errors.ConvergenceError`:
+achieved (the steps excepted), every failure a
+:class:`~debench.models.errors.ConvergenceError`:
 
 * :func:`bracketed_root` -- one zero in a bracket with a sign change, by Brent's method
   (:func:`scipy.optimize.brentq`);
 * :func:`secant` -- the secant iteration from two starting points (no bracket needed);
   :func:`secant_step` its one step, :func:`inverse_quadratic_root` the root through three
   points;
-* :func:`secant_until` -- the secant stopped before a step it calls small, never
-  evaluating there (the last evaluated point or the inverse-quadratic root answers);
-* :func:`secant_zero` -- a zero of an expensive, noisy function from two evaluated
-  points, answering with an *evaluated* point (its state is what the caller keeps):
-  Illinois inside a starting bracket, else the secant with a stop at the round-off floor;
 * :func:`zero_near` -- a zero near an estimate: secant steps from it supply a certified
   narrow bracket, which :func:`bracketed_root` finishes;
 * :func:`regula_falsi_many` -- many brackets refined at once by the Illinois variant of
@@ -25,7 +20,8 @@ evaluations, excepted), every failure a :class:`~debench.models.errors.Convergen
 The bracketing methods share the contract of :func:`scipy.optimize.brentq`: a sign change
 across an interval no wider than ``xtol + rtol |x|`` (``rtol = 4 eps`` unless given), and
 the returned root is an evaluated end of it. Adaptive scans that do not lose two close
-zeros in one grid interval are in :mod:`debench.models.numerics.scan`.
+zeros in one grid interval are in :mod:`debench.models.numerics.scan`; the secant drivers
+of expensive functions with a state per evaluation in :mod:`debench.models.numerics.secants`.
 """
 
 from __future__ import annotations
@@ -177,6 +173,13 @@ class Memo:
         return _narrowest_sign_change(self.values.items())
 
 
+def _starts(x0, x1, bounds) -> tuple[float, float]:
+    x0, x1 = float(x0), float(x1)
+    require(bounds[0] < x0 < bounds[1] and bounds[0] < x1 < bounds[1] and x0 != x1,
+            f"x0 and x1 must be distinct points inside bounds {bounds}, got {x0}, {x1}")
+    return x0, x1
+
+
 def secant(f: Callable[[float], float], x0: float, x1: float, *, xtol: float,
            maxiter: int = MAXITER_SECANT, bounds: tuple[float, float] = (-math.inf, math.inf),
            bracket_xtol: float | None = None, certify: bool = False,
@@ -195,9 +198,7 @@ def secant(f: Callable[[float], float], x0: float, x1: float, *, xtol: float,
     """
     fm = f if isinstance(f, Memo) else Memo(f)
     lo, hi = bounds
-    x0, x1 = float(x0), float(x1)
-    require(lo < x0 < hi and lo < x1 < hi and x0 != x1,
-            f"x0 and x1 must be distinct points inside bounds {bounds}, got {x0}, {x1}")
+    x0, x1 = _starts(x0, x1, bounds)
     require(math.isfinite(xtol) and xtol > 0, f"xtol must be finite and > 0, got {xtol}")
     bracket_xtol = xtol if bracket_xtol is None else bracket_xtol
     calls0 = len(fm.values)
@@ -233,59 +234,6 @@ def secant(f: Callable[[float], float], x0: float, x1: float, *, xtol: float,
                            f"{maxiter} steps (last step {x1 - x0:.3g})")
 
 
-def secant_until(f: Callable[[float], float], x0: float, x1: float, *,
-                 converged: Callable[[float, float], bool], finish: str = "evaluated",
-                 maxiter: int = MAXITER_SECANT,
-                 bounds: tuple[float, float] = (-math.inf, math.inf),
-                 what: str = "root") -> RootResult:
-    """A zero of ``f`` by the secant iteration from ``x0`` and ``x1``, stopped *before* the
-    step that ``converged(x_last, x_next)`` calls small (after three evaluations at
-    least), for an ``f`` whose evaluation degrades next to its zero (a Newton solve on a
-    tangent that becomes singular there): ``x_next`` is never evaluated.
-
-    ``finish`` chooses the answer: ``"evaluated"``, the last evaluated point (its error is
-    the next step to higher order: the secant converges superlinearly; a caller keeping a
-    state per evaluation has it there), or ``"inverse_quadratic"``, the zero of the
-    inverse quadratic through the last three evaluations (:func:`inverse_quadratic_root`;
-    its error is of the order of the product of their distances to the zero). ``error``
-    is the width of the narrowest evaluated sign change, or without one ``|x_next -
-    root|`` (the secant's next iterate against the answer: an estimate), and
-    ``next_iterate`` is ``x_next``; an exact zero of ``f`` at an iterate ends the
-    iteration there (``x_next`` is that iterate). ``function_calls`` counts the
-    evaluations, ``iterations`` the secant steps. ConvergenceError naming ``what`` when
-    ``f`` is not finite at an iterate, the secant is flat, a step leaves the open interval
-    ``bounds`` or ``maxiter`` steps do not converge.
-    """
-    require(finish in ("evaluated", "inverse_quadratic"),
-            f"finish must be 'evaluated' or 'inverse_quadratic', got {finish!r}")
-    require(int(maxiter) == maxiter and maxiter >= 1, f"maxiter must be >= 1, got {maxiter}")
-    x0, x1 = float(x0), float(x1)
-    lo, hi = bounds
-    require(lo < x0 < hi and lo < x1 < hi and x0 != x1,
-            f"x0 and x1 must be distinct points inside bounds {bounds}, got {x0}, {x1}")
-    xs = [x0, x1]
-    fs = [_finite_value(f(x0), x0, what), _finite_value(f(x1), x1, what)]
-    for it in range(int(maxiter) + 1):
-        if fs[-1] == 0.0:
-            x_next = xs[-1]
-        else:
-            x_next = secant_step(xs[-2], fs[-2], xs[-1], fs[-1], bounds=bounds,
-                                 what=f"{what} {list(zip(xs, fs, strict=True))}")
-        if len(xs) >= 3 and (x_next == xs[-1] or converged(xs[-1], x_next)):
-            root = xs[-1] if finish == "evaluated" or fs[-1] == 0.0 else (
-                inverse_quadratic_root(xs[-3:], fs[-3:]))
-            near = _narrowest_sign_change(zip(xs, fs, strict=True))
-            return RootResult(float(root), it, len(xs), True, "step below tolerance", near,
-                              (near[1] - near[0]) if near is not None else abs(x_next - root),
-                              "secant", next_iterate=float(x_next))
-        if it == maxiter:
-            break
-        xs.append(x_next)
-        fs.append(_finite_value(f(x_next), x_next, what))
-    raise ConvergenceError(f"{what}: no convergence in {maxiter} steps: "
-                           f"{list(zip(xs, fs, strict=True))}")
-
-
 def secant_step(x0: float, f0: float, x1: float, f1: float, *, what: str = "secant",
                 bounds: tuple[float, float] = (-math.inf, math.inf)) -> float:
     """The secant iterate ``x1 - f1 (x1 - x0) / (f1 - f0)`` through (x0, f0), (x1, f1).
@@ -307,73 +255,6 @@ def inverse_quadratic_root(xs, fs) -> float:
         raise ConvergenceError("inverse quadratic interpolation: repeated values of f")
     return (x0 * f1 * f2 / ((f0 - f1) * (f0 - f2)) + x1 * f0 * f2 / ((f1 - f0) * (f1 - f2))
             + x2 * f0 * f1 / ((f2 - f0) * (f2 - f1)))
-
-
-def secant_zero(f: Callable[[float], float], xs: list[float], fs: list[float], *,
-                xtol: float, stall_width: float, stall_count: int = 4, maxit: int = 30,
-                what: str = "secant_zero") -> tuple[int, float]:
-    """Zero of ``f`` from the two evaluated points (``xs``, ``fs``), appending every
-    evaluation to them: returns (index of the answer in ``xs``, its tolerance). The
-    answer is an evaluated point, for a caller whose evaluations carry a state.
-
-    When the two starting values of f have opposite signs, the iterates stay inside the
-    bracket they span: the Illinois variant of false position (Dowell and Jarratt 1971),
-    whose retained end has its f halved when it is kept twice in a row, so that the bracket
-    shrinks from both sides (plain false position can approach the root from one side
-    only and stagnate). It stops when a step is below ``xtol`` (the last iterate,
-    tolerance the step) or when the bracket is narrower than ``stall_width`` (the end
-    with the smaller |f|, tolerance the bracket's width): at the round-off floor of f the
-    computed signs still bound the root. Without a bracket it is the secant iteration, which
-    stops on a step below ``xtol`` or when it has stagnated at the round-off floor (the
-    last ``stall_count`` iterates within ``stall_width`` and f of both signs among them:
-    the one with the smallest |f|, tolerance their spread). ConvergenceError after
-    ``maxit`` evaluations, or on a flat secant."""
-    require(len(xs) >= 2 and len(xs) == len(fs), "secant_zero needs two evaluated points")
-    if fs[-2] * fs[-1] < 0:
-        return _illinois(f, xs, fs, xtol=xtol, stall_width=stall_width, maxit=maxit,
-                         what=what)
-    for _ in range(maxit):
-        x_new = secant_step(xs[-2], fs[-2], xs[-1], fs[-1],
-                            what=f"{what} {list(zip(xs, fs, strict=True))}")
-        step = abs(x_new - xs[-1])
-        xs.append(x_new)
-        fs.append(f(x_new))
-        if step < xtol:
-            return len(xs) - 1, step
-        last, signs = xs[-stall_count:], np.sign(fs[-stall_count:])
-        if (len(xs) >= stall_count + 2 and max(last) - min(last) < stall_width
-                and signs.min() < 0 < signs.max()):
-            tail = range(len(xs) - stall_count, len(xs))
-            return min(tail, key=lambda i: abs(fs[i])), max(last) - min(last)
-    raise ConvergenceError(f"{what}: no convergence in {maxit} steps: "
-                           f"{list(zip(xs, fs, strict=True))}")
-
-
-def _illinois(f, xs: list[float], fs: list[float], *, xtol: float, stall_width: float,
-              maxit: int, what: str) -> tuple[int, float]:
-    """The bracketed branch of :func:`secant_zero` (its last two points bracket a root)."""
-    ends = [len(xs) - 2, len(xs) - 1]
-    weights = [fs[-2], fs[-1]]
-    kept = None
-    for _ in range(maxit):
-        (ia, ib), (fa, fb) = ends, weights
-        x_new = xs[ia] - fa * (xs[ib] - xs[ia]) / (fb - fa)
-        step = abs(x_new - xs[-1])
-        fx = f(x_new)
-        xs.append(x_new)
-        fs.append(fx)
-        if fx == 0 or step < xtol:
-            return len(xs) - 1, step
-        side = 0 if np.sign(fx) == np.sign(fs[ia]) else 1
-        ends[side], weights[side] = len(xs) - 1, fx
-        if kept == 1 - side:
-            weights[1 - side] *= 0.5
-        kept = 1 - side
-        width = abs(xs[ends[1]] - xs[ends[0]])
-        if width < stall_width:
-            return min(ends, key=lambda i: abs(fs[i])), width
-    raise ConvergenceError(f"{what}: no convergence in {maxit} steps: "
-                           f"{list(zip(xs, fs, strict=True))}")
 
 
 def zero_near(f: Callable[[float], float], guess: float | None, lo: float, hi: float,

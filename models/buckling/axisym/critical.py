@@ -22,7 +22,7 @@ from debench.models.buckling.axisym.spectra import TANGENTS
 from debench.models.buckling.critical_result import CriticalVoltage
 from debench.models.buckling.parameters import Plate
 from debench.models.materials.protocol import IdealDielectricElastomer
-from debench.models.numerics.roots import secant_until
+from debench.models.numerics.secants import secant_until
 
 CRITICAL_STEP = 1e-6
 """The secant on lambda_1(v^2) = 0 stops evaluating when its next step would be below

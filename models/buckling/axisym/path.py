@@ -4,7 +4,7 @@
 control through the voltage maximum) and records the lowest eigenvalue of chosen
 wavenumbers at its states; :func:`zero_crossing` locates where one of them vanishes (for
 n = 0 the voltage maximum, pull-in; for n >= 1 a bifurcation into wrinkles) by
-:func:`~debench.models.numerics.roots.secant_zero`. The formulation:
+:func:`~debench.models.numerics.secants.secant_zero`. The formulation:
 :mod:`debench.models.buckling.axisym`.
 """
 
@@ -17,7 +17,7 @@ import numpy as np
 from debench.models import validation as val
 from debench.models.buckling.axisym.model import AxisymModel
 from debench.models.errors import ConvergenceError, require
-from debench.models.numerics.roots import secant_zero
+from debench.models.numerics.secants import secant_zero
 
 
 @dataclass(frozen=True)
