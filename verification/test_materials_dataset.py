@@ -9,7 +9,8 @@ from debench.reference.builders import ch2_appendix
 from debench.reference.datasets import read_dataset
 
 REGEN_RTOL = 1e-12
-"""Same code, same inputs: only the platform's rounding may differ."""
+"""Same inputs, the same derivatives: only rounding may differ, relative to each variable's
+largest entry (a structurally zero modulus comes out as a few ulp of the others)."""
 
 
 @pytest.fixture(scope="module")
@@ -24,7 +25,9 @@ def test_regenerating_the_kernel_dataset_reproduces_the_curated_numbers(curated)
     assert list(fresh.state.values) == list(curated.state.values)
     for name in fresh.data_vars:
         a, b = fresh[name].values, curated[name].values
-        np.testing.assert_allclose(a, b, rtol=REGEN_RTOL, atol=0, equal_nan=True, err_msg=name)
+        atol = REGEN_RTOL * np.nanmax(np.abs(b)) if np.any(np.isfinite(b)) else 0.0
+        np.testing.assert_allclose(a, b, rtol=REGEN_RTOL, atol=atol, equal_nan=True,
+                                   err_msg=name)
 
 
 def test_curated_reference_state_is_stress_free_with_traction_free_pressure(curated):

@@ -9,7 +9,8 @@ so that no caller asks which material it holds:
   :data:`~debench.models.materials.ngsolve_forms.NGSOLVE` and its variants);
 * the numpy API ``energy(F, D_L)`` and ``response(F, D_L, second=True) -> Response``
   (energy, dW/dF, dW/dD_L and the moduli (2.65)-(2.67)); invariant-based materials also
-  expose ``invariant_derivatives(I) -> (W, W_n, W_mn)``;
+  expose their hand derivation ``invariant_derivatives(I) -> (W, W_n, W_mn)`` and
+  ``invariant_response`` (the chain rule over it);
 * the moduli ``shear_modulus`` and ``bulk_modulus`` (``k``; infinite when incompressible);
 * admissibility: ``check_admissible(F, D_L)`` raises ``ValueError`` naming the bound.
 
@@ -22,9 +23,12 @@ ideal dielectric (5.9), whose electric enthalpy they assemble.
 derivatives), as printed in the thesis.
 
 Each energy ``W`` is the one expression of :mod:`debench.models.materials.energies`
-(evaluated here with numpy, by NGSolve in :mod:`debench.models.materials.ngsolve_forms`);
-the derivatives ``W_n``, ``W_mn`` (and Ogden's spectral derivatives) are written out here
-and checked against NGSolve's symbolic derivatives of the same expressions.
+(evaluated here with numpy, by NGSolve in :mod:`debench.models.materials.ngsolve_forms`).
+The stress and moduli of the invariant-based materials come from that expression, by
+second-order forward differentiation (:func:`~debench.models.materials.jet.
+expression_response`); their hand-written ``W_n``, ``W_mn`` are the independent check
+(``invariant_response``, compared in the tests, and NGSolve's symbolic derivatives of the
+same expressions). Ogden's stress and moduli are the spectral formula of the kernel.
 
 Units: SI (Pa, F/m, C/m^2) or any consistent non-dimensional set.
 """
@@ -51,6 +55,7 @@ from debench.models.materials.constants import (  # defined once; VACUUM_PERMITT
     VHB_GENT_JM,
     VHB_SHEAR_MODULUS,
 )
+from debench.models.materials.jet import expression_response
 from debench.models.materials.kernel import (
     Response,
     divided_difference_power,
@@ -81,16 +86,30 @@ def _invariant_vector(I) -> np.ndarray:
 
 
 class _InvariantMaterial(Material):
-    """Mixin: energy and response of an invariant-based energy via the chain rule."""
+    """Mixin: an invariant-based energy. ``energy`` evaluates its one expression and
+    ``response`` differentiates it (:func:`~debench.models.materials.jet.
+    expression_response`); ``invariant_response`` is the same response by the hand-written
+    ``invariant_derivatives`` and the chain rule (2.68)-(2.70) of the kernel, the check."""
+
+    def _state(self, F, D_L):
+        self.check_admissible(F, D_L)
+        return validate_state(F, D_L, self._fibre(), numbering=self.numbering)
 
     @v.finite_result
     def energy(self, F, D_L) -> float:
-        F, D_L, A = validate_state(F, D_L, self._fibre(), numbering=self.numbering)
-        return self.invariant_derivatives(invariants(F, D_L, A, numbering=self.numbering))[0]
+        F, D_L, _ = self._state(F, D_L)
+        return float(self.energy_expression(F, D_L, xp=E.NUMPY))
 
     @v.finite_result
     def response(self, F, D_L, *, second: bool = True) -> Response:
-        F, D_L, A = validate_state(F, D_L, self._fibre(), numbering=self.numbering)
+        F, D_L, _ = self._state(F, D_L)
+        return expression_response(self, F, D_L, second=second)
+
+    @v.finite_result
+    def invariant_response(self, F, D_L, *, second: bool = True) -> Response:
+        """The response by the hand derivation: ``invariant_derivatives`` and the chain
+        rule :func:`~debench.models.materials.kernel.invariant_chain_rule`."""
+        F, D_L, A = self._state(F, D_L)
         I = invariants(F, D_L, A, numbering=self.numbering)
         W, Wn, Wmn = self.invariant_derivatives(I)
         return invariant_chain_rule(W, Wn, Wmn, F, D_L, A, numbering=self.numbering,
