@@ -232,6 +232,10 @@ class ElastomerMembrane:
     permittivity: ZhaoSuoPermittivity | JimenezMcMeekingPermittivity = ZhaoSuoPermittivity()
 
     def __post_init__(self):
+        if not all(callable(getattr(self.elastomer, name, None))
+                   for name in ("mechanical_energy", "response", "check_admissible")):
+            raise TypeError(f"elastomer must be a library material, got "
+                            f"{type(self.elastomer).__name__} {self.elastomer!r:.40}")
         # a compressible elastomer enters in its incompressible limit
         if not self.elastomer.incompressible:
             object.__setattr__(self, "elastomer", IncompressibleLimit(self.elastomer))

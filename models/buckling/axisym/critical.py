@@ -22,6 +22,7 @@ from debench.models.buckling.axisym.spectra import TANGENTS
 from debench.models.buckling.critical_result import CriticalVoltage
 from debench.models.buckling.parameters import Plate
 from debench.models.materials.protocol import IdealDielectricElastomer
+from debench.models.numerics.roots import inverse_quadratic_root, secant_step
 from debench.models.numerics.secants import secant_until
 
 CRITICAL_STEP = 1e-6
@@ -90,24 +91,37 @@ def critical_voltage(plate: Plate, material: IdealDielectricElastomer,
                        converged=lambda x, x_next: abs(x_next - x) < CRITICAL_STEP * x,
                        finish="inverse_quadratic", maxiter=maxit, bounds=(0.0, math.inf),
                        what=f"critical_voltage(n={n})")
-    v = math.sqrt(res.root)
+    root, x_next = res.root, res.next_iterate
+    if flat.reasons[-1].startswith("stagnation") and len(flat.xs) >= 4:
+        # the last flat state stopped on stagnation next to the singular tangent: its
+        # eigenvalue carries the state's round-off along the near-null mode (measured:
+        # lambda_1 = 8.5e-11 against ~1e-12, 2.8e-9 in v, at 6e-12 from the root on a
+        # coarse mesh), so the root is finished on the three evaluations before it
+        xs, fs = flat.xs, flat.fs
+        root = inverse_quadratic_root(xs[-4:-1], fs[-4:-1])
+        x_next = secant_step(xs[-3], fs[-3], xs[-2], fs[-2], what=f"critical_voltage(n={n})")
+    v = math.sqrt(root)
     return AxisymCritical(
         n=n, v=v, tangent=tangent, thickness=model.centre_thickness(),
         e=model.centre_field(), lam=flat.history[-1][1], eig_residual=flat.last["residual"],
         newton_residual_rel=flat.last["newton"], iterations=res.function_calls,
         ndof=model.ndof, ndof_mode=flat.last["ndof"], order=model.disc.order,
         cpu_s=time.process_time() - t_cpu,
-        vtol=abs(v - math.sqrt(res.next_iterate)), history=tuple(flat.history))
+        vtol=abs(v - math.sqrt(x_next)), history=tuple(flat.history))
 
 
 class _FlatFilm:
     """``lambda_1(x)``: the lowest eigenvalue of wavenumber ``n`` of the flat film at the
-    voltage ``sqrt(x)``, with the (v, lambda_1) evaluated in ``history`` and the last
-    solve's eigen-residual, mode DOFs and Newton residual in ``last``."""
+    voltage ``sqrt(x)``, with the (v, lambda_1) evaluated in ``history`` (and as (x,
+    lambda_1) in ``xs``, ``fs``), why each flat state's Newton stopped in ``reasons``, and
+    the last solve's eigen-residual, mode DOFs and Newton residual in ``last``."""
 
     def __init__(self, model: AxisymModel, n: int, tangent: str):
         self.model, self.n, self.tangent = model, n, tangent
         self.history: list[tuple[float, float]] = []
+        self.xs: list[float] = []
+        self.fs: list[float] = []
+        self.reasons: list[str] = []
         self.last: dict = {}
 
     def __call__(self, x: float) -> float:
@@ -121,6 +135,9 @@ class _FlatFilm:
         model.newton()
         spec = model.spectrum(self.n, nev=1, tangent=self.tangent)
         self.history.append((math.sqrt(x), float(spec.lam[0])))
+        self.xs.append(x)
+        self.fs.append(float(spec.lam[0]))
+        self.reasons.append(model.last_newton.reason)
         self.last.update(residual=spec.residual, ndof=spec.ndof,
                          newton=model.last_newton.residual_rel)
         return float(spec.lam[0])
