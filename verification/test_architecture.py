@@ -215,9 +215,8 @@ HEAVY_PACKAGES = {"ngsolve", "netgen", "pyngcore", "matplotlib", "dask", "distri
 #: debench.reference.cli`` 0.3 s; 1.1 s with their imports at module level, which load
 #: xarray and netCDF4 for every command)
 START_UP = {"debench", "debench.__main__", "debench.reference.cli",
-            "debench.reference.results_files", "debench.reference.regeneration",
-            "debench.reference.builds", "debench.threads", "debench.pytest_plugin",
-            "debench.testing"}
+            "debench.reference.results_files", "debench.reference.builds",
+            "debench.threads", "debench.pytest_plugin", "debench.testing"}
 
 
 def _top_level_imports(module: str, path: Path) -> tuple[set[str], set[str]]:
