@@ -22,6 +22,8 @@ from __future__ import annotations
 import os
 import sys
 
+from threadpoolctl import threadpool_info, threadpool_limits
+
 #: Environment variable with the thread count to use (default 1).
 THREADS_ENV = "DEBENCH_THREADS"
 _ENV_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
@@ -54,8 +56,6 @@ def limit_threads(n: int | None = None) -> int:
     for var in _ENV_VARS:
         os.environ[var] = str(n)
     os.environ[THREADS_ENV] = str(n)
-    from threadpoolctl import threadpool_limits
-
     _limiter = threadpool_limits(limits=n)
     if "ngsolve" in sys.modules:
         sys.modules["ngsolve"].SetNumThreads(n)
@@ -66,7 +66,6 @@ def thread_report() -> list[dict]:
     """The thread pools of numpy's BLAS (loaded here if needed) and of every other loaded
     library, with their sizes and kernels (threadpoolctl), for logs and benchmarks."""
     import numpy  # noqa: F401 - loads the BLAS whose kernel is reported
-    from threadpoolctl import threadpool_info
 
     keys = ("user_api", "internal_api", "num_threads", "version", "architecture")
     return [{k: p.get(k) for k in keys} for p in threadpool_info()]

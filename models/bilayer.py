@@ -69,6 +69,8 @@ from debench.models.materials.constants import (
 from debench.models.materials.library import NeoHookeanIdealDielectric
 from debench.models.numerics import p_grading_estimate
 from debench.models.numerics.newton import damped_newton
+from netgen.meshing import Element0D, Element1D, Element2D, MeshPoint, Pnt
+from netgen.meshing import Mesh as NGMesh
 
 NEWTON_ATOL = 1e-12
 """Absolute floor of the free residual (energies per mu H^2; round-off of the assembly)."""
@@ -150,9 +152,6 @@ def mesh(params: BilayerParameters, levels: int):
     ``pin`` (0, h_p). ``nx`` cells along x and ``ny`` through each layer, with ``levels``
     geometric layers (ratio :data:`HP_FACTOR`) in the last cell along x and in the two cells
     beside the interface: a tensor-product geometric mesh at (L, h_p)."""
-    from netgen.meshing import Element0D, Element1D, Element2D, MeshPoint, Pnt
-    from netgen.meshing import Mesh as NGMesh
-
     L, hp, nx, ny = params.length, params.passive, params.nx, params.ny
     xs = _graded(0.0, L, nx, levels, at_lo=False, at_hi=True)
     y_p = _graded(0.0, hp, ny, levels, at_lo=False, at_hi=True)

@@ -5,14 +5,23 @@ folder against a problem's reference) and ``cite``."""
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 
+from debench.reference import (
+    cite,
+    confirmations,
+    consensus,
+    mms_check,
+    problems,
+    problems_reference,
+    submissions,
+)
+from debench.reference.comparison import compare
 from debench.reference.results_files import EXIT_FAILED, EXIT_OK, UsageError, read_results
 
 
 def cmd_problems(args) -> int:
-    from debench.reference import confirmations, problems, problems_reference
-
     if args.id is None:
         items = problems.load_all()
         if args.json:
@@ -31,8 +40,6 @@ def cmd_problems(args) -> int:
         print(json.dumps(problems_reference.reference_json(p), ensure_ascii=False))
         return 0
     if args.markdown:
-        from debench.reference import consensus
-
         print(consensus.problem_page(p), end="")
         return 0
     spec = p.spec()
@@ -76,8 +83,6 @@ def cmd_check_submission(args) -> int:
     missing or invalid field named, exit 2), the results checksum, then the ordinary check
     at the submitter's stated tolerance (if any) and at the reference's stated accuracy;
     the exit code follows the former (0 match, 1 mismatch)."""
-    from debench.reference import submissions
-
     if args.problem or args.file or args.rtol is not None or args.partial or args.quantity:
         raise UsageError("--submission DIR takes neither PROBLEM, FILE, --quantity, --rtol "
                          "nor --partial (the metadata states them)")
@@ -107,8 +112,6 @@ def cmd_check_submission(args) -> int:
 
 
 def _problem_quantity(problem: str, quantity: str):
-    from debench.reference import problems
-
     return problems.get(problem).quantity(quantity)
 
 
@@ -142,8 +145,6 @@ def _results_of(prob, path: Path, quantity: str | None):
     (:func:`~debench.reference.results_files.read_results`). For the manufactured-solution
     problem a table of errors per mesh level is read too: its orders are fitted and judged
     as ``debench orders`` does (the lines printed), and the fitted orders are checked."""
-    from debench.reference import mms_check
-
     if prob.id != mms_check.PROBLEM or not path.is_file() or path.suffix == ".nc" \
             or not mms_check.is_error_table(path):
         return read_results(path, quantity, prob)
@@ -167,9 +168,6 @@ def _results_of(prob, path: Path, quantity: str | None):
 
 
 def cmd_check(args) -> int:
-    from debench.reference import problems
-    from debench.reference.comparison import compare
-
     if args.submission is not None:
         return cmd_check_submission(args)
     if not args.problem or not args.file:  # argparse's own usage error (exit 2)
@@ -207,8 +205,6 @@ def cmd_check(args) -> int:
 
 
 def cmd_cite(args) -> int:
-    from debench.reference import cite
-
     try:
         print(cite.render(args.id, args.format))
     except ValueError as exc:
@@ -216,3 +212,12 @@ def cmd_cite(args) -> int:
     return 0
 
 
+def cmd_cite_naming_others(args) -> int:
+    """``debench cite``: the citation on stdout and, when the id names more than one thing
+    (a problem and a dataset of the same name), which one was cited and how to cite the
+    other on stderr (:func:`debench.reference.cite.ambiguity`)."""
+    code = cmd_cite(args)
+    note = cite.ambiguity(args.id)
+    if note:
+        print(f"debench: note: {note}", file=sys.stderr)
+    return code

@@ -8,8 +8,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import xarray as xr
 from debench.reference import builds
+from debench.reference.datasets import DatasetError, data_dir, read_dataset
 from debench.reference.figures import not_written
+from debench.reference.values import extra_guards
 
 #: Default agreement of a regenerated numeric variable with its curated counterpart, for
 #: variables that state no accuracy of their own: the builders' solvers stop at relative
@@ -134,8 +137,6 @@ def _on_shared(new, old, var: str, key: str | None = None):
     """``var`` of both datasets on the coordinates they share (inner join; along the
     dimension that ``key`` labels, by ``key``): (new values, old values, the datasets
     aligned), or None when the variable is missing or the two cannot be aligned."""
-    import xarray as xr
-
     if var not in new or var not in old:
         return None
     a, b = new, old
@@ -211,8 +212,6 @@ def compare_with_curated(path: Path, curated_dir: Path) -> str:
     curated one (the default plan of a study whose curated data are ``--full``) is checked
     as :data:`PLAN_CHECKS` declares (:func:`compare_plans`).
     """
-    from debench.reference.datasets import DatasetError, read_dataset
-
     curated = curated_dir / path.name
     if not curated.exists():
         return f"{path.name}: no curated counterpart in {curated_dir}"
@@ -242,8 +241,6 @@ def compare_with_curated(path: Path, curated_dir: Path) -> str:
 def _regenerate(chapter: str, out: str) -> list[str]:
     """Rebuild ``chapter`` (default plan, no figures) into ``out`` and compare each dataset
     with its curated counterpart: one line per dataset (:func:`compare_with_curated`)."""
-    from debench.reference.datasets import data_dir
-
     mod = builds.builder(chapter)
     if mod is None:
         return []
@@ -279,8 +276,6 @@ class Recomputations:
 
     def _job(self, kind: str, name: str):
         """The function and arguments of one recomputation."""
-        from debench.reference.values import extra_guards
-
         return (_regenerate, name, self.out) if kind == "chapter" else (extra_guards, [name])
 
     def _result(self, kind: str, name: str):

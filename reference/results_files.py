@@ -4,6 +4,9 @@ usage error it raises on bad input (the command line's exit code 2)."""
 
 from __future__ import annotations
 
+import codecs
+import csv
+import difflib
 from pathlib import Path
 
 import numpy as np
@@ -175,8 +178,6 @@ def _decode(path: Path) -> str:
     """The text of a CSV file: UTF-8, with or without a byte-order mark (Excel's "CSV
     UTF-8"), or UTF-16 with its mark (Excel's "Unicode text"); UsageError otherwise (a
     spreadsheet workbook named as one)."""
-    import codecs
-
     if path.suffix.lower() in SPREADSHEETS:
         raise UsageError(f"{path} is a spreadsheet workbook: save it as CSV (Excel: 'CSV "
                          "UTF-8 (comma delimited)') with the header in its first row")
@@ -196,8 +197,6 @@ def _csv_rows(path: Path) -> tuple[list[list[str]], list[int]]:
     the header holds, or, if it holds several, the one that splits every row into as many
     cells as the header; and the line number of each in the file. UsageError when the
     columns cannot be told apart or a row has another number of cells than the header."""
-    import csv
-
     numbered = [(i, ln) for i, ln in enumerate(_decode(path).splitlines(), start=1)
                 if ln.strip() and not ln.lstrip().startswith("#")]
     lines = [ln for _, ln in numbered]
@@ -288,8 +287,6 @@ def _hint(unknown, qs, prob, kind: str = "column") -> str:
     ...`` for a refusal naming the columns ``unknown`` (the file's quantities ``qs``, or
     every quantity of ``prob`` when none was found: one header per group of quantities
     that share their coordinates)."""
-    import difflib
-
     known = list(dict.fromkeys(n for q in prob.quantities for n in (*q.coordinates, q.name)))
     lower = {k.lower(): k for k in known}
     out = []

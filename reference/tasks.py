@@ -24,6 +24,7 @@ from pathlib import Path
 
 import debench.models as models
 from debench.models.errors import ConvergenceError
+from tqdm import tqdm
 
 from debench.threads import limit_threads as limit
 
@@ -103,12 +104,7 @@ def run_tasks(tasks: list[tuple], scheduler=None, progress: bool = True, *,
     if not todo:
         return out
     if scheduler is None:
-        try:
-            from tqdm import tqdm
-        except ImportError:  # pragma: no cover
-            tqdm = None
-        it = tqdm(todo, desc=label, disable=(not progress) or None) if tqdm else todo
-        for i in it:
+        for i in tqdm(todo, desc=label, disable=(not progress) or None):
             fn, *args = tasks[i]
             try:
                 result = fn(*args)
@@ -151,11 +147,7 @@ def _gather(client, tasks, todo, finished, progress, cost, label) -> None:
     from distributed import as_completed
     order = sorted(todo, key=lambda i: -cost(tasks[i]))
     futures = {client.submit(tasks[i][0], *tasks[i][1:], pure=False): i for i in order}
-    try:
-        from tqdm import tqdm
-        bar = tqdm(total=len(todo), desc=f"{label} (dask)", disable=(not progress) or None)
-    except ImportError:  # pragma: no cover
-        bar = None
+    bar = tqdm(total=len(todo), desc=f"{label} (dask)", disable=(not progress) or None)
     for fut in as_completed(futures):
         try:
             result = fut.result()
@@ -163,10 +155,8 @@ def _gather(client, tasks, todo, finished, progress, cost, label) -> None:
             finished(futures[fut], None, exc)
         else:
             finished(futures[fut], result)
-        if bar is not None:
-            bar.update()
-    if bar is not None:
-        bar.close()
+        bar.update()
+    bar.close()
 
 
 class TaskCache:

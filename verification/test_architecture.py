@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import ast
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -213,8 +215,7 @@ HEAVY_PACKAGES = {"ngsolve", "netgen", "pyngcore", "matplotlib", "dask", "distri
 #: debench.reference.cli`` 0.3 s; 1.1 s with their imports at module level, which load
 #: xarray and netCDF4 for every command)
 START_UP = {"debench", "debench.__main__", "debench.reference.cli",
-            "debench.reference.cli_users", "debench.reference.results_files",
-            "debench.reference.regeneration", "debench.reference.builds",
+            "debench.reference.results_files", "debench.reference.builds",
             "debench.threads", "debench.pytest_plugin", "debench.testing"}
 
 
@@ -306,3 +307,14 @@ def test_function_level_imports_are_for_heavy_packages_or_the_start_up():
                     if not heavy:
                         found.append(f"{path.relative_to(ROOT)}:{node.lineno} {name}")
     assert not found, found
+
+
+def test_the_command_start_up_loads_no_heavy_package():
+    """``import debench.reference.cli`` (what every ``debench`` command loads before it
+    parses its arguments, ``debench --help`` included) loads none of
+    :data:`HEAVY_PACKAGES`: a subcommand's module loads what it needs when it runs."""
+    code = ("import sys, debench.reference.cli; "
+            "print(' '.join(sorted({m.split('.')[0] for m in sys.modules})))")
+    loaded = set(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                                check=True).stdout.split())
+    assert loaded & HEAVY_PACKAGES == set()

@@ -444,10 +444,10 @@ def no_catalogue(monkeypatch):
     producers take ~30 s and are tested elsewhere) and the report's consensus of peer
     submissions (it reads the reference datasets, which these tests' data directories do
     not hold): the data handling of the commands is what is tested here."""
-    from debench.reference import catalogue, cli, report
+    from debench.reference import catalogue, cli_reproduction, report
 
     monkeypatch.setattr(catalogue, "evaluate_all", lambda progress=None: [])
-    monkeypatch.setattr(cli, "value_deviations", lambda *a, **k: [], raising=False)
+    monkeypatch.setattr(cli_reproduction, "value_deviations", lambda *a, **k: [])
     monkeypatch.setattr(report, "consensus_section", lambda: [])
 
 

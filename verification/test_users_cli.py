@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from debench.reference import builds, cite, cli, provenance
+from debench.reference import builds, cite, cli, cli_users, provenance
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -91,11 +91,20 @@ def test_usage_and_runtime_errors_have_distinct_codes(capsys, monkeypatch):
     def boom(args):
         raise RuntimeError("solver failed")
 
-    monkeypatch.setattr(cli, "cmd_cite", boom)
+    monkeypatch.setattr(cli_users, "cmd_cite", boom)
     assert cli.main(["cite", "x"]) == 3
     assert "RuntimeError: solver failed" in capsys.readouterr().err
     with pytest.raises(RuntimeError, match="solver failed"):
         cli.main(["cite", "x", "--debug"])  # --debug after the subcommand
+
+
+def test_every_subcommand_has_the_function_that_runs_it():
+    """The command table names each subcommand of the parser once, and each entry names a
+    function of an importable module."""
+    parser = cli.build_parser()
+    [sub] = [a for a in parser._actions if a.dest == "command"]
+    assert set(cli.COMMANDS) == set(sub.choices)
+    assert all(callable(cli.command(name)) for name in cli.COMMANDS)
 
 
 def test_chapter_aliases():

@@ -12,11 +12,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from debench.models import validation as val
+from debench.models.buckling import deflection
 from debench.models.buckling.analytic import critical_voltage_plate
 from debench.models.buckling.critical_result import CriticalVoltage
 from debench.models.buckling.fem import MembraneModel
 from debench.models.buckling.modes import deflection_asymmetry, mode_harmonics
 from debench.models.buckling.parameters import Discretisation, Plate
+from debench.models.buckling.ramp_result import (  # noqa: F401 - southwell: read off a ramp
+    RampResult,
+    southwell,
+)
 from debench.models.errors import ConvergenceError, require
 from debench.models.materials.protocol import IdealDielectricElastomer
 from debench.models.numerics.secants import secant_until
@@ -124,58 +129,6 @@ def _certified_critical(model: MembraneModel, disc: Discretisation, v: float, la
         stats=dict(model.stats))
 
 
-@dataclass(frozen=True)
-class RampResult:
-    """Voltage-controlled ramp of the imperfect film.
-
-    Arrays along the converged path: ``v`` normalised voltage, ``w`` centre deflection of
-    the top surface / t0, ``thickness`` centre thickness / t0, ``e_centre`` normalised
-    true field at the centre, ``e_max`` largest sampled true field, ``w_asym`` and
-    ``n_asym`` the amplitude / t0 and wavenumber of the largest non-axisymmetric harmonic of
-    the deflection on the mid-plane circle r = R/2
-    (:func:`~debench.models.buckling.modes.deflection_asymmetry`).  The path continues a
-    little past the voltage maximum (deflection control).  ``v_pullin``, ``w_pullin``: the
-    limit point (vertex of the parabola v(w) through the three points around the maximum;
-    None if not reached); ``pullin_bracket`` = (largest computed v, v_pullin).
-    What was achieved: ``newton_its`` and ``newton_residual`` (residual norm reached) per
-    point, ``eig_residual`` per eigen-record, the mesh (``ndof``, ``nelements``,
-    ``h_rel``, ``layers``, ``order``) and ``stats`` (timings, factorisations, Newton
-    steps, eigen-analyses).  ``end`` says why the path stopped: ``"v_max"`` (voltage
-    control reached ``v_max``), ``"voltage drop"`` (the voltage fell ``drop`` below its
-    maximum), ``"c_max"``, ``"singular past the limit point"`` (past the maximum the
-    deflection-controlled tangent became singular: a second eigenvalue of the tangent
-    crossed zero, a bifurcation of the controlled path; the maximum is bracketed), or
-    ``"stalled before the limit point"`` (only with ``stop_on_stall``).
-    """
-
-    v: np.ndarray
-    w: np.ndarray
-    w_mid: np.ndarray
-    thickness: np.ndarray
-    e_centre: np.ndarray
-    e_max: np.ndarray
-    newton_its: np.ndarray
-    v_pullin: float | None
-    w_pullin: float | None
-    pullin_bracket: tuple[float, float] | None
-    ndof: int
-    nelements: int
-    stats: dict
-    eig_v: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    eig_w: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    eig_lam: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
-    eig_axisym: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
-    eig_wavenumber: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), np.int64))
-    newton_residual: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    eig_residual: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    w_asym: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    n_asym: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
-    h_rel: float = float("nan")
-    layers: int = 0
-    order: int = 0
-    end: str = ""
-
-
 def voltage_ramp(plate: Plate, mat: IdealDielectricElastomer, disc: Discretisation, *,
                  v_max: float = 1.5, dv0: float = 0.02, dv_max: float = 0.02,
                  dw_max: float = 0.5, inverse: str = "sparsecholesky", reuse: bool = True,
@@ -246,7 +199,7 @@ def voltage_ramp(plate: Plate, mat: IdealDielectricElastomer, disc: Discretisati
 
 class _RampPath:
     """The points of a ramp as they are reached: the recorded quantities per point
-    (``rec``) and the eigen-records (``eig``) of :class:`RampResult`."""
+    (``rec``) and the eigen-records (``eig``) of :class:`~.ramp_result.RampResult`."""
 
     def __init__(self, model: MembraneModel, eig_every: int, progress):
         self.model = model
@@ -292,7 +245,7 @@ class _RampPath:
         eig["n"].append([int(np.argmax(hj)) for hj in harm])
 
     def result(self, v_pull, w_pull, bracket, disc: Discretisation, end: str) -> RampResult:
-        """The :class:`RampResult` of the recorded path."""
+        """The :class:`~.ramp_result.RampResult` of the recorded path."""
         model, eig = self.model, self.eig
         arr = {k: np.array(val) for k, val in self.rec.items()}
         return RampResult(
@@ -358,9 +311,8 @@ def _deflection_control(path: _RampPath, states: list, steps: int, dc, c_max, dr
     ``dc`` (bordered Newton, the voltage an unknown) until the voltage has dropped by
     ``drop`` below its maximum or ``c_max``; ``steps``: those phase 1 took. Returns why
     the path stopped (``RampResult.end``)."""
-    from debench.models.buckling.deflection import control_deflection, newton_deflection
     model, rec, eig_every = path.model, path.rec, path.eig_every
-    c = control_deflection(model)
+    c = deflection.control_deflection(model)
     step = dc
     vmax_seen = model.v
     passed = False
@@ -370,7 +322,7 @@ def _deflection_control(path: _RampPath, states: list, steps: int, dc, c_max, dr
             raise ConvergenceError(f"voltage_ramp: exceeded {max_steps} steps at c={c}")
         x_prev, v_prev = model.state(), model.v
         try:
-            its = newton_deflection(model, c + step).iterations
+            its = deflection.newton_deflection(model, c + step).iterations
         except ConvergenceError:
             model.set_state(x_prev)
             model.set_voltage(v_prev)
@@ -398,9 +350,9 @@ def _deflection_control(path: _RampPath, states: list, steps: int, dc, c_max, dr
 
 
 def _pullin_vertex(rec: dict, end: str):
-    """``(v_pullin, w_pullin, pullin_bracket)`` of :class:`RampResult`: the vertex of the
-    parabola v(w) through the three recorded points around the voltage maximum (None
-    when the maximum is not interior or the path stalled before it)."""
+    """``(v_pullin, w_pullin, pullin_bracket)`` of :class:`~.ramp_result.RampResult`: the
+    vertex of the parabola v(w) through the three recorded points around the voltage
+    maximum (None when the maximum is not interior or the path stalled before it)."""
     vv = np.array(rec["v"])
     k = int(np.argmax(vv))
     if 0 < k < len(vv) - 1 and end != "stalled before the limit point":
@@ -418,25 +370,3 @@ def _past_maximum(v) -> bool:
     v = np.asarray(v)
     k = int(np.argmax(v))
     return 0 < k < v.size - 1 and v[-1] < v[k]
-
-
-def southwell(v: np.ndarray, w_mid: np.ndarray, *, v_guess: float, window=(0.4, 0.9)) -> float:
-    """Critical voltage from the pre-critical ramp by the Southwell plot.
-
-    For an imperfect plate under a load P proportional to v^2 the additional mid-plane
-    deflection is ``d = w_imp P/(P_cr - P)``, so ``d/P = d/P_cr + w_imp/P_cr``: the slope
-    of d/P versus d is 1/P_cr.  ``w_mid`` (mean of top and bottom centre deflections) is
-    free of the symmetric thinning of the film.  Points with
-    ``window[0] < v/v_guess < window[1]`` are fitted.
-    """
-    v = np.asarray(v)
-    d = np.asarray(w_mid)
-    require(len(v) == len(d) and len(v) > 3, "need > 3 ramp points")
-    require(v_guess > 0, f"v_guess must be > 0, got {v_guess}")
-    sel = (v > window[0] * v_guess) & (v < window[1] * v_guess)
-    require(np.count_nonzero(sel) >= 3, f"Southwell window {window} holds < 3 points")
-    P = v[sel] ** 2
-    slope, _ = np.polyfit(d[sel], d[sel] / P, 1)
-    if not slope > 0:
-        raise ConvergenceError(f"Southwell fit has non-positive slope {slope}")
-    return float(math.sqrt(1.0 / slope))

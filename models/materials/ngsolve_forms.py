@@ -51,6 +51,7 @@ import numpy as np
 from debench.models.materials import energies as E
 from debench.models.materials.constants import OGDEN_DELTA
 from debench.models.materials.library import OgdenIdealDielectric
+from netgen.csg import unit_cube
 
 
 def _vector(values):
@@ -313,8 +314,6 @@ class _Evaluator:
     """Parameters + symbolic derivatives built once per material (cheap re-evaluation)."""
 
     def __init__(self, material):
-        from netgen.csg import unit_cube
-
         self._mesh = ng.Mesh(unit_cube.GenerateMesh(maxh=1.0))  # only to host a point
         self.Fp = [ng.Parameter(0.0) for _ in range(9)]
         self.Dp = [ng.Parameter(0.0) for _ in range(3)]

@@ -28,6 +28,7 @@ import numpy as np
 import xarray as xr
 from debench.models.buckling import analytic
 from debench.models.buckling.parameters import MU_REF, Plate
+from debench.models.buckling.ramp_result import RampResult, southwell
 from debench.models.errors import ConvergenceError
 from debench.models.materials.constants import OGDEN_DELTA
 from debench.models.numerics import convergence_fit, level_fit, reference_fit
@@ -91,9 +92,8 @@ def _run_plan(full: bool, scheduler, progress: bool) -> dict:
 
 
 def _ramp_results(done: dict, full: bool) -> dict:
-    """The ramps of the plan as :class:`~debench.models.buckling.solver.RampResult`,
+    """The ramps of the plan as :class:`~debench.models.buckling.ramp_result.RampResult`,
     ``{(case, h): ramp}`` (scale copies read the case they copy)."""
-    from debench.models.buckling.solver import RampResult
     return {(c, h): RampResult(**dict(done[(ramp_task, _source(c), h, EIG_EVERY, RAMP_DV_MAX,
                                             RAMP_LAYERS)]))
             for c in CASES for h in RAMP_LEVELS[full]}
@@ -138,7 +138,6 @@ def _case_estimates(seq: dict, done: dict, ramps: dict, full: bool) -> dict[str,
     """Per case: the in-plane mesh limit (:func:`reference_fit` at the expected order, and
     a free-rate fit), the through-thickness limit (a fit in 1/layers), their sum (the
     reference), the plate-theory estimates and the Southwell estimate from the finest ramp."""
-    from debench.models.buckling.solver import southwell
     levels, lay = np.array(LEVELS[full]), LAYERS[full]
     layer_counts = LAYER_STUDY[full][1]
     finest_ramp = RAMP_LEVELS[full][-1]

@@ -36,6 +36,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 from debench.models.buckling.parameters import Plate
+from debench.models.buckling.ramp_result import RampResult
 from debench.reference.builders.ch5 import draw_from_curated, not_recomputed_line
 from debench.reference.builders.ch5_wrinkling import _pad
 from debench.reference.datasets import DatasetError, read_dataset, variable_attrs, write_dataset
@@ -72,8 +73,6 @@ def not_recomputed(full: bool) -> str | None:
 
 
 def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dataset:
-    from debench.models.buckling.solver import RampResult
-
     levels = LEVELS[full]
     todo = [(study.imperfect_path_task, h, amp) for h in levels for amp in AMPLITUDES]
     ramps = [RampResult(**d) for d in run_tasks(todo, scheduler=scheduler, progress=progress)]

@@ -34,6 +34,7 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from debench.models.buckling.ramp_result import RampResult
 from debench.reference.builders.ch5 import draw_from_curated, not_recomputed_line
 from debench.reference.datasets import variable_attrs, write_dataset
 from debench.reference.figures import footnote, pyplot, save
@@ -103,8 +104,6 @@ def _pad(rows, width, fill=np.nan):
 
 
 def compute(full: bool = False, progress: bool = True, scheduler=None) -> xr.Dataset:
-    from debench.models.buckling.solver import RampResult
-
     levels = LEVELS[full]
     tasks = [(wrinkling_task, h, EIG_EVERY) for h in levels]
     ramps = [RampResult(**d) for d in run_tasks(tasks, scheduler=scheduler, progress=progress)]

@@ -428,20 +428,19 @@ def axisym_coarse_guards() -> list:
     v_cr: a change of the model (a modulus, the energy, the discretisation) moves the
     reported value itself, while the correction, a difference of two discretisations of the
     same model, moves by a second-order amount."""
-    from debench.models.buckling.axisym import AxisymDiscretisation
-    from debench.models.buckling.axisym import critical_voltage as axisym_critical_voltage_of
+    from debench.models.buckling import axisym as ax
 
     ds = _axisym()
     par = dataset_parameters(ds)
     p, L = int(par["guard_order"]), int(par["guard_layers"])
-    disc = AxisymDiscretisation(order=p, edge_layers=L, face_layers=L, n_r=int(par["n_r"]),
-                                n_z=int(par["n_z"]), edge_zone=float(par["edge_zone"]),
-                                grading=float(par["grading"]))
+    disc = ax.AxisymDiscretisation(order=p, edge_layers=L, face_layers=L, n_r=int(par["n_r"]),
+                                   n_z=int(par["n_z"]), edge_zone=float(par["edge_zone"]),
+                                   grading=float(par["grading"]))
     plate = Plate(thickness=float(par["thickness_m"]), aspect=float(par["aspect"]))
     out = []
     for case in ds.case.values:
         case = str(case)
-        r = axisym_critical_voltage_of(plate, case_material(case), disc, n=0)
+        r = ax.critical_voltage(plate, case_material(case), disc, n=0)
         c = ds.sel(case=case, n=0)
         stored = float(c.v_cr_guard)
         tol = float(c.v_cr_guard.attrs["accuracy_atol"])

@@ -176,11 +176,9 @@ def interface_balance(lamP: float, lam: float, meshes) -> dict:
     The FE imposes neither (3.31) nor (3.32); continuity of r gives (3.31), and the jump
     ``T1^(A) - T1^(B)`` measures (3.32). Returns the jumps, T1^(B), the fitted order of the
     jump in 1/n_b and the homogeneity of circle A (max |lambda1 - lambda2|/lam inside A)."""
-    from debench.models.circular.fe import CircularFE, FEMesh
-
     jumps, T1B, nb, homog = [], [], [], []
     for m in meshes:
-        model = CircularFE(lamP, 0.0, mesh=FEMesh(**m))
+        model = _fe(lamP, 0.0, m)
         s = model.solve(lam)
         jumps.append(s.T1A - s.T1B)
         T1B.append(s.T1B)
