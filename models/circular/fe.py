@@ -137,8 +137,9 @@ class CircularFE(BorderedContinuation):
         neither is given).
     elastomer
         Any library material instead of Gent (give ``Jm`` or ``elastomer``, not both): its
-        strain energy on ``J = 1`` (:class:`~debench.models.materials.membrane.
-        ElastomerMembrane`) per unit its shear modulus is ``Ws/mu``; its permittivity is
+        strain energy on ``J = 1``
+        (:class:`~debench.models.materials.membrane.ElastomerMembrane`) per unit its shear
+        modulus is ``Ws/mu``; its permittivity is
         not used (the membrane's is (3.27) with ``c``).
     mesh
         :class:`FEMesh`.

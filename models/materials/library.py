@@ -25,10 +25,11 @@ derivatives), as printed in the thesis.
 Each energy ``W`` is the one expression of :mod:`debench.models.materials.energies`
 (evaluated here with numpy, by NGSolve in :mod:`debench.models.materials.ngsolve_forms`).
 The stress and moduli of the invariant-based materials come from that expression, by
-second-order forward differentiation (:func:`~debench.models.materials.jet.
-expression_response`); their hand-written ``W_n``, ``W_mn`` are the independent check
-(``invariant_response``, compared in the tests, and NGSolve's symbolic derivatives of the
-same expressions). Ogden's stress and moduli are the spectral formula of the kernel.
+second-order forward differentiation
+(:func:`~debench.models.materials.jet.expression_response`); their hand-written ``W_n``,
+``W_mn`` are the independent check (``invariant_response``, compared in the tests, and
+NGSolve's symbolic derivatives of the same expressions). Ogden's stress and moduli are
+the spectral formula of the kernel.
 
 Units: SI (Pa, F/m, C/m^2) or any consistent non-dimensional set.
 """
@@ -87,9 +88,10 @@ def _invariant_vector(I) -> np.ndarray:
 
 class _InvariantMaterial(Material):
     """Mixin: an invariant-based energy. ``energy`` evaluates its one expression and
-    ``response`` differentiates it (:func:`~debench.models.materials.jet.
-    expression_response`); ``invariant_response`` is the same response by the hand-written
-    ``invariant_derivatives`` and the chain rule (2.68)-(2.70) of the kernel, the check."""
+    ``response`` differentiates it
+    (:func:`~debench.models.materials.jet.expression_response`); ``invariant_response``
+    is the same response by the hand-written ``invariant_derivatives`` and the chain rule
+    (2.68)-(2.70) of the kernel, the check."""
 
     def _state(self, F, D_L):
         self.check_admissible(F, D_L)

@@ -77,8 +77,9 @@ class RootResult:
     changes sign (None when the method saw none: a secant that converged on one side);
     ``error`` what the root is certified to: the bracket's width, or for the secant
     without a bracket the size of its last step (an estimate, not a bound); ``method``
-    the method's name; ``next_iterate`` the step :func:`secant_until` stopped before
-    evaluating (None for the other methods)."""
+    the method's name; ``next_iterate`` the step
+    :func:`~debench.models.numerics.secants.secant_until` stopped before evaluating (None
+    for the other methods)."""
 
     root: float | np.ndarray
     iterations: int
