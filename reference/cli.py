@@ -60,7 +60,7 @@ COMMANDS = {
     "problems": "debench.reference.cli_users:cmd_problems",
     "check": "debench.reference.cli_users:cmd_check",
     "orders": "debench.reference.mms_check:cmd_orders",
-    "cite": "debench.reference.cli_users:cmd_cite_naming_others",
+    "cite": "debench.reference.cli_cite:cmd_cite_naming_others",
 }
 
 

@@ -1,15 +1,13 @@
 """The users' subcommands of ``debench`` (:mod:`debench.reference.cli`): ``problems``
-(list the reference problems or print one), ``check`` (a results file or a submission
-folder against a problem's reference) and ``cite``."""
+(list the reference problems or print one) and ``check`` (a results file or a submission
+folder against a problem's reference); ``cite`` is :mod:`debench.reference.cli_cite`."""
 
 from __future__ import annotations
 
 import json
-import sys
 from pathlib import Path
 
 from debench.reference import (
-    cite,
     confirmations,
     consensus,
     mms_check,
@@ -202,22 +200,3 @@ def cmd_check(args) -> int:
             print(item.by_curve(q.along))
         print(item.table())
     return EXIT_OK if result.passed else EXIT_FAILED
-
-
-def cmd_cite(args) -> int:
-    try:
-        print(cite.render(args.id, args.format))
-    except ValueError as exc:
-        raise UsageError(str(exc)) from None
-    return 0
-
-
-def cmd_cite_naming_others(args) -> int:
-    """``debench cite``: the citation on stdout and, when the id names more than one thing
-    (a problem and a dataset of the same name), which one was cited and how to cite the
-    other on stderr (:func:`debench.reference.cite.ambiguity`)."""
-    code = cmd_cite(args)
-    note = cite.ambiguity(args.id)
-    if note:
-        print(f"debench: note: {note}", file=sys.stderr)
-    return code

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from debench.reference import builds, cite, cli, cli_users, provenance
+from debench.reference import builds, cite, cli, cli_cite, provenance
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -91,7 +91,7 @@ def test_usage_and_runtime_errors_have_distinct_codes(capsys, monkeypatch):
     def boom(args):
         raise RuntimeError("solver failed")
 
-    monkeypatch.setattr(cli_users, "cmd_cite", boom)
+    monkeypatch.setattr(cli_cite, "cmd_cite", boom)
     assert cli.main(["cite", "x"]) == 3
     assert "RuntimeError: solver failed" in capsys.readouterr().err
     with pytest.raises(RuntimeError, match="solver failed"):
