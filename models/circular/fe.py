@@ -59,7 +59,6 @@ from debench.models import validation as v
 from debench.models.errors import ConvergenceError
 from debench.models.materials import energies as E
 from debench.models.materials import ngsolve_forms as ngf
-from debench.models.materials.library import GentIdealDielectric
 from debench.models.materials.membrane import ElastomerMembrane, ZhaoSuoPermittivity
 from debench.models.materials.protocol import Material
 from debench.models.numerics.roots import bracketed_root
@@ -68,7 +67,7 @@ from netgen.meshing import Mesh as NetgenMesh
 from scipy.optimize import minimize_scalar
 
 from .fe_continuation import LAM_STEP, BorderedContinuation
-from .params import JM_VHB
+from .params import film_elastomer
 
 #: the minimum of dPhibar^2/dlam (suppression search) is located to this in lam: at a
 #: smooth minimum the value is then exact to ~(d3/dlam3) xtol^2 ~ 1e-12, far below the
@@ -158,11 +157,7 @@ class CircularFE(BorderedContinuation):
         self.radius_ratio = v.positive("radius_ratio", radius_ratio)
         if not (self.radius_ratio > 1 and math.isfinite(self.radius_ratio)):
             raise ValueError(f"radius_ratio RB/RA must be finite and > 1, got {radius_ratio}")
-        if elastomer is None:
-            elastomer = GentIdealDielectric(mu=1.0, Jm=v.positive(
-                "Jm", JM_VHB if Jm is None else Jm), eps=1.0)
-        elif Jm is not None:
-            raise ValueError("give Jm (the Gent elastomer's) or elastomer, not both")
+        elastomer = film_elastomer(self.lamP, Jm, elastomer)
         if not 1 + self.c * (2 * self.lamP - 2) > 0:
             raise ValueError(f"c = {self.c} makes the permittivity (3.27) non-positive at "
                              f"lamP = {self.lamP}: need 1 + c(2 lamP - 2) > 0")
@@ -171,11 +166,6 @@ class CircularFE(BorderedContinuation):
         #: shear modulus) with eps_bar = 1, so that I4 = Phibar^2
         self.material = ElastomerMembrane(
             elastomer, permittivity=ZhaoSuoPermittivity(eps_bar=1.0, c=self.c))
-        try:
-            self.material.stretching_energy(self.lamP, self.lamP)
-        except ValueError as e:
-            raise ValueError(f"lamP = {self.lamP:.6g}: the pre-stretched film is not an "
-                             f"admissible state of the elastomer ({e})") from e
         ng.SetNumThreads(1)
         self._build()
         self._states: list[FEState] = [self._reference_state()]

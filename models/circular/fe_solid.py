@@ -101,13 +101,12 @@ import scipy.sparse as sp
 from debench.models import validation as v
 from debench.models.materials import energies as E
 from debench.models.materials import ngsolve_forms as forms
-from debench.models.materials.library import GentIdealDielectric
 from debench.models.materials.protocol import Material
 from netgen.meshing import Element1D, Element2D, MeshPoint, Pnt
 from netgen.meshing import Mesh as NetgenMesh
 
 from .fe_continuation import LAM_STEP, BorderedContinuation
-from .params import JM_VHB
+from .params import film_elastomer
 
 #: augmented-Lagrangian factor kappa/mu of the consistent term kappa/2 (J - 1)^2 (zero with
 #: its derivative at J = 1): the Q2/Q1 multiplier enforces J = 1 only weakly, and at fixed
@@ -235,20 +234,9 @@ class CircularSolidFE(BorderedContinuation):
         self.radius_ratio = v.positive("radius_ratio", radius_ratio)
         if not (self.radius_ratio > 1 and math.isfinite(self.radius_ratio)):
             raise ValueError(f"radius_ratio RB/RA must be finite and > 1, got {radius_ratio}")
-        if elastomer is None:
-            elastomer = GentIdealDielectric(mu=1.0, Jm=v.positive(
-                "Jm", JM_VHB if Jm is None else Jm), eps=1.0)
-        elif Jm is not None:
-            raise ValueError("give Jm (the Gent elastomer's) or elastomer, not both")
-        self.elastomer = elastomer
-        lP = self.lamP
+        self.elastomer = film_elastomer(self.lamP, Jm, elastomer)
         #: the pre-stretched film in (R, Z, theta)
-        self._F0 = np.diag([lP, lP**-2, lP])
-        try:
-            elastomer.check_admissible(self._F0)
-        except ValueError as e:
-            raise ValueError(f"lamP = {lP:.6g}: the pre-stretched film is not an "
-                             f"admissible state of the elastomer ({e})") from e
+        self._F0 = np.diag([self.lamP, self.lamP**-2, self.lamP])
         if not 1 + self.c * (2 * self.lamP - 2) > 0:
             raise ValueError(f"c = {self.c} makes the permittivity (3.27) non-positive at "
                              f"lamP = {self.lamP}: need 1 + c(2 lamP - 2) > 0")

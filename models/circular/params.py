@@ -13,6 +13,7 @@ import math
 import numbers
 from dataclasses import dataclass
 
+import numpy as np
 from debench.models import validation as v
 from debench.models.errors import require
 from debench.models.materials import constants
@@ -21,6 +22,8 @@ from debench.models.materials.constants import (
     VHB_GENT_JM,
     VHB_SHEAR_MODULUS,
 )
+from debench.models.materials.library import GentIdealDielectric
+from debench.models.materials.protocol import Material
 
 MU_VHB = VHB_SHEAR_MODULUS  # Pa, shear modulus, Sec. 3.3.3
 JM_VHB = VHB_GENT_JM        # Gent locking parameter, Sec. 3.3.3
@@ -158,3 +161,26 @@ def locking_stretch_equibiaxial(Jm: float) -> float:
         else:
             lo = mid
     return 0.5 * (lo + hi)
+
+
+def film_elastomer(lamP: float, Jm: float | None, elastomer: Material | None) -> Material:
+    """The elastomer of a Chapter 3 finite-element model: ``elastomer``, or the Gent
+    (3.23) of ``Jm`` (``JM_VHB`` when neither is given) in units mu = 1; ValueError when
+    both are given, or when the film pre-stretched by ``lamP`` is not an admissible state
+    of it (past a Gent lock) or ``lamP < 1``."""
+    lamP = v.at_least("lamP", lamP, 1.0)
+    if elastomer is None:
+        elastomer = GentIdealDielectric(mu=1.0, Jm=v.positive(
+            "Jm", JM_VHB if Jm is None else Jm), eps=1.0)
+    elif Jm is not None:
+        raise ValueError("give Jm (the Gent elastomer's) or elastomer, not both")
+    elif not all(callable(getattr(elastomer, name, None))
+                 for name in ("mechanical_energy", "response", "check_admissible")):
+        raise TypeError(f"elastomer must be a library material, got "
+                        f"{type(elastomer).__name__} {elastomer!r:.40}")
+    try:
+        elastomer.check_admissible(np.diag([lamP, lamP, lamP**-2]))
+    except ValueError as e:
+        raise ValueError(f"lamP = {lamP:.6g}: the pre-stretched film is not an admissible "
+                         f"state of the elastomer ({e})") from e
+    return elastomer

@@ -232,12 +232,9 @@ class ElastomerMembrane:
     permittivity: ZhaoSuoPermittivity | JimenezMcMeekingPermittivity = ZhaoSuoPermittivity()
 
     def __post_init__(self):
-        if not all(callable(getattr(self.elastomer, name, None))
-                   for name in ("mechanical_energy", "response", "check_admissible")):
-            raise TypeError(f"elastomer must be a library material, got "
-                            f"{type(self.elastomer).__name__} {self.elastomer!r:.40}")
-        # a compressible elastomer enters in its incompressible limit
-        if not self.elastomer.incompressible:
+        # a compressible elastomer enters in its incompressible limit (which refuses
+        # anything that is not a library material)
+        if not getattr(self.elastomer, "incompressible", False):
             object.__setattr__(self, "elastomer", IncompressibleLimit(self.elastomer))
         v.instance("permittivity", self.permittivity,
                    (ZhaoSuoPermittivity, JimenezMcMeekingPermittivity))

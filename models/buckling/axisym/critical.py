@@ -118,11 +118,14 @@ class _FlatFilm:
 
     def __init__(self, model: AxisymModel, n: int, tangent: str):
         self.model, self.n, self.tangent = model, n, tangent
-        self.history: list[tuple[float, float]] = []
         self.xs: list[float] = []
         self.fs: list[float] = []
         self.reasons: list[str] = []
         self.last: dict = {}
+
+    @property
+    def history(self) -> list[tuple[float, float]]:
+        return [(math.sqrt(x), f) for x, f in zip(self.xs, self.fs, strict=True)]
 
     def __call__(self, x: float) -> float:
         # each trial voltage from the undeformed film: continuing from the previous state
@@ -134,7 +137,6 @@ class _FlatFilm:
         model.set_voltage(math.sqrt(x))
         model.newton()
         spec = model.spectrum(self.n, nev=1, tangent=self.tangent)
-        self.history.append((math.sqrt(x), float(spec.lam[0])))
         self.xs.append(x)
         self.fs.append(float(spec.lam[0]))
         self.reasons.append(model.last_newton.reason)
