@@ -177,12 +177,12 @@ def test_thin_solid_guard_sees_a_1_percent_change_of_the_gent_locking_parameter(
     1 % the guard leaves the stored values; unchanged, it stays inside."""
     import functools
 
-    from debench.models.circular import fe_solid
+    from debench.models.circular import fe_solid, params
     from debench.reference.producers.ch3_fe import thickness_guards
 
     stored = values.read_store()
     assert values.check(thickness_guards(), stored, complete=False) == []
-    jm = fe_solid.JM_VHB
+    jm = params.JM_VHB
     monkeypatch.setattr(fe_solid, "CircularSolidFE", functools.partial(
         fe_solid.CircularSolidFE, Jm=1.01 * jm))
     moved = {d.key for d in values.check(thickness_guards(), stored, complete=False)}
