@@ -209,19 +209,48 @@ def _announce(chapter: str, full: bool, out: Path) -> None:
 
 
 def build_serially(chapters: list[str], out: Path, full: bool,
-                    scheduler: str | None) -> dict[str, list[Path]]:
-    """Build ``chapters`` one after the other in this process (``--jobs 1``)."""
+                   scheduler: str | None) -> tuple[dict[str, list[Path]], dict[str, float]]:
+    """Build ``chapters`` one after the other in this process (``--jobs 1``): the files
+    each wrote and the CPU seconds of each build."""
     written: dict[str, list[Path]] = {}
+    cpu: dict[str, float] = {}
     for chapter in chapters:
         mod = builder(chapter)
         if mod is None:
             print(f"{chapter}: no builder yet (pending)", file=sys.stderr)
             continue
         _announce(chapter, full, out)
+        cpu0 = _process_cpu()
         written[chapter] = list(mod.build(out, full=full, **_scheduler_option(mod, scheduler)))
+        cpu[chapter] = _process_cpu() - cpu0
         for p in written[chapter]:
             print(f"  wrote {p}", file=sys.stderr)
-    return written
+    return written, cpu
+
+
+STALE_RATIO = 2.0
+"""A default build whose measured CPU seconds differ from its declared ``BUILD_CPU_S`` by
+more than this factor (either way) is reported: the pool's longest-first order and the
+guards' budget read the declarations. Two, because one build's CPU varies with the machine
+and its load (two pool processes on two hyperthreads of one core take ~1.7x the CPU of one,
+measured)."""
+STALE_MIN_S = 5.0
+"""Builds below this many CPU seconds, declared and measured, are not reported (their
+order in the pool does not matter)."""
+
+
+def stale_declarations(cpu: dict[str, float]) -> list[str]:
+    """One line per default build of ``cpu`` (chapter -> measured CPU seconds) whose
+    declared ``BUILD_CPU_S`` is stale (:data:`STALE_RATIO`, :data:`STALE_MIN_S`)."""
+    lines = []
+    for chapter, measured in cpu.items():
+        declared = properties(chapter).cpu_s
+        if max(measured, declared) < STALE_MIN_S:
+            continue
+        if not declared / STALE_RATIO <= measured <= declared * STALE_RATIO:
+            lines.append(f"{chapter}: the default build took {measured:.0f} s CPU, its "
+                         f"BUILD_CPU_S declares {declared:g} s: update the declaration")
+    return lines
 
 
 def stop_pool(executor) -> None:
@@ -234,9 +263,10 @@ def stop_pool(executor) -> None:
 
 
 def build_concurrently(chapters: list[str], out: Path, full: bool, scheduler: str | None,
-                        jobs: int) -> dict[str, list[Path]]:
+                        jobs: int) -> tuple[dict[str, list[Path]], dict[str, float]]:
     """Build ``chapters`` in a pool of ``jobs`` processes, longest first (each builder's
-    declared ``BUILD_CPU_S``, :func:`properties`).
+    declared ``BUILD_CPU_S``, :func:`properties`): the files each wrote and the CPU seconds
+    of each build (its pool process's).
 
     Each chapter's output is printed together when it finishes (a progress line per chapter
     on a terminal). Builders that run their own FE tasks run them serially in their pool
@@ -248,6 +278,7 @@ def build_concurrently(chapters: list[str], out: Path, full: bool, scheduler: st
     order = sorted(chapters, key=lambda c: -cost[c])
     started = time.monotonic()
     written: dict[str, list[Path]] = {}
+    cpu: dict[str, float] = {}
     tty = sys.stderr.isatty()
     executor = ProcessPoolExecutor(max_workers=min(jobs, len(order)), mp_context=pool_context(),
                                    initializer=init_pool_process)
@@ -266,6 +297,7 @@ def build_concurrently(chapters: list[str], out: Path, full: bool, scheduler: st
                 raise built.error from ChapterTraceback(
                     f"{built.chapter} failed in a pool process:\n{built.traceback}")
             written[built.chapter] = built.paths
+            cpu[built.chapter] = built.cpu
             for p in built.paths:
                 print(f"  wrote {p}", file=sys.stderr)
             if tty:
@@ -278,7 +310,7 @@ def build_concurrently(chapters: list[str], out: Path, full: bool, scheduler: st
         stop_pool(executor)
         raise
     executor.shutdown(wait=True)
-    return {c: written[c] for c in chapters if c in written}
+    return {c: written[c] for c in chapters if c in written}, cpu
 
 
 def not_recomputed(chapters, full: bool) -> list[str]:

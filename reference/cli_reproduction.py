@@ -70,9 +70,9 @@ def cmd_reproduce(args) -> int:
     # from the one catalogue evaluation of the command
     builders = [c for c in chapters if c != "catalogue"]
     if jobs > 1 and len(builders) > 1:
-        by_chapter = builds.build_concurrently(builders, out, args.full, scheduler, jobs)
+        by_chapter, cpu = builds.build_concurrently(builders, out, args.full, scheduler, jobs)
     else:
-        by_chapter = builds.build_serially(builders, out, args.full, scheduler)
+        by_chapter, cpu = builds.build_serially(builders, out, args.full, scheduler)
     if "catalogue" in chapters:
         # the model guards beside the catalogue evaluation (in a pool unless this process
         # built a chapter itself: no fork after FE work in it)
@@ -93,6 +93,9 @@ def cmd_reproduce(args) -> int:
             print(f"  {line}", file=sys.stderr)
     path = report.write_report(Path(args.out), results, regeneration=compared,
                                figures_dir=report.report_figures(out / "figures"))
+    if not args.full:
+        for line in builds.stale_declarations(cpu):
+            print(f"  {line}", file=sys.stderr)
     print(f"report: {path}  ({report_tables.summary_line(results)})")
     print(f"reproduce: {', '.join(chapters)}: wrote {len(written)} file(s) "
           f"({sum(p.suffix == '.nc' for p in written)} datasets) to {out.resolve()}, report "

@@ -62,3 +62,17 @@ def test_a_builder_without_its_properties_is_refused_naming_the_attribute(
     monkeypatch.setattr(builds, "builder", lambda chapter: SimpleNamespace(build=None, **attrs))
     with pytest.raises(ValueError, match=f"builder 'stub': {named}"):
         builds.properties("stub")
+
+
+def test_a_stale_cpu_declaration_is_reported(monkeypatch):
+    """``debench reproduce`` names a default build whose measured CPU lies outside
+    ``STALE_RATIO`` of its declaration, either way, and only builds that matter for the
+    pool's order (at least ``STALE_MIN_S`` declared or measured)."""
+    declared = {"slow": 10.0, "fast": 10.0, "ok": 10.0, "tiny": 1.0}
+    monkeypatch.setattr(builds, "properties", lambda c: builds.BuildProperties(
+        declared[c], False, {}))
+    r = builds.STALE_RATIO
+    lines = builds.stale_declarations({"slow": 10.0 * r * 1.01, "fast": 10.0 / r / 1.01,
+                                       "ok": 10.0 * r * 0.99, "tiny": 4.0})
+    assert [line.split(":")[0] for line in lines] == ["slow", "fast"]
+    assert "BUILD_CPU_S declares 10 s" in lines[0]
