@@ -35,7 +35,7 @@ CRITICAL_N_R = 10
 
 CRITICAL = {
     False: {"cases": ("nh_t1", "ogden_t1"), "wavenumbers": (0, 1),
-            "orders": (3, 4), "layers": (4, 6)},
+            "orders": (3, 4), "layers": (3, 4)},
     True: {"cases": ("nh_t1", "ogden_t1"), "wavenumbers": (0, 1),
            "orders": (4, 5, 6), "layers": (6, 8)},
 }
