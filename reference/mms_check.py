@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 from debench.models import validation as val
+from debench.models.numerics import loglog_order
 from debench.reference.results_files import UsageError
 
 ORDER_ATOL = 0.1
@@ -121,7 +122,7 @@ def fit_order(h=None, errors=None, *, ndof=None, dim=None,
     if np.any(np.diff(hs) <= 0):
         raise ValueError(f"mesh sizes must be distinct, got {hs.tolist()}")
     x, y = np.log(hs), np.log(es)
-    slope, icept = np.polyfit(x, y, 1)
+    slope, icept = loglog_order(hs, es)
     local = tuple(float(v) for v in np.diff(y) / np.diff(x))
     misfit = float(np.max(np.abs(y - (slope * x + icept))))
     return OrderFit(order=float(slope), levels=int(finest), local=local[::-1], misfit=misfit)

@@ -41,6 +41,7 @@ from debench.models.numerics.convergence import (
     GCI_SAFETY_OBSERVED,
     GCI_SAFETY_THEORETICAL,
     SECOND_EXPONENTS,
+    loglog_order,
 )
 from debench.models.numerics.roots import SCAN_METHODS
 
@@ -658,6 +659,29 @@ def test_two_term_limits_refuse_too_few_or_mismatched_levels():
 # ---------------------------------------------------------- p- and grading-sequences
 #: a plan of three orders at the finest grading and a coarser grading at the top order
 PG_PLAN = ((2, 6), (3, 6), (4, 6), (4, 4))
+
+
+@pytest.mark.parametrize("h", [[0.4, 0.2, 0.1, 0.05], [3.0, 1.7, 1.1]])
+@pytest.mark.parametrize("order", [-2.0, 1.0, 2.5])
+def test_loglog_order_recovers_the_order_of_a_power_law(h, order):
+    """On exact power laws ``e = C h^p`` (either sign of C) the slope and intercept are
+    exact to round-off."""
+    h = np.asarray(h)
+    for c in (3.0, -0.02):
+        fit = loglog_order(h, c * h**order)
+        # 1e-12: the least-squares slope of exact data, round-off of logs of O(1) numbers
+        assert fit.order == pytest.approx(order, abs=1e-12)
+        assert fit.intercept == pytest.approx(math.log(abs(c)), abs=1e-12)
+
+
+@pytest.mark.parametrize(("h", "e", "named"), [
+    ([0.1], [1e-3], "h and e"), ([0.1, 0.2], [1e-3], "h and e"),
+    ([0.1, -0.2], [1e-3, 2e-3], "h must"), ([0.1, 0.1], [1e-3, 2e-3], "distinct"),
+    ([0.1, 0.2], [0.0, 2e-3], "e must"), ([0.1, 0.2], [np.nan, 2e-3], "e must"),
+    ([0.1, np.inf], [1e-3, 2e-3], "h must")])
+def test_loglog_order_refuses_what_it_cannot_fit(h, e, named):
+    with pytest.raises(ValueError, match=named):
+        loglog_order(h, e)
 
 
 def test_p_grading_estimate_takes_the_top_discretisation_and_both_changes():

@@ -12,6 +12,7 @@ functions with known roots through every root finder.
 from debench.models.numerics.convergence import (
     GCI,
     LimitFit,
+    LogLogFit,
     PGradingEstimate,
     ThreePointFit,
     asymptotic_fit,
@@ -19,6 +20,7 @@ from debench.models.numerics.convergence import (
     gci,
     gci_safety,
     level_fit,
+    loglog_order,
     p_grading_estimate,
     p_grading_safety,
     propagated_accuracy,
@@ -57,6 +59,7 @@ from debench.models.numerics.secants import secant_until, secant_zero
 __all__ = [
     "GCI",
     "LimitFit",
+    "LogLogFit",
     "Memo",
     "NewtonResult",
     "PGradingEstimate",
@@ -74,6 +77,7 @@ __all__ = [
     "grid_brackets",
     "grid_samples",
     "level_fit",
+    "loglog_order",
     "p_grading_estimate",
     "p_grading_safety",
     "propagated_accuracy",

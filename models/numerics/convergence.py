@@ -17,7 +17,9 @@ estimate, and Roache's grid convergence index.
   and the last grading change;
 * :func:`propagated_accuracy` -- how far a derived value moves when its inputs move;
 * :func:`two_term_limits` -- the limits of two-term expansions ``v_inf + C1 h^q1 + C2 h^q``
-  over a range of second exponents q: what a single-term fit's assumption costs.
+  over a range of second exponents q: what a single-term fit's assumption costs;
+* :func:`loglog_order` -- the observed order of errors ``e(h) ~ C h^p`` of known size (or
+  of remainders, jumps): the least-squares slope of log|e| against log h.
 
 The fits return :class:`LimitFit` (:func:`richardson`: :class:`ThreePointFit`;
 :func:`gci`: :class:`GCI`; :func:`p_grading_estimate`: :class:`PGradingEstimate`), which
@@ -456,3 +458,29 @@ def two_term_limits(h, v, q1: float, correction: float = 0.0) -> dict[float, flo
         A = np.column_stack([np.ones_like(h), h**q1, h**q])
         out[q] = float(np.linalg.lstsq(A, v, rcond=None)[0][0]) + correction
     return out
+
+
+class LogLogFit(NamedTuple):
+    """The least-squares line ``log|e| = order log h + intercept`` (:func:`loglog_order`)."""
+
+    order: float
+    intercept: float
+
+
+def loglog_order(h, e) -> LogLogFit:
+    """The observed order of a sequence of errors ``e(h) ~ C h^p`` (``e`` known: the
+    difference from an exact or reference value, a remainder, a jump): the least-squares
+    slope of ``log|e|`` against ``log h`` over every level, and its intercept. ``h`` may
+    be any positive parameter (an element count gives minus the order). ValueError naming
+    the argument when ``h`` and ``e`` are not 1D of one length >= 2, ``h`` is not finite
+    and > 0 with distinct values, or an error is zero or not finite."""
+    h, e = np.asarray(h, float), np.asarray(e, float)
+    require(h.shape == e.shape and h.ndim == 1 and h.size >= 2,
+            f"h and e must be 1D of one length >= 2, got shapes {h.shape} and {e.shape}")
+    require(bool(np.all(np.isfinite(h)) and np.all(h > 0)),
+            f"h must be finite and > 0, got {h.tolist()}")
+    require(np.unique(h).size == h.size, f"h must be distinct, got {h.tolist()}")
+    require(bool(np.all(np.isfinite(e)) and np.all(e != 0)),
+            f"e must be finite and nonzero (log-log fit), got {e.tolist()}")
+    slope, intercept = np.polyfit(np.log(h), np.log(np.abs(e)), 1)
+    return LogLogFit(float(slope), float(intercept))

@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from debench.models.numerics import loglog_order
 from debench.models.plate import strip_fe
 from debench.reference.datasets import variable_attrs as _attrs
 from debench.reference.datasets import write_dataset
@@ -117,8 +118,7 @@ def convergence_dataset(done: dict | None = None) -> tuple[xr.Dataset, dict]:
         for lv in levels:
             err[i, lv] = next(res)[0].diff
             h[i, lv] = 1 / strip_fe.default_mesh(case[2], level=int(lv)).nx
-        orders[f"kH={case[2]:g} {par}"] = float(np.polyfit(np.log(h[i]),
-                                                           np.log(np.abs(err[i])), 1)[0])
+        orders[f"kH={case[2]:g} {par}"] = loglog_order(h[i], err[i]).order
     ds = xr.Dataset(
         {"error": (("case", "level"), err, _attrs(
             "lam_FE - lam_det", accuracy_rtol=0.0, accuracy_atol=ERROR_ATOL,

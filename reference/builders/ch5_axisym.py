@@ -26,10 +26,10 @@ grading towards the rim and its clamped corners (``edge_layers = face_layers = L
 Plans (:data:`~debench.reference.studies.ch5_axisym.CRITICAL`): default orders 3, 4 and
 layers 3, 4 (measured: 78 s of CPU in the solves at load 6 on the 2-core machine; error
 estimates 1.2e-5 .. 2.0e-5 with the safety factor 3 of two orders, and the converged
-values within 0.09 of the sum of both plans' estimates from the curated ones); ``full`` orders 4 .. 6 and layers 6, 8 (the curated plan;
-its error estimates are the p-step and grading changes, far above the reproducibility floor
-:data:`REGEN_ATOL`; its CPU in ``cpu_seconds``; the coarser orders and gradings add nothing
-to the estimate at the top).
+values within 0.09 of the sum of both plans' estimates from the curated ones); ``full``
+orders 4 .. 6 and layers 6, 8 (the curated plan; its error estimates are the p-step and
+grading changes, far above the reproducibility floor :data:`REGEN_ATOL`; its CPU in
+``cpu_seconds``; the coarser orders and gradings add nothing to the estimate at the top).
 """
 
 from __future__ import annotations

@@ -29,6 +29,7 @@ from debench.models.materials import (
     invariant_chain_rule,
     push_forward,
 )
+from debench.models.numerics import loglog_order
 from debench.reference.catalogue import Accuracy, Entry, Outcome
 
 N_STATES = 12
@@ -303,7 +304,7 @@ def zhao_suo_is_linearised_jm(entry: Entry) -> Outcome:
     zs = jm.zhao_suo_linearisation()
     hs = 1e-2 * 0.5 ** np.arange(5)
     rem = [abs(jm(1 + 0.7 * h, 1 - 0.3 * h) - zs(1 + 0.7 * h, 1 - 0.3 * h)) for h in hs]
-    rate = float(np.polyfit(np.log(hs), np.log(rem), 1)[0])
+    rate = loglog_order(hs, rem).order
     return Outcome(value=rate >= 1.9, details={"remainder_rate": rate},
                    evidence=entry.evidence)
 

@@ -33,6 +33,7 @@ from debench.models.circular.chapter_pass import current_constants
 from debench.models.circular.params import Annulus
 from debench.models.circular.shooting import integrate_inward, interface_state, q_for_stretch
 from debench.models.errors import ConvergenceError
+from debench.models.numerics import loglog_order
 from debench.reference.studies.ch3 import RADIUS_RATIO
 
 VARIANTS = ("printed", "membrane")
@@ -186,7 +187,7 @@ def interface_balance(lamP: float, lam: float, meshes) -> dict:
         R = np.linspace(0.01, 0.99, 25)
         p = model.profile(s, R)
         homog.append(float(np.max(np.abs(p["lam1"] - p["lam2"])) / lam))
-    slope = -np.polyfit(np.log(nb), np.log(np.abs(jumps)), 1)[0] if len(nb) > 1 else math.nan
+    slope = -loglog_order(nb, jumps).order if len(nb) > 1 else math.nan
     return {"n_b": nb, "jump": jumps, "T1B": T1B, "order": float(slope),
             "circle_a_inhomogeneity": max(homog)}
 
