@@ -70,7 +70,7 @@ def _dphibar2_dlam(br: Branch, c: float) -> np.ndarray:
     h = 1e-30
     with np.errstate(divide="ignore", invalid="ignore"):  # K = 0 -> inf, masked by callers
         p2c = circle_a._p2(br.lam + 1j * h * br.dlam, br.T1 + 1j * h * br.dT1,
-                                      c, br.annulus.kappa)
+                                      c, br.annulus.law)
     return (p2c.imag / h) / br.dlam
 
 
@@ -139,10 +139,10 @@ def _states_at_voltage_gen(brs, cs, phibars):
     """:func:`states_at_voltage_many` (non-empty ``brs``, checked arguments) as a
     :func:`~debench.models.circular.lockstep.lockstep` solver."""
     an0, steps = brs[0].annulus, brs[0].steps
-    if any((b.annulus.radius_ratio, b.annulus.Jm, b.steps) != (an0.radius_ratio, an0.Jm, steps)
+    if any((b.annulus.radius_ratio, b.annulus.law, b.steps) != (an0.radius_ratio, an0.law, steps)
            for b in brs):
         raise ValueError("branches must differ only in lamP and equilibrium")
-    kappa = an0.kappa
+    law = an0.law
     cs = np.asarray(cs, float)
     phibars = np.asarray(phibars, float)
     lamP = np.array([b.annulus.lamP for b in brs], float)
@@ -150,7 +150,7 @@ def _states_at_voltage_gen(brs, cs, phibars):
     a, b, fa, fb = (np.empty(cs.size) for _ in range(4))
     for k, (br, c, phibar) in enumerate(zip(brs, cs, phibars, strict=True)):
         with np.errstate(divide="ignore", invalid="ignore"):  # K <= 0: NaN, no crossing
-            p2 = np.where(circle_a._K(br.lam, c) > 0, circle_a._p2(br.lam, br.T1, c, kappa),
+            p2 = np.where(circle_a._K(br.lam, c) > 0, circle_a._p2(br.lam, br.T1, c, law),
                           np.nan)
         f = p2 - phibar**2
         idx = np.nonzero((f[:-1] < 0) & (f[1:] >= 0))[0]
@@ -167,7 +167,7 @@ def _states_at_voltage_gen(brs, cs, phibars):
             break
         st = yield from _interface_state_gen(an0, q[act], steps=steps, lamP=lamP[act],
                                              membrane=mem[act])
-        p2c = circle_a._p2(st.lam_c, st.T1_c, cs[act], kappa)
+        p2c = circle_a._p2(st.lam_c, st.T1_c, cs[act], law)
         r, dr = p2c.real - phibars[act]**2, p2c.imag / 1e-30
         zero = r == 0
         done[act[zero]] = True
@@ -329,7 +329,7 @@ def _branches_at_gen(brs, lams, maxiter: int = 30):
     """:func:`branches_at` (non-empty ``brs``) as a
     :func:`~debench.models.circular.lockstep.lockstep` solver."""
     an0, steps = brs[0].annulus, brs[0].steps
-    if any((b.annulus.radius_ratio, b.annulus.Jm, b.steps) != (an0.radius_ratio, an0.Jm, steps)
+    if any((b.annulus.radius_ratio, b.annulus.law, b.steps) != (an0.radius_ratio, an0.law, steps)
            for b in brs):
         raise ValueError("branches must differ only in lamP and equilibrium")
     lams = [np.asarray(x, float) for x in lams]
@@ -386,10 +386,10 @@ def pullin_c_threshold_closed_form(annulus: Annulus) -> float:
                       np.interp(lam_L, br.lam, br.q))
     st = _interface_state(annulus, q, steps=br.steps)
     dT1 = float(st.dT1[0] / st.dlam[0])
-    kappa = annulus.kappa
+    law = annulus.law
     h = 1e-30
-    s = float(circle_a._s(lam_L, kappa))
-    ds = float(circle_a._s(lam_L + 1j * h, kappa).imag / h)
+    s = float(law.equibiaxial_stress(lam_L))
+    ds = float(law.equibiaxial_stress(lam_L + 1j * h).imag / h)
     A = 2.5 * lam_L - 2
     num = 4 * s / lam_L - ds + lam_L * dT1
     den = (ds - lam_L * dT1) * A - 4 * s * A / lam_L - 2.5 * s

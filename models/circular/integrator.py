@@ -72,8 +72,20 @@ def stresses(l1, l2, kappa):
 def rhs_reference(l1, l2, kappa, membrane):
     """The right-hand side written term by term from (3.34)-(3.37) (the reference
     transcription that :func:`rhs` rearranges; tests compare them)."""
-    s1, s2, s1_1, s1_2, den = stresses(l1, l2, kappa)
+    return _rhs_of_stresses(stresses(l1, l2, kappa), l1, l2, membrane)
+
+
+def _rhs_of_stresses(st, l1, l2, membrane):
+    """d(lambda_1, lambda_2)/dt, the margin and the slope from the stresses ``st`` =
+    (s1, s2, ds1/dl1, ds1/dl2, margin) of any membrane law
+    (:mod:`debench.models.circular.law`): (3.34)-(3.35), or the thin-membrane balance
+    where ``membrane`` (a bool, or a bool array broadcast with the stretches) is true."""
+    s1, s2, s1_1, s1_2, den = st
     d12 = l1 - l2
+    if isinstance(membrane, np.ndarray):
+        f1m, _, _, slm = _rhs_of_stresses(st, l1, l2, True)
+        f1p, _, _, slp = _rhs_of_stresses(st, l1, l2, False)
+        return np.where(membrane, f1m, f1p), d12, den, np.where(membrane, slm, slp)
     if membrane:
         T1 = s1 / l1
         T1_1 = (s1_1 - T1) / l1
@@ -228,6 +240,10 @@ def integrate(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
     """
     q = np.asarray(q)
     membrane = _membrane_flags(annulus, membrane, q.shape)
+    if not annulus.law.fused:
+        # a library elastomer (not the Gent closed forms): the plain loop over its law
+        return integrate_reference(annulus, q, steps=steps, profile=profile, lamP=lamP,
+                                   membrane=membrane)
     if not profile and q.size <= SCALAR_BATCH:
         return _integrate_scalars(annulus, q, steps, lamP, membrane)
     if isinstance(membrane, np.ndarray):
@@ -430,33 +446,40 @@ class _Inadmissible(Exception):
 
 
 def integrate_reference(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
-                        profile: bool = False, lamP=None):
-    """The plain RK4 loop over :func:`rhs_reference` (the transcription that
-    :func:`integrate` optimises; kept for the tests and benchmarks that compare
-    them: same steps, same results to rounding)."""
+                        profile: bool = False, lamP=None, membrane=None):
+    """The plain RK4 loop over the right-hand side written term by term
+    (:func:`rhs_reference` with the stresses of the annulus'
+    :attr:`~debench.models.circular.params.Annulus.law`): the transcription that
+    :func:`integrate` optimises for the Gent closed forms (same steps, same results to
+    rounding; tests and benchmarks compare them), and :func:`integrate` itself for any
+    other library elastomer. ``lamP``, ``membrane`` as in :func:`integrate`."""
     q = np.asarray(q)
     l1, l2, tgrid, bad, P1, P2 = _start(annulus, q, steps, lamP, profile)
-    kappa = annulus.kappa
-    membrane = annulus.equilibrium == "membrane"
+    law = annulus.law
+    membrane = _membrane_flags(annulus, membrane, q.shape)
+
+    def f(x1, x2):
+        return _rhs_of_stresses(law.stresses(x1, x2), x1, x2, membrane)
+
     with np.errstate(all="ignore"):
-        # admissibility: Gent energy defined (den > 0) and radial equation elliptic
+        # admissibility: energy defined (den > 0) and radial equation elliptic
         # (slope > 0) at every stage; tracked as a running minimum (real parts)
         worst = np.full(l1.shape, np.inf)
         for k in range(steps):
             h = tgrid[k + 1] - tgrid[k]
-            a1, a2, d, s = rhs_reference(l1, l2, kappa, membrane)
+            a1, a2, d, s = f(l1, l2)
             worst = np.minimum(worst, np.minimum(d.real, s.real))
-            b1, b2, d, s = rhs_reference(l1 + 0.5 * h * a1, l2 + 0.5 * h * a2, kappa, membrane)
+            b1, b2, d, s = f(l1 + 0.5 * h * a1, l2 + 0.5 * h * a2)
             worst = np.minimum(worst, np.minimum(d.real, s.real))
-            c1, c2, d, s = rhs_reference(l1 + 0.5 * h * b1, l2 + 0.5 * h * b2, kappa, membrane)
+            c1, c2, d, s = f(l1 + 0.5 * h * b1, l2 + 0.5 * h * b2)
             worst = np.minimum(worst, np.minimum(d.real, s.real))
-            e1, e2, d, s = rhs_reference(l1 + h * c1, l2 + h * c2, kappa, membrane)
+            e1, e2, d, s = f(l1 + h * c1, l2 + h * c2)
             worst = np.minimum(worst, np.minimum(d.real, s.real))
             l1 = l1 + h / 6 * (a1 + 2 * b1 + 2 * c1 + e1)
             l2 = l2 + h / 6 * (a2 + 2 * b2 + 2 * c2 + e2)
             if profile:
                 P1[k + 1], P2[k + 1] = l1, l2
-        _, _, d, s = rhs_reference(l1, l2, kappa, membrane)
+        _, _, d, s = f(l1, l2)
         worst = np.minimum(worst, np.minimum(d.real, s.real))
         bad |= ~(worst > 0) | ~(l1.real > 0) | ~np.isfinite(l1.real) | ~np.isfinite(l2.real)
     l1 = np.where(bad, np.nan, l1)

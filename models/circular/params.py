@@ -49,21 +49,33 @@ class Annulus:
     radius_ratio
         R_B / R_A (thesis: 5, 10, 15; 15 in all figures). Must be > 1.
     Jm
-        Gent parameter (3.23); ``math.inf`` gives neo-Hookean. Must be > 0.
+        Gent parameter (3.23) of the thesis' material law (None: ``JM_VHB`` = 120, unless
+        ``elastomer`` is given); ``math.inf`` gives neo-Hookean. Must be > 0. The model
+        then uses the Gent closed forms (3.36)-(3.37) in fused kernels.
     equilibrium
         ``"printed"``: Eq. (3.33) d sigma1/dr = (sigma2 - sigma1)/r, hence ODE (3.34), as
         the thesis solves it. ``"membrane"``: thin-membrane force balance
         d(R T1)/dR = T2 (T_i = sigma_i/lambda_i), which adds the thickness-gradient term
         -sigma1 (r/h) dh/dr that (3.33) omits (erratum ch3.erratum.eq_3_33).
+    elastomer
+        Any library material instead of Gent (give ``Jm`` or ``elastomer``, not both): the
+        membrane stretching energy is its strain energy on ``J = 1`` divided by its shear
+        modulus (:class:`~debench.models.circular.law.ElastomerLaw`), the pre-stretched
+        film must be an admissible state of it. ``Jm`` is then None.
+
+    The material enters through :attr:`law` (:mod:`debench.models.circular.law`).
     """
 
     lamP: float
     radius_ratio: float = 15.0
-    Jm: float = JM_VHB
+    Jm: float | None = None
     equilibrium: str = "printed"
+    elastomer: Material | None = None
 
     def __post_init__(self):
-        for name in ("lamP", "radius_ratio", "Jm"):
+        if self.elastomer is None and self.Jm is None:
+            object.__setattr__(self, "Jm", JM_VHB)
+        for name in ("lamP", "radius_ratio") + (("Jm",) if self.Jm is not None else ()):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, numbers.Real):
                 raise TypeError(f"{name} must be a real number, got {value!r}")
@@ -73,16 +85,37 @@ class Annulus:
                 f"radius_ratio RB/RA must be > 1, got {self.radius_ratio}")
         require(math.isfinite(self.radius_ratio),
                 f"radius_ratio RB/RA must be finite, got {self.radius_ratio}")
-        _check_Jm(self.Jm)
+        if self.elastomer is None:
+            _check_Jm(self.Jm)
         v.choice("equilibrium", self.equilibrium, EQUILIBRIUM_VARIANTS)
-        lock = locking_stretch_equibiaxial(self.Jm)
-        if not self.lamP < lock:
-            raise ValueError(f"lamP = {self.lamP:.6g} is past the Gent locking stretch "
-                             f"{lock:.6g} (Jm = {self.Jm:.6g})")
+        from .law import membrane_law
+        law = membrane_law(self.Jm, self.elastomer, lamP=self.lamP)
+        object.__setattr__(self, "_law", law)
+        if self.elastomer is None:
+            lock = law.locking_stretch()
+            if not self.lamP < lock:
+                raise ValueError(f"lamP = {self.lamP:.6g} is past the Gent locking stretch "
+                                 f"{lock:.6g} (Jm = {self.Jm:.6g})")
+
+    def __repr__(self) -> str:
+        extra = "" if self.elastomer is None else f", elastomer={self.elastomer!r}"
+        return (f"Annulus(lamP={self.lamP!r}, radius_ratio={self.radius_ratio!r}, "
+                f"Jm={self.Jm!r}, equilibrium={self.equilibrium!r}{extra})")
+
+    @property
+    def law(self):
+        """The membrane law of the annulus and circle A:
+        :class:`~debench.models.circular.law.GentLaw` of ``1/Jm`` or
+        :class:`~debench.models.circular.law.ElastomerLaw` of the elastomer."""
+        return self._law
 
     @property
     def kappa(self) -> float:
-        """1/Jm (0 for the neo-Hookean limit)."""
+        """1/Jm (0 for the neo-Hookean limit); ValueError for an annulus of another
+        elastomer (its law is :attr:`law`)."""
+        if self.elastomer is not None:
+            raise ValueError(f"kappa = 1/Jm is the Gent annulus' parameter; this annulus "
+                             f"has elastomer={self.elastomer!r:.60}")
         return 0.0 if math.isinf(self.Jm) else 1.0 / self.Jm
 
 

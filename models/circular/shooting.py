@@ -30,7 +30,7 @@ from debench.models import validation as v
 from debench.models.errors import ConvergenceError
 from debench.models.numerics.newton import SCALAR_STEP_RTOL
 
-from .integrator import DEFAULT_STEPS, integrate, stresses
+from .integrator import DEFAULT_STEPS, integrate
 from .lockstep import Request, run
 from .params import Annulus
 
@@ -140,7 +140,7 @@ def _interface_state_gen(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
     l1, l2 = yield Request.of(annulus, q + 1j * CSTEP, steps, lamP, membrane)
     l1, l2 = l1.reshape(q.shape), l2.reshape(q.shape)
     with np.errstate(all="ignore"):  # NaN marks inadmissible trajectories, by design
-        s1, *_ = stresses(l1, l2, annulus.kappa)
+        s1, *_ = annulus.law.stresses(l1, l2)
         T1 = s1 / l1
     return InterfaceState(q=q, lam=l2.real, lam1=l1.real, T1=T1.real,
                           dlam=l2.imag / CSTEP, dlam1=l1.imag / CSTEP,

@@ -15,11 +15,15 @@ field through the thickness as a function of the in-plane stretches and
 
 :meth:`GentMembrane.equations_of_state` evaluates the closed forms (3.21)-(3.22);
 :meth:`GentMembrane.equations_of_state_from_energy` differentiates (3.20) by complex step
-- two independent paths that the tests compare.
+- two independent paths that the tests compare. :meth:`ElastomerMembrane.stretching_energy_jet`
+gives ``Ws`` of any library elastomer with its first and second derivatives in (l1, l2),
+vectorised and complex-safe, by second-order forward differentiation of the elastomer's
+one energy expression (what the Chapter 3 membrane ODE needs).
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,6 +35,7 @@ from debench.models.materials.constants import (
     VHB_GENT_JM,
     VHB_SHEAR_MODULUS,
 )
+from debench.models.materials.jet import JET
 from debench.models.materials.protocol import IncompressibleLimit, Material
 
 _H = 1e-30  # complex step: no subtractive cancellation, any tiny step is exact to rounding
@@ -46,6 +51,126 @@ def _scalar(name, value, check):
     check(name, value)
     if not isinstance(value, int | float):
         raise TypeError(f"{name} must be a real number, got {value!r}")
+
+
+class MembraneJet:
+    """A function of the membrane stretches (l1, l2) with its first and second
+    derivatives, each an array over a batch of states (real or complex):
+    ``v``, ``d1 = dv/dl1``, ``d2``, ``d11 = d2v/dl1^2``, ``d12``, ``d22``.
+
+    Arithmetic, ``**`` (a number exponent) and :func:`_membrane_log1p` propagate them
+    exactly (to rounding), elementwise over the batch; products with the exact zero of an
+    off-diagonal entry stay the number zero, so that a diagonal deformation gradient costs
+    only its diagonal. The batched counterpart of :class:`~debench.models.materials.jet.Jet`
+    for two variables.
+    """
+
+    __slots__ = ("v", "d1", "d2", "d11", "d12", "d22")
+    #: numpy arrays and scalars defer to the jet's reflected operators
+    __array_ufunc__ = None
+
+    def __init__(self, v, d1, d2, d11, d12, d22):
+        self.v, self.d1, self.d2 = v, d1, d2
+        self.d11, self.d12, self.d22 = d11, d12, d22
+
+    @classmethod
+    def seed(cls, l1, l2):
+        """The jets of the variables l1 and l2 themselves (broadcast arrays)."""
+        l1, l2 = np.broadcast_arrays(l1, l2)
+        one, zero = np.ones_like(l1), np.zeros_like(l1)
+        return (cls(l1, one, zero, zero, zero, zero), cls(l2, zero, one, zero, zero, zero))
+
+    def _chain(self, f0, f1, f2):
+        """``f(self)`` from ``f``, ``f'``, ``f''`` at ``self.v``."""
+        return MembraneJet(f0, f1 * self.d1, f1 * self.d2,
+                           f1 * self.d11 + f2 * self.d1 * self.d1,
+                           f1 * self.d12 + f2 * self.d1 * self.d2,
+                           f1 * self.d22 + f2 * self.d2 * self.d2)
+
+    def __add__(self, other):
+        if isinstance(other, np.ndarray):
+            return _each(other, lambda x: self + x)
+        if not isinstance(other, MembraneJet):
+            return self if other == 0 else MembraneJet(self.v + other, self.d1, self.d2,
+                                                       self.d11, self.d12, self.d22)
+        return MembraneJet(self.v + other.v, self.d1 + other.d1, self.d2 + other.d2,
+                           self.d11 + other.d11, self.d12 + other.d12, self.d22 + other.d22)
+
+    __radd__ = __add__
+
+    def __neg__(self):
+        return MembraneJet(-self.v, -self.d1, -self.d2, -self.d11, -self.d12, -self.d22)
+
+    def __sub__(self, other):
+        return self + (-other)
+
+    def __rsub__(self, other):
+        return (-self) + other
+
+    def __mul__(self, other):
+        if isinstance(other, np.ndarray):
+            return _each(other, lambda x: self * x)
+        if not isinstance(other, MembraneJet):
+            if other == 0:
+                return 0.0
+            return MembraneJet(self.v * other, self.d1 * other, self.d2 * other,
+                               self.d11 * other, self.d12 * other, self.d22 * other)
+        a, b = self, other
+        return MembraneJet(a.v * b.v, a.d1 * b.v + a.v * b.d1, a.d2 * b.v + a.v * b.d2,
+                           a.d11 * b.v + 2 * a.d1 * b.d1 + a.v * b.d11,
+                           a.d12 * b.v + a.d1 * b.d2 + a.d2 * b.d1 + a.v * b.d12,
+                           a.d22 * b.v + 2 * a.d2 * b.d2 + a.v * b.d22)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, other):
+        if isinstance(other, np.ndarray):
+            return _each(other, lambda x: self / x)
+        return self * (other ** -1 if isinstance(other, MembraneJet) else 1.0 / other)
+
+    def __rtruediv__(self, other):
+        return self ** -1 * other
+
+    def __pow__(self, p):
+        if isinstance(p, MembraneJet):
+            raise TypeError("MembraneJet ** MembraneJet is not supported")
+        v = self.v
+        return self._chain(v ** p, p * v ** (p - 1), p * (p - 1) * v ** (p - 2))
+
+
+def _each(array, op):
+    out = np.empty(array.shape, dtype=object)
+    for k, x in np.ndenumerate(array):
+        out[k] = op(x)
+    return out
+
+
+def _membrane_log1p(x):
+    """``log(1 + x)`` on its real domain: NaN where the real part of ``1 + x`` is not
+    positive (a complex argument would otherwise continue the energy past a Gent lock)."""
+    if not isinstance(x, MembraneJet):
+        return np.log1p(x)
+    u = 1.0 + x.v
+    with np.errstate(invalid="ignore", divide="ignore"):
+        f0 = np.where(np.real(u) > 0, np.log1p(x.v), np.nan)
+    return x._chain(f0, 1.0 / u, -1.0 / (u * u))
+
+
+def _diagonal_spectral(M, energy):
+    """``energy(power_sum)`` of a diagonal ``M`` (the membrane's): its eigenvalues are
+    its diagonal entries."""
+    if any(not (isinstance(M[i, j], float | int) and M[i, j] == 0)
+           for i in range(3) for j in range(3) if i != j):
+        raise ValueError("the membrane namespace evaluates spectral energies of diagonal "
+                         "matrices only")
+    return energy(lambda b: sum(M[k, k] ** b for k in range(3)))
+
+
+MEMBRANE_JET = dataclasses.replace(JET, name="membrane-jet", log1p=_membrane_log1p,
+                                   spectral=_diagonal_spectral)
+"""The namespace of 3x3 object arrays of :class:`MembraneJet` (the cofactor ``det`` and
+``inv`` of :data:`~debench.models.materials.jet.JET`; the logarithm on its real domain;
+spectral energies of the diagonal membrane states)."""
 
 
 @dataclass(frozen=True)
@@ -275,6 +400,31 @@ class ElastomerMembrane:
 
         out = self._each(l1, l2, d)
         return out[..., 0][()], out[..., 1][()]
+
+    def stretching_energy_jet(self, l1, l2) -> MembraneJet:
+        """``Ws(l1, l2)`` with its first and second derivatives in (l1, l2), per unit the
+        elastomer's shear modulus, vectorised over broadcast arrays of stretches (real or
+        complex: complex-step derivatives through it are exact).
+
+        The elastomer's ``mechanical_energy`` evaluated on ``F = diag(l1, l2, 1/(l1 l2))``
+        with :class:`MembraneJet` entries (:data:`MEMBRANE_JET`): no derivative is written
+        by hand. The stretches must be finite and > 0; NaN marks states outside the
+        energy's real domain (past a Gent lock).
+        """
+        _check_stretches(l1, l2)
+        return self._stretching_energy_jet(l1, l2)
+
+    def _stretching_energy_jet(self, l1, l2) -> MembraneJet:
+        """:meth:`stretching_energy_jet` without checks (NaN stretches give NaN: the
+        integrator's inadmissible trajectories)."""
+        a, b = MembraneJet.seed(l1, l2)
+        F = np.array([[a, 0.0, 0.0], [0.0, b, 0.0], [0.0, 0.0, 1.0 / (a * b)]], dtype=object)
+        with np.errstate(all="ignore"):
+            W = self.elastomer.mechanical_energy(F, xp=MEMBRANE_JET)
+            if not isinstance(W, MembraneJet):      # an energy independent of F
+                zero = np.zeros_like(a.v)
+                W = MembraneJet(zero + W, zero, zero, zero, zero, zero)
+            return W * (1.0 / self.shear_modulus)
 
     @v.finite_result
     def free_energy(self, l1, l2, I4):
