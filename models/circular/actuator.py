@@ -17,9 +17,10 @@ with exact complex-step derivatives, :mod:`debench.models.circular.events`):
   c by construction;
 * ``breakdown``: Phibar = sqrt(eps_bar/mu) E_B(lambda)/lambda^2 (Sec. 3.5.5), crossed from
   below;
-* ``locking``: the Gent locking stretch of circle A, 2 lam^2 + lam^-4 - 3 = Jm (3.23)
-  (bisection to machine precision), reported as the failure only when none of the
-  above occurs first (Phibar -> inf there, so breakdown normally precedes it);
+* ``locking``: the locking stretch of circle A, 2 lam^2 + lam^-4 - 3 = Jm for Gent (3.23)
+  (bisection to machine precision; for another elastomer the end of its admissible
+  equibiaxial states), reported as the failure only when none of the above occurs first
+  (Phibar -> inf there, so breakdown normally precedes it);
 * ``end``: the end of the admissible annulus branch, likewise;
 * ``permittivity``: the stretch where the factor K = 1 + c(5 lam/2 - 2) of (3.30) reaches
   0 (c < 0; Phibar undefined beyond), likewise (breakdown normally precedes it).
@@ -27,6 +28,11 @@ with exact complex-step derivatives, :mod:`debench.models.circular.events`):
 The *failure* is the first of pullin, loss_of_tension, breakdown along increasing lambda
 (the thesis terminates its curves there, Sec. 3.5.3-3.5.5); ``lam_max`` and its Phibar are
 the failure point (Fig. 3.9).
+
+The material is the annulus' (:class:`~debench.models.circular.params.Annulus`): the
+thesis' Gent (3.23) of ``Jm`` in its closed forms, or any library ``elastomer`` through its
+membrane law (:mod:`debench.models.circular.law`), in circle A (3.30) and annulus B alike;
+stresses and Phibar are then per unit the elastomer's shear modulus.
 """
 
 from __future__ import annotations
@@ -528,7 +534,10 @@ def _zero_of_K(c: float) -> float:
 
 
 def curve(actuator: CircularActuator, *, n: int = 400, steps: int = DEFAULT_STEPS) -> Curve:
-    """One voltage-stretch curve (convenience wrapper around :func:`branch`/:func:`curves`)."""
+    """One voltage-stretch curve (convenience wrapper around :func:`branch`/:func:`curves`):
+    circle A (3.28)-(3.32) on the annulus branch (3.33)-(3.38), with the material law of
+    ``actuator.annulus`` (Gent (3.23) of ``Jm``, or its library ``elastomer``), its events
+    (pull-in, loss of tension, breakdown) located."""
     v.instance("actuator", actuator, CircularActuator)
     br = branch(actuator.annulus, n=n, steps=steps)
     return curves(br, [actuator.c], eps_r=actuator.eps_r, mu=actuator.mu)[0]

@@ -103,7 +103,8 @@ def gent_equibiaxial_stress(lam, kappa: float):
 
     ``lam`` finite, > 0 and below the Gent locking stretch; ``kappa >= 0``.
     """
-    return _s(_check_lam(lam, kappa), kappa)
+    law = _law(kappa, None)
+    return _s(_check_lam(lam, law), law.kappa)
 
 
 @v.finite_result

@@ -22,6 +22,13 @@ into in-place operations and are tested equal to the reference transcription).
   arithmetic, large ones in pieces;
 * :func:`integrate_reference`: the plain RK4 loop over :func:`rhs_reference`, which
   :func:`integrate` optimises (same steps, same results to rounding; tests compare them).
+
+These are the kernels of the Gent default (the annulus'
+:attr:`~debench.models.circular.params.Annulus.law` a
+:class:`~debench.models.circular.law.GentLaw`). For any other library elastomer
+(:class:`~debench.models.circular.law.ElastomerLaw`) :func:`integrate` runs the plain loop
+of :func:`integrate_reference` on the law's stresses and their derivatives: the same
+(3.34)-(3.35) or membrane balance, the same RK4 steps.
 """
 
 from __future__ import annotations
@@ -232,8 +239,9 @@ def integrate(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
     trajectories. Returns (l1, l2) at t = 0 (arrays like q, complex if q is); with
     ``profile=True`` also t and the (steps+1, ...) arrays.
 
-    Admissibility: the Gent energy is defined (1 - (I1-3)/Jm > 0) and the radial equation
-    elliptic (slope > 0) at every RK4 stage, and lambda_1 > 0 at R_A. ``lamP`` and
+    Admissibility: the energy is defined (Gent: 1 - (I1-3)/Jm > 0; any other elastomer:
+    finite on its real domain) and the radial equation elliptic (slope > 0) at every RK4
+    stage, and lambda_1 > 0 at R_A. ``lamP`` and
     ``membrane`` (bool array: thin-membrane balance, else (3.33) as printed), broadcast
     with q, override the annulus' pre-stretch and equilibrium per trajectory, so that
     annuli differing only in these are integrated in one batch.

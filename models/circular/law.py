@@ -36,7 +36,7 @@ from debench.models.materials.protocol import Material
 
 from . import circle_a
 from .integrator import stresses
-from .params import locking_stretch_equibiaxial
+from .params import _check_Jm, locking_stretch_equibiaxial
 
 
 @dataclass(frozen=True)
@@ -57,6 +57,7 @@ class GentLaw:
 
     @classmethod
     def of_Jm(cls, Jm: float) -> GentLaw:
+        Jm = _check_Jm(Jm)
         return cls(0.0 if math.isinf(Jm) else 1.0 / Jm, Jm)
 
     @classmethod
@@ -149,7 +150,7 @@ def membrane_law(Jm=None, elastomer=None, *, lamP: float = 1.0):
     :func:`~debench.models.circular.params.film_elastomer` (ValueError when both are
     given or the film pre-stretched by ``lamP`` is not admissible, TypeError when it is
     not a library material)."""
-    from .params import JM_VHB, _check_Jm, film_elastomer
+    from .params import JM_VHB, film_elastomer
     if elastomer is None:
-        return GentLaw.of_Jm(_check_Jm(JM_VHB if Jm is None else Jm))
+        return GentLaw.of_Jm(JM_VHB if Jm is None else Jm)
     return ElastomerLaw(film_elastomer(lamP, Jm, elastomer))

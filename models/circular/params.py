@@ -4,7 +4,8 @@ Zeng (2020), Chapter 3: a membrane of reference radius R_B, pre-stretched equibi
 ``lamP`` and fixed to a rigid frame (3.38); circle A (R < R_A) carries electrodes, annulus
 B (R_A < R < R_B) is passive. VHB 4910: Gent (3.23) with mu = 51 kPa, Jm = 120; Zhao-Suo
 permittivity (3.27) eps = eps_bar [1 + c (l1 + l2 - 2)]; breakdown field
-E_B = 51 lam^1.13 MV/m (Huang et al., Sec. 3.5.5).
+E_B = 51 lam^1.13 MV/m (Huang et al., Sec. 3.5.5). Any library elastomer may replace Gent
+(``Annulus(elastomer=...)``, :mod:`debench.models.circular.law`).
 """
 
 from __future__ import annotations
@@ -126,7 +127,8 @@ class CircularActuator:
     Parameters
     ----------
     annulus
-        :class:`Annulus` (pre-stretch, geometry, Jm, equilibrium variant).
+        :class:`Annulus` (pre-stretch, geometry, material law: Gent of Jm or a library
+        elastomer, equilibrium variant).
     c
         Zhao-Suo electrostrictive factor (3.27), thesis range -0.1 <= c <= 0.
     eps_r

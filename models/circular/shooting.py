@@ -14,11 +14,12 @@ Sensitivities d/dq of every output are obtained exactly (to rounding) by the com
 method applied to the discrete integrator, q -> q + i h, h = 1e-30: they are the
 derivatives of the discrete solution, which is what event location needs.
 
-The right-hand sides (hand-written from (3.34)-(3.37)) and the RK4 integration are in
-:mod:`debench.models.circular.integrator`; the functions here check their arguments and
-refuse inadmissible trajectories. The interface-state iterations are also written as
-:mod:`~debench.models.circular.lockstep` solvers, so that many of them share one
-integration per round.
+The right-hand sides (hand-written from (3.34)-(3.37) for the Gent default; from the
+stresses of any library elastomer's membrane law, :mod:`debench.models.circular.law`,
+otherwise) and the RK4 integration are in :mod:`debench.models.circular.integrator`;
+the functions here check their arguments and refuse inadmissible trajectories. The
+interface-state iterations are also written as :mod:`~debench.models.circular.lockstep`
+solvers, so that many of them share one integration per round.
 """
 
 from __future__ import annotations
@@ -49,7 +50,10 @@ def _check(annulus, q, steps, lamP):
 
 def integrate_inward(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
                      profile: bool = False, lamP=None):
-    """RK4 from t = T (lambda_1 = q, lambda_2 = lamP) to t = 0.
+    """RK4 from t = T (lambda_1 = q, lambda_2 = lamP) to t = 0: the annulus ODE
+    (3.34)-(3.35) (or the membrane balance) with the stresses (3.14)-(3.15) of the
+    annulus' material law: Gent (3.36)-(3.37) of ``annulus.Jm``, or the library
+    ``annulus.elastomer`` (:mod:`debench.models.circular.law`).
 
     Returns (l1, l2) at t = 0 (arrays like q, complex if q is). With ``profile=True``
     also returns t and the (steps+1, ...) arrays.

@@ -56,7 +56,8 @@ def _scalar(name, value, check):
 class MembraneJet:
     """A function of the membrane stretches (l1, l2) with its first and second
     derivatives, each an array over a batch of states (real or complex):
-    ``v``, ``d1 = dv/dl1``, ``d2``, ``d11 = d2v/dl1^2``, ``d12``, ``d22``.
+    ``v``, ``d1 = dv/dl1``, ``d2``, ``d11 = d2v/dl1^2``, ``d12``, ``d22``, stacked in
+    ``x`` (shape ``(6,) + batch``).
 
     Arithmetic, ``**`` (a number exponent) and :func:`_membrane_log1p` propagate them
     exactly (to rounding), elementwise over the batch; products with the exact zero of an
@@ -65,41 +66,54 @@ class MembraneJet:
     for two variables.
     """
 
-    __slots__ = ("v", "d1", "d2", "d11", "d12", "d22")
+    __slots__ = ("x",)
     #: numpy arrays and scalars defer to the jet's reflected operators
     __array_ufunc__ = None
 
-    def __init__(self, v, d1, d2, d11, d12, d22):
-        self.v, self.d1, self.d2 = v, d1, d2
-        self.d11, self.d12, self.d22 = d11, d12, d22
+    def __init__(self, x):
+        self.x = x
+
+    v = property(lambda self: self.x[0], doc="The value.")
+    d1 = property(lambda self: self.x[1], doc="d/dl1.")
+    d2 = property(lambda self: self.x[2], doc="d/dl2.")
+    d11 = property(lambda self: self.x[3], doc="d2/dl1^2.")
+    d12 = property(lambda self: self.x[4], doc="d2/dl1 dl2.")
+    d22 = property(lambda self: self.x[5], doc="d2/dl2^2.")
 
     @classmethod
     def seed(cls, l1, l2):
         """The jets of the variables l1 and l2 themselves (broadcast arrays)."""
-        l1, l2 = np.broadcast_arrays(l1, l2)
-        one, zero = np.ones_like(l1), np.zeros_like(l1)
-        return (cls(l1, one, zero, zero, zero, zero), cls(l2, zero, one, zero, zero, zero))
+        l1, l2 = np.broadcast_arrays(np.asarray(l1), np.asarray(l2))
+        dtype = np.result_type(l1, l2, 1.0)
+        a = np.zeros((6,) + l1.shape, dtype)
+        b = np.zeros_like(a)
+        a[0], a[1], b[0], b[2] = l1, 1.0, l2, 1.0
+        return cls(a), cls(b)
 
     def _chain(self, f0, f1, f2):
         """``f(self)`` from ``f``, ``f'``, ``f''`` at ``self.v``."""
-        return MembraneJet(f0, f1 * self.d1, f1 * self.d2,
-                           f1 * self.d11 + f2 * self.d1 * self.d1,
-                           f1 * self.d12 + f2 * self.d1 * self.d2,
-                           f1 * self.d22 + f2 * self.d2 * self.d2)
+        x = self.x
+        out = np.empty(x.shape, np.result_type(x, f0, f1, f2))
+        out[0] = f0
+        np.multiply(f1, x[1:], out=out[1:])
+        out[3:] += f2 * (x[_I] * x[_J])
+        return MembraneJet(out)
 
     def __add__(self, other):
         if isinstance(other, np.ndarray):
-            return _each(other, lambda x: self + x)
+            return _each(other, lambda y: self + y)
         if not isinstance(other, MembraneJet):
-            return self if other == 0 else MembraneJet(self.v + other, self.d1, self.d2,
-                                                       self.d11, self.d12, self.d22)
-        return MembraneJet(self.v + other.v, self.d1 + other.d1, self.d2 + other.d2,
-                           self.d11 + other.d11, self.d12 + other.d12, self.d22 + other.d22)
+            if other == 0:
+                return self
+            out = self.x.astype(np.result_type(self.x, other), copy=True)
+            out[0] += other
+            return MembraneJet(out)
+        return MembraneJet(self.x + other.x)
 
     __radd__ = __add__
 
     def __neg__(self):
-        return MembraneJet(-self.v, -self.d1, -self.d2, -self.d11, -self.d12, -self.d22)
+        return MembraneJet(-self.x)
 
     def __sub__(self, other):
         return self + (-other)
@@ -109,23 +123,22 @@ class MembraneJet:
 
     def __mul__(self, other):
         if isinstance(other, np.ndarray):
-            return _each(other, lambda x: self * x)
+            return _each(other, lambda y: self * y)
         if not isinstance(other, MembraneJet):
-            if other == 0:
-                return 0.0
-            return MembraneJet(self.v * other, self.d1 * other, self.d2 * other,
-                               self.d11 * other, self.d12 * other, self.d22 * other)
-        a, b = self, other
-        return MembraneJet(a.v * b.v, a.d1 * b.v + a.v * b.d1, a.d2 * b.v + a.v * b.d2,
-                           a.d11 * b.v + 2 * a.d1 * b.d1 + a.v * b.d11,
-                           a.d12 * b.v + a.d1 * b.d2 + a.d2 * b.d1 + a.v * b.d12,
-                           a.d22 * b.v + 2 * a.d2 * b.d2 + a.v * b.d22)
+            return 0.0 if other == 0 else MembraneJet(self.x * other)
+        a, b = self.x, other.x
+        out = a * b[0]
+        out[1:] += a[0] * b[1:]
+        cross = a[_I] * b[_J]
+        cross += a[_J] * b[_I]
+        out[3:] += cross
+        return MembraneJet(out)
 
     __rmul__ = __mul__
 
     def __truediv__(self, other):
         if isinstance(other, np.ndarray):
-            return _each(other, lambda x: self / x)
+            return _each(other, lambda y: self / y)
         return self * (other ** -1 if isinstance(other, MembraneJet) else 1.0 / other)
 
     def __rtruediv__(self, other):
@@ -136,6 +149,10 @@ class MembraneJet:
             raise TypeError("MembraneJet ** MembraneJet is not supported")
         v = self.v
         return self._chain(v ** p, p * v ** (p - 1), p * (p - 1) * v ** (p - 2))
+
+
+#: the first-derivative rows whose products make the second derivatives (11, 12, 22)
+_I, _J = np.array([1, 1, 2]), np.array([1, 2, 2])
 
 
 def _each(array, op):
@@ -408,11 +425,15 @@ class ElastomerMembrane:
 
         The elastomer's ``mechanical_energy`` evaluated on ``F = diag(l1, l2, 1/(l1 l2))``
         with :class:`MembraneJet` entries (:data:`MEMBRANE_JET`): no derivative is written
-        by hand. The stretches must be finite and > 0; NaN marks states outside the
-        energy's real domain (past a Gent lock).
+        by hand. The stretches must be finite and > 0, the states in the energy's real
+        domain (ValueError past a Gent lock or where the energy overflows).
         """
         _check_stretches(l1, l2)
-        return self._stretching_energy_jet(l1, l2)
+        W = self._stretching_energy_jet(l1, l2)
+        if not all(np.all(np.isfinite(x)) for x in (W.v, W.d1, W.d2, W.d11, W.d12, W.d22)):
+            raise ValueError(f"lambda1 = {l1!r:.40}, lambda2 = {l2!r:.40}: outside the "
+                             f"elastomer's energy domain (past a lock, or it overflows)")
+        return W
 
     def _stretching_energy_jet(self, l1, l2) -> MembraneJet:
         """:meth:`stretching_energy_jet` without checks (NaN stretches give NaN: the
@@ -422,8 +443,9 @@ class ElastomerMembrane:
         with np.errstate(all="ignore"):
             W = self.elastomer.mechanical_energy(F, xp=MEMBRANE_JET)
             if not isinstance(W, MembraneJet):      # an energy independent of F
-                zero = np.zeros_like(a.v)
-                W = MembraneJet(zero + W, zero, zero, zero, zero, zero)
+                x = np.zeros_like(a.x)
+                x[0] = W
+                W = MembraneJet(x)
             return W * (1.0 / self.shear_modulus)
 
     @v.finite_result
