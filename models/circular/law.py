@@ -57,11 +57,13 @@ class GentLaw:
 
     @classmethod
     def of_Jm(cls, Jm: float) -> GentLaw:
+        """The law of ``Jm > 0`` (``math.inf``: neo-Hookean)."""
         Jm = _check_Jm(Jm)
         return cls(0.0 if math.isinf(Jm) else 1.0 / Jm, Jm)
 
     @classmethod
     def of_kappa(cls, kappa: float) -> GentLaw:
+        """The law of ``kappa = 1/Jm >= 0`` (0: neo-Hookean)."""
         return cls(kappa, math.inf if kappa == 0 else 1 / kappa)
 
     def stresses(self, l1, l2):
