@@ -15,8 +15,8 @@ import math
 import numpy as np
 import pytest
 from debench.models.circular import actuator, analysis, circle_a, shooting
-from debench.models.circular.law import ElastomerLaw, GentLaw, membrane_law
-from debench.models.circular.params import Annulus, CircularActuator
+from debench.models.circular.law import ElastomerLaw, GentLaw
+from debench.models.circular.params import Annulus, CircularActuator, membrane_law
 from debench.models.materials.library import (
     MATERIALS,
     GentIdealDielectric,

@@ -33,20 +33,11 @@ from __future__ import annotations
 
 import numpy as np
 from debench.models import validation as v
-from debench.models.materials import energies as E
 
-from .params import EB_COEFF, EB_EXPONENT, EPS0, locking_stretch_equibiaxial
-
-
-def _margin(lam, kappa):
-    """The library's Gent lock margin
-    (:func:`~debench.models.materials.energies.gent_lock_margin`) at the equibiaxial
-    ``I1 = 2 lam^2 + lam^-4``."""
-    return E.gent_lock_margin(2 * lam**2 + lam**-4, kappa=kappa)
-
-
-def _s(lam, kappa):
-    return (lam**2 - lam**-4) / _margin(lam, kappa)
+from .law import ElastomerLaw, GentLaw, locking_stretch_equibiaxial
+from .law import _equibiaxial_margin as _margin
+from .law import _equibiaxial_stress as _s
+from .params import EB_COEFF, EB_EXPONENT, EPS0, film_elastomer
 
 
 def _K(lam, c):
@@ -62,14 +53,12 @@ def _p2(lam, T1B, c, law):
 def _law(kappa, elastomer):
     """The membrane law of ``kappa = 1/Jm >= 0`` (Gent) or of the library ``elastomer``
     (ValueError when both or neither is given, TypeError for a non-material)."""
-    from .law import ElastomerLaw, GentLaw
     if elastomer is None:
         if kappa is None:
             raise ValueError("give kappa (= 1/Jm of the Gent elastomer) or elastomer")
         return GentLaw.of_kappa(v.nonnegative("kappa", kappa))
     if kappa is not None:
         raise ValueError("give kappa (= 1/Jm of the Gent elastomer) or elastomer, not both")
-    from .params import film_elastomer
     return ElastomerLaw(film_elastomer(1.0, None, elastomer))
 
 

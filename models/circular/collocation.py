@@ -22,7 +22,8 @@ from debench.models.errors import ConvergenceError
 from scipy.integrate import solve_bvp
 
 from . import generated as gen
-from .params import Annulus, locking_stretch_equibiaxial
+from .law import locking_stretch_equibiaxial
+from .params import Annulus
 
 #: solve_bvp tolerance on the relative collocation residual; gives <= ~1e-7 relative
 #: agreement with the shooting solver (test_ch3_solvers)

@@ -12,7 +12,8 @@ Gent stresses of (3.36)-(3.37) (per unit mu):
 (:func:`~debench.models.materials.energies.gent_lock_margin`; the optimised kernels fuse it
 into in-place operations and are tested equal to the reference transcription).
 
-* :func:`stresses`, :func:`rhs_reference`: the stresses and the right-hand side written
+* :func:`~debench.models.circular.law.gent_stresses`, :func:`rhs_reference`: the stresses
+  and the right-hand side written
   term by term (the reference transcription);
 * :func:`rhs`: the same right-hand side with the Gent factor cancelled, for Python
   scalars and numpy arrays alike (and its stacked form for the array path);
@@ -37,8 +38,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from debench.models.materials import energies as E
 
+from .law import gent_stresses
 from .params import Annulus
 
 #: Default RK4 steps in t. Discretisation error (order 4, test_ch3_solvers), measured
@@ -54,32 +55,10 @@ def _grid(T: float, steps: int) -> np.ndarray:
     return np.linspace(T, 0.0, steps + 1)
 
 
-def stresses(l1, l2, kappa):
-    """sigma1, sigma2, d sigma1/d l1, d sigma1/d l2 (3.36)-(3.37) per mu, and 1 - (I1-3)/Jm."""
-    l1s = l1 * l1
-    l2s = l2 * l2
-    J = 1.0 / (l1s * l2s)                    # lambda_3^2
-    den = E.gent_lock_margin(l1s + l2s + J, kappa=kappa)
-    g = 1.0 / den
-    a1 = l1s - J
-    s1 = g * a1
-    s2 = g * (l2s - J)
-    Jl1 = J / l1
-    Jl2 = J / l2
-    if kappa:
-        ga = kappa * g * s1                  # a1 kappa g^2
-        s1_1 = 2 * (g * (l1 + Jl1) + ga * (l1 - Jl1))
-        s1_2 = 2 * (g * Jl2 + ga * (l2 - Jl2))
-    else:
-        s1_1 = 2 * (l1 + Jl1)
-        s1_2 = 2 * Jl2
-    return s1, s2, s1_1, s1_2, den
-
-
 def rhs_reference(l1, l2, kappa, membrane):
     """The right-hand side written term by term from (3.34)-(3.37) (the reference
     transcription that :func:`rhs` rearranges; tests compare them)."""
-    return _rhs_of_stresses(stresses(l1, l2, kappa), l1, l2, membrane)
+    return _rhs_of_stresses(gent_stresses(l1, l2, kappa), l1, l2, membrane)
 
 
 def _rhs_of_stresses(st, l1, l2, membrane):

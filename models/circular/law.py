@@ -11,9 +11,9 @@ the equibiaxial ``s(lam) = s1(lam, lam)``. A law provides them for arrays of str
 or complex (the complex-step sensitivities of the shooting method go through it):
 
 * :class:`GentLaw`: the thesis' Gent closed forms (3.36)-(3.37) with ``kappa = 1/Jm``
-  (:func:`~debench.models.circular.integrator.stresses`,
-  :func:`~debench.models.circular.circle_a.gent_equibiaxial_stress`); the integrator runs
-  its fused kernels for it;
+  (:func:`gent_stresses`, :func:`~debench.models.circular.circle_a.gent_equibiaxial_stress`;
+  the locking stretch :func:`locking_stretch_equibiaxial`); the integrator runs its fused
+  kernels for it;
 * :class:`ElastomerLaw`: any library elastomer, from its one energy expression by
   second-order forward differentiation
   (:meth:`~debench.models.materials.membrane.ElastomerMembrane.stretching_energy_jet`), no
@@ -27,16 +27,83 @@ from __future__ import annotations
 
 import functools
 import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
 from debench.models import validation as v
+from debench.models.materials import energies as E
 from debench.models.materials.membrane import ElastomerMembrane
 from debench.models.materials.protocol import Material
 
-from . import circle_a
-from .integrator import stresses
-from .params import _check_Jm, locking_stretch_equibiaxial
+#: above this Jm the cubic of the locking condition would overflow in double precision
+_JM_HUGE = 1e100
+
+
+def _check_Jm(Jm) -> float:
+    """Jm > 0; ``math.inf`` (neo-Hookean) allowed."""
+    if isinstance(Jm, bool) or not isinstance(Jm, numbers.Real):
+        raise TypeError(f"Jm must be a real number, got {Jm!r}")
+    if math.isinf(Jm) and Jm > 0:
+        return math.inf
+    return v.positive("Jm", Jm)
+
+
+def locking_stretch_equibiaxial(Jm: float) -> float:
+    """Equibiaxial stretch at which the Gent energy (3.23) locks: 2 l^2 + l^-4 - 3 = Jm.
+
+    ``Jm > 0`` (``math.inf``: neo-Hookean, no lock).
+    """
+    Jm = _check_Jm(Jm)
+    if math.isinf(Jm):
+        return math.inf
+    # x = l^2: 2 x^3 - (Jm + 3) x^2 + 1 = 0, largest root
+    lo, hi = 1.0, math.sqrt((Jm + 3) / 2) + 1.0
+    f = lambda x: 2 * x**3 - (Jm + 3) * x**2 + 1  # noqa: E731
+    if Jm > _JM_HUGE:  # same sign, divided by x^2 > 0, so that x^3 cannot overflow
+        f = lambda x: 2 * x - (Jm + 3) + 1 / x / x  # noqa: E731
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if f(mid * mid) > 0:
+            hi = mid
+        else:
+            lo = mid
+    return 0.5 * (lo + hi)
+
+
+def gent_stresses(l1, l2, kappa):
+    """sigma1, sigma2, d sigma1/d l1, d sigma1/d l2 (3.36)-(3.37) per mu, and 1 - (I1-3)/Jm:
+    the Gent closed forms, ``kappa = 1/Jm`` (no checks; the kernel of the integrator)."""
+    l1s = l1 * l1
+    l2s = l2 * l2
+    J = 1.0 / (l1s * l2s)                    # lambda_3^2
+    den = E.gent_lock_margin(l1s + l2s + J, kappa=kappa)
+    g = 1.0 / den
+    a1 = l1s - J
+    s1 = g * a1
+    s2 = g * (l2s - J)
+    Jl1 = J / l1
+    Jl2 = J / l2
+    if kappa:
+        ga = kappa * g * s1                  # a1 kappa g^2
+        s1_1 = 2 * (g * (l1 + Jl1) + ga * (l1 - Jl1))
+        s1_2 = 2 * (g * Jl2 + ga * (l2 - Jl2))
+    else:
+        s1_1 = 2 * (l1 + Jl1)
+        s1_2 = 2 * Jl2
+    return s1, s2, s1_1, s1_2, den
+
+
+def _equibiaxial_margin(lam, kappa):
+    """The library's Gent lock margin
+    (:func:`~debench.models.materials.energies.gent_lock_margin`) at the equibiaxial
+    ``I1 = 2 lam^2 + lam^-4``."""
+    return E.gent_lock_margin(2 * lam**2 + lam**-4, kappa=kappa)
+
+
+def _equibiaxial_stress(lam, kappa):
+    """``s(lam) = (lam^2 - lam^-4)/(1 - (2 lam^2 + lam^-4 - 3)/Jm)`` (3.30)."""
+    return (lam**2 - lam**-4) / _equibiaxial_margin(lam, kappa)
 
 
 @dataclass(frozen=True)
@@ -69,11 +136,11 @@ class GentLaw:
     def stresses(self, l1, l2):
         """``(s1, s2, ds1/dl1, ds1/dl2, margin)`` per mu; ``margin = 1 - (I1 - 3)/Jm``
         (> 0 short of the lock)."""
-        return stresses(l1, l2, self.kappa)
+        return gent_stresses(l1, l2, self.kappa)
 
     def equibiaxial_stress(self, lam):
         """``s(lam) = (lam^2 - lam^-4)/(1 - (2 lam^2 + lam^-4 - 3)/Jm)`` (3.30)."""
-        return circle_a._s(lam, self.kappa)
+        return _equibiaxial_stress(lam, self.kappa)
 
     def locking_stretch(self) -> float:
         """The equibiaxial locking stretch, ``2 lam^2 + lam^-4 - 3 = Jm``."""
@@ -91,10 +158,7 @@ class ElastomerLaw:
     fused = False
 
     def __post_init__(self):
-        if not all(callable(getattr(self.elastomer, name, None))
-                   for name in ("mechanical_energy", "response", "check_admissible")):
-            raise TypeError(f"elastomer must be a library material, got "
-                            f"{type(self.elastomer).__name__} {self.elastomer!r:.40}")
+        # ElastomerMembrane refuses what is not a library material (TypeError)
         v.positive("elastomer.shear_modulus", self.membrane.shear_modulus)
 
     @functools.cached_property
@@ -143,16 +207,3 @@ def _locking_stretch(elastomer) -> float:
             break
         lo, hi = (mid, hi) if admissible(mid) else (lo, mid)
     return lo
-
-
-def membrane_law(Jm=None, elastomer=None, *, lamP: float = 1.0):
-    """The law of the Jm or the elastomer given (``Jm`` None and no elastomer:
-    ``params.JM_VHB``): :class:`GentLaw` of ``1/Jm`` (``Jm > 0``, ``math.inf``
-    neo-Hookean) or :class:`ElastomerLaw`. The elastomer is checked by
-    :func:`~debench.models.circular.params.film_elastomer` (ValueError when both are
-    given or the film pre-stretched by ``lamP`` is not admissible, TypeError when it is
-    not a library material)."""
-    from .params import JM_VHB, film_elastomer
-    if elastomer is None:
-        return GentLaw.of_Jm(JM_VHB if Jm is None else Jm)
-    return ElastomerLaw(film_elastomer(lamP, Jm, elastomer))

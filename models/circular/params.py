@@ -26,6 +26,9 @@ from debench.models.materials.constants import (
 from debench.models.materials.library import GentIdealDielectric
 from debench.models.materials.protocol import Material
 
+from .law import ElastomerLaw, GentLaw, _check_Jm
+from .law import locking_stretch_equibiaxial as locking_stretch_equibiaxial  # its old home
+
 MU_VHB = VHB_SHEAR_MODULUS  # Pa, shear modulus, Sec. 3.3.3
 JM_VHB = VHB_GENT_JM        # Gent locking parameter, Sec. 3.3.3
 EPS0 = VACUUM_PERMITTIVITY  # F/m, vacuum permittivity as printed below (3.27)
@@ -89,7 +92,6 @@ class Annulus:
         if self.elastomer is None:
             _check_Jm(self.Jm)
         v.choice("equilibrium", self.equilibrium, EQUILIBRIUM_VARIANTS)
-        from .law import membrane_law
         law = membrane_law(self.Jm, self.elastomer, lamP=self.lamP)
         object.__setattr__(self, "_law", law)
         if self.elastomer is None:
@@ -163,41 +165,6 @@ class CircularActuator:
                 f"non-positive at lamP = {lamP}: need K(lamP) > 0")
 
 
-#: above this Jm the cubic of the locking condition would overflow in double precision
-_JM_HUGE = 1e100
-
-
-def _check_Jm(Jm) -> float:
-    """Jm > 0; ``math.inf`` (neo-Hookean) allowed."""
-    if isinstance(Jm, bool) or not isinstance(Jm, numbers.Real):
-        raise TypeError(f"Jm must be a real number, got {Jm!r}")
-    if math.isinf(Jm) and Jm > 0:
-        return math.inf
-    return v.positive("Jm", Jm)
-
-
-def locking_stretch_equibiaxial(Jm: float) -> float:
-    """Equibiaxial stretch at which the Gent energy (3.23) locks: 2 l^2 + l^-4 - 3 = Jm.
-
-    ``Jm > 0`` (``math.inf``: neo-Hookean, no lock).
-    """
-    Jm = _check_Jm(Jm)
-    if math.isinf(Jm):
-        return math.inf
-    # x = l^2: 2 x^3 - (Jm + 3) x^2 + 1 = 0, largest root
-    lo, hi = 1.0, math.sqrt((Jm + 3) / 2) + 1.0
-    f = lambda x: 2 * x**3 - (Jm + 3) * x**2 + 1  # noqa: E731
-    if Jm > _JM_HUGE:  # same sign, divided by x^2 > 0, so that x^3 cannot overflow
-        f = lambda x: 2 * x - (Jm + 3) + 1 / x / x  # noqa: E731
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if f(mid * mid) > 0:
-            hi = mid
-        else:
-            lo = mid
-    return 0.5 * (lo + hi)
-
-
 def film_elastomer(lamP: float, Jm: float | None, elastomer: Material | None) -> Material:
     """The elastomer of a Chapter 3 finite-element model: ``elastomer``, or the Gent
     (3.23) of ``Jm`` (``JM_VHB`` when neither is given) in units mu = 1; ValueError when
@@ -219,3 +186,15 @@ def film_elastomer(lamP: float, Jm: float | None, elastomer: Material | None) ->
         raise ValueError(f"lamP = {lamP:.6g}: the pre-stretched film is not an admissible "
                          f"state of the elastomer ({e})") from e
     return elastomer
+
+
+def membrane_law(Jm=None, elastomer=None, *, lamP: float = 1.0):
+    """The law of the Jm or the elastomer given (``Jm`` None and no elastomer:
+    ``params.JM_VHB``): :class:`GentLaw` of ``1/Jm`` (``Jm > 0``, ``math.inf``
+    neo-Hookean) or :class:`ElastomerLaw`. The elastomer is checked by
+    :func:`film_elastomer` (ValueError when both are
+    given or the film pre-stretched by ``lamP`` is not admissible, TypeError when it is
+    not a library material)."""
+    if elastomer is None:
+        return GentLaw.of_Jm(JM_VHB if Jm is None else Jm)
+    return ElastomerLaw(film_elastomer(lamP, Jm, elastomer))
