@@ -189,12 +189,12 @@ def film_elastomer(lamP: float, Jm: float | None, elastomer: Material | None) ->
 
 
 def membrane_law(Jm=None, elastomer=None, *, lamP: float = 1.0):
-    """The law of the Jm or the elastomer given (``Jm`` None and no elastomer:
-    ``params.JM_VHB``): :class:`GentLaw` of ``1/Jm`` (``Jm > 0``, ``math.inf``
-    neo-Hookean) or :class:`ElastomerLaw`. The elastomer is checked by
-    :func:`film_elastomer` (ValueError when both are
-    given or the film pre-stretched by ``lamP`` is not admissible, TypeError when it is
-    not a library material)."""
+    """The membrane law of the Jm or the elastomer given (``Jm`` None and no elastomer:
+    ``JM_VHB``): :class:`~debench.models.circular.law.GentLaw` of ``1/Jm`` (``Jm > 0``,
+    ``math.inf`` neo-Hookean) or :class:`~debench.models.circular.law.ElastomerLaw`. The
+    elastomer is checked by :func:`film_elastomer` (ValueError when both are given or the
+    film pre-stretched by ``lamP`` is not admissible, TypeError when it is not a library
+    material)."""
     if elastomer is None:
         return GentLaw.of_Jm(JM_VHB if Jm is None else Jm)
     return ElastomerLaw(film_elastomer(lamP, Jm, elastomer))
