@@ -499,6 +499,19 @@ def _material_cases():
         Case(f"{m}.ElastomerMembrane.stretching_energy_derivative",
              lambda l1, l2: em0.stretching_energy_derivative(l1, l2), l12, lk,
              extra={"l1": [20.0]}),
+        Case(f"{m}.ElastomerMembrane.stretching_energy_jet",
+             lambda l1, l2: em0.stretching_energy_jet(l1, l2), l12, lk,
+             check=_check_membrane_jet, extra={"l1": [20.0]}),
+        Case(f"{m}.MembraneJet", lambda: membrane.MembraneJet.seed(1.5, 1.3), {}, {},
+             check=lambda r: all(_check_membrane_jet(j) for j in r)),
+    ]
+    # the jet's parts (value, first and second derivatives) of l1 * l2^2 at a state
+    out += [
+        Case(f"{m}.MembraneJet.{k}",
+             functools.partial(lambda k: getattr(_jet_product(), k), k), {}, {})
+        for k in ("v", "d1", "d2", "d11", "d12", "d22")
+    ]
+    out += [
         Case(f"{m}.ElastomerMembrane.electric_energy_derivative",
              lambda l1, l2: em0.electric_energy_derivative(l1, l2), l12, lk),
         Case(f"{m}.ElastomerMembrane.free_energy",
@@ -506,6 +519,20 @@ def _material_cases():
              {**lk, "I4": "nonneg"}),
     ]
     return out
+
+
+def _jet_product():
+    """``l1 l2^2`` as a :class:`~debench.models.materials.membrane.MembraneJet` at
+    (1.5, 1.3)."""
+    from debench.models.materials.membrane import MembraneJet
+    a, b = MembraneJet.seed(1.5, 1.3)
+    return a * b * b
+
+
+def _check_membrane_jet(W) -> bool:
+    """A :class:`~debench.models.materials.membrane.MembraneJet`: every entry finite."""
+    return all(np.all(np.isfinite(getattr(W, k))) for k in ("v", "d1", "d2", "d11", "d12",
+                                                             "d22"))
 
 
 def _circular_cases():
@@ -516,12 +543,19 @@ def _circular_cases():
         circle_a,
         collocation,
         events,
+        law,
         lockstep,
         params,
         shooting,
     )
+    from debench.models.materials import library
 
     c = "debench.models.circular"
+    # a library elastomer for the ODE model, and a Gent of Jm = 10 whose lock (equibiaxial
+    # stretch 2.547) a pre-stretch of 3 is past
+    _MR = library.MooneyRivlinIdealDielectric(C10=0.35, C01=0.15)
+    _GENT_JM10 = library.GentIdealDielectric(mu=1.0, Jm=10.0, eps=1.0)
+    lock10 = law.locking_stretch_equibiaxial(10.0)
     an = _annulus
     spec = chapter_pass.ChapterSpec(lamPs=(2.0,), cs=(0.0, -0.05), n=20, steps=40)
     return [
@@ -548,14 +582,46 @@ def _circular_cases():
         Case(f"{c}.params.Annulus", params.Annulus,
              {"lamP": 2.0, "radius_ratio": 15.0, "Jm": 120.0, "equilibrium": "printed"},
              {"lamP": "stretch", "radius_ratio": "pos", "Jm": "pos_or_inf",
-              "equilibrium": "choice"}, extra={"radius_ratio": [1.0, 0.5]}),
+              "equilibrium": "choice"}, extra={"radius_ratio": [1.0, 0.5]},
+             allowed={"Jm": [None]}),
         Case(f"{c}.params.Annulus.kappa", lambda Jm: params.Annulus(2.0, Jm=Jm).kappa,
-             {"Jm": 120.0}, {"Jm": "pos_or_inf"}),
+             {"Jm": 120.0}, {"Jm": "pos_or_inf"}, allowed={"Jm": [None]}),
+        Case(f"{c}.params.Annulus[elastomer]", params.Annulus,
+             {"lamP": 3.0, "elastomer": _MR}, {"lamP": "stretch", "elastomer": "obj"},
+             allowed={"elastomer": [None]}, extra={"elastomer": [_GENT_JM10]}),
+        Case(f"{c}.params.Annulus.law", lambda Jm: params.Annulus(2.0, Jm=Jm).law,
+             {"Jm": 120.0}, {"Jm": "pos_or_inf"}, allowed={"Jm": [None]}),
+        # the membrane laws: constructors and membrane_law validate; the stresses are the
+        # integrator's kernels (no checks, NaN marks an inadmissible state), called here at
+        # a valid state and compared with each other in verification/test_ch3_any_material.py
+        Case(f"{c}.params.membrane_law", params.membrane_law,
+             {"Jm": None, "elastomer": _MR, "lamP": 2.0},
+             {"Jm": "pos_or_inf", "elastomer": "obj", "lamP": "stretch"},
+             allowed={"Jm": [None], "elastomer": [None]}),
+        Case(f"{c}.law.GentLaw", law.GentLaw, {"kappa": 1 / 120, "Jm": 120.0},
+             {"kappa": "nonneg", "Jm": "pos_or_inf"}),
+        Case(f"{c}.law.gent_stresses", lambda: law.gent_stresses(1.5, 1.3, 1 / 120), {}, {}),
+        Case(f"{c}.law.GentLaw.stresses",
+             lambda: law.GentLaw.of_Jm(120.0).stresses(1.5, 1.3), {}, {}),
+        Case(f"{c}.law.GentLaw.equibiaxial_stress",
+             lambda: law.GentLaw.of_Jm(120.0).equibiaxial_stress(2.0), {}, {}),
+        Case(f"{c}.law.GentLaw.locking_stretch",
+             lambda Jm: law.GentLaw.of_Jm(Jm).locking_stretch(), {"Jm": 120.0},
+             {"Jm": "pos_or_inf"}, check=lambda r: r > 1),
+        Case(f"{c}.law.ElastomerLaw", law.ElastomerLaw, {"elastomer": _MR},
+             {"elastomer": "obj"}, extra={"elastomer": [library.IdealDielectric()]}),
+        Case(f"{c}.law.ElastomerLaw.stresses",
+             lambda: law.ElastomerLaw(_MR).stresses(1.5, 1.3), {}, {}),
+        Case(f"{c}.law.ElastomerLaw.equibiaxial_stress",
+             lambda: law.ElastomerLaw(_MR).equibiaxial_stress(2.0), {}, {}),
+        Case(f"{c}.law.ElastomerLaw.locking_stretch",
+             lambda: law.ElastomerLaw(_GENT_JM10).locking_stretch(), {}, {},
+             check=lambda r: abs(r - lock10) <= 1e-12 * lock10),
         Case(f"{c}.params.CircularActuator", params.CircularActuator,
              {"annulus": params.Annulus(2.0), "c": -0.05, "eps_r": 4.7, "mu": 51e3},
              {"annulus": "obj", "c": "real", "eps_r": "pos", "mu": "pos"},
              extra={"c": [-0.9, -10.0]}),
-        Case(f"{c}.params.locking_stretch_equibiaxial", params.locking_stretch_equibiaxial,
+        Case(f"{c}.law.locking_stretch_equibiaxial", law.locking_stretch_equibiaxial,
              {"Jm": 120.0}, {"Jm": "pos_or_inf"}),
         Case(f"{c}.params.film_elastomer",
              lambda lamP, elastomer: params.film_elastomer(lamP, None, elastomer),
@@ -572,6 +638,12 @@ def _circular_cases():
              {"lam": 2.0, "T1B": 0.5, "c": -0.05, "kappa": 1 / 120},
              {"lam": "lam", "T1B": "real", "c": "real", "kappa": "nonneg"},
              extra={"lam": [12.0], "c": [-10.0]}),
+        Case(f"{c}.circle_a.phibar_squared[elastomer]",
+             lambda lam, T1B, c, elastomer: circle_a.phibar_squared(lam, T1B, c,
+                                                                    elastomer=elastomer),
+             {"lam": 2.0, "T1B": 0.5, "c": -0.05, "elastomer": _MR},
+             {"lam": "lam", "T1B": "real", "c": "real", "elastomer": "obj"},
+             extra={"c": [-10.0], "elastomer": [library.IdealDielectric()]}),
         Case(f"{c}.circle_a.phibar_squared_where_defined",
              lambda lam, T1B, c, kappa: (
                  circle_a.phibar_squared_where_defined(lam, T1B, c, kappa), lam, c),

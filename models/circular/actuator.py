@@ -17,9 +17,10 @@ with exact complex-step derivatives, :mod:`debench.models.circular.events`):
   c by construction;
 * ``breakdown``: Phibar = sqrt(eps_bar/mu) E_B(lambda)/lambda^2 (Sec. 3.5.5), crossed from
   below;
-* ``locking``: the Gent locking stretch of circle A, 2 lam^2 + lam^-4 - 3 = Jm (3.23)
-  (bisection to machine precision), reported as the failure only when none of the
-  above occurs first (Phibar -> inf there, so breakdown normally precedes it);
+* ``locking``: the locking stretch of circle A, 2 lam^2 + lam^-4 - 3 = Jm for Gent (3.23)
+  (bisection to machine precision; for another elastomer the end of its admissible
+  equibiaxial states), reported as the failure only when none of the above occurs first
+  (Phibar -> inf there, so breakdown normally precedes it);
 * ``end``: the end of the admissible annulus branch, likewise;
 * ``permittivity``: the stretch where the factor K = 1 + c(5 lam/2 - 2) of (3.30) reaches
   0 (c < 0; Phibar undefined beyond), likewise (breakdown normally precedes it).
@@ -27,6 +28,11 @@ with exact complex-step derivatives, :mod:`debench.models.circular.events`):
 The *failure* is the first of pullin, loss_of_tension, breakdown along increasing lambda
 (the thesis terminates its curves there, Sec. 3.5.3-3.5.5); ``lam_max`` and its Phibar are
 the failure point (Fig. 3.9).
+
+The material is the annulus' (:class:`~debench.models.circular.params.Annulus`): the
+thesis' Gent (3.23) of ``Jm`` in its closed forms, or any library ``elastomer`` through its
+membrane law (:mod:`debench.models.circular.law`), in circle A (3.30) and annulus B alike;
+stresses and Phibar are then per unit the elastomer's shear modulus.
 """
 
 from __future__ import annotations
@@ -42,9 +48,8 @@ from scipy.interpolate import PchipInterpolator
 
 from . import circle_a, params
 from .events import EVENT_KINDS, _locate_gen
-from .integrator import stresses
 from .lockstep import Request, run
-from .params import Annulus, CircularActuator, locking_stretch_equibiaxial
+from .params import Annulus, CircularActuator
 from .shooting import DEFAULT_STEPS, _interface_state, _interface_state_gen, q_for_stretch
 
 #: the events that end a curve (the film fails there)
@@ -89,7 +94,7 @@ def _scan_state_gen(annulus: Annulus, q, steps: int, lamP, membrane=None):
     l1, l2 = yield Request.of(annulus, q, steps, lamP, membrane)
     l1, l2 = l1.reshape(q.shape), l2.reshape(q.shape)
     with np.errstate(all="ignore"):  # NaN marks inadmissible trajectories, by design
-        s1, *_ = stresses(l1, l2, annulus.kappa)
+        s1, *_ = annulus.law.stresses(l1, l2)
         return l2, s1 / l1
 
 
@@ -136,7 +141,7 @@ def branch(annulus: Annulus, lam=None, *, n: int = 300, lam_end: float | None = 
         if lam.ndim != 1 or lam.size < 1:
             raise ValueError(f"lam must be a non-empty 1-D array, got shape {lam.shape}")
     lam_scan, q_scan = _scan(annulus, steps)
-    top = min(lam_scan[-1], 0.999 * locking_stretch_equibiaxial(annulus.Jm))
+    top = min(lam_scan[-1], 0.999 * annulus.law.locking_stretch())
     if lam_end is None:
         lam_end = top
     if lam is None:
@@ -189,7 +194,7 @@ def branches_solver(annuli, *, n=300, steps: int = DEFAULT_STEPS):
     v.integer_at_least("steps", steps, 4)
     if annuli:
         a0 = annuli[0]
-        if any((a.radius_ratio, a.Jm) != (a0.radius_ratio, a0.Jm) for a in annuli):
+        if any((a.radius_ratio, a.law) != (a0.radius_ratio, a0.law) for a in annuli):
             raise ValueError("branches(): annuli must differ only in lamP and equilibrium")
     return _branches_gen(annuli, ns, steps)
 
@@ -218,7 +223,7 @@ def _branches_gen(annuli, ns, steps):
         if lam_k.size < 4 or np.any(np.diff(lam_k) <= 0):
             raise ConvergenceError(f"annulus branch for {a} is not monotone in the shooting "
                                    "parameter (or too short)")
-        top = min(lam_k[-1], 0.999 * locking_stretch_equibiaxial(a.Jm))
+        top = min(lam_k[-1], 0.999 * a.law.locking_stretch())
         interp[a] = (PchipInterpolator(lam_k, q_k), top)
     qs, lps, tops = [], [], []
     for a, nk in zip(annuli, ns, strict=True):
@@ -352,7 +357,7 @@ def _curves_many_gen(jobs, actuators, mu, steps):
         ev = located[(rep[0], rep[1], rep[2])]
         if row[5] != rep[5]:      # loss of tension shared across c: Phibar at this c
             lam_, T1_ = roots[(rep[0], rep[1], rep[2])]
-            p2 = circle_a._p2(lam_, T1_, row[5], jobs[row[0]][0].annulus.kappa)
+            p2 = circle_a._p2(lam_, T1_, row[5], jobs[row[0]][0].annulus.law)
             ev = Event(ev.kind, ev.lam, float(np.sqrt(max(p2, 0.0))), ev.q)
         located[(row[0], row[1], row[2])] = ev
     return [[_curve(actuators[jb][i], c, br, data[i], {k: located.get((jb, i, k))
@@ -369,7 +374,7 @@ def _grid_events(jb, br: Branch, cs, eps_r, mu, pending, located):
     around it); an event known exactly is put in ``located``."""
     eps_r = params.EPS_R_ASSUMED if eps_r is None else eps_r
     an = br.annulus
-    kappa = an.kappa
+    law = an.law
     cs = [float(c) for c in cs]
     eps_rs = [float(e) for e in np.broadcast_to(np.asarray(eps_r, float), (len(cs),))]
     lam = br.lam
@@ -379,10 +384,10 @@ def _grid_events(jb, br: Branch, cs, eps_r, mu, pending, located):
     K = circle_a._K(lam, cc)
     valid = K > 0
     Ks = np.where(valid, K, 1.0)  # Phibar is undefined where K <= 0 (masked below)
-    P2 = np.where(valid, circle_a._p2(lam, br.T1, cc, kappa) * K / Ks, np.nan)
+    P2 = np.where(valid, circle_a._p2(lam, br.T1, cc, law) * K / Ks, np.nan)
     h = 1e-30
     with np.errstate(divide="ignore", invalid="ignore"):
-        p2c = circle_a._p2(lam + 1j * h * br.dlam, br.T1 + 1j * h * br.dT1, cc, kappa)
+        p2c = circle_a._p2(lam + 1j * h * br.dlam, br.T1 + 1j * h * br.dT1, cc, law)
     DP2 = np.where(valid, (p2c.imag / h) / br.dlam, np.nan)
     fun = {"pullin": DP2, "minimum": DP2, "loss_of_tension": br.T1[None, :],
            "breakdown": P2 - PB**2}
@@ -395,7 +400,7 @@ def _grid_events(jb, br: Branch, cs, eps_r, mu, pending, located):
             cross = (f[:, :-1] > 0) & (f[:, 1:] <= 0)
         first[kind] = np.where(cross.any(axis=1), cross.argmax(axis=1), -1)
     PHI = np.sqrt(np.maximum(P2, 0.0))
-    SIG = circle_a._s(lam, kappa) - PHI**2 * lam**4 * K
+    SIG = law.equibiaxial_stress(lam) - PHI**2 * lam**4 * K
     data = []
     for i, c in enumerate(cs):
         for kind in EVENT_KINDS:
@@ -447,7 +452,7 @@ def _locate_groups(jobs, pending, mu, steps, located):
     for row in pending:
         an = jobs[row[0]][0].annulus
         st = jobs[row[0]][0].steps if steps is None else steps
-        key = (an.radius_ratio, an.Jm, st)
+        key = (an.radius_ratio, an.law, st)
         groups.setdefault(key, []).append(row)
     for (_, _, st), rows in groups.items():
         an0 = jobs[rows[0][0]][0].annulus
@@ -461,7 +466,7 @@ def _locate_groups(jobs, pending, mu, steps, located):
             sa=([r[11][0] for r in rows], [r[11][1] for r in rows]),
             sb=([r[12][0] for r in rows], [r[12][1] for r in rows]), membrane=mem)
         for k, r in enumerate(rows):
-            p2 = circle_a._p2(lam_r[k], T1_r[k], r[5], an0.kappa)
+            p2 = circle_a._p2(lam_r[k], T1_r[k], r[5], an0.law)
             located[(r[0], r[1], r[2])] = Event(r[2], float(lam_r[k]),
                                                 float(np.sqrt(max(p2, 0.0))),
                                                 float(qroot[k]))
@@ -484,7 +489,7 @@ def _curve(act: CircularActuator, c: float, br: Branch, data, events: dict) -> C
         # nothing before the end of the traced branch: Gent locking of circle A
         # (3.23) if the branch reaches it (Phibar -> inf there), else the end of
         # the admissible annulus branch
-        lock = locking_stretch_equibiaxial(br.annulus.Jm)
+        lock = br.annulus.law.locking_stretch()
         kind = "locking" if br.lam_end >= 0.999 * lock * (1 - 1e-12) else "end"
         failure = Event(kind, float(lock if kind == "locking" else br.lam_end),
                         float("nan"), float("nan"))
@@ -529,7 +534,10 @@ def _zero_of_K(c: float) -> float:
 
 
 def curve(actuator: CircularActuator, *, n: int = 400, steps: int = DEFAULT_STEPS) -> Curve:
-    """One voltage-stretch curve (convenience wrapper around :func:`branch`/:func:`curves`)."""
+    """One voltage-stretch curve (convenience wrapper around :func:`branch`/:func:`curves`):
+    circle A (3.28)-(3.32) on the annulus branch (3.33)-(3.38), with the material law of
+    ``actuator.annulus`` (Gent (3.23) of ``Jm``, or its library ``elastomer``), its events
+    (pull-in, loss of tension, breakdown) located."""
     v.instance("actuator", actuator, CircularActuator)
     br = branch(actuator.annulus, n=n, steps=steps)
     return curves(br, [actuator.c], eps_r=actuator.eps_r, mu=actuator.mu)[0]

@@ -21,7 +21,7 @@ from debench.models.numerics.newton import SCALAR_STEP_RTOL
 from debench.models.numerics.roots import bracketed_root
 from scipy.interpolate import CubicHermiteSpline
 
-from . import circle_a, params
+from . import circle_a
 from .actuator import Branch, _branches_gen, branch, curves
 from .lockstep import run
 from .params import Annulus, CircularActuator
@@ -70,7 +70,7 @@ def _dphibar2_dlam(br: Branch, c: float) -> np.ndarray:
     h = 1e-30
     with np.errstate(divide="ignore", invalid="ignore"):  # K = 0 -> inf, masked by callers
         p2c = circle_a._p2(br.lam + 1j * h * br.dlam, br.T1 + 1j * h * br.dT1,
-                                      c, br.annulus.kappa)
+                                      c, br.annulus.law)
     return (p2c.imag / h) / br.dlam
 
 
@@ -139,10 +139,10 @@ def _states_at_voltage_gen(brs, cs, phibars):
     """:func:`states_at_voltage_many` (non-empty ``brs``, checked arguments) as a
     :func:`~debench.models.circular.lockstep.lockstep` solver."""
     an0, steps = brs[0].annulus, brs[0].steps
-    if any((b.annulus.radius_ratio, b.annulus.Jm, b.steps) != (an0.radius_ratio, an0.Jm, steps)
+    if any((b.annulus.radius_ratio, b.annulus.law, b.steps) != (an0.radius_ratio, an0.law, steps)
            for b in brs):
         raise ValueError("branches must differ only in lamP and equilibrium")
-    kappa = an0.kappa
+    law = an0.law
     cs = np.asarray(cs, float)
     phibars = np.asarray(phibars, float)
     lamP = np.array([b.annulus.lamP for b in brs], float)
@@ -150,7 +150,7 @@ def _states_at_voltage_gen(brs, cs, phibars):
     a, b, fa, fb = (np.empty(cs.size) for _ in range(4))
     for k, (br, c, phibar) in enumerate(zip(brs, cs, phibars, strict=True)):
         with np.errstate(divide="ignore", invalid="ignore"):  # K <= 0: NaN, no crossing
-            p2 = np.where(circle_a._K(br.lam, c) > 0, circle_a._p2(br.lam, br.T1, c, kappa),
+            p2 = np.where(circle_a._K(br.lam, c) > 0, circle_a._p2(br.lam, br.T1, c, law),
                           np.nan)
         f = p2 - phibar**2
         idx = np.nonzero((f[:-1] < 0) & (f[1:] >= 0))[0]
@@ -167,7 +167,7 @@ def _states_at_voltage_gen(brs, cs, phibars):
             break
         st = yield from _interface_state_gen(an0, q[act], steps=steps, lamP=lamP[act],
                                              membrane=mem[act])
-        p2c = circle_a._p2(st.lam_c, st.T1_c, cs[act], kappa)
+        p2c = circle_a._p2(st.lam_c, st.T1_c, cs[act], law)
         r, dr = p2c.real - phibars[act]**2, p2c.imag / 1e-30
         zero = r == 0
         done[act[zero]] = True
@@ -329,7 +329,7 @@ def _branches_at_gen(brs, lams, maxiter: int = 30):
     """:func:`branches_at` (non-empty ``brs``) as a
     :func:`~debench.models.circular.lockstep.lockstep` solver."""
     an0, steps = brs[0].annulus, brs[0].steps
-    if any((b.annulus.radius_ratio, b.annulus.Jm, b.steps) != (an0.radius_ratio, an0.Jm, steps)
+    if any((b.annulus.radius_ratio, b.annulus.law, b.steps) != (an0.radius_ratio, an0.law, steps)
            for b in brs):
         raise ValueError("branches must differ only in lamP and equilibrium")
     lams = [np.asarray(x, float) for x in lams]
@@ -386,10 +386,10 @@ def pullin_c_threshold_closed_form(annulus: Annulus) -> float:
                       np.interp(lam_L, br.lam, br.q))
     st = _interface_state(annulus, q, steps=br.steps)
     dT1 = float(st.dT1[0] / st.dlam[0])
-    kappa = annulus.kappa
+    law = annulus.law
     h = 1e-30
-    s = float(circle_a._s(lam_L, kappa))
-    ds = float(circle_a._s(lam_L + 1j * h, kappa).imag / h)
+    s = float(law.equibiaxial_stress(lam_L))
+    ds = float(law.equibiaxial_stress(lam_L + 1j * h).imag / h)
     A = 2.5 * lam_L - 2
     num = 4 * s / lam_L - ds + lam_L * dT1
     den = (ds - lam_L * dT1) * A - 4 * s * A / lam_L - 2.5 * s
@@ -400,11 +400,12 @@ def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
                                   Jm: float | None = None, equilibrium: str = "printed",
                                   definition: str = "before_loss_of_tension",
                                   bracket=(2.0, 3.2), n: int = 800,
-                                  xtol: float = 1e-8) -> float:
+                                  xtol: float = 1e-8, elastomer=None) -> float:
     """The pre-stretch above which pull-in is suppressed (Sec. 3.5.2: 2.53 for c = 0).
 
     ``Jm``: the Gent parameter (None: ``params.JM_VHB``, read
-    at the call).
+    at the call); ``elastomer``: any library material instead (give one of them, see
+    :class:`~debench.models.circular.params.Annulus`).
 
     ``bracket`` a window of pre-stretches >= 1 (each builds an :class:`Annulus`, so the
     geometry and material arguments are validated there), ``n >= 4``, ``xtol`` a finite
@@ -415,12 +416,11 @@ def pullin_suppression_prestretch(c: float = 0.0, *, radius_ratio: float = 15.0,
     lo, hi = v.window("bracket", bracket, lo=-math.inf)
     v.integer_at_least("n", n, 4)
     v.tolerance("xtol", xtol)
-    Jm = params.JM_VHB if Jm is None else Jm
-    CircularActuator(Annulus(lo, radius_ratio, Jm, equilibrium), c=c)
-    CircularActuator(Annulus(hi, radius_ratio, Jm, equilibrium), c=c)
+    CircularActuator(Annulus(lo, radius_ratio, Jm, equilibrium, elastomer), c=c)
+    CircularActuator(Annulus(hi, radius_ratio, Jm, equilibrium, elastomer), c=c)
 
     def f(lamP):
-        an = Annulus(lamP, radius_ratio, Jm, equilibrium)
+        an = Annulus(lamP, radius_ratio, Jm, equilibrium, elastomer)
         br = branch(an, n=n)
         return _min_slope(br, c, definition, None)
 
@@ -442,7 +442,7 @@ def pullin_suppression_prestretches(c: float, equilibria, *, radius_ratio: float
                                     Jm: float | None = None,
                                     definition: str = "before_loss_of_tension",
                                     bracket=(2.0, 3.2), n: int = 800, xtol: float = 1e-6,
-                                    bracket_branches=None) -> list[float]:
+                                    bracket_branches=None, elastomer=None) -> list[float]:
     """:func:`pullin_suppression_prestretch` for several equilibrium variants at once,
     one value per entry of ``equilibria`` (a sequence of variant names).
 
@@ -453,18 +453,18 @@ def pullin_suppression_prestretches(c: float, equilibria, *, radius_ratio: float
     ``bracket_branches``: the branches of ``n`` points at the bracket ends, when the
     caller traced them already (every variant at ``bracket[0]``, then every variant at
     ``bracket[1]``; ValueError if they are not those). The other arguments are checked
-    as in :func:`pullin_suppression_prestretch`; ConvergenceError when a bracket does not
-    hold a sign change or does not shrink.
+    as in :func:`pullin_suppression_prestretch` (``Jm`` or ``elastomer``); ConvergenceError
+    when a bracket does not hold a sign change or does not shrink.
     """
     return run(_suppression_solver(c, equilibria, radius_ratio=radius_ratio, Jm=Jm,
                                    definition=definition, bracket=bracket, n=n, xtol=xtol,
-                                   bracket_branches=bracket_branches))
+                                   bracket_branches=bracket_branches, elastomer=elastomer))
 
 
 def _suppression_solver(c: float, equilibria, *, radius_ratio: float = 15.0,
                         Jm: float | None = None, definition: str = "before_loss_of_tension",
                         bracket=(2.0, 3.2), n: int = 800,
-                        xtol: float = 1e-6, bracket_branches=None):
+                        xtol: float = 1e-6, bracket_branches=None, elastomer=None):
     """:func:`pullin_suppression_prestretches` as a
     :func:`~debench.models.circular.lockstep.lockstep` solver (arguments checked here).
 
@@ -483,27 +483,27 @@ def _suppression_solver(c: float, equilibria, *, radius_ratio: float = 15.0,
     lo, hi = v.window("bracket", bracket, lo=-math.inf)
     v.integer_at_least("n", n, 4)
     v.tolerance("xtol", xtol)
-    Jm = params.JM_VHB if Jm is None else Jm
     eqs = _listed("equilibria", equilibria)
     for eq in eqs:
-        CircularActuator(Annulus(lo, radius_ratio, Jm, eq), c=c)
-        CircularActuator(Annulus(hi, radius_ratio, Jm, eq), c=c)
+        CircularActuator(Annulus(lo, radius_ratio, Jm, eq, elastomer), c=c)
+        CircularActuator(Annulus(hi, radius_ratio, Jm, eq, elastomer), c=c)
     if bracket_branches is not None:
         bracket_branches = _listed("bracket_branches", bracket_branches)
         for b in bracket_branches:
             v.instance("bracket_branches[k]", b, Branch)
 
     return _suppression_gen(c, eqs, radius_ratio, Jm, definition, lo, hi, n, xtol, bracket,
-                            bracket_branches)
+                            bracket_branches, elastomer)
 
 
 def _suppression_gen(c, eqs, radius_ratio, Jm, definition, lo, hi, n, xtol, bracket,
-                     bracket_branches):
+                     bracket_branches, elastomer=None):
     """:func:`pullin_suppression_prestretches` after its checks, as a
-    :func:`~debench.models.circular.lockstep.lockstep` solver."""
+    :func:`~debench.models.circular.lockstep.lockstep` solver (``Jm`` None and no
+    ``elastomer``: ``params.JM_VHB``)."""
 
     def f(lamPs, which):
-        ans = [Annulus(float(x), radius_ratio, Jm, eqs[k])
+        ans = [Annulus(float(x), radius_ratio, Jm, eqs[k], elastomer)
                for x, k in zip(lamPs, which, strict=True)]
         brs = yield from _branches_gen(ans, [n] * len(ans), DEFAULT_STEPS)
         return slopes(brs)
@@ -514,7 +514,8 @@ def _suppression_gen(c, eqs, radius_ratio, Jm, definition, lo, hi, n, xtol, brac
     m = len(eqs)
     idx = np.arange(m)
     if bracket_branches is not None:
-        want = [Annulus(float(x), radius_ratio, Jm, eq) for x in (lo, hi) for eq in eqs]
+        want = [Annulus(float(x), radius_ratio, Jm, eq, elastomer) for x in (lo, hi)
+                for eq in eqs]
         got = list(bracket_branches)
         if [b.annulus for b in got] != want or any(b.lam.size != n for b in got):
             raise ValueError(f"bracket_branches must be the {n}-point branches of {want}")

@@ -17,50 +17,65 @@ Force balance at the interface (3.32) with T1 = sigma1/lambda1 (3.17) gives
 
     Phibar^2 = (s(lam) - lam T1B) / (lam^4 K(lam)).
 
+The material law is Gent (3.23) with ``kappa = 1/Jm`` in the closed form above, or any
+library elastomer (``elastomer=``, give ``kappa`` or ``elastomer``): ``s(lam)`` is then
+``lam dWs/dl1`` at ``l1 = l2 = lam`` per unit its shear modulus, from its energy
+expression (:class:`~debench.models.circular.law.ElastomerLaw`); K and the interface
+balance do not depend on the material.
+
 Every function is complex-safe (used with complex-step sensitivities). Public functions
-validate their arguments (ValueError naming the bound: lam <= 0, past the Gent locking
+validate their arguments (ValueError naming the bound: lam <= 0, past the locking
 stretch, K <= 0; :func:`phibar_squared_where_defined` marks K <= 0 NaN instead); the models
-call the private kernels ``_s``, ``_K``, ``_p2``.
+call the private kernels ``_s`` (Gent), ``_K``, ``_p2`` (any law).
 """
 
 from __future__ import annotations
 
 import numpy as np
 from debench.models import validation as v
-from debench.models.materials import energies as E
 
-from .params import EB_COEFF, EB_EXPONENT, EPS0, locking_stretch_equibiaxial
-
-
-def _margin(lam, kappa):
-    """The library's Gent lock margin
-    (:func:`~debench.models.materials.energies.gent_lock_margin`) at the equibiaxial
-    ``I1 = 2 lam^2 + lam^-4``."""
-    return E.gent_lock_margin(2 * lam**2 + lam**-4, kappa=kappa)
-
-
-def _s(lam, kappa):
-    return (lam**2 - lam**-4) / _margin(lam, kappa)
+from .law import ElastomerLaw, GentLaw, locking_stretch_equibiaxial
+from .law import _equibiaxial_margin as _margin
+from .law import _equibiaxial_stress as _s
+from .params import EB_COEFF, EB_EXPONENT, EPS0, film_elastomer
 
 
 def _K(lam, c):
     return 1 + c * (2.5 * lam - 2)
 
 
-def _p2(lam, T1B, c, kappa):
-    return (_s(lam, kappa) - lam * T1B) / (lam**4 * _K(lam, c))
+def _p2(lam, T1B, c, law):
+    """Phibar^2 of (3.30)-(3.32) with the equibiaxial stress of the membrane ``law``
+    (:mod:`debench.models.circular.law`)."""
+    return (law.equibiaxial_stress(lam) - lam * T1B) / (lam**4 * _K(lam, c))
 
 
-def _check_lam(lam, kappa=None):
-    """lam finite and > 0 (complex allowed); below the Gent lock when kappa is given."""
-    lam = np.asarray(v.positive("lam", lam, complex_ok=True))
+def _law(kappa, elastomer):
+    """The membrane law of ``kappa = 1/Jm >= 0`` (Gent) or of the library ``elastomer``
+    (ValueError when both or neither is given, TypeError for a non-material)."""
+    if elastomer is None:
+        if kappa is None:
+            raise ValueError("give kappa (= 1/Jm of the Gent elastomer) or elastomer")
+        return GentLaw.of_kappa(v.nonnegative("kappa", kappa))
     if kappa is not None:
-        kappa = v.nonnegative("kappa", kappa)
+        raise ValueError("give kappa (= 1/Jm of the Gent elastomer) or elastomer, not both")
+    return ElastomerLaw(film_elastomer(1.0, None, elastomer))
+
+
+def _check_lam(lam, law=None):
+    """lam finite and > 0 (complex allowed); below the locking stretch of ``law``."""
+    lam = np.asarray(v.positive("lam", lam, complex_ok=True))
+    if law is not None:
         lr = np.real(lam)
-        if not np.all(_margin(lr, kappa) > 0):
-            lock = locking_stretch_equibiaxial(1 / kappa)
-            raise ValueError(f"lam = {v._show(lr)} is past the Gent locking stretch "
-                             f"{lock:.6g} (Jm = {1 / kappa:.6g})")
+        if getattr(law, "fused", False):
+            kappa = law.kappa
+            if not np.all(_margin(lr, kappa) > 0):
+                lock = locking_stretch_equibiaxial(1 / kappa)
+                raise ValueError(f"lam = {v._show(lr)} is past the Gent locking stretch "
+                                 f"{lock:.6g} (Jm = {1 / kappa:.6g})")
+        elif not np.all(lr < law.locking_stretch()):
+            raise ValueError(f"lam = {v._show(lr)} is past the locking stretch "
+                             f"{law.locking_stretch():.6g} of {law.elastomer!r:.60}")
     return lam
 
 
@@ -77,7 +92,8 @@ def gent_equibiaxial_stress(lam, kappa: float):
 
     ``lam`` finite, > 0 and below the Gent locking stretch; ``kappa >= 0``.
     """
-    return _s(_check_lam(lam, kappa), kappa)
+    law = _law(kappa, None)
+    return _s(_check_lam(lam, law), law.kappa)
 
 
 @v.finite_result
@@ -93,8 +109,9 @@ def permittivity_ratio(lam, c: float):
 
 
 @v.finite_result
-def phibar_squared(lam, T1B, c: float, kappa: float):
-    """Normalised voltage squared that holds circle A at ``lam`` against ``T1B``.
+def phibar_squared(lam, T1B, c: float, kappa: float | None = None, *, elastomer=None):
+    """Normalised voltage squared that holds circle A at ``lam`` against ``T1B``, (3.30)
+    with (3.32).
 
     Parameters
     ----------
@@ -105,17 +122,23 @@ def phibar_squared(lam, T1B, c: float, kappa: float):
         Nominal radial stress of annulus B at R_A per unit mu (3.17, 3.32); 0 for a free
         membrane.
     c, kappa
-        Zhao-Suo factor (3.27) (the factor K of (3.30) must stay > 0) and 1/Jm >= 0.
+        Zhao-Suo factor (3.27) (the factor K of (3.30) must stay > 0) and 1/Jm >= 0 of
+        the Gent law (3.23).
+    elastomer
+        Any library material instead of Gent (give ``kappa`` or ``elastomer``); Phibar is
+        normalised by its shear modulus.
 
     A negative value means no real voltage holds circle A at ``lam``.
     """
-    lam = _check_lam(lam, kappa)
+    law = _law(kappa, elastomer)
+    lam = _check_lam(lam, law)
     v.finite("T1B", T1B, complex_ok=True)
     _check_K(lam, v.finite("c", c))
-    return _p2(lam, T1B, c, kappa)
+    return _p2(lam, T1B, c, law)
 
 
-def phibar_squared_where_defined(lam, T1B, c: float, kappa: float):
+def phibar_squared_where_defined(lam, T1B, c: float, kappa: float | None = None, *,
+                                 elastomer=None):
     """:func:`phibar_squared` where the factor K = 1 + c(5 lam/2 - 2) of (3.30) is
     positive, NaN where K <= 0.
 
@@ -125,14 +148,16 @@ def phibar_squared_where_defined(lam, T1B, c: float, kappa: float):
     evaluated along a whole traced branch. The arguments are those of
     :func:`phibar_squared` and checked as there (``lam`` finite, > 0 and below the Gent
     locking stretch, ``T1B`` and ``c`` finite, ``kappa >= 0``), except that K may be
-    <= 0; every value where K > 0 is finite (ValueError otherwise).
+    <= 0; every value where K > 0 is finite (ValueError otherwise). ``elastomer``: any
+    library material instead of Gent, as in :func:`phibar_squared`.
     """
-    lam = _check_lam(lam, v.nonnegative("kappa", kappa))
+    law = _law(kappa, elastomer)
+    lam = _check_lam(lam, law)
     v.finite("T1B", T1B, complex_ok=True)
     v.finite("c", c)
     defined = _K(np.real(lam), c) > 0
     with np.errstate(all="ignore"):  # K <= 0: replaced by NaN below
-        p2 = np.where(defined, _p2(lam, T1B, c, kappa), np.nan)
+        p2 = np.where(defined, _p2(lam, T1B, c, law), np.nan)
     if not np.all(np.isfinite(p2[defined])):
         raise ValueError("phibar_squared_where_defined: the result overflows (NaN or inf) "
                          "at these arguments; they are outside the representable range")
@@ -140,12 +165,15 @@ def phibar_squared_where_defined(lam, T1B, c: float, kappa: float):
 
 
 @v.finite_result
-def sigma1_circle_a(lam, phibar, c: float, kappa: float):
-    """True radial stress of circle A per unit mu, Eq. (3.30) with E^2 = (Phi/H)^2 lam^4."""
-    lam = _check_lam(lam, kappa)
+def sigma1_circle_a(lam, phibar, c: float, kappa: float | None = None, *, elastomer=None):
+    """True radial stress of circle A per unit mu, Eq. (3.30) with E^2 = (Phi/H)^2 lam^4:
+    Gent (3.23) with ``kappa = 1/Jm``, or any library ``elastomer`` (give one; mu is then
+    its shear modulus)."""
+    law = _law(kappa, elastomer)
+    lam = _check_lam(lam, law)
     phibar = v.finite("phibar", phibar)
     v.finite("c", c)
-    return _s(lam, kappa) - np.asarray(phibar) ** 2 * lam**4 * _K(lam, c)
+    return law.equibiaxial_stress(lam) - np.asarray(phibar) ** 2 * lam**4 * _K(lam, c)
 
 
 @v.finite_result
@@ -165,14 +193,15 @@ def _breakdown(lam, eps_r, mu):
 
 
 @v.finite_result
-def free_membrane_phibar(lam, c: float, kappa: float):
-    """Free equibiaxial membrane (annulus removed, T1B = 0): Phibar(lam), lam >= 1.
+def free_membrane_phibar(lam, c: float, kappa: float | None = None, *, elastomer=None):
+    """Free equibiaxial membrane (annulus removed, T1B = 0): Phibar(lam), lam >= 1, (3.30)
+    with ``sigma1 = 0``: Gent (3.23) with ``kappa = 1/Jm``, or any library ``elastomer``.
 
     Neo-Hookean ideal dielectric: ``sqrt(lam^-2 - lam^-8)``, maximum at lam = 2^(1/3)
     (Zhao & Suo 2007).
     """
     v.at_least("lam", lam, 1.0)
-    return np.sqrt(phibar_squared(lam, 0.0, c, kappa))
+    return np.sqrt(phibar_squared(lam, 0.0, c, kappa, elastomer=elastomer))
 
 
 @v.finite_result

@@ -75,7 +75,7 @@ def _event_values_gen(kinds, annulus, q, c, eps_r, mu, steps, lamP=None, membran
         raise ValueError(f"unknown event kind {kinds[bad][0]!r}; expected one of {EVENT_KINDS}")
     st = yield from _interface_state_gen(annulus, q, steps=steps, lamP=lamP,
                                          membrane=membrane)
-    p2c = circle_a._p2(st.lam_c, st.T1_c, c, annulus.kappa)
+    p2c = circle_a._p2(st.lam_c, st.T1_c, c, annulus.law)
     deriv = (p2c.imag / 1e-30) / st.dlam
     brk = p2c.real - circle_a._breakdown(st.lam, eps_r, mu) ** 2
     f = np.where(kinds == "loss_of_tension", st.T1,

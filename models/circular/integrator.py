@@ -12,7 +12,8 @@ Gent stresses of (3.36)-(3.37) (per unit mu):
 (:func:`~debench.models.materials.energies.gent_lock_margin`; the optimised kernels fuse it
 into in-place operations and are tested equal to the reference transcription).
 
-* :func:`stresses`, :func:`rhs_reference`: the stresses and the right-hand side written
+* :func:`~debench.models.circular.law.gent_stresses`, :func:`rhs_reference`: the stresses
+  and the right-hand side written
   term by term (the reference transcription);
 * :func:`rhs`: the same right-hand side with the Gent factor cancelled, for Python
   scalars and numpy arrays alike (and its stacked form for the array path);
@@ -22,6 +23,13 @@ into in-place operations and are tested equal to the reference transcription).
   arithmetic, large ones in pieces;
 * :func:`integrate_reference`: the plain RK4 loop over :func:`rhs_reference`, which
   :func:`integrate` optimises (same steps, same results to rounding; tests compare them).
+
+These are the kernels of the Gent default (the annulus'
+:attr:`~debench.models.circular.params.Annulus.law` a
+:class:`~debench.models.circular.law.GentLaw`). For any other library elastomer
+(:class:`~debench.models.circular.law.ElastomerLaw`) :func:`integrate` runs the plain loop
+of :func:`integrate_reference` on the law's stresses and their derivatives: the same
+(3.34)-(3.35) or membrane balance, the same RK4 steps.
 """
 
 from __future__ import annotations
@@ -30,8 +38,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from debench.models.materials import energies as E
 
+from .law import gent_stresses
 from .params import Annulus
 
 #: Default RK4 steps in t. Discretisation error (order 4, test_ch3_solvers), measured
@@ -47,33 +55,23 @@ def _grid(T: float, steps: int) -> np.ndarray:
     return np.linspace(T, 0.0, steps + 1)
 
 
-def stresses(l1, l2, kappa):
-    """sigma1, sigma2, d sigma1/d l1, d sigma1/d l2 (3.36)-(3.37) per mu, and 1 - (I1-3)/Jm."""
-    l1s = l1 * l1
-    l2s = l2 * l2
-    J = 1.0 / (l1s * l2s)                    # lambda_3^2
-    den = E.gent_lock_margin(l1s + l2s + J, kappa=kappa)
-    g = 1.0 / den
-    a1 = l1s - J
-    s1 = g * a1
-    s2 = g * (l2s - J)
-    Jl1 = J / l1
-    Jl2 = J / l2
-    if kappa:
-        ga = kappa * g * s1                  # a1 kappa g^2
-        s1_1 = 2 * (g * (l1 + Jl1) + ga * (l1 - Jl1))
-        s1_2 = 2 * (g * Jl2 + ga * (l2 - Jl2))
-    else:
-        s1_1 = 2 * (l1 + Jl1)
-        s1_2 = 2 * Jl2
-    return s1, s2, s1_1, s1_2, den
-
-
 def rhs_reference(l1, l2, kappa, membrane):
     """The right-hand side written term by term from (3.34)-(3.37) (the reference
     transcription that :func:`rhs` rearranges; tests compare them)."""
-    s1, s2, s1_1, s1_2, den = stresses(l1, l2, kappa)
+    return _rhs_of_stresses(gent_stresses(l1, l2, kappa), l1, l2, membrane)
+
+
+def _rhs_of_stresses(st, l1, l2, membrane):
+    """d(lambda_1, lambda_2)/dt, the margin and the slope from the stresses ``st`` =
+    (s1, s2, ds1/dl1, ds1/dl2, margin) of any membrane law
+    (:mod:`debench.models.circular.law`): (3.34)-(3.35), or the thin-membrane balance
+    where ``membrane`` (a bool, or a bool array broadcast with the stretches) is true."""
+    s1, s2, s1_1, s1_2, den = st
     d12 = l1 - l2
+    if isinstance(membrane, np.ndarray):
+        f1m, _, _, slm = _rhs_of_stresses(st, l1, l2, True)
+        f1p, _, _, slp = _rhs_of_stresses(st, l1, l2, False)
+        return np.where(membrane, f1m, f1p), d12, den, np.where(membrane, slm, slp)
     if membrane:
         T1 = s1 / l1
         T1_1 = (s1_1 - T1) / l1
@@ -220,14 +218,19 @@ def integrate(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
     trajectories. Returns (l1, l2) at t = 0 (arrays like q, complex if q is); with
     ``profile=True`` also t and the (steps+1, ...) arrays.
 
-    Admissibility: the Gent energy is defined (1 - (I1-3)/Jm > 0) and the radial equation
-    elliptic (slope > 0) at every RK4 stage, and lambda_1 > 0 at R_A. ``lamP`` and
+    Admissibility: the energy is defined (Gent: 1 - (I1-3)/Jm > 0; any other elastomer:
+    finite on its real domain) and the radial equation elliptic (slope > 0) at every RK4
+    stage, and lambda_1 > 0 at R_A. ``lamP`` and
     ``membrane`` (bool array: thin-membrane balance, else (3.33) as printed), broadcast
     with q, override the annulus' pre-stretch and equilibrium per trajectory, so that
     annuli differing only in these are integrated in one batch.
     """
     q = np.asarray(q)
     membrane = _membrane_flags(annulus, membrane, q.shape)
+    if not annulus.law.fused:
+        # a library elastomer (not the Gent closed forms): the plain loop over its law
+        return integrate_reference(annulus, q, steps=steps, profile=profile, lamP=lamP,
+                                   membrane=membrane)
     if not profile and q.size <= SCALAR_BATCH:
         return _integrate_scalars(annulus, q, steps, lamP, membrane)
     if isinstance(membrane, np.ndarray):
@@ -430,33 +433,40 @@ class _Inadmissible(Exception):
 
 
 def integrate_reference(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
-                        profile: bool = False, lamP=None):
-    """The plain RK4 loop over :func:`rhs_reference` (the transcription that
-    :func:`integrate` optimises; kept for the tests and benchmarks that compare
-    them: same steps, same results to rounding)."""
+                        profile: bool = False, lamP=None, membrane=None):
+    """The plain RK4 loop over the right-hand side written term by term
+    (:func:`rhs_reference` with the stresses of the annulus'
+    :attr:`~debench.models.circular.params.Annulus.law`): the transcription that
+    :func:`integrate` optimises for the Gent closed forms (same steps, same results to
+    rounding; tests and benchmarks compare them), and :func:`integrate` itself for any
+    other library elastomer. ``lamP``, ``membrane`` as in :func:`integrate`."""
     q = np.asarray(q)
     l1, l2, tgrid, bad, P1, P2 = _start(annulus, q, steps, lamP, profile)
-    kappa = annulus.kappa
-    membrane = annulus.equilibrium == "membrane"
+    law = annulus.law
+    membrane = _membrane_flags(annulus, membrane, q.shape)
+
+    def f(x1, x2):
+        return _rhs_of_stresses(law.stresses(x1, x2), x1, x2, membrane)
+
     with np.errstate(all="ignore"):
-        # admissibility: Gent energy defined (den > 0) and radial equation elliptic
+        # admissibility: energy defined (den > 0) and radial equation elliptic
         # (slope > 0) at every stage; tracked as a running minimum (real parts)
         worst = np.full(l1.shape, np.inf)
         for k in range(steps):
             h = tgrid[k + 1] - tgrid[k]
-            a1, a2, d, s = rhs_reference(l1, l2, kappa, membrane)
+            a1, a2, d, s = f(l1, l2)
             worst = np.minimum(worst, np.minimum(d.real, s.real))
-            b1, b2, d, s = rhs_reference(l1 + 0.5 * h * a1, l2 + 0.5 * h * a2, kappa, membrane)
+            b1, b2, d, s = f(l1 + 0.5 * h * a1, l2 + 0.5 * h * a2)
             worst = np.minimum(worst, np.minimum(d.real, s.real))
-            c1, c2, d, s = rhs_reference(l1 + 0.5 * h * b1, l2 + 0.5 * h * b2, kappa, membrane)
+            c1, c2, d, s = f(l1 + 0.5 * h * b1, l2 + 0.5 * h * b2)
             worst = np.minimum(worst, np.minimum(d.real, s.real))
-            e1, e2, d, s = rhs_reference(l1 + h * c1, l2 + h * c2, kappa, membrane)
+            e1, e2, d, s = f(l1 + h * c1, l2 + h * c2)
             worst = np.minimum(worst, np.minimum(d.real, s.real))
             l1 = l1 + h / 6 * (a1 + 2 * b1 + 2 * c1 + e1)
             l2 = l2 + h / 6 * (a2 + 2 * b2 + 2 * c2 + e2)
             if profile:
                 P1[k + 1], P2[k + 1] = l1, l2
-        _, _, d, s = rhs_reference(l1, l2, kappa, membrane)
+        _, _, d, s = f(l1, l2)
         worst = np.minimum(worst, np.minimum(d.real, s.real))
         bad |= ~(worst > 0) | ~(l1.real > 0) | ~np.isfinite(l1.real) | ~np.isfinite(l2.real)
     l1 = np.where(bad, np.nan, l1)

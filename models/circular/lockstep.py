@@ -76,7 +76,7 @@ def lockstep(solvers) -> list:
             groups: dict = {}
             for k, r in pending.items():
                 if np.iscomplexobj(r.q) == cplx:
-                    key = (r.annulus.radius_ratio, r.annulus.Jm, r.steps)
+                    key = (r.annulus.radius_ratio, r.annulus.law, r.steps)
                     groups.setdefault(key, []).append(k)
             for ks in groups.values():
                 reqs = [pending[k] for k in ks]

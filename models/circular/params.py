@@ -4,7 +4,8 @@ Zeng (2020), Chapter 3: a membrane of reference radius R_B, pre-stretched equibi
 ``lamP`` and fixed to a rigid frame (3.38); circle A (R < R_A) carries electrodes, annulus
 B (R_A < R < R_B) is passive. VHB 4910: Gent (3.23) with mu = 51 kPa, Jm = 120; Zhao-Suo
 permittivity (3.27) eps = eps_bar [1 + c (l1 + l2 - 2)]; breakdown field
-E_B = 51 lam^1.13 MV/m (Huang et al., Sec. 3.5.5).
+E_B = 51 lam^1.13 MV/m (Huang et al., Sec. 3.5.5). Any library elastomer may replace Gent
+(``Annulus(elastomer=...)``, :mod:`debench.models.circular.law`).
 """
 
 from __future__ import annotations
@@ -24,6 +25,9 @@ from debench.models.materials.constants import (
 )
 from debench.models.materials.library import GentIdealDielectric
 from debench.models.materials.protocol import Material
+
+from .law import ElastomerLaw, GentLaw, _check_Jm
+from .law import locking_stretch_equibiaxial as locking_stretch_equibiaxial  # its old home
 
 MU_VHB = VHB_SHEAR_MODULUS  # Pa, shear modulus, Sec. 3.3.3
 JM_VHB = VHB_GENT_JM        # Gent locking parameter, Sec. 3.3.3
@@ -49,21 +53,33 @@ class Annulus:
     radius_ratio
         R_B / R_A (thesis: 5, 10, 15; 15 in all figures). Must be > 1.
     Jm
-        Gent parameter (3.23); ``math.inf`` gives neo-Hookean. Must be > 0.
+        Gent parameter (3.23) of the thesis' material law (None: ``JM_VHB`` = 120, unless
+        ``elastomer`` is given); ``math.inf`` gives neo-Hookean. Must be > 0. The model
+        then uses the Gent closed forms (3.36)-(3.37) in fused kernels.
     equilibrium
         ``"printed"``: Eq. (3.33) d sigma1/dr = (sigma2 - sigma1)/r, hence ODE (3.34), as
         the thesis solves it. ``"membrane"``: thin-membrane force balance
         d(R T1)/dR = T2 (T_i = sigma_i/lambda_i), which adds the thickness-gradient term
         -sigma1 (r/h) dh/dr that (3.33) omits (erratum ch3.erratum.eq_3_33).
+    elastomer
+        Any library material instead of Gent (give ``Jm`` or ``elastomer``, not both): the
+        membrane stretching energy is its strain energy on ``J = 1`` divided by its shear
+        modulus (:class:`~debench.models.circular.law.ElastomerLaw`), the pre-stretched
+        film must be an admissible state of it. ``Jm`` is then None.
+
+    The material enters through :attr:`law` (:mod:`debench.models.circular.law`).
     """
 
     lamP: float
     radius_ratio: float = 15.0
-    Jm: float = JM_VHB
+    Jm: float | None = None
     equilibrium: str = "printed"
+    elastomer: Material | None = None
 
     def __post_init__(self):
-        for name in ("lamP", "radius_ratio", "Jm"):
+        if self.elastomer is None and self.Jm is None:
+            object.__setattr__(self, "Jm", JM_VHB)
+        for name in ("lamP", "radius_ratio") + (("Jm",) if self.Jm is not None else ()):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, numbers.Real):
                 raise TypeError(f"{name} must be a real number, got {value!r}")
@@ -73,16 +89,36 @@ class Annulus:
                 f"radius_ratio RB/RA must be > 1, got {self.radius_ratio}")
         require(math.isfinite(self.radius_ratio),
                 f"radius_ratio RB/RA must be finite, got {self.radius_ratio}")
-        _check_Jm(self.Jm)
+        if self.elastomer is None:
+            _check_Jm(self.Jm)
         v.choice("equilibrium", self.equilibrium, EQUILIBRIUM_VARIANTS)
-        lock = locking_stretch_equibiaxial(self.Jm)
-        if not self.lamP < lock:
-            raise ValueError(f"lamP = {self.lamP:.6g} is past the Gent locking stretch "
-                             f"{lock:.6g} (Jm = {self.Jm:.6g})")
+        law = membrane_law(self.Jm, self.elastomer, lamP=self.lamP)
+        object.__setattr__(self, "_law", law)
+        if self.elastomer is None:
+            lock = law.locking_stretch()
+            if not self.lamP < lock:
+                raise ValueError(f"lamP = {self.lamP:.6g} is past the Gent locking stretch "
+                                 f"{lock:.6g} (Jm = {self.Jm:.6g})")
+
+    def __repr__(self) -> str:
+        extra = "" if self.elastomer is None else f", elastomer={self.elastomer!r}"
+        return (f"Annulus(lamP={self.lamP!r}, radius_ratio={self.radius_ratio!r}, "
+                f"Jm={self.Jm!r}, equilibrium={self.equilibrium!r}{extra})")
+
+    @property
+    def law(self):
+        """The membrane law of the annulus and circle A:
+        :class:`~debench.models.circular.law.GentLaw` of ``1/Jm`` or
+        :class:`~debench.models.circular.law.ElastomerLaw` of the elastomer."""
+        return self._law
 
     @property
     def kappa(self) -> float:
-        """1/Jm (0 for the neo-Hookean limit)."""
+        """1/Jm (0 for the neo-Hookean limit); ValueError for an annulus of another
+        elastomer (its law is :attr:`law`)."""
+        if self.elastomer is not None:
+            raise ValueError(f"kappa = 1/Jm is the Gent annulus' parameter; this annulus "
+                             f"has elastomer={self.elastomer!r:.60}")
         return 0.0 if math.isinf(self.Jm) else 1.0 / self.Jm
 
 
@@ -93,7 +129,8 @@ class CircularActuator:
     Parameters
     ----------
     annulus
-        :class:`Annulus` (pre-stretch, geometry, Jm, equilibrium variant).
+        :class:`Annulus` (pre-stretch, geometry, material law: Gent of Jm or a library
+        elastomer, equilibrium variant).
     c
         Zhao-Suo electrostrictive factor (3.27), thesis range -0.1 <= c <= 0.
     eps_r
@@ -128,41 +165,6 @@ class CircularActuator:
                 f"non-positive at lamP = {lamP}: need K(lamP) > 0")
 
 
-#: above this Jm the cubic of the locking condition would overflow in double precision
-_JM_HUGE = 1e100
-
-
-def _check_Jm(Jm) -> float:
-    """Jm > 0; ``math.inf`` (neo-Hookean) allowed."""
-    if isinstance(Jm, bool) or not isinstance(Jm, numbers.Real):
-        raise TypeError(f"Jm must be a real number, got {Jm!r}")
-    if math.isinf(Jm) and Jm > 0:
-        return math.inf
-    return v.positive("Jm", Jm)
-
-
-def locking_stretch_equibiaxial(Jm: float) -> float:
-    """Equibiaxial stretch at which the Gent energy (3.23) locks: 2 l^2 + l^-4 - 3 = Jm.
-
-    ``Jm > 0`` (``math.inf``: neo-Hookean, no lock).
-    """
-    Jm = _check_Jm(Jm)
-    if math.isinf(Jm):
-        return math.inf
-    # x = l^2: 2 x^3 - (Jm + 3) x^2 + 1 = 0, largest root
-    lo, hi = 1.0, math.sqrt((Jm + 3) / 2) + 1.0
-    f = lambda x: 2 * x**3 - (Jm + 3) * x**2 + 1  # noqa: E731
-    if Jm > _JM_HUGE:  # same sign, divided by x^2 > 0, so that x^3 cannot overflow
-        f = lambda x: 2 * x - (Jm + 3) + 1 / x / x  # noqa: E731
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if f(mid * mid) > 0:
-            hi = mid
-        else:
-            lo = mid
-    return 0.5 * (lo + hi)
-
-
 def film_elastomer(lamP: float, Jm: float | None, elastomer: Material | None) -> Material:
     """The elastomer of a Chapter 3 finite-element model: ``elastomer``, or the Gent
     (3.23) of ``Jm`` (``JM_VHB`` when neither is given) in units mu = 1; ValueError when
@@ -184,3 +186,15 @@ def film_elastomer(lamP: float, Jm: float | None, elastomer: Material | None) ->
         raise ValueError(f"lamP = {lamP:.6g}: the pre-stretched film is not an admissible "
                          f"state of the elastomer ({e})") from e
     return elastomer
+
+
+def membrane_law(Jm=None, elastomer=None, *, lamP: float = 1.0):
+    """The membrane law of the Jm or the elastomer given (``Jm`` None and no elastomer:
+    ``JM_VHB``): :class:`~debench.models.circular.law.GentLaw` of ``1/Jm`` (``Jm > 0``,
+    ``math.inf`` neo-Hookean) or :class:`~debench.models.circular.law.ElastomerLaw`. The
+    elastomer is checked by :func:`film_elastomer` (ValueError when both are given or the
+    film pre-stretched by ``lamP`` is not admissible, TypeError when it is not a library
+    material)."""
+    if elastomer is None:
+        return GentLaw.of_Jm(JM_VHB if Jm is None else Jm)
+    return ElastomerLaw(film_elastomer(lamP, Jm, elastomer))

@@ -14,11 +14,12 @@ Sensitivities d/dq of every output are obtained exactly (to rounding) by the com
 method applied to the discrete integrator, q -> q + i h, h = 1e-30: they are the
 derivatives of the discrete solution, which is what event location needs.
 
-The right-hand sides (hand-written from (3.34)-(3.37)) and the RK4 integration are in
-:mod:`debench.models.circular.integrator`; the functions here check their arguments and
-refuse inadmissible trajectories. The interface-state iterations are also written as
-:mod:`~debench.models.circular.lockstep` solvers, so that many of them share one
-integration per round.
+The right-hand sides (hand-written from (3.34)-(3.37) for the Gent default; from the
+stresses of any library elastomer's membrane law, :mod:`debench.models.circular.law`,
+otherwise) and the RK4 integration are in :mod:`debench.models.circular.integrator`;
+the functions here check their arguments and refuse inadmissible trajectories. The
+interface-state iterations are also written as :mod:`~debench.models.circular.lockstep`
+solvers, so that many of them share one integration per round.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ from debench.models import validation as v
 from debench.models.errors import ConvergenceError
 from debench.models.numerics.newton import SCALAR_STEP_RTOL
 
-from .integrator import DEFAULT_STEPS, integrate, stresses
+from .integrator import DEFAULT_STEPS, integrate
 from .lockstep import Request, run
 from .params import Annulus
 
@@ -49,7 +50,10 @@ def _check(annulus, q, steps, lamP):
 
 def integrate_inward(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
                      profile: bool = False, lamP=None):
-    """RK4 from t = T (lambda_1 = q, lambda_2 = lamP) to t = 0.
+    """RK4 from t = T (lambda_1 = q, lambda_2 = lamP) to t = 0: the annulus ODE
+    (3.34)-(3.35) (or the membrane balance) with the stresses (3.14)-(3.15) of the
+    annulus' material law: Gent (3.36)-(3.37) of ``annulus.Jm``, or the library
+    ``annulus.elastomer`` (:mod:`debench.models.circular.law`).
 
     Returns (l1, l2) at t = 0 (arrays like q, complex if q is). With ``profile=True``
     also returns t and the (steps+1, ...) arrays.
@@ -140,7 +144,7 @@ def _interface_state_gen(annulus: Annulus, q, *, steps: int = DEFAULT_STEPS,
     l1, l2 = yield Request.of(annulus, q + 1j * CSTEP, steps, lamP, membrane)
     l1, l2 = l1.reshape(q.shape), l2.reshape(q.shape)
     with np.errstate(all="ignore"):  # NaN marks inadmissible trajectories, by design
-        s1, *_ = stresses(l1, l2, annulus.kappa)
+        s1, *_ = annulus.law.stresses(l1, l2)
         T1 = s1 / l1
     return InterfaceState(q=q, lam=l2.real, lam1=l1.real, T1=T1.real,
                           dlam=l2.imag / CSTEP, dlam1=l1.imag / CSTEP,

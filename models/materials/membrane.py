@@ -15,11 +15,15 @@ field through the thickness as a function of the in-plane stretches and
 
 :meth:`GentMembrane.equations_of_state` evaluates the closed forms (3.21)-(3.22);
 :meth:`GentMembrane.equations_of_state_from_energy` differentiates (3.20) by complex step
-- two independent paths that the tests compare.
+- two independent paths that the tests compare. :meth:`ElastomerMembrane.stretching_energy_jet`
+gives ``Ws`` of any library elastomer with its first and second derivatives in (l1, l2),
+vectorised and complex-safe, by second-order forward differentiation of the elastomer's
+one energy expression (what the Chapter 3 membrane ODE needs).
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,6 +35,7 @@ from debench.models.materials.constants import (
     VHB_GENT_JM,
     VHB_SHEAR_MODULUS,
 )
+from debench.models.materials.jet import JET
 from debench.models.materials.protocol import IncompressibleLimit, Material
 
 _H = 1e-30  # complex step: no subtractive cancellation, any tiny step is exact to rounding
@@ -46,6 +51,143 @@ def _scalar(name, value, check):
     check(name, value)
     if not isinstance(value, int | float):
         raise TypeError(f"{name} must be a real number, got {value!r}")
+
+
+class MembraneJet:
+    """A function of the membrane stretches (l1, l2) with its first and second
+    derivatives, each an array over a batch of states (real or complex):
+    ``v``, ``d1 = dv/dl1``, ``d2``, ``d11 = d2v/dl1^2``, ``d12``, ``d22``, stacked in
+    ``x`` (shape ``(6,) + batch``).
+
+    Arithmetic, ``**`` (a number exponent) and :func:`_membrane_log1p` propagate them
+    exactly (to rounding), elementwise over the batch; products with the exact zero of an
+    off-diagonal entry stay the number zero, so that a diagonal deformation gradient costs
+    only its diagonal. The batched counterpart of :class:`~debench.models.materials.jet.Jet`
+    for two variables.
+    """
+
+    __slots__ = ("x",)
+    #: numpy arrays and scalars defer to the jet's reflected operators
+    __array_ufunc__ = None
+
+    def __init__(self, x):
+        self.x = x
+
+    v = property(lambda self: self.x[0], doc="The value.")
+    d1 = property(lambda self: self.x[1], doc="d/dl1.")
+    d2 = property(lambda self: self.x[2], doc="d/dl2.")
+    d11 = property(lambda self: self.x[3], doc="d2/dl1^2.")
+    d12 = property(lambda self: self.x[4], doc="d2/dl1 dl2.")
+    d22 = property(lambda self: self.x[5], doc="d2/dl2^2.")
+
+    @classmethod
+    def seed(cls, l1, l2):
+        """The jets of the variables l1 and l2 themselves (broadcast arrays)."""
+        l1, l2 = np.broadcast_arrays(np.asarray(l1), np.asarray(l2))
+        dtype = np.result_type(l1, l2, 1.0)
+        a = np.zeros((6,) + l1.shape, dtype)
+        b = np.zeros_like(a)
+        a[0], a[1], b[0], b[2] = l1, 1.0, l2, 1.0
+        return cls(a), cls(b)
+
+    def _chain(self, f0, f1, f2):
+        """``f(self)`` from ``f``, ``f'``, ``f''`` at ``self.v``."""
+        x = self.x
+        out = np.empty(x.shape, np.result_type(x, f0, f1, f2))
+        out[0] = f0
+        np.multiply(f1, x[1:], out=out[1:])
+        out[3:] += f2 * (x[_I] * x[_J])
+        return MembraneJet(out)
+
+    def __add__(self, other):
+        if isinstance(other, np.ndarray):
+            return _each(other, lambda y: self + y)
+        if not isinstance(other, MembraneJet):
+            if other == 0:
+                return self
+            out = self.x.astype(np.result_type(self.x, other), copy=True)
+            out[0] += other
+            return MembraneJet(out)
+        return MembraneJet(self.x + other.x)
+
+    __radd__ = __add__
+
+    def __neg__(self):
+        return MembraneJet(-self.x)
+
+    def __sub__(self, other):
+        return self + (-other)
+
+    def __rsub__(self, other):
+        return (-self) + other
+
+    def __mul__(self, other):
+        if isinstance(other, np.ndarray):
+            return _each(other, lambda y: self * y)
+        if not isinstance(other, MembraneJet):
+            return 0.0 if other == 0 else MembraneJet(self.x * other)
+        a, b = self.x, other.x
+        out = a * b[0]
+        out[1:] += a[0] * b[1:]
+        cross = a[_I] * b[_J]
+        cross += a[_J] * b[_I]
+        out[3:] += cross
+        return MembraneJet(out)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, other):
+        if isinstance(other, np.ndarray):
+            return _each(other, lambda y: self / y)
+        return self * (other ** -1 if isinstance(other, MembraneJet) else 1.0 / other)
+
+    def __rtruediv__(self, other):
+        return self ** -1 * other
+
+    def __pow__(self, p):
+        if isinstance(p, MembraneJet):
+            raise TypeError("MembraneJet ** MembraneJet is not supported")
+        v = self.v
+        return self._chain(v ** p, p * v ** (p - 1), p * (p - 1) * v ** (p - 2))
+
+
+#: the first-derivative rows whose products make the second derivatives (11, 12, 22)
+_I, _J = np.array([1, 1, 2]), np.array([1, 2, 2])
+
+
+def _each(array, op):
+    out = np.empty(array.shape, dtype=object)
+    for k, x in np.ndenumerate(array):
+        out[k] = op(x)
+    return out
+
+
+def _membrane_log1p(x):
+    """``log(1 + x)`` on its real domain: NaN where the real part of ``1 + x`` is not
+    positive (a complex argument would otherwise continue the energy past a Gent lock)."""
+    if not isinstance(x, MembraneJet):
+        return np.log1p(x)
+    u = 1.0 + x.v
+    with np.errstate(invalid="ignore", divide="ignore"):
+        f0 = np.where(np.real(u) > 0, np.log1p(x.v), np.nan)
+    return x._chain(f0, 1.0 / u, -1.0 / (u * u))
+
+
+def _diagonal_spectral(M, energy):
+    """``energy(power_sum)`` of a diagonal ``M`` (the membrane's): its eigenvalues are
+    its diagonal entries."""
+    if any(not (isinstance(M[i, j], float | int) and M[i, j] == 0)
+           for i in range(3) for j in range(3) if i != j):
+        raise ValueError("the membrane namespace evaluates spectral energies of diagonal "
+                         "matrices only")
+    return energy(lambda b: sum(M[k, k] ** b for k in range(3)))
+
+
+MEMBRANE_JET = dataclasses.replace(JET, name="membrane-jet", log1p=_membrane_log1p,
+                                   spectral=_diagonal_spectral)
+"""The namespace of 3x3 object arrays of :class:`MembraneJet` (the cofactor ``det`` and
+``inv`` of :data:`~debench.models.materials.jet.JET`; the logarithm on its real domain;
+spectral energies of the diagonal membrane states)."""
 
 
 @dataclass(frozen=True)
@@ -275,6 +417,36 @@ class ElastomerMembrane:
 
         out = self._each(l1, l2, d)
         return out[..., 0][()], out[..., 1][()]
+
+    def stretching_energy_jet(self, l1, l2) -> MembraneJet:
+        """``Ws(l1, l2)`` with its first and second derivatives in (l1, l2), per unit the
+        elastomer's shear modulus, vectorised over broadcast arrays of stretches (real or
+        complex: complex-step derivatives through it are exact).
+
+        The elastomer's ``mechanical_energy`` evaluated on ``F = diag(l1, l2, 1/(l1 l2))``
+        with :class:`MembraneJet` entries (:data:`MEMBRANE_JET`): no derivative is written
+        by hand. The stretches must be finite and > 0, the states in the energy's real
+        domain (ValueError past a Gent lock or where the energy overflows).
+        """
+        _check_stretches(l1, l2)
+        W = self._stretching_energy_jet(l1, l2)
+        if not all(np.all(np.isfinite(x)) for x in (W.v, W.d1, W.d2, W.d11, W.d12, W.d22)):
+            raise ValueError(f"lambda1 = {l1!r:.40}, lambda2 = {l2!r:.40}: outside the "
+                             f"elastomer's energy domain (past a lock, or it overflows)")
+        return W
+
+    def _stretching_energy_jet(self, l1, l2) -> MembraneJet:
+        """:meth:`stretching_energy_jet` without checks (NaN stretches give NaN: the
+        integrator's inadmissible trajectories)."""
+        a, b = MembraneJet.seed(l1, l2)
+        F = np.array([[a, 0.0, 0.0], [0.0, b, 0.0], [0.0, 0.0, 1.0 / (a * b)]], dtype=object)
+        with np.errstate(all="ignore"):
+            W = self.elastomer.mechanical_energy(F, xp=MEMBRANE_JET)
+            if not isinstance(W, MembraneJet):      # an energy independent of F
+                x = np.zeros_like(a.x)
+                x[0] = W
+                W = MembraneJet(x)
+            return W * (1.0 / self.shear_modulus)
 
     @v.finite_result
     def free_energy(self, l1, l2, I4):
