@@ -31,7 +31,6 @@ from pathlib import Path
 
 import numpy as np
 from debench.models import validation as val
-from debench.models.numerics import loglog_order
 from debench.reference.results_files import UsageError
 
 ORDER_ATOL = 0.1
@@ -122,7 +121,9 @@ def fit_order(h=None, errors=None, *, ndof=None, dim=None,
     if np.any(np.diff(hs) <= 0):
         raise ValueError(f"mesh sizes must be distinct, got {hs.tolist()}")
     x, y = np.log(hs), np.log(es)
-    slope, icept = loglog_order(hs, es)
+    # numpy's line fit, not numerics.loglog_order: every command loads this module at its
+    # start-up (the CLI's defaults), which must not load scipy (the numerics package does)
+    slope, icept = np.polyfit(x, y, 1)
     local = tuple(float(v) for v in np.diff(y) / np.diff(x))
     misfit = float(np.max(np.abs(y - (slope * x + icept))))
     return OrderFit(order=float(slope), levels=int(finest), local=local[::-1], misfit=misfit)
