@@ -602,13 +602,14 @@ def test_ramp_ends_at_a_singular_tangent_only_past_the_limit_point(nh_pullin_ram
     r = voltage_ramp(Plate(), NeoHookean(), COARSE, dv0=0.02, dv_max=0.04)
     assert r.end == "singular past the limit point"
     assert r.v_pullin == pytest.approx(nh_pullin_ramp.v_pullin, rel=PULLIN_BRACKET_RTOL)
-    # before any maximum (every deflection-controlled step fails): the error propagates
+    # before any maximum (every deflection-controlled step fails): the error propagates;
+    # this and the next need no limit point, so they run on the cheaper SCALE_RAMP_DISC
     monkeypatch.setattr(deflection, "newton_deflection", failing_beyond(-np.inf))
     with pytest.raises(ConvergenceError, match="simulated"):
-        voltage_ramp(Plate(), NeoHookean(), COARSE, dv0=0.02, dv_max=0.04)
+        voltage_ramp(Plate(), NeoHookean(), SCALE_RAMP_DISC, dv0=0.02, dv_max=0.04)
     # ... unless asked to stop there: no pull-in, the last state's eigen-analysis recorded
-    r = voltage_ramp(Plate(), NeoHookean(), COARSE, dv0=0.02, dv_max=0.04, eig_every=50,
-                     stop_on_stall=True)
+    r = voltage_ramp(Plate(), NeoHookean(), SCALE_RAMP_DISC, dv0=0.02, dv_max=0.04,
+                     eig_every=50, stop_on_stall=True)
     assert r.end == "stalled before the limit point" and r.v_pullin is None
     assert r.eig_v[-1] == r.v[-1] and r.eig_wavenumber.shape == (len(r.eig_v), 3)
 
