@@ -85,6 +85,14 @@ def coarse_critical(material: str):
     return critical_voltage(Plate(), mat, COARSE)
 
 
+@functools.cache
+def nh_critical(h_rel: float):
+    """The critical voltage of the 1 mm neo-Hookean film on one layer of in-plane size
+    ``h_rel`` t0, solved once per test process for the tests that read the same solve."""
+    d = Discretisation(h_rel=h_rel, layers=1)
+    return coarse_critical("nh") if d == COARSE else critical_voltage(Plate(), NeoHookean(), d)
+
+
 @pytest.fixture(scope="module")
 def nh_pullin_ramp():
     return voltage_ramp(Plate(), NeoHookean(), COARSE, dv0=0.02, dv_max=0.04, eig_every=6)
@@ -142,9 +150,7 @@ def test_eigen_critical_voltage_converges_to_clamped_plate_theory():
     decreases monotonically under in-plane refinement at a measured rate p >= 1, and its
     Richardson limit is within PLATE_THEORY_RTOL of 14.68 D/a^2 (Timoshenko & Gere §9.1)."""
     from debench.models.numerics import richardson
-    v = [coarse_critical("nh").v if Discretisation(h_rel=h, layers=1) == COARSE
-         else critical_voltage(Plate(), NeoHookean(), Discretisation(h_rel=h, layers=1)).v
-         for h in LEVELS]
+    v = [nh_critical(h).v for h in LEVELS]
     assert v[0] > v[1] > v[2]
     v_inf, p = richardson(np.array(LEVELS), np.array(v))
     assert p >= 1.0
@@ -392,7 +398,7 @@ def test_critical_voltage_sensitivity_to_bulk_modulus_is_small():
     change = []
     for h in (3.0, 2.0):
         d = Discretisation(h_rel=h, layers=1)
-        v1 = critical_voltage(Plate(), NeoHookean(), d).v
+        v1 = nh_critical(h).v
         v10 = critical_voltage(Plate(), NeoHookean(k=10 * k), d).v
         change.append(v10 / v1 - 1)
     assert 0 < change[1] < change[0]
