@@ -43,9 +43,48 @@ def test_errors_are_one_line_without_debug(capsys, tmp_path):
     assert len(err.splitlines()) == 1
 
 
+@pytest.mark.slow
 def test_reproduce_catalogue_writes_dataset_and_report(tmp_path, capsys):
+    """The whole command: every catalogue entry evaluated and every model guard run (~50 s
+    CPU). The default run has the same command path, catalogue builder and report with a
+    three-entry evaluation and one cheap guard:
+    test_reproduce_catalogue_writes_dataset_and_report_from_its_evaluation."""
     assert main(["reproduce", "catalogue", "--out", str(tmp_path)]) == 0
     assert (tmp_path / "thesis_values.nc").exists()
+    assert (tmp_path / "REPORT.md").read_text().startswith("# debench report")
+
+
+def test_reproduce_catalogue_writes_dataset_and_report_from_its_evaluation(
+        tmp_path, capsys, monkeypatch):
+    """``debench reproduce catalogue`` with the evaluation cut to three real entries and
+    the model guards to one (the full evaluation and guards are checked by
+    test_verify_json_lists_every_entry_with_stable_keys and verification/test_value_guard.py;
+    the whole command runs under --full): the real catalogue builder writes
+    ``thesis_values.nc``, equal to the curated one (it holds the catalogue, not the
+    evaluation), and ``our_values.nc`` with the evaluation's and the guard's values, and the
+    report opens with its title and the evaluation's summary."""
+    from debench.reference import builds, catalogue, report_tables, values
+    from debench.reference.datasets import read_dataset
+
+    results = [catalogue.evaluate(e) for e in catalogue.load() if e.kind == "assumption"][:3]
+    monkeypatch.setattr(catalogue, "evaluate_all", lambda entries=None, progress=None:
+                        list(results))
+
+    def probe_guard():
+        return [values.Guarded("probe.value", 1.5, 0.0, "test")]
+
+    monkeypatch.setattr(values, "probe_guard", probe_guard, raising=False)
+    monkeypatch.setattr(builds, "model_guards",
+                        lambda chapters: {"debench.reference.values:probe_guard": 1.0})
+    assert main(["reproduce", "catalogue", "--out", str(tmp_path)]) == 0
+    out, err = capsys.readouterr()
+    assert "thesis_values.nc: matches curated" in err
+    assert report_tables.summary_line(results) in out
+    ours = read_dataset(values.STORE_NAME, data_dir=tmp_path)
+    stored = dict(zip(ours.key.values, ours.value.values, strict=True))
+    assert stored["probe.value"] == 1.5
+    from_results = {g.key for g in values.guarded_from_results(results)}
+    assert len(from_results) == 3 and from_results < set(stored)
     assert (tmp_path / "REPORT.md").read_text().startswith("# debench report")
 
 
