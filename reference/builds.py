@@ -268,8 +268,8 @@ def build_concurrently(chapters: list[str], out: Path, full: bool, scheduler: st
     declared ``BUILD_CPU_S``, :func:`properties`): the files each wrote and the CPU seconds
     of each build (its pool process's).
 
-    Each chapter's output is printed together when it finishes (a progress line per chapter
-    on a terminal). Builders that run their own FE tasks run them serially in their pool
+    Each chapter's output is printed together when it finishes, with a line of its CPU and
+    wall seconds. Builders that run their own FE tasks run them serially in their pool
     process unless ``scheduler`` names one (no cluster inside a pool). A chapter that
     raises stops the command: the chapters not started are cancelled, those running are
     ended, and its exception is raised here (its traceback as the cause).
@@ -279,7 +279,6 @@ def build_concurrently(chapters: list[str], out: Path, full: bool, scheduler: st
     started = time.monotonic()
     written: dict[str, list[Path]] = {}
     cpu: dict[str, float] = {}
-    tty = sys.stderr.isatty()
     executor = ProcessPoolExecutor(max_workers=min(jobs, len(order)), mp_context=pool_context(),
                                    initializer=init_pool_process)
     try:
@@ -300,10 +299,9 @@ def build_concurrently(chapters: list[str], out: Path, full: bool, scheduler: st
             cpu[built.chapter] = built.cpu
             for p in built.paths:
                 print(f"  wrote {p}", file=sys.stderr)
-            if tty:
-                print(f"[{k}/{len(order)}] {built.chapter} done: {built.cpu:.0f} s CPU, "
-                      f"{built.wall:.0f} s; {time.monotonic() - started:.0f} s since the start",
-                      file=sys.stderr)
+            print(f"[{k}/{len(order)}] {built.chapter} done: {built.cpu:.0f} s CPU, "
+                  f"{built.wall:.0f} s; {time.monotonic() - started:.0f} s since the start",
+                  file=sys.stderr)
             sys.stderr.flush()
     except BaseException:      # a chapter failed, or an interrupt: nothing else runs on
         sys.stderr.flush()
