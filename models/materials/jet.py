@@ -26,7 +26,30 @@ from debench.models.materials.kernel import Response
 NVAR = 12
 
 
-class Jet:
+class JetOperators:
+    """The operators a jet class derives from its own ``+``, unary ``-``, ``*`` and
+    ``_chain(f, f', f'')``: subtraction, division of a number by a jet and a number power."""
+
+    __slots__ = ()
+
+    def __sub__(self, other):
+        return self + (-other)
+
+    def __rsub__(self, other):
+        return (-self) + other
+
+    def __rtruediv__(self, other):
+        return self ** -1 * other
+
+    def __pow__(self, p):
+        if isinstance(p, JetOperators):
+            name = type(self).__name__
+            raise TypeError(f"{name} ** {name} is not supported")
+        v = self.v
+        return self._chain(v ** p, p * v ** (p - 1), p * (p - 1) * v ** (p - 2))
+
+
+class Jet(JetOperators):
     """``v`` with gradient ``g`` (n,) and Hessian ``h`` (n, n) (None: first order only)."""
 
     __slots__ = ("v", "g", "h")
@@ -55,12 +78,6 @@ class Jet:
     def __neg__(self):
         return Jet(-self.v, -self.g, None if self.h is None else -self.h)
 
-    def __sub__(self, other):
-        return self + (-other)
-
-    def __rsub__(self, other):
-        return (-self) + other
-
     def __mul__(self, other):
         if isinstance(other, np.ndarray):
             return self._each(other, Jet.__mul__)
@@ -86,14 +103,6 @@ class Jet:
             return self * (1.0 / other)
         return self * other ** -1
 
-    def __rtruediv__(self, other):
-        return self ** -1 * other
-
-    def __pow__(self, p):
-        if isinstance(p, Jet):
-            raise TypeError("Jet ** Jet is not supported")
-        v = self.v
-        return self._chain(v ** p, p * v ** (p - 1), p * (p - 1) * v ** (p - 2))
 
 
 def _sum(a, b):

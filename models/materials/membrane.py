@@ -35,7 +35,7 @@ from debench.models.materials.constants import (
     VHB_GENT_JM,
     VHB_SHEAR_MODULUS,
 )
-from debench.models.materials.jet import JET
+from debench.models.materials.jet import JET, JetOperators
 from debench.models.materials.protocol import IncompressibleLimit, Material
 
 _H = 1e-30  # complex step: no subtractive cancellation, any tiny step is exact to rounding
@@ -53,7 +53,7 @@ def _scalar(name, value, check):
         raise TypeError(f"{name} must be a real number, got {value!r}")
 
 
-class MembraneJet:
+class MembraneJet(JetOperators):
     """A function of the membrane stretches (l1, l2) with its first and second
     derivatives, each an array over a batch of states (real or complex):
     ``v``, ``d1 = dv/dl1``, ``d2``, ``d11 = d2v/dl1^2``, ``d12``, ``d22``, stacked in
@@ -115,12 +115,6 @@ class MembraneJet:
     def __neg__(self):
         return MembraneJet(-self.x)
 
-    def __sub__(self, other):
-        return self + (-other)
-
-    def __rsub__(self, other):
-        return (-self) + other
-
     def __mul__(self, other):
         if isinstance(other, np.ndarray):
             return _each(other, lambda y: self * y)
@@ -140,15 +134,6 @@ class MembraneJet:
         if isinstance(other, np.ndarray):
             return _each(other, lambda y: self / y)
         return self * (other ** -1 if isinstance(other, MembraneJet) else 1.0 / other)
-
-    def __rtruediv__(self, other):
-        return self ** -1 * other
-
-    def __pow__(self, p):
-        if isinstance(p, MembraneJet):
-            raise TypeError("MembraneJet ** MembraneJet is not supported")
-        v = self.v
-        return self._chain(v ** p, p * v ** (p - 1), p * (p - 1) * v ** (p - 2))
 
 
 #: the first-derivative rows whose products make the second derivatives (11, 12, 22)
