@@ -37,6 +37,7 @@ from debench.models.numerics import (
     two_term_limits,
     zero_near,
 )
+from debench.models.numerics.continuation import StepControl
 from debench.models.numerics.convergence import (
     GCI_SAFETY_OBSERVED,
     GCI_SAFETY_THEORETICAL,
@@ -760,6 +761,113 @@ def test_scipy_scalar_root_finders_are_called_only_in_numerics():
             found += [f"{path.name}:{node.lineno} {n}" for n in names
                       if n in SCIPY_ROOT_FINDERS]
     assert not found, found
+
+
+# ------------------------------------------------------------------ continuation steps
+def _steep_solution(w):
+    """The solution y*(w) = 10 tanh(5 (w - 1)) of the synthetic path: flat, then a slope of
+    50 around w = 1 where only short steps keep the predictor in Newton's basin."""
+    return 10.0 * math.tanh(5.0 * (w - 1.0))
+
+
+def _newton_on_arctan(y, w):
+    """Newton on arctan(y - y*(w)) = 0 from ``y``: (root, iterations); it converges from
+    |y - y*| < 1.39 (Newton's basin for arctan) and diverges from further."""
+    for its in range(31):
+        e = y - _steep_solution(w)
+        if abs(e) < 1e-12:
+            return y, its
+        y -= (1.0 + e * e) * math.atan(e)
+        if not abs(y) < 1e6:
+            break
+    raise ConvergenceError(f"Newton diverged at w = {w}")
+
+
+def _follow(control, w_end=2.0):
+    """A path from w = 0 to ``w_end`` (the last solution the predictor of the next step):
+    (steps taken, steps failed, largest step taken)."""
+    w, y, fails, taken = 0.0, _steep_solution(0.0), 0, []
+    while w < w_end:
+        target = min(w + control.size, w_end)
+        try:
+            y_new, its = _newton_on_arctan(y, target)
+        except ConvergenceError:
+            fails += 1
+            if not control.failed():
+                raise
+            continue
+        taken.append(target - w)
+        w, y = target, y_new
+        control.converged(its)
+    return len(taken), fails, max(taken)
+
+
+@pytest.mark.parametrize("regrow_after", [None, 4])
+def test_step_control_follows_a_steep_path_within_its_bounds(regrow_after):
+    """Both policies reach the end of a path whose slope jumps to 50, never step above
+    ``max_size``, and the cautious regrowth fails fewer steps near the steep part than
+    plain doubling (measured: 4 and 7 failed steps of 35 and 32 solves)."""
+    control = StepControl(0.05, 0.5, min_size=1e-6, regrow_after=regrow_after)
+    steps, fails, largest = _follow(control)
+    assert largest <= 0.5
+    assert 0 < fails <= steps
+    if regrow_after is not None:
+        assert fails < _follow(StepControl(0.05, 0.5, min_size=1e-6))[1]
+
+
+def test_step_control_grows_easy_steps_to_the_cap_and_halves_failed_ones_exactly():
+    """The exact sequence: easy steps grow by ``grow`` to ``max_size``, hard ones keep
+    the size, a failure halves it (exactly), and the cap stays at ``max_size``."""
+    c = StepControl(0.1, 0.5, grow=2.0, easy_iterations=4)
+    seen = [c.size]
+    for its in (2, 3, 9, 1, 1):
+        c.converged(its)
+        seen.append(c.size)
+    assert seen == [0.1, 0.2, 0.4, 0.4, 0.5, 0.5]
+    assert c.failed() and c.size == 0.25 and c.cap == 0.5
+    c = StepControl(0.3, 0.3, grow=1.5, easy_iterations=None)
+    c.failed()
+    c.converged(100)       # every converged step is easy
+    assert c.size == min(0.15 * 1.5, 0.3)
+
+
+def test_cautious_regrowth_keeps_a_failed_size_until_enough_easy_steps():
+    """After a failure the cap is the halved step; it doubles only after ``regrow_after``
+    easy steps in a row (a hard step restarts the count)."""
+    c = StepControl(0.4, 1.6, grow=2.0, regrow_after=3)
+    c.failed()
+    assert (c.size, c.cap) == (0.2, 0.2)
+    sizes = []
+    for its in (1, 1, 9, 1, 1, 1, 1):
+        c.converged(its)
+        sizes.append((c.size, c.cap))
+    # the third easy step in a row doubles the cap, and the size with it; the next one
+    # cannot pass the cap
+    assert sizes == [(0.2, 0.2)] * 5 + [(0.4, 0.4), (0.4, 0.4)]
+
+
+def test_step_control_refuses_to_halve_below_its_minimum():
+    """``failed`` says False once the halved step lies below the minimum (its own or the
+    one given for this failure)."""
+    c = StepControl(1.0, 1.0, min_size=0.3)
+    assert c.failed() and c.size == 0.5
+    assert not c.failed() and c.size == 0.25
+    c = StepControl(1.0, 1.0)
+    assert c.failed(min_size=0.5) and not c.failed(min_size=0.5)
+
+
+@pytest.mark.parametrize(("kwargs", "named"), [
+    ({"size": 0.0, "max_size": 1.0}, "size"),
+    ({"size": math.nan, "max_size": 1.0}, "size"),
+    ({"size": 2.0, "max_size": 1.0}, "max_size"),
+    ({"size": 0.1, "max_size": 1.0, "grow": 1.0}, "grow"),
+    ({"size": 0.1, "max_size": 1.0, "easy_iterations": 0}, "easy_iterations"),
+    ({"size": 0.1, "max_size": 1.0, "min_size": -1.0}, "min_size"),
+    ({"size": 0.1, "max_size": 1.0, "regrow_after": 0}, "regrow_after"),
+])
+def test_step_control_refuses_bad_arguments_naming_them(kwargs, named):
+    with pytest.raises(ValueError, match=named):
+        StepControl(**kwargs)
 
 
 # ------------------------------------------------------------------ Newton

@@ -24,6 +24,7 @@ from debench.models.buckling.ramp_result import (  # noqa: F401 - southwell: rea
 )
 from debench.models.errors import ConvergenceError, require
 from debench.models.materials.protocol import IdealDielectricElastomer
+from debench.models.numerics.continuation import StepControl
 from debench.models.numerics.secants import secant_until
 
 CRITICAL_VTOL = 1e-6
@@ -268,14 +269,14 @@ def _voltage_control(path: _RampPath, states: list, v_switch, dv0, dv_max, dw_ma
     ``v_switch``, each converged state recorded and appended to ``states``; returns the
     steps taken (rejected ones included)."""
     model, rec = path.model, path.rec
-    dv = dv0
+    dv = StepControl(dv0, dv_max, grow=1.5, easy_iterations=4)
     v = 0.0
     steps = 0
     while v < v_switch - 1e-14:
         steps += 1
         if steps > max_steps:
             raise ConvergenceError(f"voltage_ramp: exceeded {max_steps} steps at v={v}")
-        v_try = min(v + dv, v_switch)
+        v_try = min(v + dv.size, v_switch)
         x0 = states[-1]
         if len(states) >= 2:
             h_prev = rec["v"][-1] - rec["v"][-2]
@@ -293,15 +294,14 @@ def _voltage_control(path: _RampPath, states: list, v_switch, dv0, dv_max, dw_ma
         if not ok:
             model.set_state(states[-1])
             model.set_voltage(v)
-            if dv < 1e-4 * max(v, 1e-2):
+            # a step is not halved below half of 1e-4 of the voltage reached
+            if not dv.failed(min_size=1e-4 * max(v, 1e-2) / 2):
                 raise ConvergenceError(f"voltage_ramp: step collapsed at v={v:.6g}")
-            dv /= 2
             continue
         v = v_try
         path.record(its)
         states.append(model.state())
-        if its <= 4:
-            dv = min(dv * 1.5, dv_max)
+        dv.converged(its)
     return steps
 
 
@@ -313,7 +313,8 @@ def _deflection_control(path: _RampPath, states: list, steps: int, dc, c_max, dr
     the path stopped (``RampResult.end``)."""
     model, rec, eig_every = path.model, path.rec, path.eig_every
     c = deflection.control_deflection(model)
-    step = dc
+    # every converged step grows the next one, up to dc; a step is not halved below 5e-4 t0
+    step = StepControl(dc, dc, grow=1.5, easy_iterations=None, min_size=5e-4)
     vmax_seen = model.v
     passed = False
     while c < c_max:
@@ -322,11 +323,11 @@ def _deflection_control(path: _RampPath, states: list, steps: int, dc, c_max, dr
             raise ConvergenceError(f"voltage_ramp: exceeded {max_steps} steps at c={c}")
         x_prev, v_prev = model.state(), model.v
         try:
-            its = deflection.newton_deflection(model, c + step).iterations
+            its = deflection.newton_deflection(model, c + step.size).iterations
         except ConvergenceError:
             model.set_state(x_prev)
             model.set_voltage(v_prev)
-            if step < 1e-3:
+            if not step.failed():
                 if _past_maximum(rec["v"]):
                     return "singular past the limit point"
                 if stop_on_stall:
@@ -334,9 +335,8 @@ def _deflection_control(path: _RampPath, states: list, steps: int, dc, c_max, dr
                         path.eig_record()
                     return "stalled before the limit point"
                 raise
-            step /= 2
             continue
-        c += step
+        c += step.size
         path.record(its)
         states.append(model.state())
         if eig_every and not passed and model.v < rec["v"][-2]:
@@ -345,7 +345,7 @@ def _deflection_control(path: _RampPath, states: list, steps: int, dc, c_max, dr
         vmax_seen = max(vmax_seen, model.v)
         if model.v < (1 - drop) * vmax_seen:
             return "voltage drop"
-        step = min(step * 1.5, dc)
+        step.converged(its)
     return "c_max"
 
 

@@ -1,14 +1,16 @@
 """Shared numerics of every chapter: scalar roots (:mod:`.roots`: bracketed, secant (also
 stopped before a small step), near an estimate, many brackets at once, grid scans),
 adaptive sign-change scans that do not lose close zeros (:mod:`.scan`), Newton's stopping
-policy, result, bordered solve and damped driver (:mod:`.newton`), and mesh-convergence
-and limit fits with Roache's grid convergence index (:mod:`.convergence`).
+policy, result, bordered solve and damped driver (:mod:`.newton`), the step control of
+path following (:mod:`.continuation`), and mesh-convergence and limit fits with Roache's
+grid convergence index (:mod:`.convergence`).
 
 Each routine is tested once on synthetic problems with known answers, through every method
 (``verification/test_numerics.py``), the way SciPy's ``test_zeros`` runs one collection of
 functions with known roots through every root finder.
 """
 
+from debench.models.numerics.continuation import StepControl
 from debench.models.numerics.convergence import (
     GCI,
     LimitFit,
@@ -65,6 +67,7 @@ __all__ = [
     "PGradingEstimate",
     "RootResult",
     "ScanRoots",
+    "StepControl",
     "ThreePointFit",
     "asymptotic_fit",
     "bisect_boundary",

@@ -17,6 +17,7 @@ import numpy as np
 from debench.models import validation as val
 from debench.models.buckling.axisym.model import AxisymModel
 from debench.models.errors import ConvergenceError, require
+from debench.models.numerics.continuation import StepControl
 from debench.models.numerics.secants import secant_zero
 
 
@@ -131,11 +132,15 @@ not lowered its best residual: a step too long for the damped Newton wanders at 
 1e-4 of its first residual for all NEWTON_MAXIT steps (measured near the voltage maximum of
 the neo-Hookean film, order 3), while every converging solve improves at each step or
 two; the path then halves the step."""
+PATH_EASY_ITERATIONS = 4
+"""A deflection step whose Newton solve took at most this many iterations is easy: the next
+step doubles (up to the cap)."""
 PATH_GROW_AFTER = 4
-"""Easy deflection steps (at most four Newton steps) in a row after which the path lets its
-step grow past the size that last failed (doubling the cap up to ``dw_max``): near the
-voltage maximum a doubled step fails again at once (measured: every second step failed,
-each costing a stalled Newton solve, on the neo-Hookean film at order 3)."""
+"""Easy deflection steps in a row after which the path lets its step grow past the size
+that last failed (doubling the cap up to ``dw_max``; the cautious regrowth of
+:class:`~debench.models.numerics.continuation.StepControl`): near the voltage maximum a
+doubled step fails again at once (measured: every second step failed, each costing a
+stalled Newton solve, on the neo-Hookean film at order 3)."""
 
 
 def follow_path(model: AxisymModel, w_end: float, *, v_switch: float, dv: float = 0.01,
@@ -167,12 +172,13 @@ def follow_path(model: AxisymModel, w_end: float, *, v_switch: float, dv: float 
         model.newton()
     points = [_record(model, wavenumbers)]
     prev = None
-    w, dw = model.centre_deflection(), dw0
-    dw_cap, easy = dw_max, 0
+    w = model.centre_deflection()
+    dw = StepControl(dw0, dw_max, grow=2.0, easy_iterations=PATH_EASY_ITERATIONS,
+                     min_size=1e-6, regrow_after=PATH_GROW_AFTER)
     last_w_rec = w
     while w < w_end and len(points) < max_points:
         x0, v0 = model.state(), model.v
-        target = min(w + dw, w_end)
+        target = min(w + dw.size, w_end)
         if prev is not None:            # secant predictor in the deflection
             xp, vp, wp = prev
             f = (target - w) / (w - wp)
@@ -193,18 +199,11 @@ def follow_path(model: AxisymModel, w_end: float, *, v_switch: float, dv: float 
                 if last.lam[0] < 0:
                     points.append(last)
                     break
-            dw *= 0.5
-            dw_cap, easy = min(dw_cap, dw), 0
-            if dw < 1e-6:
+            if not dw.failed():
                 raise
             continue
         prev, w = (x0, v0, _w_of(x0, model)), target
-        easy_step = its <= 4
-        easy = easy + 1 if easy_step else 0
-        if easy >= PATH_GROW_AFTER:
-            dw_cap, easy = min(2.0 * dw_cap, dw_max), 0
-        if easy_step:
-            dw = min(2.0 * dw, dw_cap)
+        dw.converged(its)
         if record_every <= 0 or w - last_w_rec >= record_every or w >= w_end:
             ns = sorted(set(wavenumbers) | (set(all_wavenumbers) if w >= all_from else set()))
             points.append(_record(model, ns))
