@@ -190,6 +190,24 @@ def test_thin_solid_guard_sees_a_1_percent_change_of_the_gent_locking_parameter(
                      "ch3.guard.thickness.thickest_minus_curated"}, moved
 
 
+def test_strip_fe_guard_sees_a_1_percent_change_of_the_anisotropy(monkeypatch):
+    """Chapter 4 strip FE: verify does not rebuild ``ch4_fe``, so its model guard recomputes
+    FE roots on the curated meshes. With the anisotropy xi of the strip's material changed
+    by 1 % the transversely isotropic root leaves the stored values (it moves by ~1e-4,
+    the tolerance is ~2e-9); unchanged, it stays inside."""
+    from debench.models.plate import strip_fe
+    from debench.reference.producers.ch4_fe import strip_fe_guards
+
+    stored = values.read_store()
+    ti = [("charge", (5.0, 0.0, 2.0))]
+    assert values.check(strip_fe_guards(ti), stored, complete=False) == []
+    material_for = strip_fe.material_for
+    monkeypatch.setattr(strip_fe, "material_for", lambda xi: material_for(1.01 * xi))
+    moved = {d.key for d in values.check(strip_fe_guards(ti), stored, complete=False)}
+    key = "ch4.guard.fe.charge.xi=5.load=0.kH=2.root0.E"
+    assert moved == {key, f"{key}_minus_curated"}, moved
+
+
 @pytest.mark.slow
 def test_ch5_path_guard_sees_a_1_percent_change_of_the_neo_hookean_modulus(monkeypatch):
     """Chapter 5 pull-in: the axisymmetric path guard (the study's own task on its cheapest

@@ -12,15 +12,20 @@ from debench.reference.studies.ch4_fe import (
     CASES_FAST,
     KH_BIOT,
     KH_EULER,
+    LIMITS,
     TOL_COARSE,
     VOLTAGE_CASES,
+    compare,
     curated_comparisons,
     curated_limit,
     euler_slopes_of,
+    limit_comparison,
     tolerance,
 )
+from debench.reference.values import Guarded
 
-__all__ = ["ACCURACY", "agreement_charge", "agreement_voltage", "biot_limit", "euler_limit"]
+__all__ = ["ACCURACY", "GUARD_CASES", "agreement_charge", "agreement_voltage", "biot_limit",
+           "euler_limit", "strip_fe_guards"]
 
 
 EV = "verification/test_ch4_fe.py"
@@ -64,3 +69,43 @@ def euler_limit(entry: Entry) -> Outcome:
     fe, det = euler_slopes_of(curated_limit("euler"))
     return Outcome(fe, evidence=f"{EV}::test_strip_fe_thin_limit_is_euler",
                    details={"kH": KH_EULER, "determinant": det, "plate_theory": 1 / 18})
+
+
+#: The strip-FE cases :func:`strip_fe_guards` recomputes, as (control, (xi, load, kH)): the
+#: thin isotropic and the anisotropic (xi = 5) charge-controlled cases of ``CASES_FAST``
+#: and the anisotropic voltage-controlled one, which with the two limits run the isotropic
+#: and the transversely isotropic material, both parities, both controls and the thin and
+#: thick meshes (~5 s of CPU against the 34 s of the whole ``ch4_fe`` build)
+GUARD_CASES = (("charge", (0.0, 2.0, 0.3)), ("charge", (5.0, 0.0, 2.0)),
+               ("voltage", (5.0, 0.5, 10.0)))
+
+
+def strip_fe_guards(cases=None) -> list:
+    """The strip-FE model guard of ``debench verify``, which does not rebuild ``ch4_fe``
+    (``debench reproduce`` rebuilds and compares its three datasets): the FE roots of
+    :data:`GUARD_CASES` and of both limits recomputed now on the mesh level of the curated
+    ``ch4_fe_agreement.nc`` and ``ch4_fe_limits.nc``, each guarded as
+    ``ch4.guard.fe.<control>.<case>.root<k>`` (or ``ch4.guard.fe.limit.<name>``) and as its
+    difference from the curated root (``..._minus_curated``, stored ~0). A change of the strip
+    model (material, mesh, eigen-solver, root search) moves them, although the producers
+    read the curated roots. ``cases``: a subset of :data:`GUARD_CASES` without the limits
+    (for mutation tests)."""
+    out = []
+
+    def guard(key, fresh, stored):
+        tol = ACCURACY.tolerance(fresh)
+        out.extend([Guarded(key, float(fresh), tol, ACCURACY.reason),
+                    Guarded(f"{key}_minus_curated", float(fresh) - float(stored), tol,
+                            ACCURACY.reason)])
+
+    for control, case in (GUARD_CASES if cases is None else cases):
+        stored = curated_comparisons([case], control)
+        fresh = compare(*case, level=stored[0].level, control=control)
+        name = "xi={:g}.load={:g}.kH={:g}".format(*case)
+        for k, (s, f) in enumerate(zip(stored, fresh, strict=True)):
+            guard(f"ch4.guard.fe.{control}.{name}.root{k}.{s.parity}", f.lam_fe, s.lam_fe)
+    if cases is None:
+        for limit in LIMITS:
+            guard(f"ch4.guard.fe.limit.{limit}", limit_comparison(limit).lam_fe,
+                  curated_limit(limit).lam_fe)
+    return out
