@@ -225,6 +225,38 @@ def _band_order(n: int):
     return np.array(perm), 6
 
 
+def _negative_eigenvalues(K) -> int | None:
+    """Number of negative eigenvalues of the Hermitian matrix ``K`` by Sylvester's law of
+    inertia: those of D in the Bunch-Kaufman factorisation P K P^H = L D L^H (LAPACK
+    hetrf, lower), D block diagonal with real 1 x 1 and Hermitian 2 x 2 blocks (a 2 x 2
+    block with det < 0 holds one negative eigenvalue, with det > 0 two of the sign of its
+    diagonal). About a seventh of the cost of the eigenvalues of a dense K; exact for
+    K + E with ||E|| ~ eps ||K|| (the factorisation is backward stable), so the count is
+    that of the eigenvalues except where one lies within round-off of zero. None where D
+    is singular (a zero 1 x 1 pivot or 2 x 2 determinant): the factorisation does not
+    decide the count there."""
+    hetrf, hetrf_lwork = sla.get_lapack_funcs(("hetrf", "hetrf_lwork"), (K,))
+    lu, ipiv, info = hetrf(K, lower=1, lwork=sla.lapack._compute_lwork(hetrf_lwork,
+                                                                      K.shape[0], lower=1))
+    if info < 0:
+        raise ValueError(f"hetrf: argument {-info} invalid")
+    d = np.real(np.diagonal(lu))
+    # a 2 x 2 block at rows (k, k + 1) is marked by ipiv[k] = ipiv[k + 1] < 0 (lower), and
+    # only those rows are marked: the marked rows come in consecutive pairs
+    marked = np.flatnonzero(ipiv < 0)
+    first = marked[0::2]
+    if not np.array_equal(marked[1::2], first + 1):
+        raise ValueError(f"hetrf: unexpected pivot blocks {ipiv}")
+    one = np.ones(len(ipiv), bool)
+    one[marked] = False
+    a, c = d[first], d[first + 1]
+    det = a * c - np.abs(np.diagonal(lu, -1)[first]) ** 2
+    if np.any(d[one] == 0.0) or np.any(det == 0.0) or not np.all(np.isfinite(d)):
+        return None
+    return int(np.count_nonzero(d[one] < 0) + np.count_nonzero(det < 0)
+               + 2 * np.count_nonzero((det > 0) & (a < 0)))
+
+
 @dataclass(frozen=True)
 class FemRoots:
     kH: float

@@ -93,11 +93,39 @@ def symbol(lam: float, theta: float, params: PlateParams, s) -> np.ndarray:
     return _symbol(_S(lam, theta, params), s)
 
 
+def _s_coefficients(q1):
+    """(B0, B1, B2) with B(q1, i q1 s) = B0 + s B1 + s^2 B2 (the entries of B are
+    monomials of degree <= 2 in q; read off exactly at s = 0, +-1)."""
+    b0, bp, bm = (_B(q1, 1j * q1 * s) for s in (0.0, 1.0, -1.0))
+    return b0, 0.5 * (bp - bm), 0.5 * (bp + bm) - b0
+
+
+def _symbol_tensor():
+    """T (64, 5 * 9): P(1, i s) = sum_k s^k P_k, P_k = (S.ravel() @ T)[k] as 3 x 3: P is
+    linear in S and a polynomial of degree 4 in s, P_k = sum_{a + b = k} Bm_a^T S Bp_b
+    (Bp = B(q), Bm = B(-q), q = (1, i s))."""
+    bp, bm = _s_coefficients(1.0), _s_coefficients(-1.0)
+    T = np.zeros((5, 3, 3, 8, 8), complex)
+    for a in range(3):
+        for b in range(3):
+            T[a + b] += np.einsum("ia,jb->abij", bm[a], bp[b])
+    return T.reshape(45, 64).T
+
+
+_SYMBOL_T = _symbol_tensor()
+
+
 def _symbol(S, s):
-    """P(1, i s) = B(-q)^T S B(q), q = (1, i s), for an array of s."""
-    s = np.asarray(s, complex)
-    Bp, Bm = _B(1.0, 1j * s), _B(-1.0, -1j * s)
-    return np.swapaxes(Bm, -1, -2) @ S @ Bp
+    """P(1, i s) = B(-q)^T S B(q), q = (1, i s), for an array of s (broadcast against the
+    leading axes of S): its polynomial coefficients in s from S in one product
+    (:func:`_symbol_tensor`), evaluated by Horner's rule."""
+    s = np.asarray(s, complex)[..., None, None]
+    S = np.asarray(S)
+    c = (S.reshape(S.shape[:-2] + (64,)) @ _SYMBOL_T).reshape(S.shape[:-2] + (5, 3, 3))
+    P = c[..., 4, :, :]
+    for k in (3, 2, 1, 0):
+        P = P * s + c[..., k, :, :]
+    return P
 
 
 def _char_poly(S):
@@ -174,10 +202,15 @@ def _elliptic(lam, theta, p):
     return bool(np.all(np.linalg.eigvalsh(P)[..., 0] > 0))
 
 
+#: P(n) = B(-n)^T S B(n) at every direction of _ANG is linear in S: (S.ravel() @ _DIR_T)
+#: reshaped to (dirs, 3, 3)
+_DIR_T = np.einsum("dai,djb->ijdab", _B_MINUS_T, _B_PLUS).reshape(64, -1)
+
+
 def _elliptic_grid(g, theta, path) -> np.ndarray:
     """:func:`_elliptic` at every stretch of the grid ``g`` (parameters ``path(lam)``),
-    all symbols in one stacked eigenvalue call."""
-    S = np.stack([_S(x, theta, path(x)) for x in g])[:, None]     # (n, 1, 8, 8)
-    P = _B_MINUS_T @ S @ _B_PLUS                                    # (n, dirs, 3, 3)
+    all symbols in one product and one stacked eigenvalue call."""
+    S = np.stack([_S(x, theta, path(x)) for x in g])               # (n, 8, 8)
+    P = (S.reshape(len(g), 64) @ _DIR_T).reshape(len(g), N_DIRECTIONS, 3, 3)
     P = 0.5 * (P + np.conj(np.swapaxes(P, -1, -2)))
     return np.all(np.linalg.eigvalsh(P)[..., 0] > 0, axis=-1)

@@ -39,6 +39,9 @@ def voltage_stretch(full: bool) -> xr.Dataset:
     shape = (len(study.CURVE_LAMP), len(study.CURVE_C), len(k))
     data = {n: np.empty(shape) for n in ("fe", "printed", "membrane")}
     lam = np.empty((len(study.CURVE_LAMP), len(k)))
+    # every curve's analytic branches (both variants) traced in one batch
+    study.analytic_branches([(lamP, v) for lamP in study.CURVE_LAMP for v in study.VARIANTS],
+                            s["steps"])
     for i, lamP in enumerate(study.CURVE_LAMP):
         lam[i] = study.curve_grid(lamP)
         for j, c in enumerate(study.CURVE_C):

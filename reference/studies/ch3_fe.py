@@ -28,7 +28,7 @@ from functools import lru_cache
 
 import numpy as np
 from debench.models.circular import analysis, circle_a, params
-from debench.models.circular.actuator import branch, branches, curves_many
+from debench.models.circular.actuator import branches, curves_many
 from debench.models.circular.chapter_pass import current_constants
 from debench.models.circular.params import Annulus
 from debench.models.circular.shooting import integrate_inward, interface_state, q_for_stretch
@@ -82,10 +82,27 @@ def _fe_event(quantity: str, lamP: float, c: float, mesh: dict) -> float:
                      f"pullin_lam, got {quantity!r}")
 
 
-@lru_cache(maxsize=32)
+#: analytic branches by (lamP, equilibrium, steps), filled by :func:`analytic_branches`
+_BRANCHES: dict[tuple, object] = {}
+
+
 def analytic_branch(lamP: float, equilibrium: str, steps: int = ANALYTIC_STEPS):
     """The analytic annulus branch at ``lamP`` in one equilibrium variant (memoised)."""
-    return branch(Annulus(lamP, equilibrium=equilibrium), steps=steps)
+    return analytic_branches([(lamP, equilibrium)], steps)[0]
+
+
+def analytic_branches(cases, steps: int = ANALYTIC_STEPS) -> list:
+    """:func:`analytic_branch` of several ``(lamP, equilibrium)``, those not yet memoised
+    traced together (:func:`~debench.models.circular.actuator.branches`: the same branches
+    as one :func:`~debench.models.circular.actuator.branch` each, in one scan and one grid
+    integration)."""
+    keys = [(float(lp), eq, int(steps)) for lp, eq in cases]
+    todo = list(dict.fromkeys(k for k in keys if k not in _BRANCHES))
+    if todo:
+        annuli = [Annulus(lp, equilibrium=eq) for lp, eq, _ in todo]
+        for k, br in zip(todo, branches(annuli, steps=int(steps)), strict=True):
+            _BRANCHES[k] = br
+    return [_BRANCHES[k] for k in keys]
 
 
 #: the (lamP, c) whose analytic events the FE entries and the thickness sequences compare
