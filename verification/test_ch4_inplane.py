@@ -398,3 +398,29 @@ def test_roots_hidden_from_the_grid_are_the_fe_roots(xi, theta, kH, n_roots):
     assert det.size == fe.size == fe48.size == n_roots
     assert np.max(np.abs(det - fe)) <= prod_study.TOL_AGREE
     assert np.all(np.abs(det - fe48) * FE_RATE_MIN <= np.abs(det - fe))
+
+
+def test_inertia_count_equals_the_eigenvalue_count_away_from_round_off():
+    """The in-plane FE scan counts negative eigenvalues by the inertia of a Bunch-Kaufman
+    factorisation (``fem._negative_eigenvalues``); on Hermitian and real symmetric matrices
+    (1 x 1 and 2 x 2 pivots: zero diagonals force the latter) whose eigenvalues lie at
+    least 1e-3 from zero, the count equals that of ``eigvalsh``, and a singular pivot gives
+    None (undecided), never a count."""
+    from debench.models.plate.fem import _negative_eigenvalues
+
+    rng = np.random.default_rng(7)
+    for trial in range(300):
+        n = int(rng.integers(1, 30))
+        Q, _ = np.linalg.qr(rng.standard_normal((n, n)) + 1j * rng.standard_normal((n, n)))
+        lam = rng.uniform(1e-3, 2.0, n) * rng.choice([-1.0, 1.0], n)
+        K = (Q * lam) @ Q.conj().T
+        K = 0.5 * (K + K.conj().T)
+        if trial % 3 == 0:
+            K = K.real.copy()           # real symmetric (not similar to diag(lam))
+        if trial % 5 == 0:
+            np.fill_diagonal(K, 0.0)    # 2 x 2 pivots
+        w = np.linalg.eigvalsh(K)
+        if np.min(np.abs(w)) < 1e-9:     # an eigenvalue within round-off of zero
+            continue
+        assert _negative_eigenvalues(K) == int(np.count_nonzero(w < 0)), trial
+    assert _negative_eigenvalues(np.zeros((3, 3))) is None

@@ -228,14 +228,17 @@ def _band_order(n: int):
 def _negative_eigenvalues(K) -> int | None:
     """Number of negative eigenvalues of the Hermitian matrix ``K`` by Sylvester's law of
     inertia: those of D in the Bunch-Kaufman factorisation P K P^H = L D L^H (LAPACK
-    hetrf, lower), D block diagonal with real 1 x 1 and Hermitian 2 x 2 blocks (a 2 x 2
-    block with det < 0 holds one negative eigenvalue, with det > 0 two of the sign of its
-    diagonal). About a seventh of the cost of the eigenvalues of a dense K; exact for
+    hetrf, lower; sytrf for a real K), D block diagonal with real 1 x 1 and Hermitian
+    2 x 2 blocks (a 2 x 2 block with det < 0 holds one negative eigenvalue, with det > 0
+    two of the sign of its diagonal). About a seventh of the cost of the eigenvalues of a
+    dense K; exact for
     K + E with ||E|| ~ eps ||K|| (the factorisation is backward stable), so the count is
     that of the eigenvalues except where one lies within round-off of zero. None where D
     is singular (a zero 1 x 1 pivot or 2 x 2 determinant): the factorisation does not
     decide the count there."""
-    hetrf, hetrf_lwork = sla.get_lapack_funcs(("hetrf", "hetrf_lwork"), (K,))
+    # real symmetric K: the same factorisation is sytrf (LAPACK has no real hetrf)
+    kind = "he" if np.iscomplexobj(K) else "sy"
+    hetrf, hetrf_lwork = sla.get_lapack_funcs((f"{kind}trf", f"{kind}trf_lwork"), (K,))
     lu, ipiv, info = hetrf(K, lower=1, lwork=sla.lapack._compute_lwork(hetrf_lwork,
                                                                       K.shape[0], lower=1))
     if info < 0:
