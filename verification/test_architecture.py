@@ -12,6 +12,7 @@ mapping of ``pyproject.toml`` (``models/`` -> ``debench.models`` ...)."""
 from __future__ import annotations
 
 import ast
+import functools
 import re
 import subprocess
 import sys
@@ -39,6 +40,12 @@ def _modules() -> dict[str, Path]:
 MODULES = _modules()
 
 
+@functools.cache
+def _tree(path: Path) -> ast.Module:
+    """The parsed source of ``path`` (parsed once per process; the tests only read it)."""
+    return ast.parse(path.read_text())
+
+
 def _resolve(name: str) -> str | None:
     """The module ``name`` names, or the nearest enclosing module of ours (an attribute)."""
     while name:
@@ -52,7 +59,7 @@ def _imports(module: str, path: Path) -> set[str]:
     is_package = path.name == "__init__.py"
     package = module if is_package else module.rpartition(".")[0]
     out = set()
-    for node in ast.walk(ast.parse(path.read_text())):
+    for node in ast.walk(_tree(path)):
         if isinstance(node, ast.Import):
             names = [a.name for a in node.names]
         elif isinstance(node, ast.ImportFrom):
@@ -71,11 +78,15 @@ def _imports(module: str, path: Path) -> set[str]:
     return out
 
 
-GRAPH = {m: _imports(m, p) for m, p in MODULES.items()}
+@functools.cache
+def _graph() -> dict[str, set[str]]:
+    """Module -> the modules of ours it imports (built when a test first asks, not at
+    collection)."""
+    return {m: _imports(m, p) for m, p in MODULES.items()}
 
 
 def _edges(src, dst):
-    return sorted(f"{a} -> {b}" for a, targets in GRAPH.items() if src(a)
+    return sorted(f"{a} -> {b}" for a, targets in _graph().items() if src(a)
                   for b in targets if dst(b))
 
 
@@ -98,8 +109,8 @@ def test_the_graph_sees_every_layer():
     """The parse finds the package's modules and their imports (a guard against a graph
     that is empty and therefore passes everything)."""
     assert len(MODULES) > 80
-    assert "debench.reference.catalogue" in GRAPH["debench.reference.producers.ch3"]
-    assert "debench.models.circular.actuator" in GRAPH["debench.reference.producers.ch3"]
+    assert "debench.reference.catalogue" in _graph()["debench.reference.producers.ch3"]
+    assert "debench.models.circular.actuator" in _graph()["debench.reference.producers.ch3"]
 
 
 def test_models_never_import_reference():
@@ -109,7 +120,7 @@ def test_models_never_import_reference():
 def test_chapters_never_import_each_other():
     """Models of one chapter import no model of another; the studies, builders and
     producers of one chapter import none of another chapter's."""
-    bad = [f"{a} -> {b}" for a, targets in GRAPH.items() for b in targets
+    bad = [f"{a} -> {b}" for a, targets in _graph().items() for b in targets
            if _chapter(a) and _chapter(b) and _chapter(a) != _chapter(b)]
     assert bad == []
 
@@ -135,7 +146,7 @@ def _cycles(nodes: set[str]) -> list[list[str]]:
         index[v] = low[v] = len(index)
         stack.append(v)
         on.add(v)
-        for w in sorted(GRAPH[v] & nodes):
+        for w in sorted(_graph()[v] & nodes):
             if w not in index:
                 visit(w)
                 low[v] = min(low[v], low[w])
@@ -162,7 +173,7 @@ def _cycles(nodes: set[str]) -> list[list[str]]:
 def test_no_import_cycles(layer):
     """No cycle among the modules of a layer (package ``__init__`` re-exports excluded: an
     ``__init__`` that imports its own submodules is how a package presents them)."""
-    nodes = {m for m in GRAPH if _under(layer)(m)
+    nodes = {m for m in _graph() if _under(layer)(m)
              and MODULES[m].name != "__init__.py"}
     assert _cycles(nodes) == []
 
@@ -180,7 +191,7 @@ def test_no_function_imports_what_its_module_already_imports():
     binds nothing new and only hides where the name comes from."""
     found = []
     for path in MODULES.values():
-        tree = ast.parse(path.read_text())
+        tree = _tree(path)
         top = set().union(*(_bound_names(n) for n in tree.body
                             if isinstance(n, (ast.Import, ast.ImportFrom))))
         for fn in ast.walk(tree):
@@ -223,7 +234,7 @@ def _top_level_imports(module: str, path: Path) -> tuple[set[str], set[str]]:
     """(modules of ours, third-party top-level packages) that ``module`` imports at its top
     level (in ``try`` and ``if`` blocks too)."""
     ours, theirs = set(), set()
-    tree = ast.parse(path.read_text())
+    tree = _tree(path)
     for stmt in tree.body:
         if isinstance(stmt, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
             continue
@@ -263,7 +274,10 @@ def _parents(module: str) -> set[str]:
     return {".".join(parts[:i]) for i in range(1, len(parts)) if ".".join(parts[:i]) in MODULES}
 
 
-TOP = {m: _top_level_imports(m, p) for m, p in MODULES.items()}
+@functools.cache
+def _top() -> dict[str, tuple[set[str], set[str]]]:
+    """Module -> its top-level imports (:func:`_top_level_imports`), built when first asked."""
+    return {m: _top_level_imports(m, p) for m, p in MODULES.items()}
 
 
 def _is_heavy(module: str, seen=None) -> bool:
@@ -273,7 +287,7 @@ def _is_heavy(module: str, seen=None) -> bool:
     if module in seen:
         return False
     seen.add(module)
-    ours, theirs = TOP[module]
+    ours, theirs = _top()[module]
     return bool(theirs & HEAVY_PACKAGES) or any(
         _is_heavy(t, seen) for t in ours | _parents(module))
 
@@ -286,7 +300,7 @@ def test_function_level_imports_are_for_heavy_packages_or_the_start_up():
     for module, path in MODULES.items():
         if module in START_UP or "generated" in path.stem:
             continue
-        tree = ast.parse(path.read_text())
+        tree = _tree(path)
         for fn in ast.walk(tree):
             if not isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
                 continue
