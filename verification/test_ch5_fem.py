@@ -99,6 +99,14 @@ def nh_pullin_ramp():
     return voltage_ramp(Plate(), NeoHookean(), COARSE, dv0=0.02, dv_max=0.04, eig_every=6)
 
 
+@functools.cache
+def cheap_nh_ramp(imperfection: float = 1e-3):
+    """The imperfect 1 mm neo-Hookean film's ramp through pull-in on CHEAP_RAMP_DISC (no
+    eigen-analysis), solved once per test process for the tests that read it (read-only)."""
+    return voltage_ramp(Plate(imperfection=imperfection), NeoHookean(), CHEAP_RAMP_DISC,
+                        dv0=0.02, dv_max=0.04)
+
+
 def test_deflection_control_and_voltage_control_find_the_same_state():
     """Two solvers, one equilibrium: the bordered Newton (deflection prescribed, voltage
     unknown) gives a voltage v; plain Newton at that v from the previous state returns the
@@ -569,15 +577,29 @@ def test_ogden_spectral_perturbation_error_is_below_the_secant_tolerance():
     secant itself resolves (each value is within CRITICAL_VTOL of its mesh's zero of the
     lowest eigenvalue, so two values may differ by 2 CRITICAL_VTOL; measured 5e-13)."""
     coarse = dict(h_rel=COARSE.h_rel, layers=COARSE.layers, order=COARSE.order)
-    a = critical_voltage(Plate(), Ogden(), Discretisation(**coarse, ogden_delta=1e-3))
+    assert Discretisation(**coarse, ogden_delta=1e-3) == COARSE    # the default delta
+    a = coarse_critical("ogden")
     b = critical_voltage(Plate(), Ogden(), Discretisation(**coarse, ogden_delta=1e-4))
     assert abs(a.v - b.v) <= 2 * CRITICAL_VTOL
 
 
-def test_pullin_is_insensitive_to_the_imperfection_amplitude(nh_pullin_ramp):
+def test_pullin_is_insensitive_to_the_imperfection_amplitude():
     """Assumption ch5.assumption.imperfection_shape/amplitude: the pull-in is a limit point
     of the post-buckled branch far from the bifurcation; imperfection 1e-4 t0 instead of
-    1e-3 t0 changes it by < 1e-4 (measured 1e-7)."""
+    1e-3 t0 changes it by < 1e-4. Both ramps on CHEAP_RAMP_DISC (measured 3.6e-5: 0.68827190
+    against 0.68824686; 6 s CPU per ramp, the 1e-3 one cached and read also by
+    test_ramp_ends_at_a_singular_tangent_only_past_the_limit_point); --full repeats it on
+    COARSE (test_pullin_is_insensitive_to_the_imperfection_amplitude_on_coarse)."""
+    r = cheap_nh_ramp(1e-4)
+    assert r.end == "voltage drop"
+    assert r.v_pullin == pytest.approx(cheap_nh_ramp().v_pullin, rel=1e-4)
+
+
+@pytest.mark.slow
+def test_pullin_is_insensitive_to_the_imperfection_amplitude_on_coarse(nh_pullin_ramp):
+    """--full: the check of test_pullin_is_insensitive_to_the_imperfection_amplitude on
+    COARSE, against the pull-in of nh_pullin_ramp (< 1e-4, measured 1e-7; 15 s CPU for the
+    1e-4 ramp)."""
     r = voltage_ramp(Plate(imperfection=1e-4), NeoHookean(), COARSE, dv0=0.02, dv_max=0.04)
     assert r.v_pullin == pytest.approx(nh_pullin_ramp.v_pullin, rel=1e-4)
 
@@ -593,7 +615,7 @@ def test_ramp_ends_at_a_singular_tangent_only_past_the_limit_point(monkeypatch):
     from debench.models.buckling import deflection
     from debench.models.errors import ConvergenceError
 
-    ramp = voltage_ramp(Plate(), NeoHookean(), CHEAP_RAMP_DISC, dv0=0.02, dv_max=0.04)
+    ramp = cheap_nh_ramp()          # solved before the patch below
     assert ramp.end == "voltage drop"
     k = int(np.argmax(ramp.v))
     real = deflection.newton_deflection

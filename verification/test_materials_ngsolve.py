@@ -3,6 +3,8 @@ same energies equals the numpy chain rule (2.27)-(2.28), (2.65)-(2.70)."""
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import pytest
 from debench.models.materials import MATERIALS
@@ -75,24 +77,39 @@ def test_unsupported_material_raises_naming_its_class():
 
 
 # ------------------------------------------- the exact Ogden forms of the axisymmetric models
-def _second_variations(F0, dF):
-    """``(W, d2W)`` of the axisymmetric Ogden forms at ``F0 + t dF``, ``t = 0``: the exact
-    axisymmetric evaluation and the second-order one about ``F0``."""
+@functools.cache
+def _axisymmetric_forms():
+    """The axisymmetric Ogden forms of the library material at ``F = F0 + t dF`` with ``F0``
+    and ``dF`` NGSolve Parameters: each form ``(W, d2W/dt2)``, built and differentiated once
+    per test process (~1 s; the states and perturbations set the Parameters' values), the
+    Parameters and a mesh hosting the evaluation point."""
     import ngsolve as ng
     from netgen.geom2d import unit_square
 
     mat = MATERIALS["ogden_ideal_dielectric"]
     kw = {"alphas": mat.alphas, "mus": mat.mus, "k": mat.k}
     t = ng.Parameter(0.0)
-    F0cf = ng.CoefficientFunction(tuple(np.ravel(F0)), dims=(3, 3))
-    F = F0cf + t * ng.CoefficientFunction(tuple(np.ravel(dF)), dims=(3, 3))
+    F0p = [ng.Parameter(0.0) for _ in range(9)]
+    dFp = [ng.Parameter(0.0) for _ in range(9)]
+    F0cf = ng.CoefficientFunction(tuple(F0p), dims=(3, 3))
+    F = F0cf + t * ng.CoefficientFunction(tuple(dFp), dims=(3, 3))
     mesh = ng.Mesh(unit_square.GenerateMesh(maxh=1.0))    # hosts the evaluation point
-    mip = mesh(0.3, 0.3)
-    out = {}
+    forms = {}
     for name, W in (("axisymmetric", ng_forms.ogden_mechanical_axisymmetric(F, **kw)),
                     ("about", ng_forms.ogden_mechanical_about(F, F0cf, **kw))):
-        out[name] = (float(W(mip)), float(W.Diff(t).Diff(t)(mip)))
-    return out
+        forms[name] = (W, W.Diff(t).Diff(t))
+    return forms, F0p, dFp, mesh     # the mesh outlives the points evaluated on it
+
+
+def _second_variations(F0, dF):
+    """``(W, d2W)`` of the axisymmetric Ogden forms at ``F0 + t dF``, ``t = 0``: the exact
+    axisymmetric evaluation and the second-order one about ``F0``."""
+    forms, F0p, dFp, mesh = _axisymmetric_forms()
+    mip = mesh(0.3, 0.3)
+    for params, values in ((F0p, F0), (dFp, dF)):
+        for p, v in zip(params, np.ravel(values), strict=True):
+            p.Set(float(v))
+    return {name: (float(W(mip)), float(d2W(mip))) for name, (W, d2W) in forms.items()}
 
 
 def _axisymmetric_state(lr, lt, shear):
