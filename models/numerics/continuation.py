@@ -22,8 +22,9 @@ The policy, for a step of size ``h``:
   that just failed usually fails again, so the plain policy alternates failed and
   converged steps there.
 
-Halving and growing by a power of two are exact in binary floating point, so the drivers'
-step sequences are reproducible to the bit.
+Halving is exact in binary floating point, so refusing a halved step below ``m`` is the same
+decision as refusing, before halving, a step below ``2 m``: a driver that used either rule
+keeps its step sequence to the bit.
 """
 
 from __future__ import annotations

@@ -231,9 +231,9 @@ def _negative_eigenvalues(K) -> int | None:
     hetrf, lower; sytrf for a real K), D block diagonal with real 1 x 1 and Hermitian
     2 x 2 blocks (a 2 x 2 block with det < 0 holds one negative eigenvalue, with det > 0
     two of the sign of its diagonal). About a seventh of the cost of the eigenvalues of a
-    dense K; exact for
-    K + E with ||E|| ~ eps ||K|| (the factorisation is backward stable), so the count is
-    that of the eigenvalues except where one lies within round-off of zero. None where D
+    dense K; exact for K + E with ||E|| ~ eps ||K|| (the factorisation is backward stable),
+    so the count is that of the eigenvalues except where one lies within round-off of
+    zero. None where D
     is singular (a zero 1 x 1 pivot or 2 x 2 determinant): the factorisation does not
     decide the count there."""
     # real symmetric K: the same factorisation is sytrf (LAPACK has no real hetrf)
